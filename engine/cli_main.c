@@ -1,0 +1,162 @@
+/* cli_main.c — the `lubdem` command line (contract in README.md, "CLI contract"). */
+#include <errno.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "build_info.h"
+#include "run_driver.h"
+#include "scene.h"
+
+static volatile sig_atomic_t stop_flag = 0;
+
+static void on_stop_signal(int sig)
+{
+    (void)sig;
+    stop_flag = 1;
+}
+
+static void usage(FILE *f)
+{
+    fprintf(f, "usage:\n"
+               "  lubdem run SPEC.json --out DIR [--threads N] [--quiet] [--json-errors]\n"
+               "  lubdem validate SPEC.json [--json-errors]\n"
+               "  lubdem scenes\n"
+               "  lubdem version\n"
+               "SPEC may be '-' for standard input. Exit codes: 0 ok, 1 internal, 2 usage or\n"
+               "invalid spec, 3 numerical failure, 4 output error, 5 stopped by a signal.\n");
+}
+
+/* Reads a whole file (or stdin for "-") into a NUL-terminated buffer; caller frees. */
+static char *read_all(const char *path)
+{
+    FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
+    if (!f)
+        return NULL;
+    size_t cap = 1 << 14, n = 0;
+    char *buf = malloc(cap);
+    while (buf) {
+        size_t got = fread(buf + n, 1, cap - n - 1, f);
+        n += got;
+        if (n + 1 < cap)
+            break;
+        if (cap > ((size_t)64 << 20)) { /* specs are small; refuse absurd inputs */
+            free(buf);
+            buf = NULL;
+            break;
+        }
+        char *nb = realloc(buf, cap * 2);
+        if (!nb) {
+            free(buf);
+            buf = NULL;
+            break;
+        }
+        buf = nb;
+        cap *= 2;
+    }
+    if (buf)
+        buf[n] = '\0';
+    if (f != stdin)
+        fclose(f);
+    return buf;
+}
+
+static int cmd_scenes(void)
+{
+    json_t *arr = json_array();
+    for (const lub_scene *const *s = lub_scene_list(); *s; ++s)
+        json_array_append_new(arr, json_pack("{s:s, s:s, s:s}", "name", (*s)->name, "title",
+                                             (*s)->title, "description", (*s)->description));
+    char *text = json_dumps(arr, JSON_INDENT(2));
+    printf("%s\n", text);
+    free(text);
+    json_decref(arr);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "scenes") == 0)
+        return cmd_scenes();
+    if (strcmp(cmd, "version") == 0) {
+        printf("lubdem %s (git %s; %s; %s)\n", lub_build_version(), lub_build_git(),
+               lub_build_compiler(), lub_build_cflags());
+        return 0;
+    }
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "help") == 0) {
+        usage(stdout);
+        return 0;
+    }
+    if (strcmp(cmd, "run") != 0 && strcmp(cmd, "validate") != 0) {
+        fprintf(stderr, "error: unknown command '%s'\n", cmd);
+        usage(stderr);
+        return 2;
+    }
+    const char *spec_path = NULL, *out_dir = NULL;
+    int threads = 1, quiet = 0, json_errors = 0;
+    for (int i = 2; i < argc; ++i) {
+        if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
+            out_dir = argv[++i];
+        } else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc) {
+            char *end;
+            long t = strtol(argv[++i], &end, 10);
+            if (*end || t < 1 || t > 1024) {
+                fprintf(stderr, "error: --threads must be an integer from 1 to 1024\n");
+                return 2;
+            }
+            threads = (int)t;
+        } else if (strcmp(argv[i], "--quiet") == 0) {
+            quiet = 1;
+        } else if (strcmp(argv[i], "--json-errors") == 0) {
+            json_errors = 1;
+        } else if (!spec_path && (argv[i][0] != '-' || strcmp(argv[i], "-") == 0)) {
+            spec_path = argv[i];
+        } else {
+            fprintf(stderr, "error: unexpected argument '%s'\n", argv[i]);
+            usage(stderr);
+            return 2;
+        }
+    }
+    if (!spec_path) {
+        fprintf(stderr, "error: missing SPEC.json\n");
+        usage(stderr);
+        return 2;
+    }
+    char *text = read_all(spec_path);
+    if (!text) {
+        fprintf(stderr, "error: cannot read spec %s: %s\n", spec_path, strerror(errno));
+        return 2;
+    }
+    int rc;
+    if (strcmp(cmd, "validate") == 0) {
+        rc = lub_validate_spec(text, stdout, stderr, json_errors);
+    } else {
+        if (!out_dir) {
+            fprintf(stderr, "error: run needs --out DIR\n");
+            free(text);
+            return 2;
+        }
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_stop_signal;
+        sigemptyset(&sa.sa_mask);
+        sigaction(SIGTERM, &sa, NULL);
+        sigaction(SIGINT, &sa, NULL);
+        lub_run_request req = {.spec_text = text,
+                               .out_dir = out_dir,
+                               .threads = threads,
+                               .progress = quiet ? NULL : stdout,
+                               .diag = stderr,
+                               .json_errors = json_errors,
+                               .stop_requested = &stop_flag};
+        rc = lub_run_spec(&req);
+    }
+    free(text);
+    return rc;
+}

@@ -1,0 +1,116 @@
+/* contact_law.h — the lubricated contact law (Chèvremont, Bodiguel & Chareyre) as pure
+ * per-pair kernels.
+ *
+ * Reference: ../shared/spec/lubricated-contact-notes.md §1–§4, §11, §12;
+ * ../shared/spec/physics-reference.md §5–§6.
+ *
+ * Units: any consistent set (the engine uses dimensionless units: lengths in units of the
+ * mean radius scale, viscosity of the fluid = 1, time set by the scene). Every function here
+ * is pure: it reads its inputs, writes only its outputs and the per-pair state it is given,
+ * allocates nothing, keeps no global state and is safe to call concurrently on different
+ * pairs.
+ *
+ * Conventions (notes §0.2):
+ *  - body 1 and body 2; n points from 1 to (the image of) 2; all forces reported are the
+ *    forces ON BODY 1 (body 2 receives the opposite force); compression gives F·n < 0.
+ *  - a = (r1 + r2)/2 (arithmetic mean radius) in every formula.
+ *  - roughness: PHYSICAL convention, contact when the gap u < eps·a. A value quoted as
+ *    "eps" in the seeds (Yade's eps_Y) corresponds to eps = 2·eps_Y here (spec §6, notes §2.11).
+ *  - backward Euler (theta = 1) for the normal part, solved with the cancellation-free closed
+ *    form and a bracketed log-space fallback; the gap is stored as delta = ln(u/a).
+ */
+#ifndef LUBDEM_CONTACT_LAW_H
+#define LUBDEM_CONTACT_LAW_H
+
+#include "vec3.h"
+
+/* Term switches (bit mask). Each can be turned off independently for negative tests. */
+enum {
+    LUB_TERM_NORMAL_LUB = 1u << 0, /* normal lubrication (nu_n = 3/2 pi eta a^2) */
+    LUB_TERM_SHEAR_LUB = 1u << 1,  /* tangential (shear) lubrication nu_t(u) */
+    LUB_TERM_ROLL = 1u << 2,       /* rolling lubrication torque (u < a only) */
+    LUB_TERM_TWIST = 1u << 3,      /* twisting lubrication torque (u < a only) */
+    LUB_TERM_FRICTION = 1u << 4,   /* Coulomb friction of rough contacts (tangential contact) */
+    LUB_TERM_ALL = 0x1fu
+};
+
+/* Law parameters, shared by many pairs. */
+typedef struct {
+    double eta;         /* fluid viscosity (>= 0) */
+    double k_bulk;      /* g: bulk/surface normal stiffness, force per length (> 0) */
+    double alpha;       /* k_n/g: asperity-to-bulk stiffness ratio (> 0; Yade uses 1) */
+    double k_t;         /* tangential stiffness, force per length (>= 0) */
+    double eps;         /* roughness, physical convention: contact when u < eps*a (>= 0) */
+    double mu;          /* Coulomb friction coefficient of contacts (>= 0) */
+    unsigned terms;     /* LUB_TERM_* mask */
+} lub_law_params;
+
+/* Persistent per-pair state. Zero-initialise and set is_new = 1 when a pair is created
+ * (it must be created with a positive centre gap u_n, see notes §11 P3; a non-positive u_n
+ * at creation is initialised at the static solution or a positive floor, never NaN). */
+typedef struct {
+    double delta; /* ln(u/a) at the end of the last step (u = true gap, > 0) */
+    vec3 fs;      /* total shear force on body 1 at the end of the last step */
+    vec3 n_prev;  /* unit normal at the end of the last step */
+    int is_new;   /* 1: first evaluation, history not yet defined */
+} lub_pair_state;
+
+/* Kinematics of one pair for one step (leap-frog half-step velocities). */
+typedef struct {
+    vec3 branch;   /* d = x2 + H c - x1 (centre of 1 to centre of the interacting image of 2) */
+    vec3 v1, v2;   /* translational velocities; v2 INCLUDES the image mean-field shift L H c */
+    vec3 w1, w2;   /* angular velocities */
+    double r1, r2; /* radii (> 0) */
+    double inv_inertia1, inv_inertia2; /* 1/I of each body (0 for a fixed body); used by the
+                                          stable (implicit) treatment of the roll/twist torques */
+    double dt;     /* time step (> 0) */
+} lub_pair_input;
+
+/* Everything a scene, a stress sum or a PDF needs from one evaluation. */
+typedef struct {
+    vec3 force1;      /* total force on body 1 = (fn_contact + fn_lub) n + fs_contact + fs_lub */
+    vec3 torque1;     /* total torque on body 1 (shear-force arm + roll + twist) */
+    vec3 torque2;     /* total torque on body 2 */
+    vec3 n;           /* unit normal 1 -> 2 */
+    double un;        /* centre gap |d| - r1 - r2 */
+    double gap;       /* true gap u = a exp(delta) (may underflow to 0; delta stays finite) */
+    double delta;     /* ln(u/a) */
+    double fn_contact;/* normal contact force along n (<= 0), on body 1 */
+    double fn_lub;    /* normal lubrication force along n = g a R+ (exact: never F_n - F_c) */
+    vec3 fs_contact;  /* tangential contact (friction) part */
+    vec3 fs_lub;      /* tangential lubrication part (consistent: fs = fs_contact + fs_lub) */
+    vec3 torque_roll1, torque_twist1; /* lubrication torques on body 1 (body 2 gets minus) */
+    int contact;      /* 1 if u < eps a at the end of the step */
+    int slip;         /* 1 if the contact is sliding */
+} lub_pair_output;
+
+/* One step of the full law for one pair. Updates *state. Returns 0 on success, non-zero if
+ * the result is not finite (the caller must stop the run with a diagnostic). */
+int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_state *state,
+                  lub_pair_output *out);
+
+/* ---- building blocks, exposed for unit tests ---- */
+
+/* Normal part (notes §2.6). Dimensionless: x_prev = u-/a (> 0), s = u_n/a, h = dt g a / nu_n
+ * (h = +INFINITY when normal lubrication is off), e = eps, alpha = k_n/g.
+ * Returns delta+ = ln(x+) of the unique root of the backward-Euler equation; never NaN for
+ * finite inputs. *contact set to 1 if x+ < e. delta_prev is ln(x_prev), passed in log form so
+ * that x_prev may be far below DBL_MIN. */
+double lub_normal_solve(double delta_prev, double s, double h, double e, double alpha,
+                        int *contact);
+
+/* The same root by a bracketed bisection/Newton in log space (reference solver for tests and
+ * the fallback when the closed form underflows). Stops on a bracket width < 1e-14 in delta. */
+double lub_normal_solve_bracketed(double delta_prev, double s, double h, double e, double alpha);
+
+/* Dimensionless rate R = s + alpha_c e - (1 + alpha_c) x with x = exp(delta) (notes §2.2). */
+double lub_normal_rate(double delta, double s, double e, double alpha);
+
+/* Tangential lubrication coefficient nu_t(u) = (pi eta a / 2)[-2 + (2 + x)(ln(2 + x) - delta)],
+ * evaluated from delta for any gap (notes §3.1). */
+double lub_shear_viscosity(double eta, double a, double delta);
+
+/* Human-readable names of the active terms, for summaries. Writes up to max names. */
+int lub_terms_names(unsigned terms, const char **names, int max);
+
+#endif

@@ -1,0 +1,497 @@
+/* h5md_writer.c — H5MD 1.1 result files (layout in h5md_writer.h). */
+#include "h5md_writer.h"
+
+#include <hdf5.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "build_info.h"
+
+#define ROWS_PER_CHUNK 1024
+#define MAX_TABLES 32
+
+struct lub_h5_table {
+    lub_h5 *file;
+    int nseries;
+    int *ncomp;
+    int row_len;
+    hid_t step_ds, time_ds;
+    hid_t *value_ds;
+    int64_t *step_buf;
+    double *time_buf;
+    double *row_buf;
+    int nbuf;
+    int64_t nwritten;
+};
+
+struct lub_h5 {
+    hid_t file;
+    char err[256];
+    lub_h5_table *tables[MAX_TABLES];
+    int ntables;
+    /* particle snapshots */
+    int64_t np;
+    int64_t nframes;
+    hid_t p_step, p_time, p_pos, p_vel, p_omega, p_edges;
+};
+
+static int set_err(lub_h5 *f, const char *what, const char *name)
+{
+    snprintf(f->err, sizeof f->err, "HDF5: cannot %.80s %.150s", what, name ? name : "");
+    return -1;
+}
+
+const char *lub_h5_last_error(const lub_h5 *f) { return f ? f->err : "no file"; }
+
+static hid_t vlen_string_type(void)
+{
+    hid_t t = H5Tcopy(H5T_C_S1);
+    H5Tset_size(t, H5T_VARIABLE);
+    H5Tset_cset(t, H5T_CSET_UTF8);
+    return t;
+}
+
+static int write_string_attr(hid_t loc, const char *name, const char *value)
+{
+    hid_t t = vlen_string_type();
+    hid_t sp = H5Screate(H5S_SCALAR);
+    if (H5Aexists(loc, name) > 0)
+        H5Adelete(loc, name);
+    hid_t a = H5Acreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = a < 0 ? -1 : H5Awrite(a, t, &value);
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(sp);
+    H5Tclose(t);
+    return rc < 0 ? -1 : 0;
+}
+
+static int write_string_array_attr(hid_t loc, const char *name, const char *const *values, int n)
+{
+    hid_t t = vlen_string_type();
+    hsize_t dim = (hsize_t)n;
+    hid_t sp = H5Screate_simple(1, &dim, NULL);
+    hid_t a = H5Acreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = a < 0 ? -1 : H5Awrite(a, t, values);
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(sp);
+    H5Tclose(t);
+    return rc < 0 ? -1 : 0;
+}
+
+static int write_int_attr(hid_t loc, const char *name, const int *values, int n)
+{
+    hsize_t dim = (hsize_t)n;
+    hid_t sp = n == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &dim, NULL);
+    hid_t a = H5Acreate2(loc, name, H5T_STD_I32LE, sp, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_INT, values);
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(sp);
+    return rc < 0 ? -1 : 0;
+}
+
+static int write_string_dataset(hid_t loc, const char *name, const char *value)
+{
+    hid_t t = vlen_string_type();
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t d = H5Dcreate2(loc, name, t, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    herr_t rc = d < 0 ? -1 : H5Dwrite(d, t, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value);
+    if (d >= 0)
+        H5Dclose(d);
+    H5Sclose(sp);
+    H5Tclose(t);
+    return rc < 0 ? -1 : 0;
+}
+
+/* Link-creation property list that creates missing intermediate groups. */
+static hid_t lcpl_intermediate(void)
+{
+    hid_t l = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(l, 1);
+    return l;
+}
+
+static hid_t make_group(hid_t loc, const char *path)
+{
+    if (H5Lexists(loc, path, H5P_DEFAULT) > 0)
+        return H5Gopen2(loc, path, H5P_DEFAULT);
+    hid_t l = lcpl_intermediate();
+    hid_t g = H5Gcreate2(loc, path, l, H5P_DEFAULT, H5P_DEFAULT);
+    H5Pclose(l);
+    return g;
+}
+
+/* Extendible dataset [0][extra dims...] chunked along time. */
+static hid_t create_extendible(hid_t loc, const char *name, hid_t type, int rank,
+                               const hsize_t *frame_dims, hsize_t chunk_rows, int compress)
+{
+    hsize_t dims[4] = {0, 0, 0, 0}, maxd[4], chunk[4];
+    dims[0] = 0;
+    maxd[0] = H5S_UNLIMITED;
+    chunk[0] = chunk_rows;
+    for (int i = 1; i < rank; ++i) {
+        dims[i] = maxd[i] = chunk[i] = frame_dims[i - 1];
+    }
+    hid_t sp = H5Screate_simple(rank, dims, maxd);
+    hid_t pl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(pl, rank, chunk);
+    if (compress && H5Zfilter_avail(H5Z_FILTER_DEFLATE) > 0) {
+        H5Pset_shuffle(pl);
+        H5Pset_deflate(pl, 1);
+    }
+    hid_t d = H5Dcreate2(loc, name, type, sp, H5P_DEFAULT, pl, H5P_DEFAULT);
+    H5Pclose(pl);
+    H5Sclose(sp);
+    return d;
+}
+
+/* Append `rows` rows (each of frame size) at row offset `at`. */
+static int append_rows(hid_t ds, hid_t memtype, int rank, const hsize_t *frame_dims, int64_t at,
+                       int64_t rows, const void *data)
+{
+    hsize_t newdims[4], start[4] = {0, 0, 0, 0}, count[4];
+    newdims[0] = (hsize_t)(at + rows);
+    count[0] = (hsize_t)rows;
+    start[0] = (hsize_t)at;
+    for (int i = 1; i < rank; ++i)
+        newdims[i] = count[i] = frame_dims[i - 1];
+    if (H5Dset_extent(ds, newdims) < 0)
+        return -1;
+    hid_t fs = H5Dget_space(ds);
+    H5Sselect_hyperslab(fs, H5S_SELECT_SET, start, NULL, count, NULL);
+    hid_t ms = H5Screate_simple(rank, count, NULL);
+    herr_t rc = H5Dwrite(ds, memtype, ms, fs, H5P_DEFAULT, data);
+    H5Sclose(ms);
+    H5Sclose(fs);
+    return rc < 0 ? -1 : 0;
+}
+
+lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
+{
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* we report errors ourselves */
+    lub_h5 *f = calloc(1, sizeof *f);
+    if (!f) {
+        snprintf(errbuf, (size_t)errlen, "out of memory");
+        return NULL;
+    }
+    f->p_step = f->p_time = f->p_pos = f->p_vel = f->p_omega = f->p_edges = H5I_INVALID_HID;
+    hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
+    /* H5MD implementation note: file format readable by HDF5 >= 1.8 */
+    H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
+    f->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+    H5Pclose(fapl);
+    if (f->file < 0) {
+        snprintf(errbuf, (size_t)errlen, "HDF5: cannot create %s", path);
+        free(f);
+        return NULL;
+    }
+    hid_t h5md = make_group(f->file, "h5md");
+    int version[2] = {1, 1};
+    int rc = write_int_attr(h5md, "version", version, 2);
+    hid_t author = make_group(h5md, "author");
+    const char *user = getenv("LUBDEM_AUTHOR");
+    if (!user)
+        user = getenv("USER");
+    rc |= write_string_attr(author, "name", user && *user ? user : "lubdem user");
+    H5Gclose(author);
+    hid_t creator = make_group(h5md, "creator");
+    rc |= write_string_attr(creator, "name", "lubdem");
+    rc |= write_string_attr(creator, "version", lub_build_version());
+    H5Gclose(creator);
+    H5Gclose(h5md);
+    rc |= write_string_attr(f->file, "status", "running");
+    if (rc) {
+        snprintf(errbuf, (size_t)errlen, "HDF5: cannot write /h5md metadata in %s", path);
+        H5Fclose(f->file);
+        free(f);
+        return NULL;
+    }
+    return f;
+}
+
+int lub_h5_write_parameters(lub_h5 *f, const char *spec_verbatim, const char *spec_resolved,
+                            const char *units_json)
+{
+    hid_t g = make_group(f->file, "parameters");
+    if (g < 0)
+        return set_err(f, "create", "/parameters");
+    int rc = write_string_dataset(g, "spec_verbatim", spec_verbatim ? spec_verbatim : "");
+    rc |= write_string_dataset(g, "spec_resolved", spec_resolved ? spec_resolved : "");
+    rc |= write_string_dataset(g, "units", units_json ? units_json : "{}");
+    hid_t b = make_group(g, "build");
+    rc |= write_string_attr(b, "version", lub_build_version());
+    rc |= write_string_attr(b, "git_commit", lub_build_git());
+    rc |= write_string_attr(b, "compiler", lub_build_compiler());
+    rc |= write_string_attr(b, "cflags", lub_build_cflags());
+    char hv[64];
+    unsigned maj, min, rel;
+    H5get_libversion(&maj, &min, &rel);
+    snprintf(hv, sizeof hv, "%u.%u.%u", maj, min, rel);
+    rc |= write_string_attr(b, "hdf5_version", hv);
+    H5Gclose(b);
+    H5Gclose(g);
+    return rc ? set_err(f, "write", "/parameters") : 0;
+}
+
+static int table_flush(lub_h5_table *t)
+{
+    if (t->nbuf == 0)
+        return 0;
+    lub_h5 *f = t->file;
+    if (append_rows(t->step_ds, H5T_NATIVE_INT64, 1, NULL, t->nwritten, t->nbuf, t->step_buf) ||
+        append_rows(t->time_ds, H5T_NATIVE_DOUBLE, 1, NULL, t->nwritten, t->nbuf, t->time_buf))
+        return set_err(f, "append to", "observables step/time");
+    /* gather each series' columns from the row buffer */
+    double *col = malloc(sizeof(double) * (size_t)t->nbuf * 9);
+    if (!col)
+        return set_err(f, "allocate", "buffer");
+    int off = 0;
+    for (int s = 0; s < t->nseries; ++s) {
+        int nc = t->ncomp[s];
+        for (int r = 0; r < t->nbuf; ++r)
+            memcpy(col + (size_t)r * nc, t->row_buf + (size_t)r * t->row_len + off,
+                   sizeof(double) * (size_t)nc);
+        hsize_t fd[2] = {3, 3};
+        if (nc == 3)
+            fd[0] = 3;
+        int rank = nc == 1 ? 1 : (nc == 3 ? 2 : 3);
+        if (append_rows(t->value_ds[s], H5T_NATIVE_DOUBLE, rank, fd, t->nwritten, t->nbuf, col)) {
+            free(col);
+            return set_err(f, "append to", "observable value");
+        }
+        off += nc;
+    }
+    free(col);
+    t->nwritten += t->nbuf;
+    t->nbuf = 0;
+    return 0;
+}
+
+lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *names,
+                                  const int *ncomp, const char *const *units)
+{
+    if (f->ntables >= MAX_TABLES) {
+        set_err(f, "create more tables than", "32");
+        return NULL;
+    }
+    lub_h5_table *t = calloc(1, sizeof *t);
+    if (!t)
+        return NULL;
+    t->file = f;
+    t->nseries = nseries;
+    t->ncomp = malloc(sizeof(int) * (size_t)nseries);
+    t->value_ds = malloc(sizeof(hid_t) * (size_t)nseries);
+    for (int s = 0; s < nseries; ++s) {
+        if (ncomp[s] != 1 && ncomp[s] != 3 && ncomp[s] != 9) {
+            set_err(f, "create series with ncomp not in {1,3,9}:", names[s]);
+            free(t->ncomp);
+            free(t->value_ds);
+            free(t);
+            return NULL;
+        }
+        t->ncomp[s] = ncomp[s];
+        t->row_len += ncomp[s];
+    }
+    t->step_buf = malloc(sizeof(int64_t) * ROWS_PER_CHUNK);
+    t->time_buf = malloc(sizeof(double) * ROWS_PER_CHUNK);
+    t->row_buf = malloc(sizeof(double) * ROWS_PER_CHUNK * (size_t)t->row_len);
+    int ok = t->ncomp && t->value_ds && t->step_buf && t->time_buf && t->row_buf;
+    char path[512];
+    for (int s = 0; ok && s < nseries; ++s) {
+        snprintf(path, sizeof path, "observables/%s", names[s]);
+        hid_t g = make_group(f->file, path);
+        if (g < 0) {
+            ok = 0;
+            break;
+        }
+        if (s == 0) {
+            /* explicit-mode step/time, shared by the table through hard links */
+            t->step_ds = create_extendible(g, "step", H5T_STD_I64LE, 1, NULL, ROWS_PER_CHUNK, 1);
+            t->time_ds = create_extendible(g, "time", H5T_IEEE_F64LE, 1, NULL, ROWS_PER_CHUNK, 1);
+            ok = t->step_ds >= 0 && t->time_ds >= 0;
+        } else {
+            char src[512];
+            snprintf(src, sizeof src, "/observables/%s/step", names[0]);
+            ok = H5Lcreate_hard(f->file, src, g, "step", H5P_DEFAULT, H5P_DEFAULT) >= 0;
+            snprintf(src, sizeof src, "/observables/%s/time", names[0]);
+            ok = ok && H5Lcreate_hard(f->file, src, g, "time", H5P_DEFAULT, H5P_DEFAULT) >= 0;
+        }
+        hsize_t fd[2] = {3, 3};
+        int rank = ncomp[s] == 1 ? 1 : (ncomp[s] == 3 ? 2 : 3);
+        t->value_ds[s] = create_extendible(g, "value", H5T_IEEE_F64LE, rank, fd, ROWS_PER_CHUNK, 1);
+        ok = ok && t->value_ds[s] >= 0;
+        if (ok && units && units[s])
+            ok = write_string_attr(t->value_ds[s], "unit", units[s]) == 0;
+        H5Gclose(g);
+    }
+    if (!ok) {
+        set_err(f, "create observables table starting with", names[0]);
+        free(t->ncomp);
+        free(t->value_ds);
+        free(t->step_buf);
+        free(t->time_buf);
+        free(t->row_buf);
+        free(t);
+        return NULL;
+    }
+    f->tables[f->ntables++] = t;
+    return t;
+}
+
+int lub_h5_table_append(lub_h5_table *t, int64_t step, double time, const double *row)
+{
+    t->step_buf[t->nbuf] = step;
+    t->time_buf[t->nbuf] = time;
+    memcpy(t->row_buf + (size_t)t->nbuf * t->row_len, row, sizeof(double) * (size_t)t->row_len);
+    if (++t->nbuf == ROWS_PER_CHUNK)
+        return table_flush(t);
+    return 0;
+}
+
+static void table_free(lub_h5_table *t)
+{
+    H5Dclose(t->step_ds);
+    H5Dclose(t->time_ds);
+    for (int s = 0; s < t->nseries; ++s)
+        H5Dclose(t->value_ds[s]);
+    free(t->ncomp);
+    free(t->value_ds);
+    free(t->step_buf);
+    free(t->time_buf);
+    free(t->row_buf);
+    free(t);
+}
+
+int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius,
+                            const char *const *boundary)
+{
+    hid_t g = make_group(f->file, "particles/all");
+    hid_t box = make_group(g, "box");
+    int dim = 3;
+    int rc = write_int_attr(box, "dimension", &dim, 1);
+    rc |= write_string_array_attr(box, "boundary", boundary, 3);
+    hsize_t nn = (hsize_t)n;
+    hid_t sp = H5Screate_simple(1, &nn, NULL);
+    hid_t d = H5Dcreate2(g, "radius", H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    rc |= d < 0 || H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, radius) < 0;
+    if (d >= 0)
+        H5Dclose(d);
+    int64_t *ids = malloc(sizeof(int64_t) * (size_t)(n > 0 ? n : 1));
+    for (int64_t i = 0; ids && i < n; ++i)
+        ids[i] = i;
+    d = H5Dcreate2(g, "id", H5T_STD_I64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    rc |= !ids || d < 0 || H5Dwrite(d, H5T_NATIVE_INT64, H5S_ALL, H5S_ALL, H5P_DEFAULT, ids) < 0;
+    free(ids);
+    if (d >= 0)
+        H5Dclose(d);
+    H5Sclose(sp);
+
+    hsize_t frame[2] = {(hsize_t)n, 3};
+    hid_t pos = make_group(g, "position");
+    f->p_step = create_extendible(pos, "step", H5T_STD_I64LE, 1, NULL, 64, 0);
+    f->p_time = create_extendible(pos, "time", H5T_IEEE_F64LE, 1, NULL, 64, 0);
+    f->p_pos = create_extendible(pos, "value", H5T_IEEE_F64LE, 3, frame, 1, 0);
+    H5Gclose(pos);
+    const char *others[2] = {"velocity", "angular_velocity"};
+    hid_t *ds[2] = {&f->p_vel, &f->p_omega};
+    for (int k = 0; k < 2; ++k) {
+        hid_t og = make_group(g, others[k]);
+        rc |= H5Lcreate_hard(f->file, "/particles/all/position/step", og, "step", H5P_DEFAULT,
+                             H5P_DEFAULT) < 0;
+        rc |= H5Lcreate_hard(f->file, "/particles/all/position/time", og, "time", H5P_DEFAULT,
+                             H5P_DEFAULT) < 0;
+        *ds[k] = create_extendible(og, "value", H5T_IEEE_F64LE, 3, frame, 1, 0);
+        H5Gclose(og);
+    }
+    hid_t edges = make_group(box, "edges");
+    rc |= H5Lcreate_hard(f->file, "/particles/all/position/step", edges, "step", H5P_DEFAULT,
+                         H5P_DEFAULT) < 0;
+    rc |= H5Lcreate_hard(f->file, "/particles/all/position/time", edges, "time", H5P_DEFAULT,
+                         H5P_DEFAULT) < 0;
+    hsize_t ed[2] = {3, 3};
+    f->p_edges = create_extendible(edges, "value", H5T_IEEE_F64LE, 3, ed, 64, 0);
+    H5Gclose(edges);
+    H5Gclose(box);
+    H5Gclose(g);
+    f->np = n;
+    if (rc || f->p_step < 0 || f->p_pos < 0 || f->p_vel < 0 || f->p_omega < 0 || f->p_edges < 0)
+        return set_err(f, "create", "/particles/all");
+    return 0;
+}
+
+int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double *edges,
+                              const double *pos, const double *vel, const double *omega)
+{
+    if (f->p_pos < 0)
+        return set_err(f, "write a snapshot before", "lub_h5_particles_define");
+    hsize_t frame[2] = {(hsize_t)f->np, 3};
+    hsize_t ed[2] = {3, 3};
+    static const double no_edges[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    int64_t at = f->nframes;
+    int rc = append_rows(f->p_step, H5T_NATIVE_INT64, 1, NULL, at, 1, &step);
+    rc |= append_rows(f->p_time, H5T_NATIVE_DOUBLE, 1, NULL, at, 1, &time);
+    rc |= append_rows(f->p_edges, H5T_NATIVE_DOUBLE, 3, ed, at, 1, edges ? edges : no_edges);
+    rc |= append_rows(f->p_pos, H5T_NATIVE_DOUBLE, 3, frame, at, 1, pos);
+    if (vel)
+        rc |= append_rows(f->p_vel, H5T_NATIVE_DOUBLE, 3, frame, at, 1, vel);
+    if (omega)
+        rc |= append_rows(f->p_omega, H5T_NATIVE_DOUBLE, 3, frame, at, 1, omega);
+    if (rc)
+        return set_err(f, "append", "particle snapshot");
+    f->nframes++;
+    return 0;
+}
+
+int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
+                       const double *data, const char *unit)
+{
+    if (rank < 1 || rank > 2)
+        return set_err(f, "write array of rank other than 1 or 2:", name);
+    char path[512];
+    snprintf(path, sizeof path, "profiles/%s", name);
+    hsize_t hd[2] = {(hsize_t)dims[0], rank > 1 ? (hsize_t)dims[1] : 1};
+    hid_t sp = H5Screate_simple(rank, hd, NULL);
+    hid_t l = lcpl_intermediate();
+    hid_t d = H5Dcreate2(f->file, path, H5T_IEEE_F64LE, sp, l, H5P_DEFAULT, H5P_DEFAULT);
+    H5Pclose(l);
+    int rc = d < 0 || H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
+    if (!rc && unit)
+        rc = write_string_attr(d, "unit", unit);
+    if (d >= 0)
+        H5Dclose(d);
+    H5Sclose(sp);
+    return rc ? set_err(f, "write", path) : 0;
+}
+
+int lub_h5_flush(lub_h5 *f)
+{
+    int rc = 0;
+    for (int i = 0; i < f->ntables; ++i)
+        rc |= table_flush(f->tables[i]);
+    if (H5Fflush(f->file, H5F_SCOPE_GLOBAL) < 0)
+        rc = set_err(f, "flush", "file");
+    return rc ? -1 : 0;
+}
+
+int lub_h5_close(lub_h5 *f, const char *status)
+{
+    if (!f)
+        return 0;
+    int rc = 0;
+    for (int i = 0; i < f->ntables; ++i) {
+        rc |= table_flush(f->tables[i]);
+        table_free(f->tables[i]);
+    }
+    hid_t handles[6] = {f->p_step, f->p_time, f->p_pos, f->p_vel, f->p_omega, f->p_edges};
+    for (int i = 0; i < 6; ++i)
+        if (handles[i] >= 0)
+            H5Dclose(handles[i]);
+    rc |= write_string_attr(f->file, "status", status ? status : "complete");
+    if (H5Fclose(f->file) < 0)
+        rc = -1;
+    free(f);
+    return rc ? -1 : 0;
+}

@@ -1,0 +1,58 @@
+/* h5md_writer.h — result.h5 in the H5MD 1.1 layout (../shared/spec/service-conventions.md §2).
+ *
+ *   /h5md                      version [1,1], author, creator (lubdem + version)
+ *   /observables/<name>        {step int64[T], time f64[T], value f64[T] | [T][3] | [T][3][3]}
+ *                              series in one table hard-link one shared step/time pair
+ *   /particles/all/...         optional snapshots: box, position, velocity, angular_velocity,
+ *                              radius, id (positions are unwrapped coordinates)
+ *   /profiles/<name>           free-form arrays (profiles, distributions), attribute "unit"
+ *   /parameters                spec_verbatim, spec_resolved (JSON strings), units, build
+ *   root attribute "status"    "running" | "complete" | "partial" | "failed"
+ *
+ * Ownership: lub_h5 owns the HDF5 handles and its row buffers (allocated when a table or the
+ * particle group is defined, never during appends except when a buffer of 1024 rows is
+ * flushed to disk). All functions return 0 on success and -1 on an HDF5 error (message in
+ * lub_h5_last_error). Not thread-safe: call from one thread.
+ */
+#ifndef LUBDEM_H5MD_WRITER_H
+#define LUBDEM_H5MD_WRITER_H
+
+#include <stdint.h>
+
+typedef struct lub_h5 lub_h5;
+typedef struct lub_h5_table lub_h5_table;
+
+lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen);
+const char *lub_h5_last_error(const lub_h5 *f);
+
+/* /parameters: verbatim and resolved spec (JSON text), unit system description (JSON text),
+ * and build provenance (version, git commit, compiler, flags, HDF5 version) added inside. */
+int lub_h5_write_parameters(lub_h5 *f, const char *spec_verbatim, const char *spec_resolved,
+                            const char *units_json);
+
+/* A table of time series sampled together. ncomp[i] is 1 (scalar), 3 (vector) or 9 (3x3
+ * tensor, row-major, sigma_ij = value[3*i + j]). Names may contain '/' for subgroups under
+ * /observables. The table keeps pointers to nothing passed in (names are copied). */
+lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *names,
+                                  const int *ncomp, const char *const *units);
+/* row: the values of all series concatenated in definition order. */
+int lub_h5_table_append(lub_h5_table *t, int64_t step, double time, const double *row);
+
+/* Particle snapshots. boundary: 3 strings "periodic" or "none". radius[n], id implicit 0..n-1. */
+int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius,
+                            const char *const *boundary);
+/* edges: 3x3 cell matrix (rows = edge vectors) or NULL for an unbounded scene. Arrays are
+ * interleaved [n][3]; omega may be NULL. */
+int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double *edges,
+                              const double *pos, const double *vel, const double *omega);
+
+/* Free-form dataset under /profiles (rank 1 or 2, row-major), with a "unit" attribute. */
+int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
+                       const double *data, const char *unit);
+
+/* Flushes buffers and HDF5 metadata (used at checkpoints and before a partial exit). */
+int lub_h5_flush(lub_h5 *f);
+/* Flushes, writes the root "status" attribute, closes everything and frees f. */
+int lub_h5_close(lub_h5 *f, const char *status);
+
+#endif

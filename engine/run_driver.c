@@ -1,0 +1,196 @@
+/* run_driver.c — one spec to one result folder (see run_driver.h and README "CLI contract"). */
+#include "run_driver.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "build_info.h"
+#include "run_context.h"
+#include "scene.h"
+
+static void report_spec_error(FILE *diag, int json_errors, const lub_error *err)
+{
+    if (json_errors) {
+        json_t *o = json_pack("{s:s, s:s}", "pointer", err->pointer, "message", err->message);
+        char *s = json_dumps(o, JSON_COMPACT);
+        fprintf(diag, "%s\n", s);
+        free(s);
+        json_decref(o);
+    } else {
+        fprintf(diag, "error: %s: %s\n", err->pointer[0] ? err->pointer : "(root)", err->message);
+    }
+}
+
+/* Parse + resolve; on failure reports and returns NULL. */
+static json_t *parse_and_resolve(const char *text, FILE *diag, int json_errors)
+{
+    json_error_t jerr;
+    lub_error err;
+    json_t *spec = json_loads(text, JSON_REJECT_DUPLICATES, &jerr);
+    if (!spec) {
+        lub_fail(&err, "", "invalid JSON at line %d column %d: %s", jerr.line, jerr.column,
+                 jerr.text);
+        report_spec_error(diag, json_errors, &err);
+        return NULL;
+    }
+    json_t *resolved = NULL;
+    int rc = lub_spec_resolve(spec, &resolved, &err);
+    json_decref(spec);
+    if (rc) {
+        report_spec_error(diag, json_errors, &err);
+        return NULL;
+    }
+    return resolved;
+}
+
+int lub_validate_spec(const char *spec_text, FILE *out, FILE *diag, int json_errors)
+{
+    json_t *resolved = parse_and_resolve(spec_text, diag, json_errors);
+    if (!resolved)
+        return LUB_EXIT_BAD_SPEC;
+    char *s = json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS | JSON_REAL_PRECISION(17));
+    fprintf(out, "%s\n", s);
+    free(s);
+    json_decref(resolved);
+    return LUB_EXIT_OK;
+}
+
+static int mkdir_p(const char *path)
+{
+    char buf[4096];
+    size_t n = strlen(path);
+    if (n == 0 || n >= sizeof buf)
+        return -1;
+    memcpy(buf, path, n + 1);
+    for (size_t i = 1; i <= n; ++i) {
+        if (buf[i] == '/' || buf[i] == '\0') {
+            char c = buf[i];
+            buf[i] = '\0';
+            if (mkdir(buf, 0775) != 0 && errno != EEXIST)
+                return -1;
+            buf[i] = c;
+        }
+    }
+    struct stat st;
+    return (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) ? 0 : -1;
+}
+
+static int write_file_atomic(const char *dir, const char *name, const char *text)
+{
+    char tmp[4200], dst[4200];
+    snprintf(tmp, sizeof tmp, "%s/.%s.tmp", dir, name);
+    snprintf(dst, sizeof dst, "%s/%s", dir, name);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return -1;
+    int ok = fputs(text, f) >= 0 && fputc('\n', f) != EOF;
+    ok = (fflush(f) == 0) && ok;
+    ok = (fsync(fileno(f)) == 0) && ok;
+    ok = (fclose(f) == 0) && ok;
+    if (!ok || rename(tmp, dst) != 0) {
+        unlink(tmp);
+        return -1;
+    }
+    return 0;
+}
+
+static const char *status_of(int rc)
+{
+    switch (rc) {
+    case LUB_EXIT_OK: return "complete";
+    case LUB_EXIT_INTERRUPTED: return "partial";
+    default: return "failed";
+    }
+}
+
+int lub_run_spec(const lub_run_request *req)
+{
+    json_t *resolved = parse_and_resolve(req->spec_text, req->diag, req->json_errors);
+    if (!resolved)
+        return LUB_EXIT_BAD_SPEC; /* nothing created */
+    const lub_scene *scene = lub_scene_find(json_string_value(json_object_get(resolved, "scene")));
+
+    if (mkdir_p(req->out_dir) != 0) {
+        fprintf(req->diag, "error: cannot create output folder %s: %s\n", req->out_dir,
+                strerror(errno));
+        json_decref(resolved);
+        return LUB_EXIT_IO;
+    }
+    char h5_tmp[4200], h5_dst[4200], errbuf[256];
+    snprintf(h5_tmp, sizeof h5_tmp, "%s/.result.h5.tmp", req->out_dir);
+    snprintf(h5_dst, sizeof h5_dst, "%s/result.h5", req->out_dir);
+    lub_h5 *h5 = lub_h5_create(h5_tmp, errbuf, sizeof errbuf);
+    if (!h5) {
+        fprintf(req->diag, "error: %s\n", errbuf);
+        json_decref(resolved);
+        return LUB_EXIT_IO;
+    }
+
+    lub_progress progress;
+    lub_progress_init(&progress, req->progress, 0.5);
+    lub_run_ctx ctx;
+    memset(&ctx, 0, sizeof ctx);
+    ctx.out = h5;
+    ctx.progress = &progress;
+    ctx.stop_requested = req->stop_requested;
+    ctx.summary_results = json_object();
+    ctx.summary_extra = json_object();
+    ctx.threads = req->threads > 0 ? req->threads : 1;
+
+    double t0 = lub_wall_seconds();
+    int rc = scene->run(resolved, &ctx);
+    double wall = lub_wall_seconds() - t0;
+    if (rc == LUB_EXIT_OK && req->stop_requested && *req->stop_requested)
+        rc = LUB_EXIT_INTERRUPTED;
+    if (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL)
+        fprintf(req->diag, "error: %s\n",
+                ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
+
+    /* summary: fixed members, then whatever the scene added (active_terms, units, ...) */
+    json_t *summary = json_object();
+    json_object_set_new(summary, "scene", json_string(scene->name));
+    json_object_set_new(summary, "status", json_string(status_of(rc)));
+    json_object_set_new(summary, "exit_code", json_integer(rc));
+    json_object_set(summary, "results", ctx.summary_results);
+    json_object_update(summary, ctx.summary_extra);
+    json_object_set_new(summary, "wall_time_s", json_real(wall));
+    json_object_set_new(summary, "threads", json_integer(ctx.threads));
+    if (ctx.diagnostic[0])
+        json_object_set_new(summary, "diagnostic", json_string(ctx.diagnostic));
+    json_object_set_new(summary, "lubdem_version", json_string(lub_build_version()));
+    json_object_set_new(summary, "git_commit", json_string(lub_build_git()));
+    json_object_set(summary, "spec", resolved);
+
+    char *resolved_text = json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS |
+                                                   JSON_REAL_PRECISION(17));
+    json_t *units = json_object_get(ctx.summary_extra, "units");
+    char *units_text = units ? json_dumps(units, JSON_COMPACT | JSON_SORT_KEYS) : NULL;
+    int io = lub_h5_write_parameters(h5, req->spec_text, resolved_text, units_text);
+    if (io)
+        fprintf(req->diag, "error: %s\n", lub_h5_last_error(h5));
+    io |= lub_h5_close(h5, status_of(rc));
+    free(resolved_text);
+    free(units_text);
+    if (io == 0 && rename(h5_tmp, h5_dst) != 0)
+        io = -1;
+    if (io == 0) {
+        char *text = json_dumps(summary, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+        io = write_file_atomic(req->out_dir, "summary.json", text);
+        free(text);
+    }
+    if (io != 0) {
+        fprintf(req->diag, "error: cannot write the results in %s\n", req->out_dir);
+        unlink(h5_tmp);
+        if (rc == LUB_EXIT_OK)
+            rc = LUB_EXIT_IO;
+    }
+    json_decref(summary);
+    json_decref(ctx.summary_results);
+    json_decref(ctx.summary_extra);
+    json_decref(resolved);
+    return rc;
+}

@@ -1,0 +1,26 @@
+/* run_driver.h — runs one spec end to end: parse, validate, run the scene, write
+ * DIR/result.h5 and DIR/summary.json atomically (temporary names + rename).
+ * On an invalid spec nothing is created. Returns a LUB_EXIT_* code; messages go to `diag`
+ * (stderr in the CLI). */
+#ifndef LUBDEM_RUN_DRIVER_H
+#define LUBDEM_RUN_DRIVER_H
+
+#include <signal.h>
+#include <stdio.h>
+
+typedef struct {
+    const char *spec_text;                 /* the verbatim spec (JSON text) */
+    const char *out_dir;                   /* created if missing */
+    int threads;                           /* >= 1 */
+    FILE *progress;                        /* progress lines (NULL = quiet) */
+    FILE *diag;                            /* diagnostics */
+    int json_errors;                       /* spec errors as one JSON object on diag */
+    volatile sig_atomic_t *stop_requested; /* set asynchronously by signal handlers */
+} lub_run_request;
+
+int lub_run_spec(const lub_run_request *req);
+
+/* Parses and validates only (CLI "validate"): prints the resolved spec on `out`. */
+int lub_validate_spec(const char *spec_text, FILE *out, FILE *diag, int json_errors);
+
+#endif

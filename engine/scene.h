@@ -1,0 +1,48 @@
+/* scene.h — the scene registry: every job type the engine runs (DEM or continuum).
+ *
+ * A spec is a JSON object {"scene": "<name>", ...scene fields...}. A scene provides:
+ *  - resolve(): validate the spec IN PLACE (type, range, unknown fields), inserting every
+ *    default so that the object becomes the fully resolved spec. On error it fills *err
+ *    (JSON pointer + constraint) and returns -1; it never runs anything. The server calls
+ *    this same function to reject bad submissions before queuing (one set of rules).
+ *  - run(): run the resolved spec, writing observables through ctx->out and headline
+ *    numbers into ctx->summary_results. Returns a LUB_EXIT_* code.
+ * Each scene lives in its own scene_<name>.c and is listed in scene_registry.c.
+ */
+#ifndef LUBDEM_SCENE_H
+#define LUBDEM_SCENE_H
+
+#include <jansson.h>
+
+#include "spec_reader.h"
+
+struct lub_run_ctx;
+
+/* Exit codes of the CLI and return codes of scene run() (README "CLI contract"). */
+enum {
+    LUB_EXIT_OK = 0,          /* completed; summary status "complete" */
+    LUB_EXIT_INTERNAL = 1,    /* unexpected internal error */
+    LUB_EXIT_BAD_SPEC = 2,    /* usage or invalid spec; nothing written */
+    LUB_EXIT_NUMERICAL = 3,   /* numerical failure (NaN, blow-up); status "failed" + diagnostic */
+    LUB_EXIT_IO = 4,          /* cannot write the output */
+    LUB_EXIT_INTERRUPTED = 5  /* SIGTERM/SIGINT: valid partial result, status "partial" */
+};
+
+typedef struct {
+    const char *name;        /* scene id, e.g. "falling_sphere" (also the service process id) */
+    const char *title;       /* one line */
+    const char *description; /* a paragraph: what it computes, units, reference */
+    int (*resolve)(json_t *spec, lub_error *err);
+    int (*run)(const json_t *resolved, struct lub_run_ctx *ctx);
+} lub_scene;
+
+/* NULL-terminated table of all scenes. */
+const lub_scene *const *lub_scene_list(void);
+const lub_scene *lub_scene_find(const char *name);
+
+/* Validate a whole spec document: checks "scene" and dispatches to the scene's resolve().
+ * On success *resolved is a new reference to the fully resolved spec (a deep copy of the
+ * input with defaults). Returns 0 or -1 with *err set. Used by the CLI and by the server. */
+int lub_spec_resolve(const json_t *spec, json_t **resolved, lub_error *err);
+
+#endif

@@ -1,0 +1,24 @@
+/* scene_registry.c — the table of scenes. Add one line per scene (declared in its own file). */
+#include <string.h>
+
+#include "scene.h"
+
+extern const lub_scene lub_scene_falling_sphere;
+extern const lub_scene lub_scene_two_spheres_shear;
+/* further scenes: declare here and list below */
+
+static const lub_scene *const scene_table[] = {
+    &lub_scene_falling_sphere,
+    &lub_scene_two_spheres_shear,
+    NULL,
+};
+
+const lub_scene *const *lub_scene_list(void) { return scene_table; }
+
+const lub_scene *lub_scene_find(const char *name)
+{
+    for (const lub_scene *const *s = scene_table; *s; ++s)
+        if (strcmp((*s)->name, name) == 0)
+            return *s;
+    return NULL;
+}

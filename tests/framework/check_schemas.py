@@ -1,0 +1,129 @@
+#!/usr/bin/env python3
+"""Cross-checks every scene's published JSON Schema (schema/<scene>.schema.json) against the
+engine's own validator (`lubdem validate`), so the server, the docs and the engine agree.
+
+For each scene listed by `lubdem scenes`:
+  1. the schema file exists and is a valid draft-07 schema;
+  2. the engine's resolved default spec ({"scene": name} plus defaults) validates against it;
+  3. mutations of the resolved spec are judged the same way by both: for every numeric
+     property, values just outside its minimum/maximum (exclusive or not), a wrong type, and
+     an unknown extra field, at the top level and inside nested objects.
+usage: check_schemas.py LUBDEM SCHEMA_DIR"""
+import copy
+import json
+import os
+import subprocess
+import sys
+
+import jsonschema
+
+
+def engine_accepts(lubdem, spec):
+    p = subprocess.run([lubdem, "validate", "-", "--json-errors"], input=json.dumps(spec),
+                       capture_output=True, text=True)
+    if p.returncode not in (0, 2):
+        raise SystemExit(f"lubdem validate crashed ({p.returncode}): {p.stderr}")
+    return p.returncode == 0, (p.stdout if p.returncode == 0 else p.stderr)
+
+
+def mutations(schema, spec, path=()):
+    """Yield (description, mutated spec) pairs for the object at `path`."""
+    props = schema.get("properties", {})
+    node = spec
+    for k in path:
+        node = node[k]
+    for name, sub in props.items():
+        if name == "scene":
+            continue
+        here = path + (name,)
+        typ = sub.get("type")
+        if typ in ("number", "integer"):
+            for key, delta, excl in (("minimum", -1, False), ("maximum", 1, False),
+                                     ("exclusiveMinimum", 0, True), ("exclusiveMaximum", 0, True)):
+                if key in sub and not isinstance(sub[key], bool):
+                    bound = sub[key]
+                    if excl:
+                        bad = bound
+                    else:
+                        step = max(abs(bound) * 1e-6, 1e-9) if typ == "number" else 1
+                        bad = bound + delta * step
+                    m = copy.deepcopy(spec)
+                    tgt = m
+                    for k in path:
+                        tgt = tgt[k]
+                    tgt[name] = bad
+                    yield f"{'/'.join(here)}={bad} ({key} {bound})", m
+            m = copy.deepcopy(spec)
+            tgt = m
+            for k in path:
+                tgt = tgt[k]
+            tgt[name] = "not a number"
+            yield f"{'/'.join(here)} wrong type", m
+        elif typ == "boolean":
+            m = copy.deepcopy(spec)
+            tgt = m
+            for k in path:
+                tgt = tgt[k]
+            tgt[name] = 3
+            yield f"{'/'.join(here)} wrong type", m
+        elif typ == "string" and "enum" in sub:
+            m = copy.deepcopy(spec)
+            tgt = m
+            for k in path:
+                tgt = tgt[k]
+            tgt[name] = "no-such-choice"
+            yield f"{'/'.join(here)} bad enum", m
+        elif typ == "object" and isinstance(node.get(name), dict):
+            yield from mutations(sub, spec, here)
+    if schema.get("additionalProperties") is False:
+        m = copy.deepcopy(spec)
+        tgt = m
+        for k in path:
+            tgt = tgt[k]
+        tgt["no_such_field_xyz"] = 1
+        yield f"{'/'.join(path) or '(root)'} unknown field", m
+
+
+def main():
+    lubdem, schema_dir = sys.argv[1], sys.argv[2]
+    scenes = json.loads(subprocess.run([lubdem, "scenes"], capture_output=True, text=True,
+                                       check=True).stdout)
+    checked = disagreements = 0
+    for sc in scenes:
+        name = sc["name"]
+        path = os.path.join(schema_dir, f"{name}.schema.json")
+        if not os.path.exists(path):
+            print(f"missing schema for scene {name}: {path}", file=sys.stderr)
+            disagreements += 1
+            continue
+        with open(path) as fh:
+            schema = json.load(fh)
+        jsonschema.Draft7Validator.check_schema(schema)
+        validator = jsonschema.Draft7Validator(schema)
+        ok, out = engine_accepts(lubdem, {"scene": name})
+        if not ok:
+            print(f"{name}: engine rejects the minimal spec: {out}", file=sys.stderr)
+            disagreements += 1
+            continue
+        resolved = json.loads(out)
+        errs = list(validator.iter_errors(resolved))
+        if errs:
+            print(f"{name}: resolved default spec violates the schema: {errs[0].message} "
+                  f"at {list(errs[0].absolute_path)}", file=sys.stderr)
+            disagreements += 1
+        for desc, spec in mutations(schema, resolved):
+            schema_ok = validator.is_valid(spec)
+            engine_ok, msg = engine_accepts(lubdem, spec)
+            checked += 1
+            if schema_ok != engine_ok:
+                disagreements += 1
+                print(f"{name}: {desc}: schema {'accepts' if schema_ok else 'rejects'}, engine "
+                      f"{'accepts' if engine_ok else 'rejects'} ({msg.strip()[:200]})",
+                      file=sys.stderr)
+    print(f"schema_mutations_checked={checked}")
+    print(f"schema_disagreements={disagreements}")
+    sys.exit(1 if disagreements or checked == 0 else 0)
+
+
+if __name__ == "__main__":
+    main()
