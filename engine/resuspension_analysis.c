@@ -1,0 +1,74 @@
+/* resuspension_analysis.c — see resuspension_analysis.h. */
+#include "resuspension_analysis.h"
+
+#include <math.h>
+
+double lub_shields_number(double eta, double shear_rate, double drho, double g, double a)
+{
+    return eta * fabs(shear_rate) / (drho * g * a);
+}
+
+double lub_acrivos_number(double eta, double shear_rate, double drho, double g, double h0)
+{
+    return 4.5 * eta * fabs(shear_rate) / (drho * g * h0);
+}
+
+void lub_profile_normal_viscosity(const double *phi, const double *phi_err, int n, double dy,
+                                  double shields, double *eta, double *eta_err)
+{
+    /* Sweep from the top: above[i] = sum_{j > i} phi_j dy; the bin itself contributes
+     * phi_i dy / 2 from its centre to its upper edge. */
+    double above = 0.0, var_above = 0.0;
+    for (int i = n - 1; i >= 0; --i) {
+        eta[i] = (above + 0.5 * phi[i] * dy) / shields;
+        if (eta_err) {
+            double vi = phi_err ? phi_err[i] * phi_err[i] : 0.0;
+            eta_err[i] = sqrt(var_above + 0.25 * vi * dy * dy) / shields;
+            var_above += vi * dy * dy;
+        }
+        above += phi[i] * dy;
+    }
+}
+
+double lub_profile_inventory(const double *phi, int n, double dy)
+{
+    double s = 0.0;
+    for (int i = 0; i < n; ++i)
+        s += phi[i];
+    return s * dy;
+}
+
+double lub_profile_height(const double *phi, int n, double y0, double dy, double phi_level)
+{
+    for (int i = n - 1; i >= 0; --i) {
+        if (phi[i] >= phi_level) {
+            double yc = y0 + (i + 0.5) * dy;
+            if (i == n - 1)
+                return yc; /* profile still above the level in the top bin */
+            /* interpolate between centre i (>= level) and centre i+1 (< level) */
+            double t = (phi[i] - phi_level) / (phi[i] - phi[i + 1]);
+            return yc + t * dy;
+        }
+    }
+    return NAN;
+}
+
+int lub_profile_select_bulk(const double *phi, int n, double y0, double dy,
+                            double interface_width, double floor_skip, double phi_min,
+                            int *keep)
+{
+    double phi_max = 0.0;
+    for (int i = 0; i < n; ++i)
+        if (phi[i] > phi_max)
+            phi_max = phi[i];
+    double y_int = lub_profile_height(phi, n, y0, dy, 0.5 * phi_max);
+    int kept = 0;
+    for (int i = 0; i < n; ++i) {
+        double yc = y0 + (i + 0.5) * dy;
+        int k = phi_max > 0 && isfinite(y_int) && yc <= y_int - interface_width &&
+                yc - y0 >= floor_skip && phi[i] >= phi_min;
+        keep[i] = k;
+        kept += k;
+    }
+    return kept;
+}

@@ -1,0 +1,47 @@
+/* resuspension_analysis.h — from a steady concentration profile phi(y) to normal viscosities
+ * (seed 000, resuspension article eq. 3–6; ../shared/spec/physics-reference.md §4).
+ *
+ * Dimensionless units: lengths in units of the mean radius a, viscosities in units of the
+ * fluid viscosity eta. The profile is binned along the gravity direction: bin i covers
+ * [y0 + i*dy, y0 + (i+1)*dy] and holds the cell-averaged volume fraction phi[i] with its
+ * standard error phi_err[i] (NULL if unknown). Bins are assumed statistically independent
+ * when errors are propagated (block-averaged time series make this a fair approximation;
+ * the result is a lower bound if neighbouring bins are correlated).
+ *
+ * All functions are pure: no allocation, no global state. Errors: a function that cannot
+ * produce a value returns NAN (documented per function).
+ */
+#ifndef LUBDEM_RESUSPENSION_ANALYSIS_H
+#define LUBDEM_RESUSPENSION_ANALYSIS_H
+
+/* Shields number Sh = eta gd / (drho g a) (eq. 4) and Acrivos number
+ * A = (9/2) eta gd / (drho g h0) = (9/2) Sh a / h0. */
+double lub_shields_number(double eta, double shear_rate, double drho, double g, double a);
+double lub_acrivos_number(double eta, double shear_rate, double drho, double g, double h0);
+
+/* Normal viscosity profile from eq. 6: eta_ii(y) = (1/Sh) * integral_y^inf phi(y') dy',
+ * evaluated at the bin centres (the bin's own half-width included). eta_err may be NULL;
+ * otherwise it receives the propagated standard errors (needs phi_err). */
+void lub_profile_normal_viscosity(const double *phi, const double *phi_err, int n, double dy,
+                                  double shields, double *eta, double *eta_err);
+
+/* Particle inventory: integral of phi dy over the profile (a length: the height of the bed
+ * if it were packed at phi = 1). */
+double lub_profile_inventory(const double *phi, int n, double dy);
+
+/* Height of the suspension: the highest y at which phi crosses `phi_level` going down
+ * (linear interpolation between bin centres). NAN if phi never reaches phi_level. */
+double lub_profile_height(const double *phi, int n, double y0, double dy, double phi_level);
+
+/* The interface-discarding rule (documented in README, "Resuspension analysis"): the
+ * interface is at y_int = lub_profile_height(phi, ..., phi_level = phi_half) with
+ * phi_half = 0.5 * max(phi); bins whose centre is above y_int - interface_width (default 5a,
+ * the width over which the seed's profiles fall from ~0.5 to 0) are flagged as interface
+ * bins, as are bins whose centre is closer than floor_skip to y0 (layering at the floor) and
+ * bins with phi below phi_min. keep[i] = 1 for bins kept for eta_ii(phi). Returns the number
+ * of kept bins. */
+int lub_profile_select_bulk(const double *phi, int n, double y0, double dy,
+                            double interface_width, double floor_skip, double phi_min,
+                            int *keep);
+
+#endif

@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# The CLI contract of README.md: exit codes, error lines naming the JSON pointer, nothing
+# written on a bad spec, atomic complete output, SIGTERM -> valid partial result.
+# usage: test_cli_contract.sh LUBDEM CHECK_H5MD_PY SCHEMA_DIR
+set -u
+LUBDEM=$1
+CHECK=$2
+SCHEMA_DIR=$3
+PY=/usr/bin/python3
+[ -x "$PY" ] || PY=python3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+pass=0
+fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+
+expect_spec_error() { # name, spec text, expected pointer
+  local name=$1 spec=$2 ptr=$3
+  local out="$work/out_$name"
+  printf '%s' "$spec" > "$work/$name.json"
+  "$LUBDEM" run "$work/$name.json" --out "$out" 2> "$work/$name.err" > /dev/null
+  local rc=$?
+  [ $rc -eq 2 ] || { bad "$name: exit $rc, expected 2"; return; }
+  [ -e "$out" ] && { bad "$name: output folder created for an invalid spec"; return; }
+  grep -q "^error: $ptr: " "$work/$name.err" || { bad "$name: stderr lacks 'error: $ptr:' ($(cat "$work/$name.err"))"; return; }
+  ok
+}
+
+# scenes listing is JSON with both two-sphere scenes
+"$LUBDEM" scenes > "$work/scenes.json" && $PY -c "
+import json,sys; names=[s['name'] for s in json.load(open('$work/scenes.json'))]
+sys.exit(0 if 'falling_sphere' in names and 'two_spheres_shear' in names else 1)" && ok || bad "scenes"
+
+expect_spec_error badjson '{"scene": "falling_sphere",' '(root)'
+expect_spec_error notobject '[1, 2]' '(root)'
+expect_spec_error noscene '{"eps": 0.1}' '/scene'
+expect_spec_error unknownscene '{"scene": "no_such_scene"}' '/scene'
+expect_spec_error unknownfield '{"scene": "falling_sphere", "bogus_field": 1}' '/bogus_field'
+expect_spec_error duplicate '{"scene": "falling_sphere", "scene": "falling_sphere"}' '(root)'
+
+# --json-errors: one JSON object with pointer and message
+printf '{"scene": "falling_sphere", "bogus_field": 1}' > "$work/j.json"
+"$LUBDEM" validate "$work/j.json" --json-errors 2> "$work/j.err" > /dev/null
+$PY -c "import json; e=json.load(open('$work/j.err')); assert e['pointer']=='/bogus_field' and e['message']" \
+  && ok || bad "json errors"
+
+# usage errors
+"$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
+"$LUBDEM" frobnicate > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown command exit code"
+"$LUBDEM" run "$work/j.json" > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without --out exit code"
+
+# validate prints the resolved spec with defaults filled in
+printf '{"scene": "falling_sphere"}' > "$work/min.json"
+"$LUBDEM" validate "$work/min.json" > "$work/resolved.json" && $PY -c "
+import json; r=json.load(open('$work/resolved.json')); assert r['scene']=='falling_sphere' and len(r) > 3" \
+  && ok || bad "validate resolved spec"
+
+# a short complete run: files appear atomically, summary matches its schema, H5MD valid
+$PY - "$work/resolved.json" "$work/short.json" "$work/long.json" <<'PYEOF'
+import json, sys
+r = json.load(open(sys.argv[1]))
+short = dict(r); long_ = dict(r)
+# the falling-sphere duration is in units of the viscous settling time tau_c
+key = "duration"
+assert key in r, "falling_sphere spec has no 'duration' field"
+short[key] = 0.5
+long_[key] = 1e6
+json.dump(short, open(sys.argv[2], "w")); json.dump(long_, open(sys.argv[3], "w"))
+PYEOF
+"$LUBDEM" run "$work/short.json" --out "$work/run1" > "$work/run1.out" 2> "$work/run1.err"
+rc=$?
+[ $rc -eq 0 ] && ok || bad "short run exit $rc: $(cat "$work/run1.err")"
+[ -f "$work/run1/summary.json" ] && [ -f "$work/run1/result.h5" ] && ok || bad "short run files"
+ls -A "$work/run1" | grep -q '^\.' && bad "temporary files left behind" || ok
+grep -Eq '^progress fraction=1\.0000 step=[0-9]+ steps_per_s=[^ ]+ eta_s=[^ ]+$' "$work/run1.out" \
+  && ok || bad "final progress line"
+$PY - "$work/run1/summary.json" "$SCHEMA_DIR/summary.schema.json" <<'PYEOF' && ok || bad "summary schema"
+import json, sys, jsonschema
+s = json.load(open(sys.argv[1])); jsonschema.validate(s, json.load(open(sys.argv[2])))
+assert s["status"] == "complete" and s["exit_code"] == 0 and s["active_terms"]
+PYEOF
+$PY "$CHECK" "$work/run1/result.h5" --status complete > /dev/null && ok || bad "H5MD structure"
+
+# SIGTERM: stops within seconds with a valid partial result and exit code 5
+"$LUBDEM" run "$work/long.json" --out "$work/run2" > /dev/null 2> "$work/run2.err" &
+pid=$!
+sleep 1.5
+kill -TERM $pid
+for _ in $(seq 1 100); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+if kill -0 $pid 2>/dev/null; then bad "did not stop within 10 s of SIGTERM"; kill -9 $pid; fi
+wait $pid
+rc=$?
+[ $rc -eq 5 ] && ok || bad "SIGTERM exit code $rc (expected 5): $(cat "$work/run2.err")"
+$PY -c "import json; s=json.load(open('$work/run2/summary.json')); assert s['status']=='partial'" \
+  && ok || bad "partial summary status"
+$PY "$CHECK" "$work/run2/result.h5" --status partial > /dev/null && ok || bad "partial H5MD structure"
+
+echo "cli_contract_checks=$((pass + fail))"
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]

@@ -1,0 +1,103 @@
+/* Tests of resuspension_analysis.c against the exact steady suspension-balance profile of a
+ * power-law normal viscosity with n = 2 (physics-reference §4, seed 000 eq. 3, 5, 6):
+ *   eta(phi) = lambda (psi/(1 - psi))^2, psi = phi/phi_m,
+ *   phi/Sh = -(d eta/d phi)(d phi/dy)  =>  (1 - psi)^-2 = (1 - psi0)^-2 - phi_m y/(lambda Sh),
+ * so the front (phi = 0) is at y_f = lambda Sh ((1 - psi0)^-2 - 1)/phi_m.
+ * Eq. 6 applied to the binned exact profile must return eta(phi) bin by bin: the check
+ * fails if the 1/Sh factor, the integration direction or the half-bin term is wrong. */
+#include <math.h>
+#include <stdio.h>
+
+#include "resuspension_analysis.h"
+
+static int failures = 0;
+#define CHECK(cond, ...)                                            \
+    do {                                                            \
+        if (!(cond)) {                                              \
+            fprintf(stderr, "%s:%d: ", __FILE__, __LINE__);         \
+            fprintf(stderr, __VA_ARGS__);                           \
+            fprintf(stderr, "\n");                                  \
+            ++failures;                                             \
+        }                                                           \
+    } while (0)
+
+static const double lambda = 0.6, phi_m = 0.585, sh = 0.04, psi0 = 0.95;
+
+static double psi_exact(double y)
+{
+    double q = 1.0 / ((1 - psi0) * (1 - psi0)) - phi_m * y / (lambda * sh);
+    return q <= 1.0 ? 0.0 : 1.0 - 1.0 / sqrt(q);
+}
+
+int main(void)
+{
+    enum { N = 1000 };
+    const double dy = 0.02;
+    const double y_front = lambda * sh * (1.0 / ((1 - psi0) * (1 - psi0)) - 1.0) / phi_m;
+    double phi[N], err[N], eta[N], eta_err[N];
+    /* exact bin averages (fine midpoint sampling) and a constant 1% error bar */
+    for (int i = 0; i < N; ++i) {
+        double s = 0;
+        for (int k = 0; k < 200; ++k)
+            s += psi_exact((i + (k + 0.5) / 200.0) * dy);
+        phi[i] = phi_m * s / 200.0;
+        err[i] = 0.01 * phi[i];
+    }
+    lub_profile_normal_viscosity(phi, err, N, dy, sh, eta, eta_err);
+    double worst = 0;
+    int compared = 0;
+    for (int i = 0; i < N; ++i) {
+        double y = (i + 0.5) * dy;
+        double psi = psi_exact(y);
+        if (psi < 0.5 || y > y_front - 2 * dy)
+            continue; /* near the sharp front (psi < 0.5 within ~0.3a of it) the half-bin term is not accurate */
+        double expect = lambda * pow(psi / (1 - psi), 2);
+        double rel = fabs(eta[i] - expect) / expect;
+        if (rel > worst)
+            worst = rel;
+        ++compared;
+    }
+    printf("sbm_front_height=%.6f\n", y_front);
+    printf("eta_from_profile_max_rel_err=%.3e\n", worst);
+    printf("bins_compared=%d\n", compared);
+    CHECK(compared > 100, "too few bins compared (%d)", compared);
+    CHECK(worst < 2e-3, "eq. 6 does not reproduce eta(phi): worst relative error %.3e", worst);
+
+    /* errors: the bottom bin integrates all bins: sqrt(sum var) dy / Sh */
+    double var = 0;
+    for (int i = 1; i < N; ++i)
+        var += err[i] * err[i] * dy * dy;
+    var += 0.25 * err[0] * err[0] * dy * dy;
+    CHECK(fabs(eta_err[0] - sqrt(var) / sh) < 1e-12 * eta_err[0], "error propagation");
+
+    /* inventory = integral of phi = phi_m * integral psi dy (trapezoid on a fine grid) */
+    double inv = 0;
+    for (int k = 0; k < 200000; ++k)
+        inv += psi_exact((k + 0.5) * (N * dy / 200000.0)) * (N * dy / 200000.0);
+    inv *= phi_m;
+    CHECK(fabs(lub_profile_inventory(phi, N, dy) - inv) < 1e-6 * inv, "inventory");
+
+    /* height at a small level is within two bins of the exact front */
+    double h = lub_profile_height(phi, N, 0.0, dy, 1e-3);
+    printf("profile_height=%.6f\n", h);
+    CHECK(fabs(h - y_front) < 2 * dy, "height %.5f vs front %.5f", h, y_front);
+    CHECK(isnan(lub_profile_height(phi, N, 0.0, dy, 0.9)), "level above the profile -> NAN");
+
+    /* bulk selection: interface bins and floor bins excluded */
+    int keep[N];
+    int kept = lub_profile_select_bulk(phi, N, 0.0, dy, 5.0, 1.0, 0.05, keep);
+    double y_half = lub_profile_height(phi, N, 0.0, dy, 0.5 * phi[0]);
+    for (int i = 0; i < N; ++i) {
+        double y = (i + 0.5) * dy;
+        if (keep[i])
+            CHECK(y <= y_half - 5.0 && y >= 1.0 && phi[i] >= 0.05, "bin %d kept wrongly", i);
+    }
+    CHECK(kept > 0, "no bulk bins kept");
+
+    /* dimensionless groups */
+    CHECK(fabs(lub_shields_number(2.0, -3.0, 4.0, 5.0, 0.5) - 0.6) < 1e-15, "Shields");
+    CHECK(fabs(lub_acrivos_number(1.0, 1.0, 1.0, 1.0, 9.0) - 0.5) < 1e-15, "Acrivos");
+
+    printf("%d passed, %d failed\n", failures ? 0 : 1, failures ? 1 : 0);
+    return failures ? 1 : 0;
+}
