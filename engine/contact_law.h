@@ -36,13 +36,13 @@ enum {
 
 /* Law parameters, shared by many pairs. */
 typedef struct {
-    double eta;         /* fluid viscosity (>= 0) */
-    double k_bulk;      /* g: bulk/surface normal stiffness, force per length (> 0) */
-    double alpha;       /* k_n/g: asperity-to-bulk stiffness ratio (> 0; Yade uses 1) */
-    double k_t;         /* tangential stiffness, force per length (>= 0) */
-    double eps;         /* roughness, physical convention: contact when u < eps*a (>= 0) */
-    double mu;          /* Coulomb friction coefficient of contacts (>= 0) */
-    unsigned terms;     /* LUB_TERM_* mask */
+    double eta;     /* fluid viscosity (>= 0) */
+    double k_bulk;  /* g: bulk/surface normal stiffness, force per length (> 0) */
+    double alpha;   /* k_n/g: asperity-to-bulk stiffness ratio (> 0; Yade uses 1) */
+    double k_t;     /* tangential stiffness, force per length (>= 0) */
+    double eps;     /* roughness, physical convention: contact when u < eps*a (>= 0) */
+    double mu;      /* Coulomb friction coefficient of contacts (>= 0) */
+    unsigned terms; /* LUB_TERM_* mask */
 } lub_law_params;
 
 /* Persistent per-pair state. Zero-initialise and set is_new = 1 when a pair is created
@@ -63,25 +63,25 @@ typedef struct {
     double r1, r2; /* radii (> 0) */
     double inv_inertia1, inv_inertia2; /* 1/I of each body (0 for a fixed body); used by the
                                           stable (implicit) treatment of the roll/twist torques */
-    double dt;     /* time step (> 0) */
+    double dt;                         /* time step (> 0) */
 } lub_pair_input;
 
 /* Everything a scene, a stress sum or a PDF needs from one evaluation. */
 typedef struct {
-    vec3 force1;      /* total force on body 1 = (fn_contact + fn_lub) n + fs_contact + fs_lub */
-    vec3 torque1;     /* total torque on body 1 (shear-force arm + roll + twist) */
-    vec3 torque2;     /* total torque on body 2 */
-    vec3 n;           /* unit normal 1 -> 2 */
-    double un;        /* centre gap |d| - r1 - r2 */
-    double gap;       /* true gap u = a exp(delta) (may underflow to 0; delta stays finite) */
-    double delta;     /* ln(u/a) */
-    double fn_contact;/* normal contact force along n (<= 0), on body 1 */
-    double fn_lub;    /* normal lubrication force along n = g a R+ (exact: never F_n - F_c) */
-    vec3 fs_contact;  /* tangential contact (friction) part */
-    vec3 fs_lub;      /* tangential lubrication part (consistent: fs = fs_contact + fs_lub) */
+    vec3 force1;       /* total force on body 1 = (fn_contact + fn_lub) n + fs_contact + fs_lub */
+    vec3 torque1;      /* total torque on body 1 (shear-force arm + roll + twist) */
+    vec3 torque2;      /* total torque on body 2 */
+    vec3 n;            /* unit normal 1 -> 2 */
+    double un;         /* centre gap |d| - r1 - r2 */
+    double gap;        /* true gap u = a exp(delta) (may underflow to 0; delta stays finite) */
+    double delta;      /* ln(u/a) */
+    double fn_contact; /* normal contact force along n (<= 0), on body 1 */
+    double fn_lub;     /* normal lubrication force along n = g a R+ (exact: never F_n - F_c) */
+    vec3 fs_contact;   /* tangential contact (friction) part */
+    vec3 fs_lub;       /* tangential lubrication part (consistent: fs = fs_contact + fs_lub) */
     vec3 torque_roll1, torque_twist1; /* lubrication torques on body 1 (body 2 gets minus) */
-    int contact;      /* 1 if u < eps a at the end of the step */
-    int slip;         /* 1 if the contact is sliding */
+    int contact;                      /* 1 if u < eps a at the end of the step */
+    int slip;                         /* 1 if the contact is sliding */
 } lub_pair_output;
 
 /* One step of the full law for one pair. Updates *state. Returns 0 on success, non-zero if

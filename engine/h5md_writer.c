@@ -365,8 +365,7 @@ static void table_free(lub_h5_table *t)
     free(t);
 }
 
-int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius,
-                            const char *const *boundary)
+int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const char *const *boundary)
 {
     hid_t g = make_group(f->file, "particles/all");
     hid_t box = make_group(g, "box");

@@ -8,10 +8,10 @@
 #include <stdio.h>
 
 typedef struct lub_progress {
-    FILE *stream;       /* NULL: silent */
-    double interval_s;  /* minimum wall time between lines */
-    double t_start;     /* wall clock at start */
-    double t_last;      /* wall clock of the last line */
+    FILE *stream;      /* NULL: silent */
+    double interval_s; /* minimum wall time between lines */
+    double t_start;    /* wall clock at start */
+    double t_last;     /* wall clock of the last line */
 } lub_progress;
 
 double lub_wall_seconds(void); /* monotonic clock */

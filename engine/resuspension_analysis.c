@@ -53,9 +53,8 @@ double lub_profile_height(const double *phi, int n, double y0, double dy, double
     return NAN;
 }
 
-int lub_profile_select_bulk(const double *phi, int n, double y0, double dy,
-                            double interface_width, double floor_skip, double phi_min,
-                            int *keep)
+int lub_profile_select_bulk(const double *phi, int n, double y0, double dy, double interface_width,
+                            double floor_skip, double phi_min, int *keep)
 {
     double phi_max = 0.0;
     for (int i = 0; i < n; ++i)

@@ -40,8 +40,7 @@ double lub_profile_height(const double *phi, int n, double y0, double dy, double
  * bins, as are bins whose centre is closer than floor_skip to y0 (layering at the floor) and
  * bins with phi below phi_min. keep[i] = 1 for bins kept for eta_ii(phi). Returns the number
  * of kept bins. */
-int lub_profile_select_bulk(const double *phi, int n, double y0, double dy,
-                            double interface_width, double floor_skip, double phi_min,
-                            int *keep);
+int lub_profile_select_bulk(const double *phi, int n, double y0, double dy, double interface_width,
+                            double floor_skip, double phi_min, int *keep);
 
 #endif

@@ -12,15 +12,15 @@
 #include "progress.h"
 
 typedef struct lub_run_ctx {
-    lub_h5 *out;                            /* result.h5 being written (never NULL in run) */
-    lub_progress *progress;                 /* progress reporter (stdout) */
-    volatile sig_atomic_t *stop_requested;  /* set by SIGTERM/SIGINT: stop at the next step,
-                                               write what you have, return LUB_EXIT_INTERRUPTED */
-    json_t *summary_results;  /* object: scene puts headline numbers here, each as
-                                 {"value": v, "stderr": e (or null), "unit": "...", "ref": ...} */
-    json_t *summary_extra;    /* object: anything else (active_terms, units, diagnostics) */
-    int threads;              /* OpenMP threads requested (>= 1) */
-    char diagnostic[1024];    /* on LUB_EXIT_NUMERICAL: what failed, where, when */
+    lub_h5 *out;                           /* result.h5 being written (never NULL in run) */
+    lub_progress *progress;                /* progress reporter (stdout) */
+    volatile sig_atomic_t *stop_requested; /* set by SIGTERM/SIGINT: stop at the next step,
+                                              write what you have, return LUB_EXIT_INTERRUPTED */
+    json_t *summary_results;               /* object: scene puts headline numbers here, each as
+                                              {"value": v, "stderr": e (or null), "unit": "...", "ref": ...} */
+    json_t *summary_extra; /* object: anything else (active_terms, units, diagnostics) */
+    int threads;           /* OpenMP threads requested (>= 1) */
+    char diagnostic[1024]; /* on LUB_EXIT_NUMERICAL: what failed, where, when */
 } lub_run_ctx;
 
 /* Helpers for summary entries. stderr_value < 0 or NaN means "no error bar" (null). */

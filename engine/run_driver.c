@@ -165,8 +165,8 @@ int lub_run_spec(const lub_run_request *req)
     json_object_set_new(summary, "git_commit", json_string(lub_build_git()));
     json_object_set(summary, "spec", resolved);
 
-    char *resolved_text = json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS |
-                                                   JSON_REAL_PRECISION(17));
+    char *resolved_text =
+        json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS | JSON_REAL_PRECISION(17));
     json_t *units = json_object_get(ctx.summary_extra, "units");
     char *units_text = units ? json_dumps(units, JSON_COMPACT | JSON_SORT_KEYS) : NULL;
     int io = lub_h5_write_parameters(h5, req->spec_text, resolved_text, units_text);

@@ -20,12 +20,12 @@ struct lub_run_ctx;
 
 /* Exit codes of the CLI and return codes of scene run() (README "CLI contract"). */
 enum {
-    LUB_EXIT_OK = 0,          /* completed; summary status "complete" */
-    LUB_EXIT_INTERNAL = 1,    /* unexpected internal error */
-    LUB_EXIT_BAD_SPEC = 2,    /* usage or invalid spec; nothing written */
-    LUB_EXIT_NUMERICAL = 3,   /* numerical failure (NaN, blow-up); status "failed" + diagnostic */
-    LUB_EXIT_IO = 4,          /* cannot write the output */
-    LUB_EXIT_INTERRUPTED = 5  /* SIGTERM/SIGINT: valid partial result, status "partial" */
+    LUB_EXIT_OK = 0,         /* completed; summary status "complete" */
+    LUB_EXIT_INTERNAL = 1,   /* unexpected internal error */
+    LUB_EXIT_BAD_SPEC = 2,   /* usage or invalid spec; nothing written */
+    LUB_EXIT_NUMERICAL = 3,  /* numerical failure (NaN, blow-up); status "failed" + diagnostic */
+    LUB_EXIT_IO = 4,         /* cannot write the output */
+    LUB_EXIT_INTERRUPTED = 5 /* SIGTERM/SIGINT: valid partial result, status "partial" */
 };
 
 typedef struct {

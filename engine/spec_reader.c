@@ -57,7 +57,7 @@ int lub_spec_only_keys(const json_t *obj, const char *ptr, const char *const *al
     const char *key;
     const json_t *value;
     char buf[256];
-    json_object_foreach((json_t *)obj, key, value) {
+    json_object_foreach ((json_t *)obj, key, value) {
         int ok = 0;
         for (const char *const *a = allowed; *a; ++a)
             if (strcmp(*a, key) == 0) {
@@ -91,8 +91,8 @@ static int range_check(double v, lub_range r, const char *p, lub_error *err)
     return 0;
 }
 
-int lub_spec_number(json_t *obj, const char *ptr, const char *key, lub_range range,
-                    int has_default, double def, double *out, lub_error *err)
+int lub_spec_number(json_t *obj, const char *ptr, const char *key, lub_range range, int has_default,
+                    double def, double *out, lub_error *err)
 {
     char p[256];
     lub_pointer_join(p, sizeof p, ptr, key);
@@ -113,9 +113,8 @@ int lub_spec_number(json_t *obj, const char *ptr, const char *key, lub_range ran
     return 0;
 }
 
-int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long min,
-                     long long max, int has_default, long long def, long long *out,
-                     lub_error *err)
+int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long min, long long max,
+                     int has_default, long long def, long long *out, lub_error *err)
 {
     char p[256];
     lub_pointer_join(p, sizeof p, ptr, key);
@@ -144,8 +143,8 @@ int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long mi
     return 0;
 }
 
-int lub_spec_bool(json_t *obj, const char *ptr, const char *key, int has_default, int def,
-                  int *out, lub_error *err)
+int lub_spec_bool(json_t *obj, const char *ptr, const char *key, int has_default, int def, int *out,
+                  lub_error *err)
 {
     char p[256];
     lub_pointer_join(p, sizeof p, ptr, key);

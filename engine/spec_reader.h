@@ -36,13 +36,12 @@ typedef struct {
     double min, max;
     int min_excl, max_excl;
 } lub_range;
-int lub_spec_number(json_t *obj, const char *ptr, const char *key, lub_range range,
-                    int has_default, double def, double *out, lub_error *err);
-int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long min,
-                     long long max, int has_default, long long def, long long *out,
-                     lub_error *err);
-int lub_spec_bool(json_t *obj, const char *ptr, const char *key, int has_default, int def,
-                  int *out, lub_error *err);
+int lub_spec_number(json_t *obj, const char *ptr, const char *key, lub_range range, int has_default,
+                    double def, double *out, lub_error *err);
+int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long min, long long max,
+                     int has_default, long long def, long long *out, lub_error *err);
+int lub_spec_bool(json_t *obj, const char *ptr, const char *key, int has_default, int def, int *out,
+                  lub_error *err);
 /* String that must be one of the NULL-terminated `choices` (NULL choices = any string). */
 int lub_spec_enum(json_t *obj, const char *ptr, const char *key, const char *const *choices,
                   const char *def, const char **out, lub_error *err);

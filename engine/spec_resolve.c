@@ -10,8 +10,9 @@ int lub_spec_resolve(const json_t *spec, json_t **resolved, lub_error *err)
         return lub_fail(err, "", "the spec must be a JSON object");
     json_t *scene = json_object_get(spec, "scene");
     if (!scene)
-        return lub_fail(err, "/scene", "required string is missing (one of the names listed by "
-                                       "`lubdem scenes`)");
+        return lub_fail(err, "/scene",
+                        "required string is missing (one of the names listed by "
+                        "`lubdem scenes`)");
     if (!json_is_string(scene))
         return lub_fail(err, "/scene", "must be a string");
     const lub_scene *s = lub_scene_find(json_string_value(scene));

@@ -22,7 +22,10 @@ static inline vec3 v3_cross(vec3 a, vec3 b)
 static inline double v3_norm2(vec3 a) { return v3_dot(a, a); }
 static inline double v3_norm(vec3 a) { return sqrt(v3_dot(a, a)); }
 /* a + s*b */
-static inline vec3 v3_axpy(vec3 a, double s, vec3 b) { return v3(a.x + s * b.x, a.y + s * b.y, a.z + s * b.z); }
+static inline vec3 v3_axpy(vec3 a, double s, vec3 b)
+{
+    return v3(a.x + s * b.x, a.y + s * b.y, a.z + s * b.z);
+}
 static inline int v3_isfinite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
 #endif

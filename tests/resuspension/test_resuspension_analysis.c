@@ -11,14 +11,14 @@
 #include "resuspension_analysis.h"
 
 static int failures = 0;
-#define CHECK(cond, ...)                                            \
-    do {                                                            \
-        if (!(cond)) {                                              \
-            fprintf(stderr, "%s:%d: ", __FILE__, __LINE__);         \
-            fprintf(stderr, __VA_ARGS__);                           \
-            fprintf(stderr, "\n");                                  \
-            ++failures;                                             \
-        }                                                           \
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            fprintf(stderr, "%s:%d: ", __FILE__, __LINE__);                                        \
+            fprintf(stderr, __VA_ARGS__);                                                          \
+            fprintf(stderr, "\n");                                                                 \
+            ++failures;                                                                            \
+        }                                                                                          \
     } while (0)
 
 static const double lambda = 0.6, phi_m = 0.585, sh = 0.04, psi0 = 0.95;
@@ -50,7 +50,8 @@ int main(void)
         double y = (i + 0.5) * dy;
         double psi = psi_exact(y);
         if (psi < 0.5 || y > y_front - 2 * dy)
-            continue; /* near the sharp front (psi < 0.5 within ~0.3a of it) the half-bin term is not accurate */
+            continue; /* near the sharp front (psi < 0.5 within ~0.3a of it) the half-bin term is
+                         not accurate */
         double expect = lambda * pow(psi / (1 - psi), 2);
         double rel = fabs(eta[i] - expect) / expect;
         if (rel > worst)
