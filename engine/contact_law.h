@@ -24,6 +24,18 @@
 
 #include "vec3.h"
 
+/* Range of the stored gap delta = ln(u/a) (added by the law implementation, notes §11 P5/P7):
+ * every delta returned or stored is clamped to [LUB_DELTA_MIN, LUB_DELTA_MAX], so that
+ * x = e^delta is always a normal positive double (>= 9.9e-305) and nu_t and the torques
+ * (which grow like -delta) stay finite. A gap of e^-700 a is far below any physical scale;
+ * the clamp only shortens the (model-inherent, notes §11 P5) endless decay of x in a
+ * permanently over-compressed contact. */
+#define LUB_DELTA_MIN (-700.0)
+#define LUB_DELTA_MAX (700.0)
+#ifndef LUB_PI
+#define LUB_PI 3.14159265358979323846
+#endif
+
 /* Term switches (bit mask). Each can be turned off independently for negative tests. */
 enum {
     LUB_TERM_NORMAL_LUB = 1u << 0, /* normal lubrication (nu_n = 3/2 pi eta a^2) */
@@ -61,8 +73,14 @@ typedef struct {
     vec3 v1, v2;   /* translational velocities; v2 INCLUDES the image mean-field shift L H c */
     vec3 w1, w2;   /* angular velocities */
     double r1, r2; /* radii (> 0) */
-    double inv_inertia1, inv_inertia2; /* 1/I of each body (0 for a fixed body); used by the
-                                          stable (implicit) treatment of the roll/twist torques */
+    double inv_inertia1, inv_inertia2; /* 1/I of each body (0 for a fixed body); used only by
+                                          the exponential (stable) integration of the roll/twist
+                                          torques. RECOMMENDED: pass N_i/I_i, N_i = number of
+                                          pairs of body i (>= 1): each pair then uses the share
+                                          I_i/N_i of the inertia and the sum over many stiff
+                                          neighbours cannot overshoot (see contact_torque.c and
+                                          the README "Contact law"). Torques -> c*Omega when
+                                          c dt N/I << 1, whichever is passed. */
     double dt;                         /* time step (> 0) */
 } lub_pair_input;
 
@@ -84,23 +102,40 @@ typedef struct {
     int slip;                         /* 1 if the contact is sliding */
 } lub_pair_output;
 
-/* One step of the full law for one pair. Updates *state. Returns 0 on success, non-zero if
- * the result is not finite (the caller must stop the run with a diagnostic). */
+/* One step of the full law for one pair. Updates *state. Returns 0 on success, 1 if the
+ * result is not finite (out and *state are then written but meaningless), 2 if |branch| is 0
+ * or not finite (out zeroed, state untouched); the caller must stop the run with a diagnostic.
+ * Switches (p->terms):
+ *  - NORMAL_LUB off (or eta = 0): quasi-static normal balance (h = +inf below); fn_lub = 0 and
+ *    the whole F_n is the contact force (F_n = 0 out of contact).
+ *  - SHEAR_LUB off: nu_t = 0 in every formula: out of contact F_s = 0; in contact pure
+ *    elastic-plastic (Cundall) friction.
+ *  - FRICTION off: no slider, i.e. mu = 0 / no tangential contact force: the tangential
+ *    element is the Maxwell (no-contact) one even in contact; fs_contact = 0, slip = 0.
+ *  - ROLL / TWIST off: the corresponding torque is 0. Both exist only for u < a (delta < 0).
+ * A new pair (is_new) starts at delta = ln(max(u_n/a, e^LUB_DELTA_MIN)), or, if u_n <= 0, at
+ * the quasi-static solution (its floor if there is none), with F_s = 0 and n_prev = n. */
 int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_state *state,
                   lub_pair_output *out);
 
 /* ---- building blocks, exposed for unit tests ---- */
 
 /* Normal part (notes §2.6). Dimensionless: x_prev = u-/a (> 0), s = u_n/a, h = dt g a / nu_n
- * (h = +INFINITY when normal lubrication is off), e = eps, alpha = k_n/g.
- * Returns delta+ = ln(x+) of the unique root of the backward-Euler equation; never NaN for
- * finite inputs. *contact set to 1 if x+ < e. delta_prev is ln(x_prev), passed in log form so
- * that x_prev may be far below DBL_MIN. */
+ * (> 0; h = +INFINITY when normal lubrication is off), e = eps, alpha = k_n/g.
+ * Returns delta+ = ln(x+) of the unique root of the backward-Euler equation, clamped to
+ * [LUB_DELTA_MIN, LUB_DELTA_MAX]; never NaN for finite inputs. *contact (may be NULL) set to
+ * 1 if x+ < e. delta_prev is ln(x_prev), passed in log form so that x_prev may be far below
+ * DBL_MIN (any finite delta_prev is accepted).
+ * h = +INFINITY: x solves (1 + a_c) x = s + a_c e. When that has no positive solution
+ * (s <= -alpha e; with e = 0: s <= 0 — asperities fully crushed or smooth spheres
+ * overlapping without lubrication) the gap is held at the floor LUB_DELTA_MIN, *contact = 1
+ * and lub_pair_step reports the whole F_n = g a (s - x) (stiffness g) as contact force. */
 double lub_normal_solve(double delta_prev, double s, double h, double e, double alpha,
                         int *contact);
 
 /* The same root by a bracketed bisection/Newton in log space (reference solver for tests and
- * the fallback when the closed form underflows). Stops on a bracket width < 1e-14 in delta. */
+ * the fallback when the closed form underflows). Stops on a certified bracket width
+ * <= 1e-14 + 4 DBL_EPSILON |delta| in delta; same clamp as lub_normal_solve. */
 double lub_normal_solve_bracketed(double delta_prev, double s, double h, double e, double alpha);
 
 /* Dimensionless rate R = s + alpha_c e - (1 + alpha_c) x with x = exp(delta) (notes §2.2). */
@@ -110,7 +145,8 @@ double lub_normal_rate(double delta, double s, double e, double alpha);
  * evaluated from delta for any gap (notes §3.1). */
 double lub_shear_viscosity(double eta, double a, double delta);
 
-/* Human-readable names of the active terms, for summaries. Writes up to max names. */
+/* Human-readable names of the active terms, for summaries. Writes up to max names and
+ * returns how many were written. */
 int lub_terms_names(unsigned terms, const char **names, int max);
 
 #endif

@@ -1,0 +1,88 @@
+/* shear_bench.c — throughput of the sheared-suspension time step (issue 3 benchmark).
+ * Dense random packing at phi = 0.50, radii 5 % std, cut-off 2a, skin 0.5a, all law terms,
+ * stiffness 1e4, St = 1e-2 (units a = eta = gd = 1), 200 warm-up steps then `steps` timed steps
+ * with a full stress sample every 50 steps (as the scene does). Prints name=value lines:
+ *   shear_particle_steps_per_s (wall), shear_particle_steps_per_cpu_s (CPU time: meaningful
+ *   on a loaded machine), shear_ns_per_active_pair, shear_ns_per_candidate_pair,
+ *   shear_active_pairs_per_particle, shear_bytes_per_particle, shear_rebuild_every_steps
+ * usage: shear_bench N THREADS STEPS */
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/resource.h>
+
+#include "packing.h"
+#include "progress.h"
+#include "shear_system.h"
+
+static double cpu_seconds(void)
+{
+    struct rusage ru;
+    getrusage(RUSAGE_SELF, &ru);
+    return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
+           (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
+}
+
+int main(int argc, char **argv)
+{
+    int n = argc > 1 ? atoi(argv[1]) : 1000;
+    int threads = argc > 2 ? atoi(argv[2]) : 1;
+    int steps = argc > 3 ? atoi(argv[3]) : 500;
+    double *r = malloc((size_t)n * sizeof *r);
+    vec3 *x = malloc((size_t)n * sizeof *x);
+    lub_cell c;
+    lub_packing_params pp = {.n = n, .phi = 0.5, .radius_std = 0.05, .seed = 5, .margin = 0.01,
+                             .max_sweeps = 5000000};
+    if (!r || !x || lub_packing_generate(&pp, r, x, &c, NULL)) {
+        fprintf(stderr, "packing failed\n");
+        return 1;
+    }
+    c.L[0][1] = 1.0;
+    lub_law_params law = {.eta = 1, .k_bulk = 1e4, .alpha = 1, .k_t = 5e3, .eps = 0.02,
+                          .mu = 0.5, .terms = LUB_TERM_ALL};
+    lub_shear_system s;
+    if (lub_shear_init(&s, n, r, x, &c, &law, 1e-2, 2.0, 0.5, 1.0, threads, 0, 0)) {
+        fprintf(stderr, "init failed\n");
+        return 1;
+    }
+    s.dt = 0.3 * lub_shear_elastic_dt(&s);
+    for (int k = 0; k < 200; ++k)
+        if (lub_shear_step(&s, 0, NULL)) {
+            fprintf(stderr, "%s\n", s.fail_msg);
+            return 1;
+        }
+    long rb0 = s.rebuilds;
+    double t0 = lub_wall_seconds(), c0 = cpu_seconds();
+    lub_shear_sample smp;
+    double active = 0;
+    int nsamp = 0;
+    for (int k = 0; k < steps; ++k) {
+        unsigned fl = (k % 50 == 0) ? LUB_SAMPLE_STRESS : 0u;
+        if (lub_shear_step(&s, fl, &smp)) {
+            fprintf(stderr, "%s\n", s.fail_msg);
+            return 1;
+        }
+        if (fl) {
+            active += (double)smp.n_active;
+            nsamp++;
+        }
+    }
+    double wall = lub_wall_seconds() - t0, cpu = cpu_seconds() - c0;
+    active /= nsamp;
+    double ps = (double)n * steps / wall;
+    printf("shear_n=%d\nshear_threads=%d\nshear_steps=%d\nshear_wall_s=%.3f\n", n, threads, steps,
+           wall);
+    printf("shear_particle_steps_per_s=%.4g\n", ps);
+    printf("shear_cpu_s=%.3f\n", cpu);
+    printf("shear_particle_steps_per_cpu_s=%.4g\n", (double)n * steps / cpu);
+    printf("shear_ns_per_active_pair=%.1f\n", wall * 1e9 / (steps * active));
+    printf("shear_cpu_ns_per_active_pair=%.1f\n", cpu * 1e9 / (steps * active));
+    printf("shear_ns_per_candidate_pair=%.1f\n", wall * 1e9 / (steps * (double)s.pairs.n));
+    printf("shear_active_pairs_per_particle=%.2f\n", active / n);
+    printf("shear_bytes_per_particle=%.0f\n", (double)lub_shear_memory_bytes(&s) / n);
+    long rb = s.rebuilds - rb0;
+    printf("shear_rebuild_every_steps=%.1f\n", rb > 0 ? (double)steps / rb : (double)steps);
+    lub_shear_free(&s);
+    free(r);
+    free(x);
+    return 0;
+}

@@ -1,0 +1,415 @@
+/* test_law_pair.c — full per-pair law (lub_pair_step): conservation, frame invariance,
+ * decomposition, switches, torques, new pairs, shear viscosity, error returns.
+ * Prints name=value lines; exits non-zero on failure. */
+#include "contact_law.h"
+#include "law_rng.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static int failures = 0;
+#define CHECK(cond, ...)                                                                       \
+    do {                                                                                       \
+        if (!(cond)) {                                                                         \
+            ++failures;                                                                        \
+            if (failures < 30) {                                                               \
+                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                           \
+                fprintf(stderr, __VA_ARGS__);                                                  \
+                fputc('\n', stderr);                                                           \
+            }                                                                                  \
+        }                                                                                      \
+    } while (0)
+
+static vec3 rand_vec(law_rng *r, double scale)
+{
+    return v3(law_rng_range(r, -scale, scale), law_rng_range(r, -scale, scale),
+              law_rng_range(r, -scale, scale));
+}
+static vec3 unit(vec3 a) { return v3_scale(a, 1.0 / v3_norm(a)); }
+
+static lub_law_params base_params(void)
+{
+    lub_law_params p = {.eta = 1.0, .k_bulk = 1e4, .alpha = 1.0, .k_t = 5e3, .eps = 0.01,
+                        .mu = 0.5, .terms = LUB_TERM_ALL};
+    return p;
+}
+
+/* Random realistic pair: radii ~1, gap in [-0.05, 1.5] a, random history. */
+static void random_pair(law_rng *r, lub_law_params *p, lub_pair_input *in, lub_pair_state *st)
+{
+    *p = base_params();
+    p->eta = law_rng_logrange(r, 1e-6, 1e3);
+    p->alpha = law_rng_logrange(r, 1e-3, 1e3);
+    p->eps = (law_rng_uniform(r) < 0.2) ? 0.0 : law_rng_range(r, 0.0, 0.1);
+    p->mu = law_rng_range(r, 0.0, 1.0);
+    memset(in, 0, sizeof *in);
+    in->r1 = law_rng_range(r, 0.8, 1.2);
+    in->r2 = law_rng_range(r, 0.8, 1.2);
+    const double a = 0.5 * (in->r1 + in->r2);
+    vec3 n = unit(rand_vec(r, 1.0));
+    double un = a * law_rng_range(r, -0.05, 1.5);
+    in->branch = v3_scale(n, in->r1 + in->r2 + un);
+    in->v1 = rand_vec(r, 1.0);
+    in->v2 = rand_vec(r, 1.0);
+    in->w1 = rand_vec(r, 1.0);
+    in->w2 = rand_vec(r, 1.0);
+    in->inv_inertia1 = 1.0 / law_rng_range(r, 0.3, 0.5);
+    in->inv_inertia2 = 1.0 / law_rng_range(r, 0.3, 0.5);
+    in->dt = 1e-3;
+    memset(st, 0, sizeof *st);
+    st->is_new = (law_rng_uniform(r) < 0.1);
+    st->delta = log(law_rng_logrange(r, 1e-12, 1.5));
+    vec3 np = unit(v3_add(n, rand_vec(r, 0.01)));
+    st->n_prev = np;
+    vec3 f = rand_vec(r, 50.0);
+    st->fs = v3_axpy(f, -v3_dot(f, np), np);
+}
+
+static void test_random_conservation_and_split(void)
+{
+    law_rng r = {99};
+    const int N = 200000;
+    double max_L = 0.0, max_split = 0.0, max_tan = 0.0;
+    long n_contact = 0, n_slip = 0, n_stick = 0, n_torque = 0;
+    for (int i = 0; i < N; ++i) {
+        lub_law_params p;
+        lub_pair_input in;
+        lub_pair_state st;
+        random_pair(&r, &p, &in, &st);
+        lub_pair_output o;
+        int rc = lub_pair_step(&p, &in, &st, &o);
+        CHECK(rc == 0, "rc=%d", rc);
+        /* angular momentum about the origin with x1 = 0, x2' = d: d x (-F1) + C1 + C2 = 0 */
+        vec3 L = v3_add(v3_cross(in.branch, v3_neg(o.force1)), v3_add(o.torque1, o.torque2));
+        double scale = v3_norm(in.branch) * v3_norm(o.force1) + v3_norm(o.torque1) +
+                       v3_norm(o.torque2) + 1e-300;
+        double eL = v3_norm(L) / scale;
+        if (eL > max_L)
+            max_L = eL;
+        /* contact + lubrication parts sum to the total, normal and tangential */
+        vec3 parts = v3_add(v3_scale(o.n, o.fn_contact + o.fn_lub), v3_add(o.fs_contact, o.fs_lub));
+        double sc2 = fabs(o.fn_contact) + fabs(o.fn_lub) + v3_norm(o.fs_contact) +
+                     v3_norm(o.fs_lub) + 1e-300;
+        double es = v3_norm(v3_sub(parts, o.force1)) / sc2;
+        if (es > max_split)
+            max_split = es;
+        /* stored shear force is tangential */
+        double et = fabs(v3_dot(st.fs, o.n)) / (v3_norm(st.fs) + 1e-300);
+        if (et > max_tan)
+            max_tan = et;
+        CHECK(o.delta >= LUB_DELTA_MIN && o.delta <= LUB_DELTA_MAX, "delta %g", o.delta);
+        CHECK(o.fn_contact <= 0.0, "tensile contact force %g", o.fn_contact);
+        CHECK(!o.contact || p.eps > 0.0, "contact with eps = 0");
+        if (o.contact) {
+            ++n_contact;
+            CHECK(v3_norm(o.fs_contact) <= p.mu * fabs(o.fn_contact) * (1 + 1e-12) + 1e-300,
+                  "Coulomb violated");
+            if (o.slip)
+                ++n_slip;
+            else
+                ++n_stick;
+        } else {
+            CHECK(v3_norm(o.fs_contact) == 0.0 && o.fn_contact == 0.0, "contact part w/o contact");
+        }
+        if (v3_norm(o.torque_roll1) > 0.0) {
+            ++n_torque;
+            CHECK(o.delta < 0.0, "roll torque beyond u = a");
+            /* dissipative: torque on 1 along Omega_r = (w2 - w1)_t */
+            CHECK(v3_dot(o.torque_roll1, v3_sub(in.w2, in.w1)) >= 0.0, "anti-dissipative roll");
+        }
+    }
+    CHECK(max_L < 1e-12, "angular momentum %g", max_L);
+    CHECK(max_split < 1e-12, "split %g", max_split);
+    CHECK(max_tan < 1e-12, "shear not tangential %g", max_tan);
+    CHECK(n_slip > 1000 && n_stick > 1000 && n_torque > 1000, "coverage slip %ld stick %ld torque %ld",
+          n_slip, n_stick, n_torque);
+    printf("pair_random_cases=%d\n", N);
+    printf("pair_max_rel_angular_momentum_defect=%.3e\n", max_L);
+    printf("pair_max_rel_split_defect=%.3e\n", max_split);
+    printf("pair_max_shear_normal_component=%.3e\n", max_tan);
+    printf("pair_cases_contact=%ld\npair_cases_slip=%ld\npair_cases_stick=%ld\npair_cases_torque=%ld\n",
+           n_contact, n_slip, n_stick, n_torque);
+}
+
+/* Rotation matrix application (Rodrigues) about unit axis k by angle t. */
+static vec3 rotate(vec3 v, vec3 k, double t)
+{
+    double c = cos(t), s = sin(t);
+    return v3_add(v3_add(v3_scale(v, c), v3_scale(v3_cross(k, v), s)),
+                  v3_scale(k, v3_dot(k, v) * (1 - c)));
+}
+
+/* Rigid motion (translation + rotation) of a pair: no force at all for a fresh pair at
+ * rest relative to each other; for a sticking contact |F_s| is invariant and F_s co-rotates;
+ * out of contact |F_s| follows exactly the Maxwell decay. */
+static void test_rigid_motion(void)
+{
+    const vec3 k = unit(v3(0.3, -0.5, 0.8));
+    const double Om = 0.7, dt = 1e-2;
+    const vec3 Omega = v3_scale(k, Om), V = v3(0.2, 0.1, -0.3);
+    struct {
+        const char *name;
+        double s;     /* u_n / a */
+        double fs0;   /* initial |F_s| */
+        int stick;
+    } cases[] = {{"free", 0.3, 0.0, 0}, {"stick", -0.005, 0.002, 1}, {"maxwell", 0.3, 0.002, 0}};
+    for (int c = 0; c < 3; ++c) {
+        lub_law_params p = {.eta = 0.01, .k_bulk = 1.0, .alpha = 1.0, .k_t = 0.5, .eps = 0.01,
+                            .mu = 0.5, .terms = LUB_TERM_ALL};
+        const double r1 = 1.0, r2 = 1.0, a = 1.0;
+        vec3 x1_0 = v3(0.1, 0.2, 0.3), n0 = unit(v3(1.0, 0.2, -0.1));
+        vec3 x2_0 = v3_axpy(x1_0, r1 + r2 + cases[c].s * a, n0);
+        lub_pair_state st;
+        memset(&st, 0, sizeof st);
+        st.is_new = 1;
+        lub_pair_output o;
+        double max_force = 0.0, max_dev = 0.0, max_dir = 0.0;
+        vec3 f0 = v3(0, 0, 0);
+        double nu_t = 0.0;
+        const int NSTEP = 10000;
+        for (int it = 0; it <= NSTEP; ++it) {
+            double t = it * dt;
+            vec3 x1 = v3_add(rotate(x1_0, k, Om * t), v3_scale(V, t));
+            vec3 x2 = v3_add(rotate(x2_0, k, Om * t), v3_scale(V, t));
+            lub_pair_input in = {.branch = v3_sub(x2, x1),
+                                 .v1 = v3_add(V, v3_cross(Omega, v3_sub(x1, v3_scale(V, t)))),
+                                 .v2 = v3_add(V, v3_cross(Omega, v3_sub(x2, v3_scale(V, t)))),
+                                 .w1 = Omega, .w2 = Omega, .r1 = r1, .r2 = r2,
+                                 .inv_inertia1 = 2.5, .inv_inertia2 = 2.5, .dt = dt};
+            if (it == 1 && cases[c].fs0 > 0.0) {
+                /* inject a tangential force once the pair is at its (static) state */
+                vec3 tdir = unit(v3_cross(st.n_prev, v3(0, 0, 1)));
+                st.fs = v3_scale(tdir, cases[c].fs0);
+                f0 = st.fs;
+            }
+            int rc = lub_pair_step(&p, &in, &st, &o);
+            CHECK(rc == 0, "rigid rc");
+            if (it == 1)
+                nu_t = lub_shear_viscosity(p.eta, a, o.delta);
+            if (cases[c].fs0 == 0.0) {
+                double f = v3_norm(o.force1) + v3_norm(o.torque1) + v3_norm(o.torque2);
+                if (f > max_force)
+                    max_force = f;
+            } else if (it >= 1 && (cases[c].stick || it <= 100)) { /* Maxwell: 100 steps ~ 1e-5 */
+                double expect = cases[c].fs0;
+                if (!cases[c].stick)
+                    expect *= pow(nu_t / (nu_t + p.k_t * dt), it);
+                double dev = fabs(v3_norm(st.fs) - expect) / cases[c].fs0;
+                if (dev > max_dev)
+                    max_dev = dev;
+                /* direction: the injected force co-rotates with the pair */
+                vec3 fr = unit(rotate(f0, k, Om * t));
+                double dir = v3_norm(v3_sub(unit(st.fs), fr));
+                if (dir > max_dir)
+                    max_dir = dir;
+                if (cases[c].stick)
+                    CHECK(o.contact && !o.slip, "stick case lost contact/stick");
+            }
+        }
+        if (cases[c].fs0 == 0.0) {
+            CHECK(max_force < 1e-12, "rigid free pair force %g", max_force);
+            printf("rigid_%s_max_force=%.3e\n", cases[c].name, max_force);
+        } else {
+            CHECK(max_dev < 1e-9, "rigid %s |F_s| deviation %g", cases[c].name, max_dev);
+            CHECK(max_dir < 1e-4, "rigid %s direction deviation %g", cases[c].name, max_dir);
+            printf("rigid_%s_max_dev_abs_fs_over_fs0=%.3e\n", cases[c].name, max_dev);
+            printf("rigid_%s_max_direction_error=%.3e\n", cases[c].name, max_dir);
+        }
+    }
+}
+
+static lub_pair_input simple_input(double un, vec3 w1, vec3 w2)
+{
+    lub_pair_input in = {.branch = v3(2.0 + un, 0, 0), .v1 = v3(0, 0.1, 0), .v2 = v3(0, -0.1, 0.05),
+                         .w1 = w1, .w2 = w2, .r1 = 1, .r2 = 1, .inv_inertia1 = 2.5,
+                         .inv_inertia2 = 2.5, .dt = 1e-3};
+    return in;
+}
+
+static void test_switches_and_torques(void)
+{
+    lub_law_params p = base_params();
+    lub_pair_state st;
+    lub_pair_output o;
+    const vec3 w1 = v3(0.3, 0.2, -0.1), w2 = v3(-0.4, 0.1, 0.5);
+
+    /* shear lubrication off, no contact: no shear force at all */
+    p.terms = LUB_TERM_ALL & ~LUB_TERM_SHEAR_LUB;
+    memset(&st, 0, sizeof st);
+    st.delta = log(0.2);
+    st.fs = v3(0, 1, 0);
+    st.n_prev = v3(1, 0, 0);
+    lub_pair_input in = simple_input(0.2, w1, w2);
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    CHECK(v3_norm(v3_axpy(o.force1, -v3_dot(o.force1, o.n), o.n)) == 0.0, "shear w/o lub, no contact");
+
+    /* friction off, in contact: no tangential contact force, no slip */
+    p.terms = LUB_TERM_ALL & ~LUB_TERM_FRICTION;
+    memset(&st, 0, sizeof st);
+    st.delta = log(0.002);
+    st.fs = v3(0, 100, 0);
+    st.n_prev = v3(1, 0, 0);
+    in = simple_input(-0.01, w1, w2);
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    CHECK(o.contact && v3_norm(o.fs_contact) == 0.0 && !o.slip && v3_norm(o.fs_lub) > 0.0,
+          "friction off: contact %d fs_c %g", o.contact, v3_norm(o.fs_contact));
+
+    /* same with friction on: slip (100 >> mu |F_c|) and a non-zero contact part */
+    p.terms = LUB_TERM_ALL;
+    memset(&st, 0, sizeof st);
+    st.delta = log(0.002);
+    st.fs = v3(0, 100, 0);
+    st.n_prev = v3(1, 0, 0);
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    CHECK(o.contact && o.slip && v3_norm(o.fs_contact) > 0.0, "friction on: slip expected");
+    CHECK(fabs(v3_norm(o.fs_contact) - p.mu * fabs(o.fn_contact)) <= 1e-12 * fabs(o.fn_contact),
+          "slider force != mu |F_c|");
+
+    /* normal lubrication off: fn_lub = 0, contact part = total */
+    p.terms = LUB_TERM_ALL & ~LUB_TERM_NORMAL_LUB;
+    memset(&st, 0, sizeof st);
+    st.is_new = 1;
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    CHECK(o.fn_lub == 0.0 && o.contact && o.fn_contact < 0.0 &&
+              fabs(o.fn_contact - v3_dot(o.force1, o.n)) < 1e-9 * fabs(o.fn_contact),
+          "normal lub off");
+    /* smooth spheres, no normal lubrication, overlapping: hard-core floor, repulsive g a s */
+    p.eps = 0.0;
+    memset(&st, 0, sizeof st);
+    st.is_new = 1;
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    CHECK(o.contact && o.delta == LUB_DELTA_MIN &&
+              fabs(o.fn_contact - p.k_bulk * (-0.01)) < 1e-9 * p.k_bulk, "hard-core floor fn=%g",
+          o.fn_contact);
+    p = base_params();
+
+    /* roll / twist: present for u < a, zero beyond, zero when switched off, and the exact
+     * explicit coefficients when k = c dt / I_eff is small */
+    for (int sw = 0; sw < 4; ++sw) {
+        p.terms = LUB_TERM_ALL & ~(sw & 1 ? LUB_TERM_ROLL : 0u) & ~(sw & 2 ? LUB_TERM_TWIST : 0u);
+        p.eta = 1e-3;
+        memset(&st, 0, sizeof st);
+        st.is_new = 1;
+        in = simple_input(0.05, w1, w2);
+        CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+        const double x = exp(o.delta), L = -o.delta;
+        const vec3 Om = v3_sub(w2, w1);
+        const vec3 Omt = v3_scale(o.n, v3_dot(Om, o.n)), Omr = v3_sub(Om, Omt);
+        /* exponential integration factor (1 - e^-k)/k, k = c dt (1/I1 + 1/I2) */
+        const double cr = LUB_PI * p.eta * (1.5 + 0.126 * x) * L, ct = LUB_PI * p.eta * x * L;
+        const double kr = cr * in.dt * 5.0, kt = ct * in.dt * 5.0;
+        const vec3 Tr = v3_scale(Omr, cr * (-expm1(-kr) / kr));
+        const vec3 Tt = v3_scale(Omt, ct * (-expm1(-kt) / kt));
+        if (sw & 1)
+            CHECK(v3_norm(o.torque_roll1) == 0.0, "roll off");
+        else
+            CHECK(v3_norm(v3_sub(o.torque_roll1, Tr)) < 1e-12 * v3_norm(Tr), "roll coefficient");
+        if (sw & 2)
+            CHECK(v3_norm(o.torque_twist1) == 0.0, "twist off");
+        else
+            CHECK(v3_norm(v3_sub(o.torque_twist1, Tt)) < 1e-12 * v3_norm(Tt), "twist coefficient");
+    }
+    p = base_params();
+    memset(&st, 0, sizeof st);
+    st.is_new = 1;
+    in = simple_input(1.2, w1, w2); /* u > a */
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    CHECK(v3_norm(o.torque_roll1) == 0.0 && v3_norm(o.torque_twist1) == 0.0, "torque for u > a");
+
+    /* stiff torque: exponential integration never reverses the relative spin */
+    double worst = 0.0;
+    for (int i = 0; i < 40; ++i) {
+        p.eta = pow(10.0, -6 + 0.4 * i); /* 1e-6 ... 1e10 */
+        memset(&st, 0, sizeof st);
+        st.is_new = 1;
+        in = simple_input(1e-9, w1, w2);
+        CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+        vec3 T = v3_add(o.torque_roll1, o.torque_twist1);
+        vec3 Om = v3_sub(w2, w1);
+        vec3 Om_new = v3_sub(v3_axpy(w2, -in.dt * in.inv_inertia2, T), v3_axpy(w1, in.dt * in.inv_inertia1, T));
+        /* per component along n and transverse: ratio in [0, 1] */
+        double r_t = v3_dot(Om_new, o.n) / v3_dot(Om, o.n);
+        vec3 Omr = v3_axpy(Om, -v3_dot(Om, o.n), o.n), Omr_new = v3_axpy(Om_new, -v3_dot(Om_new, o.n), o.n);
+        double r_r = v3_dot(Omr_new, Omr) / v3_norm2(Omr);
+        CHECK(r_t >= -1e-12 && r_t <= 1 + 1e-12 && r_r >= -1e-12 && r_r <= 1 + 1e-12,
+              "spin reversal eta=%g r_t=%g r_r=%g", p.eta, r_t, r_r);
+        if (r_r < worst || i == 0)
+            worst = r_r;
+    }
+    printf("torque_stiff_min_relative_spin_ratio=%.3e\n", worst);
+}
+
+static void test_new_pairs_and_errors(void)
+{
+    lub_law_params p = base_params();
+    lub_pair_state st;
+    lub_pair_output o;
+    /* created overlapping (rough): static solution, no lubrication force at rest */
+    memset(&st, 0, sizeof st);
+    st.is_new = 1;
+    lub_pair_input in = simple_input(-0.004, v3(0, 0, 0), v3(0, 0, 0));
+    in.v1 = in.v2 = v3(0, 0, 0);
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    CHECK(o.contact && fabs(exp(o.delta) - (-0.004 + 0.01) / 2.0) < 1e-12 &&
+              fabs(o.fn_lub) < 1e-9 * fabs(o.fn_contact), "overlap creation x=%g fl=%g", exp(o.delta), o.fn_lub);
+    /* created overlapping (smooth, lubricated): floor, finite, all lubrication */
+    p.eps = 0.0;
+    memset(&st, 0, sizeof st);
+    st.is_new = 1;
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    CHECK(!o.contact && o.delta == LUB_DELTA_MIN && o.fn_lub < 0.0, "smooth overlap creation");
+    /* a brand-new pair at u_n = 1e-320 a (subnormal) is finite */
+    memset(&st, 0, sizeof st);
+    st.is_new = 1;
+    in.branch = v3(2.0 + 1e-320, 0, 0);
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0 && isfinite(o.delta), "tiny gap creation");
+    /* errors */
+    in.branch = v3(0, 0, 0);
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 2, "zero branch must fail");
+    in = simple_input(0.1, v3(0, 0, 0), v3(0, 0, 0));
+    in.v1.x = NAN;
+    memset(&st, 0, sizeof st);
+    st.is_new = 1;
+    CHECK(lub_pair_step(&p, &in, &st, &o) != 0, "NaN velocity must be reported");
+    /* names */
+    const char *names[8];
+    CHECK(lub_terms_names(LUB_TERM_ALL, names, 8) == 5, "names all");
+    CHECK(lub_terms_names(LUB_TERM_ROLL | LUB_TERM_FRICTION, names, 8) == 2 &&
+              strcmp(names[1], "friction") == 0, "names subset");
+}
+
+static void test_shear_viscosity(void)
+{
+    const double eta = 2.0, a = 1.5;
+    double xs[] = {1e-300, 1e-12, 1e-3, 0.1, 0.999999, 1.0, 1.000001, 3.0, 50.0, 99999.0, 100001.0, 1e8};
+    double max_err = 0.0;
+    for (unsigned i = 0; i < sizeof xs / sizeof xs[0]; ++i) {
+        double x = xs[i], d = log(x);
+        double nu = lub_shear_viscosity(eta, a, d);
+        CHECK(nu > 0.0 && isfinite(nu), "nu_t(%g) = %g", x, nu);
+        /* reference in long double, direct formula */
+        long double X = x, ref = 0.5L * 3.14159265358979323846L * eta * a *
+                                 (-2.0L + (2.0L + X) * logl((2.0L + X) / X));
+        if (x < 1e4) {
+            double err = fabs((double)((nu - ref) / ref));
+            if (err > max_err)
+                max_err = err;
+        }
+        if (x > 1e4) /* ~ pi eta a^2 / u = pi eta a / x */
+            CHECK(fabs(nu / (LUB_PI * eta * a / x) - 1.0) < 1e-4, "large-gap limit x=%g", x);
+    }
+    CHECK(max_err < 1e-11, "nu_t error %g", max_err);
+    printf("shear_viscosity_max_rel_err=%.3e\n", max_err);
+}
+
+int main(void)
+{
+    test_random_conservation_and_split();
+    test_rigid_motion();
+    test_switches_and_torques();
+    test_new_pairs_and_errors();
+    test_shear_viscosity();
+    printf("pair_failures=%d\n", failures);
+    return failures ? 1 : 0;
+}

@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""Runs both two-sphere scenes through the `lubdem` CLI: exit code, summary.json (status,
+active_terms, units, headline numbers) and result.h5 observables; then SIGTERM on a long run
+must give exit 5, status "partial" and a readable partial result.
+usage: check_scenes_cli.py LUBDEM"""
+import json
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+
+import h5py
+import numpy as np
+
+lubdem = sys.argv[1]
+fails = 0
+
+
+def check(cond, what):
+    global fails
+    print(("ok   " if cond else "FAIL ") + what)
+    fails += 0 if cond else 1
+
+
+def run(spec, out):
+    with open(os.path.join(out, "spec.json"), "w") as f:
+        json.dump(spec, f)
+    return subprocess.run([lubdem, "run", os.path.join(out, "spec.json"), "--out", out, "--quiet"],
+                          capture_output=True, text=True)
+
+
+with tempfile.TemporaryDirectory() as tmp:
+    # falling sphere, viscous rigid limit
+    d = os.path.join(tmp, "fs")
+    os.makedirs(d)
+    p = run({"scene": "falling_sphere", "St": 0.01, "duration": 6, "samples": 200,
+             "law": {"eps": 0.001}}, d)
+    check(p.returncode == 0, f"falling_sphere exit 0 (got {p.returncode}: {p.stderr.strip()})")
+    s = json.load(open(os.path.join(d, "summary.json")))
+    check(s["status"] == "complete", "falling_sphere status complete")
+    check(s.get("active_terms") == ["gravity", "normal_lubrication", "normal_contact"],
+          f"falling_sphere active_terms {s.get('active_terms')}")
+    check("tau_c" in s.get("units", {}).get("time", ""), "falling_sphere units.time = tau_c")
+    check(abs(s["results"]["exp_rate"]["value"] / (8 / 9) - 1) < 1e-3,
+          f"exp_rate {s['results']['exp_rate']['value']:.6f} vs 8/9")
+    with h5py.File(os.path.join(d, "result.h5"), "r") as h:
+        t = h["observables/gap/time"][:]
+        u = h["observables/gap/value"][:]
+        check(len(t) == 200, f"200 samples of the gap (got {len(t)})")
+        pre = u > 2 * 0.001
+        dev = np.max(np.abs(u[pre] / np.exp(-8 / 9 * t[pre]) - 1))
+        check(dev < 1e-3, f"stored gap series follows exp(-8t/9): max dev {dev:.2e}")
+
+    # two spheres, default spec with d0 = 0.5
+    d = os.path.join(tmp, "ts")
+    os.makedirs(d)
+    p = run({"scene": "two_spheres_shear", "d0": 0.5}, d)
+    check(p.returncode == 0, f"two_spheres_shear exit 0 (got {p.returncode}: {p.stderr.strip()})")
+    s = json.load(open(os.path.join(d, "summary.json")))
+    check(s["status"] == "complete", "two_spheres_shear status complete")
+    check(s.get("active_terms") == ["stokes_drag", "stokes_drag_torque", "rotation",
+                                    "normal_lubrication", "shear_lubrication", "roll", "twist",
+                                    "friction"], f"two_spheres_shear active_terms {s.get('active_terms')}")
+    y = s["results"]["final_offset_y"]["value"]
+    check(abs(y / 0.5 - 1) < 0.01, f"final offset {y:.6f} vs 0.5")
+    with h5py.File(os.path.join(d, "result.h5"), "r") as h:
+        r = h["observables/relative_position/value"][:]
+        check(r.shape[1] == 3 and r[0, 0] == -10.0 and r[-1, 0] > 6.0,
+              f"relative trajectory from x=-10 to x={r[-1, 0]:.2f} ({r.shape[0]} samples)")
+
+    # SIGTERM: stop at the next step, partial result, exit 5
+    d = os.path.join(tmp, "stop")
+    os.makedirs(d)
+    with open(os.path.join(d, "spec.json"), "w") as f:
+        json.dump({"scene": "falling_sphere", "St": 1e-4, "duration": 1e4}, f)
+    proc = subprocess.Popen([lubdem, "run", os.path.join(d, "spec.json"), "--out", d, "--quiet"])
+    time.sleep(0.7)
+    proc.send_signal(signal.SIGTERM)
+    rc = proc.wait(timeout=30)
+    check(rc == 5, f"SIGTERM -> exit 5 (got {rc})")
+    s = json.load(open(os.path.join(d, "summary.json")))
+    check(s["status"] == "partial", f"status partial (got {s['status']})")
+    with h5py.File(os.path.join(d, "result.h5"), "r") as h:
+        check(h.attrs["status"] in ("partial", b"partial"), "result.h5 status partial")
+        check(len(h["observables/gap/time"][:]) >= 1, "partial gap series readable")
+
+print(f"{fails} failure(s)")
+sys.exit(1 if fails else 0)
