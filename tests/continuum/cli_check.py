@@ -1,0 +1,291 @@
+#!/usr/bin/env python3
+"""Continuum scenes through the real `lubdem` CLI.
+
+1. Schema <-> resolve() agreement: every spec below is checked with `lubdem validate` and with
+   the scene's JSON Schema (draft-07); both must accept or both reject, rejected specs must exit
+   with code 2 and name the expected JSON pointer, and every resolved spec must itself validate.
+2. `lubdem run` of each scene: summary.json numbers against the continuum-check.py references,
+   summary.json against schema/summary.schema.json, result.h5 layout (needs h5py).
+Usage: cli_check.py LUBDEM SCHEMA_DIR WORKDIR
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import h5py
+import jsonschema
+import numpy
+
+LUBDEM, SCHEMA_DIR, WORK = sys.argv[1], sys.argv[2], sys.argv[3]
+os.makedirs(WORK, exist_ok=True)
+failures = 0
+
+
+def fail(msg):
+    global failures
+    failures += 1
+    print("FAIL", msg)
+
+
+def check_near(name, got, want, tol):
+    ok = got is not None and abs(got - want) <= tol
+    print("%s=%.10g ref=%.10g tol=%.3g %s" % (name, got if got is not None else float("nan"), want, tol,
+                                                "ok" if ok else "FAIL"))
+    if not ok:
+        fail(name)
+
+
+def schema(scene):
+    with open(os.path.join(SCHEMA_DIR, scene + ".schema.json")) as f:
+        return jsonschema.Draft7Validator(json.load(f))
+
+
+def validate_cli(spec):
+    p = subprocess.run([LUBDEM, "validate", "-"], input=json.dumps(spec), capture_output=True,
+                       text=True)
+    return p.returncode, p.stdout, p.stderr
+
+
+# (spec, expected pointer or None if valid)
+CASES = [
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m4_laws", "psi": 0.8},
+      "protocol": [{"mode": "rate", "rate": 1, "strain": 5}]}, None),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_table", "phi": 0.44},
+      "initial_state": "steady_negative",
+      "protocol": [{"mode": "stress", "stress": -2, "duration": 3}, {"mode": "pause", "duration": 1},
+                   {"mode": "stress", "stress": 0, "duration": 1}]}, None),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m4", "a": 0.6, "delta1": 1, "delta2": -1,
+      "beta1": 0, "beta2": 1, "beta3": -0.2, "eta": 2, "eta_e": 1},
+      "protocol": [{"mode": "rate", "rate": -3, "duration": 2}]}, None),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3", "alpha": 1.7, "beta": 5, "eta": 10,
+      "eta_e": 10}, "protocol": [{"mode": "rate", "rate": 1, "strain": 1}], "samples_per_segment": 2}, None),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m4_laws", "psi": 0.7},
+      "protocol": [{"mode": "oscillation", "rate_amplitude": 2, "frequency": 0.5, "duration": 4}]}, None),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m4_laws", "psi": 0.7},
+      "protocol": [{"mode": "oscillation", "rate_amplitude": 2, "frequency": 0, "duration": 4}]},
+     "/protocol/0/frequency"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m4_laws", "psi": 0.7},
+      "protocol": [{"mode": "oscillation", "rate_amplitude": 2, "frequency": 1, "strain": 4}]},
+     "/protocol/0"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m4_laws", "psi": 1.0},
+      "protocol": [{"mode": "rate", "rate": 1, "strain": 5}]}, "/parameters"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m4_table", "phi": 0.45},
+      "protocol": [{"mode": "rate", "rate": 1, "strain": 5}]}, "/parameters"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m4", "a": 0, "delta1": 1, "delta2": -1,
+      "beta1": 0, "beta2": 1, "beta3": -0.2, "eta": 2, "eta_e": 1},
+      "protocol": [{"mode": "rate", "rate": 1, "strain": 5}]}, "/parameters"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.6},
+      "protocol": [{"mode": "rate", "rate": 1, "strain": 5}]}, "/parameters"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4},
+      "protocol": [{"mode": "rate", "rate": 0, "strain": 5}]}, "/protocol/0"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4},
+      "protocol": [{"mode": "stress", "stress": 0, "strain": 5}]}, "/protocol/0"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4},
+      "protocol": [{"mode": "rate", "rate": 1, "strain": 5, "duration": 1}]}, "/protocol/0"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4},
+      "protocol": [{"mode": "rate", "rate": 1}]}, "/protocol/0"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4},
+      "protocol": []}, "/protocol"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4},
+      "protocol": [{"mode": "pause", "duration": 1, "rate": 2}]}, "/protocol/0"),
+    ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4}, "bogus": 1,
+      "protocol": [{"mode": "pause", "duration": 1}]}, "/bogus"),
+    ({"scene": "continuum_steady_curves"}, None),
+    ({"scene": "continuum_steady_curves", "psi_min": 0.1, "psi_max": 0.99, "points": 50,
+      "mm": {"K_n": 1.0}}, None),
+    ({"scene": "continuum_steady_curves", "psi_max": 1.0}, "/psi_max"),
+    ({"scene": "continuum_steady_curves", "mm": {"K_x": 1.0}}, "/mm"),
+    ({"scene": "continuum_steady_curves", "points": 1}, "/points"),
+    ({"scene": "sbm_resuspension", "shields": 0.1, "inventory": 20}, None),
+    ({"scene": "sbm_resuspension", "law": {"kind": "zarraga"}, "direction": "vorticity",
+      "shields": 0.1, "inventory": 20}, None),
+    ({"scene": "sbm_resuspension", "law": {"kind": "power_law", "lambda": 0.6, "n": 2, "phi_m": 0.585},
+      "shields": 100, "inventory": 20}, None),
+    ({"scene": "sbm_resuspension", "law": {"kind": "ozenda_m4"}, "shields": 0.1, "inventory": 20}, None),
+    ({"scene": "sbm_resuspension", "law": {"kind": "ozenda_m4"}, "direction": "vorticity",
+      "shields": 0.1, "inventory": 20}, "/direction"),
+    ({"scene": "sbm_resuspension", "law": {"kind": "power_law", "lambda": 0.6, "n": 1, "phi_m": 0.585},
+      "shields": 100, "inventory": 20}, "/law"),
+    ({"scene": "sbm_resuspension", "law": {"kind": "boyer", "n": 3}, "shields": 1, "inventory": 2}, "/law"),
+    ({"scene": "sbm_resuspension", "shields": 0, "inventory": 20}, "/shields"),
+    ({"scene": "sbm_resuspension", "shields": 1, "inventory": -2}, "/inventory"),
+    ({"scene": "sbm_resuspension"}, None),
+    ({"scene": "continuum_rheometer"}, None),
+    ({"scene": "sbm_channel", "psi_mean": 0.5}, None),
+    ({"scene": "sbm_channel", "psi_mean": 0.5, "geometry": "channel", "inventory": "flux",
+      "closure": {"kind": "morris_miller", "K_s": 0.2}}, None),
+    ({"scene": "sbm_channel", "psi_mean": 0.4, "closure": {"kind": "dem_seed"}, "cells": 200}, None),
+    ({"scene": "sbm_channel", "psi_mean": 0.96}, "/psi_mean"),
+    ({"scene": "sbm_channel", "psi_mean": 0.5, "closure": {"kind": "m5"}}, "/closure"),
+    ({"scene": "sbm_channel"}, None),
+    ({"scene": "sbm_channel", "psi_mean": 0.0}, "/psi_mean"),
+]
+
+
+def pointer_ok(err_line, want):
+    # "error: <pointer>: message"
+    if not err_line.startswith("error: "):
+        return False
+    ptr = err_line[len("error: "):].split(":", 1)[0]
+    return ptr == want or ptr.startswith(want + "/")
+
+
+# constraints that draft-07 cannot express (documented in each schema's description)
+CROSS_FIELD = {("sbm_channel", "/psi_mean")}
+
+for spec, want in CASES:
+    sc = spec["scene"]
+    v = schema(sc)
+    schema_ok = v.is_valid(spec)
+    rc, out, err = validate_cli(spec)
+    tag = "%s %s" % (sc, json.dumps(spec)[:90])
+    if want is None:
+        if rc != 0 or not schema_ok:
+            fail("valid spec rejected (rc=%d schema=%s): %s %s" % (rc, schema_ok, tag, err.strip()))
+            continue
+        resolved = json.loads(out)
+        if not v.is_valid(resolved):
+            fail("resolved spec violates the schema: " + tag)
+            continue
+        print("valid ok:", tag)
+    else:
+        expect_schema = (sc, want) not in CROSS_FIELD
+        if rc != 2:
+            fail("invalid spec accepted by lubdem (rc=%d): %s" % (rc, tag))
+        elif not pointer_ok(err.strip().splitlines()[-1], want):
+            fail("wrong pointer (want %s): %s -> %s" % (want, tag, err.strip()))
+        elif expect_schema and schema_ok:
+            fail("invalid spec accepted by the schema: " + tag)
+        else:
+            print("invalid ok:", tag, "->", err.strip().splitlines()[-1])
+
+
+with open(os.path.join(SCHEMA_DIR, "summary.schema.json")) as f:
+    SUMMARY = jsonschema.Draft7Validator(json.load(f))
+
+
+def run(name, spec):
+    out = os.path.join(WORK, name)
+    shutil.rmtree(out, ignore_errors=True)
+    p = subprocess.run([LUBDEM, "run", "-", "--out", out, "--quiet"], input=json.dumps(spec),
+                       capture_output=True, text=True)
+    if p.returncode != 0:
+        fail("%s: exit %d %s" % (name, p.returncode, p.stderr.strip()))
+        return None, None
+    with open(os.path.join(out, "summary.json")) as f:
+        s = json.load(f)
+    errs = list(SUMMARY.iter_errors(s))
+    if errs:
+        fail("%s: summary.json violates summary.schema.json: %s" % (name, errs[0].message[:200]))
+    if s.get("status") != "complete":
+        fail(name + " status " + str(s.get("status")))
+    return {k: v["value"] for k, v in s["results"].items()}, h5py.File(os.path.join(out, "result.h5"), "r")
+
+
+# rheometer: M3 Table 3.2 reversal at phi = 0.40 (note §7.2: 11.959, 6.159, 5.745 at 0.173)
+r, h = run("rheo_m3", {"scene": "continuum_rheometer", "parameters": {"set": "m3_table", "phi": 0.4},
+                       "initial_state": "steady_negative",
+                       "protocol": [{"mode": "rate", "rate": 0.5, "strain": 4}],
+                       "samples_per_segment": 4001})
+if r:
+    check_near("cli.rheo_m3.eta_app_steady", r["eta_app_steady"], 11.959, 5e-4)
+    check_near("cli.rheo_m3.eta_app_min", r["eta_app_min"], 5.745, 5e-4)
+    check_near("cli.rheo_m3.strain_at_min", r["strain_at_eta_app_min"], 0.173, 5e-4)
+    check_near("cli.rheo_m3.time_total", r["time_total"], 8.0, 1e-12)
+    eta = h["observables/apparent_viscosity/value"][:]
+    check_near("cli.rheo_m3.h5_eta_0plus", float(eta[0]), 6.159, 5e-4)
+    check_near("cli.rheo_m3.h5_rows", len(eta), 4001, 0)
+    check_near("cli.rheo_m3.h5_time_end", float(h["observables/strain/time"][-1]), 8.0, 1e-12)
+# rheometer: M4 Table 4.2 reversal under imposed stress (same eta_app(gamma) curve, note §7.4)
+r, h = run("rheo_m4_stress", {"scene": "continuum_rheometer", "parameters": {"set": "m4_table", "phi": 0.3},
+                              "initial_state": "steady_negative",
+                              "protocol": [{"mode": "stress", "stress": 1.033, "strain": 8}],
+                              "samples_per_segment": 8001})
+if r:
+    check_near("cli.rheo_m4.eta_app_steady", r["eta_app_steady"], 4.119, 5e-4)
+    check_near("cli.rheo_m4.eta_app_min_grid", r["eta_app_min"], 3.426, 5e-4)
+    check_near("cli.rheo_m4.eta_app_max_overshoot", r["eta_app_max"], 4.227, 5e-4)
+    check_near("cli.rheo_m4.eta_app_final_gamma8", r["eta_app_final"], 4.111, 5e-4)
+    check_near("cli.rheo_m4.sigma_final", r["sigma_xy_final"], 1.033, 1e-12)
+    print("cli.rheo_m4.time_total=%.6f" % r["time_total"])
+# LAOS: 2.5 periods at A = 2/s, f = 0.5 Hz; strain = 5 half periods x 2A/omega
+r, h = run("laos", {"scene": "continuum_rheometer", "parameters": {"set": "m4_table", "phi": 0.44},
+                    "protocol": [{"mode": "oscillation", "rate_amplitude": 2, "frequency": 0.5, "duration": 5}],
+                    "samples_per_segment": 1001})
+if r:
+    import math
+    check_near("cli.laos.strain_total", r["strain_total"], 5 * 2 * 2 / math.pi, 1e-8)  # summary.json keeps 10 significant digits
+    check_near("cli.laos.time_total", r["time_total"], 5.0, 1e-12)
+    gd = h["observables/shear_rate/value"][:]
+    sig = h["observables/shear_stress/value"][:]
+    check_near("cli.laos.stress_sign_follows_rate",
+               float(sum(1 for a, b in zip(gd, sig) if a * b < 0)), 0.0, 0.0)
+# singular limits through the CLI: psi -> 1, stress near zero, many sign changes; no NaN (a
+# non-finite headline number would be written as null)
+r, h = run("singular", {"scene": "continuum_rheometer",
+                        "parameters": {"set": "m4_laws", "psi": 1 - 1e-10},
+                        "initial_state": "steady_negative",
+                        "protocol": [{"mode": "stress", "stress": 1e-12, "duration": 10},
+                                     {"mode": "rate", "rate": 1e3, "strain": 1e-3},
+                                     {"mode": "rate", "rate": -1e-3, "strain": 1e-3},
+                                     {"mode": "oscillation", "rate_amplitude": 5, "frequency": 3,
+                                      "duration": 2},
+                                     {"mode": "stress", "stress": -1e6, "strain": 50}]})
+if r:
+    bad = [k for k, v in r.items() if v is None or v != v]
+    check_near("cli.singular.null_or_nan_results", float(len(bad)), 0.0, 0.0)
+    ok = all(bool(numpy.isfinite(h["observables/" + n + "/value"][:]).all())
+             for n in ("apparent_viscosity", "N1", "N2", "shear_stress", "depletion_angle",
+                       "strain", "shear_rate"))
+    check_near("cli.singular.h5_finite", 1.0 if ok else 0.0, 1.0, 0.0)
+r, h = run("singular_pipe", {"scene": "sbm_channel", "psi_star": 0.999999, "psi_mean": 0.99})
+if r:
+    check_near("cli.singular_pipe.area_mean", r["psi_area_mean"], 0.99, 1e-9)
+r, h = run("singular_resusp", {"scene": "sbm_resuspension", "shields": 1e-6, "inventory": 1e6})
+if r:
+    check_near("cli.singular_resusp.height_over_packed", r["height_over_packed"], 1.0, 1e-3)
+# steady curves at report_psi = 0.8 (note §7.3 row 0.80)
+r, h = run("steady", {"scene": "continuum_steady_curves"})
+if r:
+    check_near("cli.steady.m4_eta_rel", r["m4_eta_rel"], 18.924, 5e-4)
+    check_near("cli.steady.m4_alpha1", r["m4_alpha1"], 0.1030, 5e-5)
+    check_near("cli.steady.m4_alpha2", r["m4_alpha2"], -0.4263, 5e-5)
+    check_near("cli.steady.m4_pp_rel", r["m4_pp_rel"], 0.2499, 5e-5)
+    check_near("cli.steady.m4_eta_n2", r["m4_eta_n2"], 8.068, 5e-4)
+    check_near("cli.steady.m4_eta1_bar_limit", r["m4_eta1_bar_limit"], 1.9303, 5e-5)
+    check_near("cli.steady.m4_alpha2_limit", r["m4_alpha2_limit"], -0.6059, 5e-5)
+    check_near("cli.steady.m4_c2", r["m4_c2_small_psi"], 0.3675, 5e-5)
+    check_near("cli.steady.dem_phi_m", r["dem_phi_m"], 0.5737, 5e-5)
+    check_near("cli.steady.dem_eta_r", r["dem_eta_r"], 14.89, 5e-3)
+    check_near("cli.steady.dem_alpha2", r["dem_alpha2"], -0.519, 5e-4)
+    check_near("cli.steady.h5_points", len(h["profiles/psi"][:]), 19, 0)
+    check_near("cli.steady.h5_m4_table_eta_0.30", float(h["profiles/m4_table"][0, 1]), 4.119, 5e-4)
+# resuspension: continuum-check.py case I (its "Sh = 0.01" is 1/Sh here)
+r, h = run("resusp_I", {"scene": "sbm_resuspension", "law": {"kind": "boyer"}, "direction": "vorticity",
+                        "shields": 100, "inventory": 20})
+if r:
+    check_near("cli.resusp_I.height", r["height"], 152.619, 5e-4)
+    check_near("cli.resusp_I.phi_bottom", r["phi_bottom"], 0.2141, 5e-5)
+    check_near("cli.resusp_I.height_minus_closed_form", r["height"] - r["height_closed_form"], 0.0, 1e-7)
+    check_near("cli.resusp_I.mass_rel_error", r["mass_trapezoid_rel_error"], 0.0, 1e-4)
+    phi = h["profiles/phi"][:]
+    check_near("cli.resusp_I.h5_phi0", float(phi[0]), 0.2141, 5e-5)
+    check_near("cli.resusp_I.h5_top", float(phi[-1]), 0.0, 0.0)
+r, h = run("resusp_dem", {"scene": "sbm_resuspension", "shields": 0.05, "inventory": 20})
+if r:
+    check_near("cli.resusp_dem.height", r["height"], 38.314459, 1e-5)  # test_sbm (same kernel)
+    check_near("cli.resusp_dem.mass_rel_error", r["mass_trapezoid_rel_error"], 0.0, 1e-3)
+# pipe: continuum-check.py case H (bulk psi = 0.5, psi* = 0.95, n = 400 midpoints)
+r, h = run("pipe_H", {"scene": "sbm_channel", "psi_mean": 0.5, "cells": 400})
+if r:
+    check_near("cli.pipe_H.plug_edge", r["plug_edge"], 0.309, 5e-4)
+    check_near("cli.pipe_H.C", r["wall_constant"], 0.05300, 5e-6)
+    check_near("cli.pipe_H.flux_mean", r["psi_flux_mean"], 0.574, 5e-4)
+    psi = h["profiles/psi"][:]
+    check_near("cli.pipe_H.psi_r0.99875", float(psi[399]), 0.338, 5e-4)
+    check_near("cli.pipe_H.psi_r0.50125", float(psi[200]), 0.539, 5e-4)
+
+print("failures=%d" % failures)
+sys.exit(1 if failures else 0)
