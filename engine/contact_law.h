@@ -24,14 +24,27 @@
 
 #include "vec3.h"
 
-/* Range of the stored gap delta = ln(u/a) (added by the law implementation, notes §11 P5/P7):
- * every delta returned or stored is clamped to [LUB_DELTA_MIN, LUB_DELTA_MAX], so that
- * x = e^delta is always a normal positive double (>= 9.9e-305) and nu_t and the torques
- * (which grow like -delta) stay finite. A gap of e^-700 a is far below any physical scale;
- * the clamp only shortens the (model-inherent, notes §11 P5) endless decay of x in a
- * permanently over-compressed contact. */
-#define LUB_DELTA_MIN (-700.0)
+/* Range of the stored gap delta = ln(u/a) (notes §2.6 item 4, §11 P5/P7).
+ *  - No physical floor: in a permanently over-compressed contact (u_n < -alpha eps a; smooth
+ *    spheres with u_n < 0) the model's gap decays exponentially for ever and the normal
+ *    lubrication force g a R, R = s + alpha_c e - (1 + alpha_c) x, is what carries the load.
+ *    delta follows that decay to any depth: x = e^delta may be subnormal or underflow to 0,
+ *    which is harmless in the forces (x -> 0), while nu_t and the torques are evaluated from
+ *    delta (they grow like -delta and stay finite; the torques are exponentially integrated).
+ *  - LUB_DELTA_MIN = -1e7 (u = e^-1e7 a, i.e. 10^-4342945 a) is only a guard that keeps delta
+ *    finite under pathological input (h or |s| absurdly large, delta_prev = -inf); no
+ *    physical run reaches it (the falling sphere St = 1e4, K = 0.1 trapped by lubrication for
+ *    2e5 tau_c reaches delta ~ -1e5). At -1e7 the spacing of doubles in delta is 2e-9, far
+ *    below any decay per step that matters.
+ *  - LUB_DELTA_MAX = 700 keeps x = e^delta finite (exp overflows above 709.78); a gap of
+ *    e^700 a is never reached by a pair inside its cut-off.
+ *  - LUB_DELTA_STATIC_FLOOR = -700 (x = 9.9e-305, a normal double) is the gap used ONLY when
+ *    there is no normal lubrication (h = +inf: quasi-static balance, no gap dynamics) and the
+ *    static balance has no positive root (asperities crushed / smooth overlap: the
+ *    "hard-core" case), and as the starting gap of a pair created in that state. */
+#define LUB_DELTA_MIN (-1.0e7)
 #define LUB_DELTA_MAX (700.0)
+#define LUB_DELTA_STATIC_FLOOR (-700.0)
 #ifndef LUB_PI
 #define LUB_PI 3.14159265358979323846
 #endif
@@ -113,8 +126,11 @@ typedef struct {
  *  - FRICTION off: no slider, i.e. mu = 0 / no tangential contact force: the tangential
  *    element is the Maxwell (no-contact) one even in contact; fs_contact = 0, slip = 0.
  *  - ROLL / TWIST off: the corresponding torque is 0. Both exist only for u < a (delta < 0).
- * A new pair (is_new) starts at delta = ln(max(u_n/a, e^LUB_DELTA_MIN)), or, if u_n <= 0, at
- * the quasi-static solution (its floor if there is none), with F_s = 0 and n_prev = n. */
+ * A new pair (is_new) starts at delta = ln(u_n/a) (>= -745 for any positive double u_n/a), or,
+ * if u_n <= 0, at the quasi-static solution (LUB_DELTA_STATIC_FLOOR if there is none), with
+ * F_s = 0 and n_prev = n; the step then integrates from there. Everything stays finite for
+ * any delta: x = e^delta underflowing to 0 gives gap = 0 exactly while delta < 0 stays the
+ * (finite) state, nu_t and the torques grow like -delta. */
 int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_state *state,
                   lub_pair_output *out);
 
@@ -122,20 +138,26 @@ int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_st
 
 /* Normal part (notes §2.6). Dimensionless: x_prev = u-/a (> 0), s = u_n/a, h = dt g a / nu_n
  * (> 0; h = +INFINITY when normal lubrication is off), e = eps, alpha = k_n/g.
- * Returns delta+ = ln(x+) of the unique root of the backward-Euler equation, clamped to
+ * Returns delta+ = ln(x+) of the unique root of the backward-Euler equation, computed in log
+ * form (no floor: x+ = e^delta+ may be far below DBL_MIN), clamped only to the guard range
  * [LUB_DELTA_MIN, LUB_DELTA_MAX]; never NaN for finite inputs. *contact (may be NULL) set to
- * 1 if x+ < e. delta_prev is ln(x_prev), passed in log form so that x_prev may be far below
- * DBL_MIN (any finite delta_prev is accepted).
+ * 1 if x+ < e (i.e. delta+ < ln e; never for e = 0, even when x+ underflows to 0).
+ * delta_prev is ln(x_prev), passed in log form so that x_prev may be far below DBL_MIN (any
+ * finite delta_prev is accepted; a compressed pair keeps decaying, notes §11 P5).
  * h = +INFINITY: x solves (1 + a_c) x = s + a_c e. When that has no positive solution
  * (s <= -alpha e; with e = 0: s <= 0 — asperities fully crushed or smooth spheres
- * overlapping without lubrication) the gap is held at the floor LUB_DELTA_MIN, *contact = 1
- * and lub_pair_step reports the whole F_n = g a (s - x) (stiffness g) as contact force. */
+ * overlapping without lubrication), or its solution is below e^LUB_DELTA_STATIC_FLOOR, the gap
+ * is held at the fixed floor LUB_DELTA_STATIC_FLOOR (no dynamics to follow), *contact = 1 and
+ * lub_pair_step reports the whole F_n = g a (s - x) (stiffness g) as contact force. */
 double lub_normal_solve(double delta_prev, double s, double h, double e, double alpha,
                         int *contact);
 
 /* The same root by a bracketed bisection/Newton in log space (reference solver for tests and
- * the fallback when the closed form underflows). Stops on a certified bracket width
- * <= 1e-14 + 4 DBL_EPSILON |delta| in delta; same clamp as lub_normal_solve. */
+ * the fallback when the closed form underflows). The objective is evaluated with differences
+ * of delta only (e^{delta_prev - delta}, expm1), so any finite delta_prev works. Stops on a
+ * certified bracket width <= 1e-14 + 4 DBL_EPSILON |delta| in delta; same guard clamp as
+ * lub_normal_solve (h = +INFINITY: the root of R = 0, held at LUB_DELTA_STATIC_FLOOR when it
+ * is below, as in lub_normal_solve). */
 double lub_normal_solve_bracketed(double delta_prev, double s, double h, double e, double alpha);
 
 /* Dimensionless rate R = s + alpha_c e - (1 + alpha_c) x with x = exp(delta) (notes §2.2). */

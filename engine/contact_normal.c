@@ -15,18 +15,27 @@
  *        b > 0 :  x = 2 x_prev / (b + sqrt(b^2 + q))     -> delta = delta_prev + ln(2/(b+..))
  *        b <= 0:  x = (|b| + sqrt(b^2 + q)) / (2 A h)
  *    Neither form subtracts nearly equal numbers. In the b > 0 form x_prev enters only as a
- *    factor, so delta_prev may be -1000 (x_prev = 0 in double) and the result is still
- *    exact in log form (q underflowing is harmless when b^2 >> q);
+ *    factor: whenever x_prev or x+ is not a normal double (delta_prev < ln DBL_MIN ~ -708)
+ *    the root is taken in log form, delta = delta_prev + ln(2/(b + sqrt(b^2 + q))), so
+ *    delta_prev may be -1e5 (x_prev = 0 in double) and the result is still exact; q is then
+ *    formed as exp(delta_prev + ln(4 A h)) (never from a subnormal x_prev, which has lost
+ *    digits) and underflowing to 0 is harmless when b^2 >> q;
  *  - the bracketed log-space solve is the fallback when the closed form cannot be trusted
  *    (|b| < 1e-140 and q < 1e-290: both terms of the root underflow; non-finite b, q; b <= 0
- *    with x underflowing), and the reference solver of the tests;
- *  - the result is clamped to [LUB_DELTA_MIN, LUB_DELTA_MAX] so that x = exp(delta) is a
- *    normal double: forces, nu_t and torques stay finite (notes §11 P5).
+ *    with x underflowing), and the reference solver of the tests. Its objective uses only
+ *    differences of delta (e^{delta_prev - delta}), so it works at any depth;
+ *  - NO floor on the gap (notes §2.6 item 4, §11 P5): a permanently compressed pair keeps
+ *    decaying in delta; x = exp(delta) may be subnormal or 0, which the forces tolerate, and
+ *    nu_t and the torques are evaluated from delta. The result is only clamped to the guard
+ *    range [LUB_DELTA_MIN, LUB_DELTA_MAX] = [-1e7, 700] (finite under pathological input,
+ *    exp(delta) never overflows). Without normal lubrication (h = +inf) there is no gap
+ *    dynamics and the hard-core case is held at the fixed LUB_DELTA_STATIC_FLOOR = -700.
  */
 #include "contact_law.h"
 #include "contact_normal.h"
 
 #include <float.h>
+#include <stddef.h>
 #include <math.h>
 
 /* The branch test and the closed form are exact as long as one of the two terms of the root
@@ -52,41 +61,62 @@ double lub_normal_rate(double delta, double s, double e, double alpha)
 
 /* Objective of the log-space solve, divided by x+ (notes §2.4 with theta = 1):
  *   f(d) = R(e^d, s) + (1/h) (e^{d_prev - d} - 1),   strictly decreasing in d.
- * Two groupings, chosen so that the only cancellation left is the one of the problem data:
+ * Evaluated only through differences of delta (e^{d_prev - d}), never through x_prev. Two
+ * groupings, chosen so that the only cancellation left is the one of the problem data:
  *  - E = e^{d_prev - d} >= 1/2: (s + a_c e - A x) + (1/h) expm1(d_prev - d) — expm1 keeps full
  *    precision when d ~ d_prev (small h);
  *  - E < 1/2: (s + a_c e - 1/h) + (1/h) E - A x — when s + a_c e ~ 1/h the first bracket is
  *    the small number the root depends on (same rounding as b = 1 - h (s + a_c e) in the
- *    closed form); grouping it with expm1 ~ -1 would cancel to zero. */
-static double objective(double d, double dprev, double s, double hinv, double e, double alpha)
+ *    closed form); grouping it with expm1 ~ -1 would cancel to zero.
+ * Deep gaps: when both exponential terms A x = e^{L2} and E/h = e^{L1} are below 1e-250
+ * (x and/or E underflowing, e.g. d_prev = -1e5 with s + a_c e = 1/h, where the root is
+ * d_prev/2), f is returned scaled by the positive factor e^{-m}, m = max(L1, L2): the sign
+ * (all the bisection needs) is exact instead of an underflowed 0, and *fp (the slope, same
+ * scale) keeps the Newton ratio f/f' exact. The constant term is capped at e^700 in that
+ * scale (sign kept). fp may be NULL. */
+#define TERM_TINY 1e-250
+static double objective(double d, double dprev, double s, double hinv, double e, double alpha,
+                        double *fp)
 {
     const double x = exp(d);
     const double ac = (x < e) ? alpha : 0.0;
     const double A = 1.0 + ac;
-    if (!(hinv > 0.0))
+    if (!(hinv > 0.0)) {
+        if (fp)
+            *fp = -A * x;
         return s + ac * e - A * x;
+    }
     const double E = exp(dprev - d);
+    const double t1 = hinv * E, t2 = A * x;
+    if (t1 < TERM_TINY && t2 < TERM_TINY) {
+        const double L1 = log(hinv) + (dprev - d), L2 = log(A) + d;
+        const double m = fmax(L1, L2);
+        const double C = (s + ac * e) - hinv;
+        const double t0 = (C == 0.0) ? 0.0 : copysign(exp(fmin(log(fabs(C)) - m, 700.0)), C);
+        const double u1 = exp(L1 - m), u2 = exp(L2 - m);
+        if (fp)
+            *fp = -(u1 + u2);
+        return t0 + u1 - u2;
+    }
+    if (fp)
+        *fp = -t2 - t1;
     if (E >= 0.5)
-        return (s + ac * e - A * x) + hinv * expm1(dprev - d);
-    return ((s + ac * e) - hinv) + hinv * E - A * x;
-}
-
-static double objective_slope(double d, double dprev, double hinv, double e, double alpha)
-{
-    double x = exp(d);
-    double ac = (x < e) ? alpha : 0.0;
-    double fp = -(1.0 + ac) * x;
-    if (hinv > 0.0)
-        fp -= hinv * exp(dprev - d);
-    return fp;
+        return (s + ac * e - t2) + hinv * expm1(dprev - d);
+    return ((s + ac * e) - hinv) + t1 - t2;
 }
 
 double lub_normal_solve_bracketed(double delta_prev, double s, double h, double e, double alpha)
 {
     const double hinv = isinf(h) ? 0.0 : 1.0 / h;
-#define F(d) objective((d), delta_prev, s, hinv, e, alpha)
-    /* 1. Bracket: march from the (clamped) previous value in steps doubling from 1. */
+    /* lowest delta searched: the guard LUB_DELTA_MIN, or the static floor when there are no
+     * dynamics (h = +inf, same convention as lub_normal_solve_ex) */
+    const double dmin = isinf(h) ? LUB_DELTA_STATIC_FLOOR : LUB_DELTA_MIN;
+#define F(d) objective((d), delta_prev, s, hinv, e, alpha, NULL)
+    /* 1. Bracket: march from the (clamped) previous value in steps doubling from 1 (a root at
+     *    delta ~ -1e5 below delta_prev ~ 0 is bracketed after ~17 doublings). */
     double c = clamp_delta(delta_prev);
+    if (c < dmin)
+        c = dmin;
     double fc = F(c);
     double lo, hi;
     if (fc == 0.0)
@@ -116,11 +146,11 @@ double lub_normal_solve_bracketed(double delta_prev, double s, double h, double 
         double step = 1.0;
         for (;;) {
             lo = c - step;
-            if (lo <= LUB_DELTA_MIN) {
-                lo = LUB_DELTA_MIN;
+            if (lo <= dmin) {
+                lo = dmin;
                 double fl = F(lo);
                 if (fl <= 0.0)
-                    return LUB_DELTA_MIN; /* root below the clamp */
+                    return dmin; /* root below the guard (or the static floor) */
                 break;
             }
             double fl = F(lo);
@@ -134,13 +164,15 @@ double lub_normal_solve_bracketed(double delta_prev, double s, double h, double 
     }
     /* 2. Safeguarded Newton inside [lo, hi] with F(lo) > 0 > F(hi): the Newton step is
      *    rejected for a bisection when it leaves the bracket or does not at least halve the
-     *    previous step. Stop on a certified bracket width <= 1e-14 (plus a few ulps of
-     *    |delta|, the finest width representable around delta = -700). */
+     *    previous step (objective() scales f and f' alike when its terms underflow).
+     *    Stop on a certified bracket width <= 1e-14 plus a few ulps of |delta| (the finest
+     *    width representable: 1e-13 at delta = -700, 6e-11 at -1e5). */
     double d = 0.5 * (lo + hi);
     double dx = hi - lo, dx_old = dx;
     for (int it = 0; it < 400; ++it) {
         const double tol = 1e-14 + 4.0 * DBL_EPSILON * fmax(fabs(lo), fabs(hi));
-        double fd = F(d);
+        double fp;
+        double fd = objective(d, delta_prev, s, hinv, e, alpha, &fp);
         if (fd == 0.0)
             return d;
         if (fd > 0.0)
@@ -149,7 +181,6 @@ double lub_normal_solve_bracketed(double delta_prev, double s, double h, double 
             hi = d;
         if (hi - lo <= tol)
             break;
-        double fp = objective_slope(d, delta_prev, hinv, e, alpha);
         double dn = d - fd / fp;
         if (!(dn > lo && dn < hi) || fabs(2.0 * fd) > fabs(dx_old * fp)) {
             dx_old = dx;
@@ -199,8 +230,8 @@ double lub_normal_solve_ex(double delta_prev, double s, double h, double e, doub
     if (!(alpha >= 0.0))
         alpha = 0.0;
     if (isinf(h)) {
-        /* No normal lubrication (or eta = 0): quasi-static balance R = 0. */
-        const double x_floor = exp(LUB_DELTA_MIN); /* constant-folded */
+        /* No normal lubrication (or eta = 0): quasi-static balance R = 0, no gap dynamics. */
+        const double x_floor = exp(LUB_DELTA_STATIC_FLOOR); /* 9.9e-305, constant-folded */
         double x;
         if (s >= e && s > 0.0) {
             x = s;
@@ -211,11 +242,12 @@ double lub_normal_solve_ex(double delta_prev, double s, double h, double e, doub
         }
         if (!(x >= x_floor)) {
             /* No positive static gap: (1+alpha) x = s + alpha e <= 0. Asperities fully
-             * crushed (or smooth spheres overlapping): the gap is held at the floor and the
-             * whole normal force g a (s - x) is a contact force ("hard-core" regime). */
+             * crushed (or smooth spheres overlapping): the gap is held at the fixed static
+             * floor and the whole normal force g a (s - x) is a contact force ("hard-core"
+             * regime). A fixed floor is exact here: nothing depends on the gap history. */
             *contact = 1;
             *x_out = x_floor;
-            return LUB_DELTA_MIN;
+            return LUB_DELTA_STATIC_FLOOR;
         }
         if (x > exp(LUB_DELTA_MAX)) {
             *x_out = exp(LUB_DELTA_MAX);
@@ -225,20 +257,25 @@ double lub_normal_solve_ex(double delta_prev, double s, double h, double e, doub
         return log(x);
     }
 
-    const double xp = exp(delta_prev); /* may underflow to 0 (delta_prev < -745) */
+    /* x_prev as a double: subnormal for delta_prev in (-745, -708) (digits lost), 0 below.
+     * It is used directly only when it is a normal double. */
+    const double xp = exp(delta_prev);
+    const int xp_normal = (xp >= DBL_MIN);
 
     /* Exact branch choice (notes §2.6, §2.7): the no-contact objective is decreasing and
      * equals the contact one at x = e, so the root is >= e iff f0(ln e) >= 0, i.e.
      * h (s - e) - 1 + x_prev/e >= 0. */
     int c = 0;
     if (e > 0.0) {
-        double r = (xp >= DBL_MIN) ? xp / e : exp(delta_prev - log(e));
+        double r = xp_normal ? xp / e : exp(delta_prev - log(e));
         c = (h * (s - e) - 1.0 + r < 0.0);
     }
     const double ac = c ? alpha : 0.0;
     const double A = 1.0 + ac;
     const double b = 1.0 - h * (s + ac * e);
-    const double q = 4.0 * A * h * xp;
+    /* q = 4 A h x_prev; in log form when x_prev is not normal (exp of a sum: relative error
+     * ~ ulp(delta_prev), as good as delta_prev itself) */
+    const double q = xp_normal ? 4.0 * A * h * xp : exp(delta_prev + log(4.0 * A * h));
 
     double d = NAN, x = NAN;
     if (isfinite(b) && isfinite(q) && (fabs(b) >= B_TINY || q >= Q_TINY)) {
@@ -247,10 +284,12 @@ double lub_normal_solve_ex(double delta_prev, double s, double h, double e, doub
             if (b > 0.0) {
                 const double den = b + sq;
                 x = 2.0 * xp / den;
-                if (x >= DBL_MIN) {
+                if (xp_normal && x >= DBL_MIN) {
                     d = log(x);
                 } else {
-                    d = delta_prev + log(2.0 / den); /* scaled: x_prev may be e^-1000 */
+                    /* scaled (log) form: x_prev may be e^-1e5 (0 in double); x+ is recomputed
+                     * below as exp(d), subnormal or 0 */
+                    d = delta_prev + log(2.0 / den);
                     x = NAN;
                 }
             } else {
@@ -267,10 +306,11 @@ double lub_normal_solve_ex(double delta_prev, double s, double h, double e, doub
     }
     if (d < LUB_DELTA_MIN || d > LUB_DELTA_MAX || !(x == x)) {
         d = clamp_delta(d);
-        x = exp(d);
+        x = exp(d); /* subnormal or 0 for d < -708: harmless in R+ and the forces */
     }
-    /* The flag means x+ < e exactly (the branch formula and the flag can only disagree by
-     * round-off when x+ = e to the last bits, where both branches give the same root). */
+    /* The flag means x+ < e exactly, i.e. delta+ < ln e (the branch formula and the flag can
+     * only disagree by round-off when x+ = e to the last bits, where both branches give the
+     * same root). x+ = 0 after underflow gives contact for e > 0, never for e = 0. */
     *contact = (e > 0.0) && (x < e);
     *x_out = x;
     return d;

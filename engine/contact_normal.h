@@ -8,9 +8,11 @@
 #ifndef LUBDEM_CONTACT_NORMAL_H
 #define LUBDEM_CONTACT_NORMAL_H
 
-/* As lub_normal_solve(), and additionally *x_out = exp(returned delta) (always a normal,
- * positive double because the returned delta is clamped to [LUB_DELTA_MIN, LUB_DELTA_MAX]).
- * contact and x_out must be non-NULL. */
+/* As lub_normal_solve(), and additionally *x_out = exp(returned delta), finite and >= 0: it
+ * is subnormal or exactly 0 when the returned delta is below about -708 / -745 (a compressed
+ * pair decaying without floor, notes §11 P5). Callers must use x only where x -> 0 is
+ * harmless (forces, R+) and the returned delta wherever ln x is needed (nu_t, torques, the
+ * contact test delta < ln e). contact and x_out must be non-NULL. */
 double lub_normal_solve_ex(double delta_prev, double s, double h, double e, double alpha,
                            int *contact, double *x_out);
 

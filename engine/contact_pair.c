@@ -37,10 +37,11 @@ int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_st
     /* ---- new pair (notes §2.10, §11 P3) ---- */
     if (state->is_new) {
         if (s > 0.0) {
-            double d0 = log(s);
-            state->delta = (d0 > LUB_DELTA_MIN) ? d0 : LUB_DELTA_MIN;
+            state->delta = log(s); /* >= -745 even for a subnormal s: no floor needed */
         } else {
-            /* created overlapping: start at the static (quasi-static) solution, or its floor */
+            /* created overlapping: start at the static (quasi-static) solution, or at its
+             * fixed floor LUB_DELTA_STATIC_FLOOR when there is none; with lubrication the
+             * step below then lets the gap decay from there without any floor */
             int c0;
             state->delta = lub_normal_solve(0.0, s, INFINITY, e, alpha, &c0);
         }
@@ -48,7 +49,10 @@ int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_st
         state->n_prev = n;
     }
 
-    /* ---- normal part (notes §2.6, §2.9) ---- */
+    /* ---- normal part (notes §2.6, §2.9) ----
+     * delta is never floored (notes §11 P5): x = e^delta may be subnormal or 0 in a
+     * compressed contact. x is used only where x -> 0 is harmless (F_n, F_c, R+, gap); nu_t
+     * and the torques take delta. */
     int contact = 0;
     double x;
     const double delta = lub_normal_solve_ex(state->delta, s, h, e, alpha, &contact, &x);

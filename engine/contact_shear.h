@@ -23,7 +23,9 @@ vec3 lub_shear_increment(vec3 v1, vec3 v2, vec3 w1, vec3 w2, double r1, double r
 
 /* nu_t(u) from delta = ln(u/a) and x = e^delta (x must equal exp(delta)), notes §3.1:
  * (pi eta a / 2)[-2 + (2 + x)(ln(2 + x) - delta)], evaluated without cancellation for every
- * gap (log1p for x >= 1, a series for x > 1e5). */
+ * gap (log1p for x >= 1, a series for x > 1e5). Any finite delta: for a compressed contact
+ * x may be subnormal or 0 (delta < -745) and nu_t ~ (pi eta a)(ln 2 - 1 - delta) grows like
+ * -delta, finite (e.g. 3.1e5 pi eta a at delta = -1e5). */
 double lub_shear_viscosity_x(double eta, double a, double delta, double x);
 
 typedef struct {

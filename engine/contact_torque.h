@@ -15,7 +15,10 @@
  *     T = c Omega (1 - exp(-k))/k,   k = c dt (inv_i1 + inv_i2),
  * i.e. T dt = I_eff Omega (1 - e^-k) with 1/I_eff = inv_i1 + inv_i2. T -> c Omega when
  * k -> 0, and one step never removes more than the relative spin. inv_i1 + inv_i2 = 0 (two
- * fixed bodies) gives T = c Omega. with_roll / with_twist select the terms. */
+ * fixed bodies) gives T = c Omega. with_roll / with_twist select the terms.
+ * delta may be any finite value (no floor, notes §11 P5) and x = e^delta subnormal or 0:
+ * c grows like -delta (finite) and the exponential integration bounds the torque by
+ * I_eff |Omega| / dt whatever c is. */
 void lub_spin_torques(double eta, double a, double delta, double x, vec3 n, vec3 omega_rel,
                       double inv_i1, double inv_i2, double dt, int with_roll, int with_twist,
                       vec3 *t_roll, vec3 *t_twist);

@@ -9,12 +9,18 @@
  *              leave the cut-off 2a after the rebound;
  *   compress — constant external push 0.2 g a: heavy compression u_n ~ -0.2 a < -eps a
  *              (asperities crushed for alpha eps < 0.2: notes §11 P5), work input counted;
- *   overlap  — pair created overlapping (u_n = -0.05 a, is_new), then released.
+ *   overlap  — pair created overlapping (u_n = -0.05 a, is_new), then released;
+ *   deep     — "aged" over-compressed pair: u_n = -0.1 a, pushed with 0.1 g a, with shear
+ *              velocity and spins, and a stored gap delta = -1e4 (x = 0 in double; the law
+ *              has no floor, notes §11 P5): nu_t and the roll coefficient are ~1e4 times
+ *              their usual size; checks that the exponentially integrated torques and the
+ *              implicit shear stay stable there.
  * Plus the switch variants at St = 1 and the many-neighbour torque case (12 neighbours at
  * u = 1e-6 a around a spinning sphere, St = 1e-10 ... 1e2, torque budget shared N_i/I_i).
  * St := m v0 / (6 pi eta a^2) with v0 = 0.1 a sqrt(g/m) (the approach speed).
- * Pass criteria per run: lub_pair_step never reports a non-finite value; delta stays in
- * [LUB_DELTA_MIN, LUB_DELTA_MAX]; with E = kinetic + elastic (spring) energy, E0 its initial
+ * Pass criteria per run: lub_pair_step never reports a non-finite value; delta stays finite
+ * in the guard range [LUB_DELTA_MIN, LUB_DELTA_MAX] (it is not floored: deep compression
+ * goes below -700); with E = kinetic + elastic (spring) energy, E0 its initial
  * value, W the work of the external forces and |W| its throughput (sum of |dW|):
  * KE <= 1.1 (E0 + |W|) and E - E0 - W <= 0.02 (E0 + |W|) at every step (E evaluated at
  * integer times: mean of the half-step velocities).
@@ -56,10 +62,18 @@ static void base_sim(law_sim *s, double st, double alpha, double eps, unsigned t
  * E(t) <= E0 + W(t) up to the leap-frog's bounded energy fluctuation. The excess
  * (E - E0 - W) / (E0 + |W|_throughput) must stay < 0.02; an instability (growth) exceeds it
  * by orders of magnitude. ke_ratio reports max KE / (E0 + |W|_throughput). */
-static run_result run(law_sim *s, int nsteps)
+static run_result run_ex(law_sim *s, int nsteps, double preset_delta)
 {
     run_result res = {.ok = 1};
     law_sim_prepare(s);
+    if (isfinite(preset_delta)) {
+        /* pre-aged pair 0-1: exists, not new, stored gap e^preset_delta */
+        const vec3 d = v3_sub(s->x[1], s->x[0]);
+        s->exists[0][1] = 1;
+        memset(&s->st[0][1], 0, sizeof s->st[0][1]);
+        s->st[0][1].delta = preset_delta;
+        s->st[0][1].n_prev = v3_scale(d, 1.0 / v3_norm(d));
+    }
     double E0 = -1.0, kmax = 0.0, exmax = -INFINITY;
     for (int k = 0; k < nsteps; ++k) {
         const double w_before = s->work_ext; /* work up to the positions of this evaluation */
@@ -93,11 +107,13 @@ static run_result run(law_sim *s, int nsteps)
     return res;
 }
 
+static run_result run(law_sim *s, int nsteps) { return run_ex(s, nsteps, NAN); }
+
 static void two_body(law_sim *s, int scenario)
 {
     s->n = 2;
     const vec3 n = v3(1.0, 0.0, 0.0);
-    double un = (scenario == 2) ? -0.05 : 0.05;
+    double un = (scenario == 2) ? -0.05 : (scenario == 3) ? -0.1 : 0.05;
     s->x[0] = v3(0, 0, 0);
     s->x[1] = v3_scale(n, 2.0 * R + un * R);
     if (scenario == 0) { /* oblique approach with spins */
@@ -111,10 +127,18 @@ static void two_body(law_sim *s, int scenario)
         s->v[0] = v3(0.0, 0.01, 0.0);
         s->w[1] = v3(0.0, 0.0, 0.02);
     }
+    if (scenario == 3) { /* deep: pushed at its static deflection, shear and spins */
+        s->fext[0] = v3(0.1 * G * R, 0.0, 0.0);
+        s->fext[1] = v3(-0.1 * G * R, 0.0, 0.0);
+        s->v[0] = v3(0.0, 0.01, 0.0);
+        s->w[0] = v3(0.0, 0.03, 0.05);
+        s->w[1] = v3(0.02, 0.0, -0.05);
+    }
     /* scenario 2: created overlapping at rest */
 }
 
-static const char *scen_name[] = {"collide", "compress", "overlap"};
+static const char *scen_name[] = {"collide", "compress", "overlap", "deep"};
+#define DEEP_DELTA (-1.0e4)
 
 static void table_row(FILE *md, const char *name, double st, double alpha, double eps,
                       const run_result *r)
@@ -192,13 +216,13 @@ int main(int argc, char **argv)
     long total_enter = 0, total_skips = 0, total_erase = 0;
     double worst = 0.0, min_delta = 0.0;
     static law_sim s;
-    for (int sc = 0; sc < 3; ++sc)
+    for (int sc = 0; sc < 4; ++sc)
         for (unsigned i = 0; i < 5; ++i)
             for (unsigned j = 0; j < 3; ++j)
                 for (unsigned k = 0; k < 3; ++k) {
                     base_sim(&s, sts[i], alphas[j], epss[k], LUB_TERM_ALL);
                     two_body(&s, sc);
-                    run_result r = run(&s, 4000);
+                    run_result r = run_ex(&s, 4000, sc == 3 ? DEEP_DELTA : NAN);
                     table_row(md, scen_name[sc], sts[i], alphas[j], epss[k], &r);
                     ++n_runs;
                     n_fail += !r.ok;
@@ -220,13 +244,13 @@ int main(int argc, char **argv)
               {"no_roll_twist", LUB_TERM_ALL & ~(LUB_TERM_ROLL | LUB_TERM_TWIST)},
               {"friction_only", LUB_TERM_FRICTION}};
     for (unsigned w = 0; w < 5; ++w)
-        for (int sc = 0; sc < 3; ++sc)
+        for (int sc = 0; sc < 4; ++sc)
             for (int e = 0; e < 2; ++e) {
                 char name[64];
                 snprintf(name, sizeof name, "%s_%s", scen_name[sc], sw[w].name);
                 base_sim(&s, 1.0, 1.0, e ? 1e-3 : 0.0, sw[w].terms);
                 two_body(&s, sc);
-                run_result r = run(&s, 4000);
+                run_result r = run_ex(&s, 4000, sc == 3 ? DEEP_DELTA : NAN);
                 table_row(md, name, 1.0, 1.0, e ? 1e-3 : 0.0, &r);
                 ++n_runs;
                 n_fail += !r.ok;

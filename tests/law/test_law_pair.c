@@ -1,5 +1,6 @@
 /* test_law_pair.c — full per-pair law (lub_pair_step): conservation, frame invariance,
- * decomposition, switches, torques, new pairs, shear viscosity, error returns.
+ * decomposition, switches, torques, new pairs, shear viscosity, error returns, and the
+ * unfloored decay of a heavily compressed pair (delta far below -700, notes §11 P5).
  * Prints name=value lines; exits non-zero on failure. */
 #include "contact_law.h"
 #include "law_rng.h"
@@ -59,7 +60,9 @@ static void random_pair(law_rng *r, lub_law_params *p, lub_pair_input *in, lub_p
     in->dt = 1e-3;
     memset(st, 0, sizeof *st);
     st->is_new = (law_rng_uniform(r) < 0.1);
-    st->delta = log(law_rng_logrange(r, 1e-12, 1.5));
+    /* 5 %: deep history (x_prev subnormal or 0 in double, no floor on delta) */
+    st->delta = (law_rng_uniform(r) < 0.05) ? -law_rng_logrange(r, 700.0, 1e5)
+                                            : log(law_rng_logrange(r, 1e-12, 1.5));
     vec3 np = unit(v3_add(n, rand_vec(r, 0.01)));
     st->n_prev = np;
     vec3 f = rand_vec(r, 50.0);
@@ -279,7 +282,7 @@ static void test_switches_and_torques(void)
     memset(&st, 0, sizeof st);
     st.is_new = 1;
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
-    CHECK(o.contact && o.delta == LUB_DELTA_MIN &&
+    CHECK(o.contact && o.delta == LUB_DELTA_STATIC_FLOOR &&
               fabs(o.fn_contact - p.k_bulk * (-0.01)) < 1e-9 * p.k_bulk, "hard-core floor fn=%g",
           o.fn_contact);
     p = base_params();
@@ -353,12 +356,18 @@ static void test_new_pairs_and_errors(void)
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
     CHECK(o.contact && fabs(exp(o.delta) - (-0.004 + 0.01) / 2.0) < 1e-12 &&
               fabs(o.fn_lub) < 1e-9 * fabs(o.fn_contact), "overlap creation x=%g fl=%g", exp(o.delta), o.fn_lub);
-    /* created overlapping (smooth, lubricated): floor, finite, all lubrication */
+    /* created overlapping (smooth, lubricated): starts at the static floor, then the first
+     * step already decays below it (no floor with lubrication); finite, all lubrication */
     p.eps = 0.0;
     memset(&st, 0, sizeof st);
     st.is_new = 1;
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
-    CHECK(!o.contact && o.delta == LUB_DELTA_MIN && o.fn_lub < 0.0, "smooth overlap creation");
+    {
+        const double h = in.dt * p.k_bulk / (1.5 * LUB_PI * p.eta * 1.0);
+        const double want = LUB_DELTA_STATIC_FLOOR - log1p(h * 0.004); /* s = -0.004 */
+        CHECK(!o.contact && fabs(o.delta - want) < 1e-11 && o.fn_lub < 0.0 && o.gap >= 0.0,
+              "smooth overlap creation delta=%.17g want %.17g", o.delta, want);
+    }
     /* a brand-new pair at u_n = 1e-320 a (subnormal) is finite */
     memset(&st, 0, sizeof st);
     st.is_new = 1;
@@ -403,6 +412,94 @@ static void test_shear_viscosity(void)
     printf("shear_viscosity_max_rel_err=%.3e\n", max_err);
 }
 
+/* (a) A heavily compressed pair (u_n fixed, s < -alpha e: asperities crushed; and smooth
+ * s < 0) under shear and spins: over many steps delta strictly decreases, with exactly the
+ * model's decrement -ln(1 - h (s + alpha_c e)) once x << |s|, goes far below -700 (x
+ * subnormal, then 0), and every output stays finite: the normal force is carried by the
+ * persistent lubrication g a (s + alpha e) (contact part -alpha g a e), nu_t = pi eta a
+ * (ln 2 - 1 - delta) grows like -delta, the roll torque grows like -delta up to the
+ * exponential-integration bound I_eff |Omega_r| / dt, the twist torque -> 0 with x. */
+static void test_compressed_decay(void)
+{
+    const struct {
+        double un, eps;
+    } cases[] = {{-0.05, 0.01}, {-0.02, 0.0}};
+    for (unsigned k = 0; k < 2; ++k) {
+        lub_law_params p = base_params(); /* eta 1, g 1e4, alpha 1, k_t 5e3, mu 0.5 */
+        p.eps = cases[k].eps;
+        const vec3 w1 = v3(0.3, 0.2, -0.1), w2 = v3(-0.4, 0.1, 0.5);
+        lub_pair_input in = simple_input(cases[k].un, w1, w2); /* a = 1, dt = 1e-3 */
+        const double a = 1.0, ga = p.k_bulk * a, s = cases[k].un / a;
+        const double h = in.dt * p.k_bulk / (1.5 * LUB_PI * p.eta * a);
+        const double se = s + p.alpha * p.eps; /* < 0 */
+        const double dec = log1p(-h * se);
+        const double ieff_dt = 1.0 / ((in.inv_inertia1 + in.inv_inertia2) * in.dt);
+        const vec3 Om = v3_sub(w2, w1);
+        const double om_r = v3_norm(v3_axpy(Om, -Om.x, v3(1, 0, 0))); /* n = x */
+        lub_pair_state st;
+        memset(&st, 0, sizeof st);
+        st.is_new = 1;
+        lub_pair_output o;
+        double prev = INFINITY, max_dev = 0.0, max_flub = 0.0, max_nut = 0.0;
+        double troll_prev = 0.0;
+        int monotone = 1, finite = 1, flags = 1, troll_ok = 1;
+        long nsub = 0, nzero = 0;
+        const int NSTEP = 120000;
+        for (int it = 0; it < NSTEP; ++it) {
+            const int rc = lub_pair_step(&p, &in, &st, &o);
+            if (rc != 0 || !isfinite(o.delta) || !v3_isfinite(o.force1) ||
+                !v3_isfinite(o.torque1) || !v3_isfinite(o.torque2) || !isfinite(o.fn_lub) ||
+                !isfinite(o.fn_contact) || !v3_isfinite(o.fs_lub) || !(o.gap >= 0.0))
+                finite = 0;
+            if (!(o.delta < prev))
+                monotone = 0;
+            if (o.contact != (p.eps > 0.0))
+                flags = 0;
+            if (prev < -60.0) { /* x < 1e-26: decrement = ln(1 - h (s + alpha e)) */
+                const double dev = fabs((prev - o.delta) - dec) / (1e-13 + 4e-16 * fabs(o.delta));
+                if (dev > max_dev)
+                    max_dev = dev;
+                /* persistent lubrication force carries the load: F_l = g a (s + alpha e) */
+                const double fl = fabs(o.fn_lub - ga * se) / (ga * fabs(se));
+                if (fl > max_flub)
+                    max_flub = fl;
+                const double nut = lub_shear_viscosity(p.eta, a, o.delta);
+                const double nut_ref = LUB_PI * p.eta * a * (log(2.0) - 1.0 - o.delta);
+                if (fabs(nut / nut_ref - 1.0) > max_nut)
+                    max_nut = fabs(nut / nut_ref - 1.0);
+                const double tr = v3_norm(o.torque_roll1);
+                /* grows with -delta (non-decreasing), bounded by I_eff |Omega_r| / dt */
+                if (!(tr >= troll_prev * (1.0 - 1e-12)) || !(tr <= ieff_dt * om_r * (1.0 + 1e-12)))
+                    troll_ok = 0;
+                troll_prev = tr;
+            }
+            nsub += (o.gap > 0.0 && o.gap < 2.2250738585072014e-308);
+            nzero += (o.gap == 0.0);
+            prev = o.delta;
+        }
+        CHECK(finite, "compressed case %u: non-finite output", k);
+        CHECK(monotone, "compressed case %u: delta not strictly decreasing", k);
+        CHECK(flags, "compressed case %u: contact flag", k);
+        CHECK(o.delta < -5000.0 && o.delta > LUB_DELTA_MIN, "compressed case %u: delta %g", k,
+              o.delta);
+        CHECK(nsub > 0 && nzero > 0, "compressed case %u: subnormal %ld / zero %ld steps", k,
+              nsub, nzero);
+        CHECK(max_dev <= 1.0, "compressed case %u: decrement off by %g (units of tol)", k, max_dev);
+        CHECK(max_flub < 1e-12, "compressed case %u: F_l vs g a (s + alpha e): %g", k, max_flub);
+        CHECK(p.eps == 0.0 || fabs(o.fn_contact + p.alpha * ga * p.eps) < 1e-12 * ga,
+              "compressed case %u: contact force %g", k, o.fn_contact);
+        CHECK(max_nut < 1e-12, "compressed case %u: nu_t vs pi eta a (ln 2 - 1 - delta): %g", k,
+              max_nut);
+        CHECK(troll_ok && troll_prev > 0.0, "compressed case %u: roll torque", k);
+        CHECK(v3_norm(o.torque_twist1) == 0.0, "compressed case %u: twist %g", k,
+              v3_norm(o.torque_twist1));
+        printf("pair_compressed_case%u_final_delta=%.6g\n", k, o.delta);
+        printf("pair_compressed_case%u_subnormal_steps=%ld_zero_gap_steps=%ld\n", k, nsub, nzero);
+        printf("pair_compressed_case%u_final_nu_t=%.6g\n", k, lub_shear_viscosity(p.eta, a, o.delta));
+        printf("pair_compressed_case%u_final_roll_torque=%.6g\n", k, troll_prev);
+    }
+}
+
 int main(void)
 {
     test_random_conservation_and_split();
@@ -410,6 +507,7 @@ int main(void)
     test_switches_and_torques();
     test_new_pairs_and_errors();
     test_shear_viscosity();
+    test_compressed_decay();
     printf("pair_failures=%d\n", failures);
     return failures ? 1 : 0;
 }
