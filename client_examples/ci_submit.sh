@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# ci_submit.sh — submit a job from CI, wait with a timeout, fail on a failed job, download the
+# HDF5 result and verify its sha256.
+#
+#   ci_submit.sh PROCESS INPUTS_JSON [TIMEOUT_S] [OUT_FILE]
+#   LUBDEM_URL, LUBDEM_TOKEN as in walkthrough.sh.
+#   LUBDEM_IDEMPOTENCY_KEY  defaults to ci-$CI_JOB_ID-PROCESS (or a random key): a retried CI
+#                           step gets the same job back instead of a duplicate.
+# Exit: 0 successful and verified, 1 job failed/dismissed/checksum mismatch, 2 rejected
+# submission, 3 timeout.
+set -euo pipefail
+PROCESS=${1:?process id}
+INPUTS=${2:?inputs JSON object}
+TIMEOUT=${3:-600}
+OUT_FILE=${4:-result-$PROCESS.h5}
+URL=${LUBDEM_URL:-http://127.0.0.1:8080}
+TOKEN=${LUBDEM_TOKEN:?set LUBDEM_TOKEN}
+KEY=${LUBDEM_IDEMPOTENCY_KEY:-ci-${CI_JOB_ID:-$(od -An -N8 -tx1 /dev/urandom | tr -d ' \n')}-$PROCESS}
+AUTH="Authorization: Bearer $TOKEN"
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+field() { sed -n "s/^ *\"$1\": *\"\([^\"]*\)\".*/\1/p" | head -n 1; }
+
+CODE=$(curl -sS --retry 5 --retry-all-errors --retry-delay 1 -o "$TMP/job.json" -w '%{http_code}' \
+       -H "$AUTH" -H 'Content-Type: application/json' -H "Idempotency-Key: $KEY" \
+       -d "{\"inputs\": $INPUTS}" "$URL/processes/$PROCESS/execution")
+if [ "$CODE" != 201 ]; then
+  echo "submission rejected (HTTP $CODE):"; cat "$TMP/job.json"; exit 2
+fi
+JOB=$(field jobID < "$TMP/job.json")
+echo "job $JOB submitted (Idempotency-Key $KEY)"
+DEADLINE=$(( $(date +%s) + TIMEOUT ))
+while :; do
+  curl -fsS --retry 5 --retry-all-errors -H "$AUTH" -o "$TMP/job.json" "$URL/jobs/$JOB"
+  STATUS=$(field status < "$TMP/job.json")
+  case "$STATUS" in successful|failed|dismissed) break ;; esac
+  if [ "$(date +%s)" -ge "$DEADLINE" ]; then
+    echo "timeout after ${TIMEOUT}s (status $STATUS); dismissing"
+    curl -fsS -X DELETE -H "$AUTH" -o /dev/null "$URL/jobs/$JOB" || true
+    exit 3
+  fi
+  sleep 1
+done
+if [ "$STATUS" != successful ]; then
+  echo "job $JOB $STATUS: $(field message < "$TMP/job.json")"
+  curl -fsS -H "$AUTH" "$URL/jobs/$JOB/log" | tail -n 20 || true
+  exit 1
+fi
+curl -fsS -H "$AUTH" -o "$TMP/results.json" "$URL/jobs/$JOB/results"
+WANT=$(sed -n '/"outputs"/,$p' "$TMP/results.json" | sed -n '/"result.h5": {/,/}/p' | field sha256)
+rm -f "$OUT_FILE"  # a fresh download; -C - makes curl's retries resume with a Range request
+curl -fsS --retry 5 --retry-all-errors -C - -H "$AUTH" -o "$OUT_FILE" \
+     "$URL/jobs/$JOB/results/result.h5"
+GOT=$(sha256sum "$OUT_FILE" | cut -d' ' -f1)
+if [ -z "$WANT" ] || [ "$GOT" != "$WANT" ]; then
+  echo "sha256 mismatch for $OUT_FILE: got $GOT, expected $WANT"; exit 1
+fi
+echo "job $JOB successful; $OUT_FILE sha256 $GOT verified"

@@ -1,0 +1,203 @@
+#!/usr/bin/env python3
+"""lubdem_client.py - a small client for the lubdem service (Python standard library only).
+
+    from lubdem_client import Client
+    c = Client("http://127.0.0.1:8080", token)
+    job = c.submit("falling_sphere", {"duration": 2.0}, idempotency_key="my-run-1")
+    job = c.wait(job["jobID"], timeout=600)          # raises JobFailed unless successful
+    res = c.results(job["jobID"])                    # summary inline + files
+    c.download(job["jobID"], "result.h5", "out.h5")  # resumable, sha256-checked
+
+Command line:
+    lubdem_client.py [--url URL] [--token T] submit PROCESS '{"duration": 2}' [--wait]
+                     [--download FILE] [--timeout S] [--key KEY]
+    lubdem_client.py status JOB | results JOB | list [--status S] | dismiss JOB
+Token: --token, $LUBDEM_TOKEN, or ./run/local-token.
+"""
+import argparse
+import hashlib
+import json
+import os
+import sys
+import time
+import urllib.error
+import urllib.request
+
+
+class ApiError(Exception):
+    """An HTTP error with the service's problem+json body."""
+
+    def __init__(self, status, problem):
+        self.status = status
+        self.problem = problem
+        ptr = ""
+        if isinstance(problem, dict) and problem.get("errors"):
+            ptr = " at " + problem["errors"][0].get("pointer", "")
+        detail = problem.get("detail") if isinstance(problem, dict) else problem
+        super().__init__("HTTP %d%s: %s" % (status, ptr, detail))
+
+
+class JobFailed(Exception):
+    pass
+
+
+class Client:
+    def __init__(self, url="http://127.0.0.1:8080", token=None, timeout=30):
+        self.url = url.rstrip("/")
+        self.token = token
+        self.timeout = timeout
+
+    def _req(self, method, path, body=None, headers=None, raw=False):
+        h = {"Authorization": "Bearer " + self.token} if self.token else {}
+        h.update(headers or {})
+        data = None
+        if body is not None:
+            data = json.dumps(body).encode()
+            h["Content-Type"] = "application/json"
+        req = urllib.request.Request(self.url + path, data=data, headers=h, method=method)
+        try:
+            with urllib.request.urlopen(req, timeout=self.timeout) as r:
+                payload = r.read()
+                return (r, payload) if raw else json.loads(payload or b"null")
+        except urllib.error.HTTPError as e:
+            payload = e.read()
+            try:
+                problem = json.loads(payload)
+            except ValueError:
+                problem = payload.decode(errors="replace")
+            raise ApiError(e.code, problem) from None
+
+    def processes(self):
+        return self._req("GET", "/processes")["processes"]
+
+    def submit(self, process, inputs, idempotency_key=None, priority=None, retries=3):
+        body = {"inputs": inputs}
+        if priority is not None:
+            body["priority"] = priority
+        headers = {"Prefer": "respond-async"}
+        if idempotency_key:
+            headers["Idempotency-Key"] = idempotency_key
+        for attempt in range(retries + 1):
+            try:
+                return self._req("POST", "/processes/%s/execution" % process, body, headers)
+            except ApiError as e:
+                if e.status == 429 and attempt < retries:
+                    time.sleep(5)
+                    continue
+                raise
+            except OSError:
+                # Network trouble: retrying is safe only with an idempotency key.
+                if not idempotency_key or attempt == retries:
+                    raise
+                time.sleep(1)
+
+    def status(self, job_id):
+        return self._req("GET", "/jobs/" + job_id)
+
+    def wait(self, job_id, timeout=600, poll=1.0):
+        deadline = time.time() + timeout
+        while True:
+            job = self.status(job_id)
+            if job["status"] == "successful":
+                return job
+            if job["status"] in ("failed", "dismissed"):
+                raise JobFailed("job %s %s: %s" % (job_id, job["status"], job.get("message")))
+            if time.time() > deadline:
+                raise TimeoutError("job %s still %s after %s s" % (job_id, job["status"], timeout))
+            time.sleep(poll)
+
+    def results(self, job_id):
+        return self._req("GET", "/jobs/%s/results" % job_id)
+
+    def jobs(self, status=None, limit=100):
+        path = "/jobs?limit=%d" % limit + ("&status=%s" % status if status else "")
+        return self._req("GET", path)["jobs"]
+
+    def dismiss(self, job_id):
+        return self._req("DELETE", "/jobs/" + job_id)
+
+    def log(self, job_id):
+        return self._req("GET", "/jobs/%s/log" % job_id, raw=True)[1].decode(errors="replace")
+
+    def download(self, job_id, name, path, chunk=1 << 20):
+        """Streams an output to `path`, resuming a partial file with a Range request, and
+        checks size and sha256 against the results document."""
+        want = self.results(job_id)["outputs"][name]
+        have = os.path.getsize(path) if os.path.exists(path) else 0
+        if have > want["size"]:
+            have = 0
+        if have < want["size"]:
+            headers = {"Authorization": "Bearer " + self.token}
+            if have:
+                headers["Range"] = "bytes=%d-" % have
+            req = urllib.request.Request("%s/jobs/%s/results/%s" % (self.url, job_id, name),
+                                         headers=headers)
+            with urllib.request.urlopen(req, timeout=self.timeout) as r:
+                mode = "ab" if r.status == 206 else "wb"
+                with open(path, mode) as f:
+                    while True:
+                        block = r.read(chunk)
+                        if not block:
+                            break
+                        f.write(block)
+        h = hashlib.sha256()
+        with open(path, "rb") as f:
+            for block in iter(lambda: f.read(chunk), b""):
+                h.update(block)
+        if h.hexdigest() != want["sha256"]:
+            if have:  # the partial file was not a prefix of this output: start over
+                os.unlink(path)
+                return self.download(job_id, name, path, chunk)
+            raise IOError("sha256 mismatch for %s" % path)
+        return path
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--url", default=os.environ.get("LUBDEM_URL", "http://127.0.0.1:8080"))
+    p.add_argument("--token", default=os.environ.get("LUBDEM_TOKEN"))
+    sub = p.add_subparsers(dest="cmd", required=True)
+    s = sub.add_parser("submit")
+    s.add_argument("process")
+    s.add_argument("inputs", nargs="?", default="{}")
+    s.add_argument("--wait", action="store_true")
+    s.add_argument("--download")
+    s.add_argument("--timeout", type=float, default=600)
+    s.add_argument("--key")
+    for name in ("status", "results", "dismiss", "log"):
+        sub.add_parser(name).add_argument("job")
+    lst = sub.add_parser("list")
+    lst.add_argument("--status")
+    a = p.parse_args(argv)
+    token = a.token
+    if not token and os.path.exists("run/local-token"):
+        token = open("run/local-token").read().strip()
+    c = Client(a.url, token)
+    try:
+        if a.cmd == "submit":
+            job = c.submit(a.process, json.loads(a.inputs), idempotency_key=a.key)
+            print(job["jobID"])
+            if a.wait or a.download:
+                c.wait(job["jobID"], timeout=a.timeout)
+                if a.download:
+                    c.download(job["jobID"], "result.h5", a.download)
+                    print("downloaded", a.download)
+        elif a.cmd == "status":
+            print(json.dumps(c.status(a.job), indent=1))
+        elif a.cmd == "results":
+            print(json.dumps(c.results(a.job), indent=1))
+        elif a.cmd == "dismiss":
+            print(json.dumps(c.dismiss(a.job), indent=1))
+        elif a.cmd == "log":
+            sys.stdout.write(c.log(a.job))
+        elif a.cmd == "list":
+            for j in c.jobs(a.status):
+                print(j["jobID"], j["processID"], j["status"], j.get("progress", 0))
+    except (ApiError, JobFailed, TimeoutError) as e:
+        print("error:", e, file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

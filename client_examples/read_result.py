@@ -1,0 +1,30 @@
+#!/usr/bin/env python3
+"""read_result.py - look inside a downloaded result.h5 (H5MD 1.1) with h5py.
+
+    python3 client_examples/read_result.py result.h5
+(Debian: apt-get install python3-h5py.)"""
+import json
+import sys
+
+import h5py
+
+with h5py.File(sys.argv[1], "r") as f:
+    print("H5MD version:", list(f["h5md"].attrs["version"]))
+    print("status:", f.attrs.get("status"))
+    for name, group in f.get("observables", {}).items():
+        if "value" in group:
+            v = group["value"]
+            print("observable %-24s shape %s  last %s" % (name, v.shape, v[-1] if len(v) else None))
+    params = f.get("parameters")
+    if params is not None:
+        for key in params:
+            obj = params[key]
+            if isinstance(obj, h5py.Dataset) and obj.dtype.kind in "OS":
+                text = obj[()]
+                text = text.decode() if isinstance(text, bytes) else str(text)
+                try:
+                    print(key + ":", json.dumps(json.loads(text))[:200])
+                except ValueError:
+                    print(key + ":", text[:200])
+            else:
+                print(key + ":", obj)

@@ -1,0 +1,252 @@
+/* api_jobs.c — job list, status, dismiss and the results document. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "api.h"
+#include "fsutil.h"
+#include "queue.h"
+#include "status_json.h"
+
+int lubd_load_visible_job(lubd_request *r, const char *id, void *out, lubd_fault *f,
+                          int allow_purged)
+{
+    lubd_job *j = out;
+    if (lubd_authenticate(r, f) != 0)
+        return -1;
+    int ok = strlen(id) == 32;
+    for (const char *p = id; ok && *p; ++p)
+        ok = (*p >= '0' && *p <= '9') || (*p >= 'a' && *p <= 'f');
+    int found = 0;
+    if (ok) {
+        sqlite3 *db = lubd_db_acquire(&r->srv->pool);
+        found = lubd_queue_get(db, id, j);
+        lubd_db_release(&r->srv->pool, db);
+    }
+    if (found < 0)
+        return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,
+                         "database error");
+    if (found == 0 || (j->user_id != r->user.id && !r->user.is_admin))
+        return lubd_fail(f, 404, LUBD_OGC_EXC "no-such-job", "No such job", NULL,
+                         "job \"%.64s\" does not exist (or belongs to another user)", id);
+    if (j->purged && !allow_purged)
+        return lubd_fail(f, 410, LUBD_PT_BASE "job-purged", "Job purged", NULL,
+                         "job %s was dismissed after it finished; its results were deleted",
+                         id);
+    return 0;
+}
+
+static void add_retry_after(struct MHD_Response *resp, const lubd_job *j)
+{
+    if (resp && !lubd_job_finished(j))
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_RETRY_AFTER,
+                                strcmp(j->state, "running") == 0 ? "2" : "5");
+}
+
+enum MHD_Result lubd_api_job(lubd_request *r, const char *id)
+{
+    lubd_fault f;
+    lubd_job j;
+    if (lubd_load_visible_job(r, id, &j, &f, 0) != 0)
+        return lubd_reply_fault(r, &f);
+    struct MHD_Response *resp =
+        lubd_json_response(lubd_status_json(&j, r->base, r->user.is_admin), "application/json");
+    add_retry_after(resp, &j);
+    return lubd_queue(r, 200, resp);
+}
+
+/* Collects repeated and comma-separated "status" values into a mask. */
+typedef struct {
+    int mask;
+    int bad;
+    char bad_value[64];
+} status_acc;
+
+static enum MHD_Result collect_status(void *cls, enum MHD_ValueKind kind, const char *key,
+                                      const char *value)
+{
+    (void)kind;
+    status_acc *a = cls;
+    if (strcmp(key, "status") != 0 && strcmp(key, "status[]") != 0)
+        return MHD_YES;
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s", value ? value : "");
+    char *save = NULL;
+    for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+        int bit = lubd_state_bit(t);
+        if (!bit && !a->bad) {
+            a->bad = 1;
+            snprintf(a->bad_value, sizeof a->bad_value, "%s", t);
+        }
+        a->mask |= bit;
+    }
+    return MHD_YES;
+}
+
+enum MHD_Result lubd_api_jobs(lubd_request *r)
+{
+    lubd_fault f;
+    if (lubd_authenticate(r, &f) != 0)
+        return lubd_reply_fault(r, &f);
+    lubd_list_query q = {r->user.is_admin ? -1 : r->user.id, 0, NULL, 10, 0};
+    status_acc acc = {0, 0, ""};
+    MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, collect_status, &acc);
+    if (acc.bad) {
+        lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
+                  "status: unknown value \"%.60s\" (accepted, running, successful, failed, "
+                  "dismissed)", acc.bad_value);
+        return lubd_reply_fault(r, &f);
+    }
+    q.state_mask = acc.mask;
+    const char *proc = lubd_query(r, "processID");
+    if (!proc)
+        proc = lubd_query(r, "process");
+    q.process_id = proc;
+    const char *lim = lubd_query(r, "limit");
+    if (lim) {
+        char *end;
+        long v = strtol(lim, &end, 10);
+        if (*end || end == lim || v < 1 || v > 1000) {
+            lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter",
+                      NULL, "limit: must be an integer in [1, 1000]");
+            return lubd_reply_fault(r, &f);
+        }
+        q.limit = (int)v;
+    }
+    const char *cur = lubd_query(r, "cursor");
+    if (cur) {
+        char *end;
+        long long v = cur[0] == 's' ? strtoll(cur + 1, &end, 10) : -1;
+        if (v <= 0 || *end) {
+            lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter",
+                      NULL, "cursor: not a cursor from a 'next' link");
+            return lubd_reply_fault(r, &f);
+        }
+        q.before_seq = v;
+    }
+    lubd_job *jobs;
+    int n, more;
+    sqlite3 *db = lubd_db_acquire(&r->srv->pool);
+    int rc = lubd_queue_list(db, &q, &jobs, &n, &more);
+    lubd_db_release(&r->srv->pool, db);
+    if (rc != 0) {
+        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
+        return lubd_reply_fault(r, &f);
+    }
+    json_t *arr = json_array();
+    for (int i = 0; i < n; ++i)
+        json_array_append_new(arr, lubd_status_json(&jobs[i], r->base, r->user.is_admin));
+    /* Filters are re-encoded from validated values only. */
+    char filters[400] = "";
+    size_t fl = 0;
+    static const char *const names[] = {"accepted", "running", "successful", "failed",
+                                        "dismissed"};
+    for (int b = 0; b < 5; ++b)
+        if (q.state_mask & (1 << b))
+            fl += (size_t)snprintf(filters + fl, sizeof filters - fl, "&status=%s", names[b]);
+    int proc_ok = proc && strlen(proc) < 64 && strspn(proc, "abcdefghijklmnopqrstuvwxyz"
+                                                             "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") ==
+                                                   strlen(proc);
+    if (proc_ok && fl < sizeof filters)
+        snprintf(filters + fl, sizeof filters - fl, "&processID=%s", proc);
+    json_t *links = json_array();
+    char href[1200];
+    snprintf(href, sizeof href, "%s/jobs?limit=%d%s", r->base, q.limit, filters);
+    json_array_append_new(links, json_pack("{s:s, s:s, s:s}", "href", href, "rel", "self", "type",
+                                           "application/json"));
+    if (more && n > 0) {
+        snprintf(href, sizeof href, "%s/jobs?limit=%d%s&cursor=s%lld", r->base, q.limit, filters,
+                 jobs[n - 1].seq);
+        json_array_append_new(links, json_pack("{s:s, s:s, s:s}", "href", href, "rel", "next",
+                                               "type", "application/json"));
+    }
+    free(jobs);
+    return lubd_reply_json(r, 200,
+                           json_pack("{s:o, s:i, s:o}", "jobs", arr, "numberReturned", n,
+                                     "links", links));
+}
+
+enum MHD_Result lubd_api_dismiss(lubd_request *r, const char *id)
+{
+    lubd_fault f;
+    lubd_job j, after;
+    if (lubd_load_visible_job(r, id, &j, &f, 0) != 0)
+        return lubd_reply_fault(r, &f);
+    int purge = 0;
+    sqlite3 *db = lubd_db_acquire_writer(&r->srv->pool);
+    int rc = lubd_queue_dismiss(db, id, &after, &purge);
+    lubd_db_release_writer(&r->srv->pool, db);
+    if (rc == 1) {
+        lubd_fail(&f, 410, LUBD_PT_BASE "job-purged", "Job purged", NULL,
+                  "job %s was already purged", id);
+        return lubd_reply_fault(r, &f);
+    }
+    if (rc != 0) {
+        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
+        return lubd_reply_fault(r, &f);
+    }
+    if (purge) {
+        char dir[1200];
+        snprintf(dir, sizeof dir, "%s/%s", r->srv->cfg->jobs_dir, id);
+        if (lubd_rm_rf(dir) != 0)
+            fprintf(stderr, "lubdemd: could not delete %s\n", dir);
+    }
+    return lubd_reply_json(r, 200, lubd_status_json(&after, r->base, r->user.is_admin));
+}
+
+enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
+{
+    lubd_fault f;
+    lubd_job j;
+    if (lubd_load_visible_job(r, id, &j, &f, 0) != 0)
+        return lubd_reply_fault(r, &f);
+    if (strcmp(j.state, "accepted") == 0 || strcmp(j.state, "running") == 0) {
+        lubd_fail(&f, 404, LUBD_OGC_EXC "result-not-ready", "Result not ready", NULL,
+                  "job %s is %s (progress %d%%); poll /jobs/%s", id, j.state, j.progress, id);
+        f.retry_after = 2;
+        return lubd_reply_fault(r, &f);
+    }
+    if (strcmp(j.state, "dismissed") == 0) {
+        lubd_fail(&f, 410, LUBD_PT_BASE "job-dismissed", "Job dismissed", NULL,
+                  "job %s was dismissed: %s", id, j.message);
+        return lubd_reply_fault(r, &f);
+    }
+    if (strcmp(j.state, "failed") == 0) {
+        int system = strcmp(j.failure_kind, "system") == 0;
+        lubd_fail(&f, system ? 500 : 422, LUBD_PT_BASE "job-failed", "Job failed", NULL,
+                  "job %s failed (%s): %s", id, j.failure_kind, j.message);
+        return lubd_reply_fault(r, &f);
+    }
+    lubd_result_file *files;
+    int n;
+    sqlite3 *db = lubd_db_acquire(&r->srv->pool);
+    int rc = lubd_queue_results(db, id, &files, &n);
+    lubd_db_release(&r->srv->pool, db);
+    if (rc != 0) {
+        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
+        return lubd_reply_fault(r, &f);
+    }
+    json_t *outputs = json_object();
+    json_t *summary = NULL;
+    for (int i = 0; i < n; ++i) {
+        char href[1200];
+        snprintf(href, sizeof href, "%s/jobs/%s/results/%s", r->base, id, files[i].name);
+        json_object_set_new(outputs, files[i].name,
+                            json_pack("{s:s, s:s, s:I, s:s}", "href", href, "type",
+                                      files[i].media_type, "size", (json_int_t)files[i].size,
+                                      "sha256", files[i].sha256));
+        if (strcmp(files[i].name, "summary.json") == 0) {
+            char path[1400];
+            snprintf(path, sizeof path, "%s/%s/result/summary.json", r->srv->cfg->jobs_dir, id);
+            summary = json_load_file(path, JSON_PRESERVE_ORDER, NULL);
+        }
+    }
+    free(files);
+    char self[1200];
+    snprintf(self, sizeof self, "%s/jobs/%s/results", r->base, id);
+    json_t *o = json_pack("{s:s, s:s, s:o, s:o, s:[{s:s, s:s, s:s}]}", "jobID", id, "processID",
+                          j.process_id, "summary", summary ? summary : json_null(), "outputs",
+                          outputs, "links", "href", self, "rel", "self", "type",
+                          "application/json");
+    return lubd_reply_json(r, 200, o);
+}

@@ -1,0 +1,165 @@
+/* api_processes.c — process list/description (the engine's scenes) and job submission. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "api.h"
+#include "exec_request.h"
+#include "queue.h"
+#include "scene.h"
+#include "status_json.h"
+
+static json_t *summary_of(const lub_scene *s, const char *base)
+{
+    char href[600];
+    snprintf(href, sizeof href, "%s/processes/%s", base, s->name);
+    char exec[640];
+    snprintf(exec, sizeof exec, "%s/execution", href);
+    return json_pack("{s:s, s:s, s:s, s:s, s:[s,s], s:[s], s:[{s:s, s:s, s:s}, {s:s, s:s, s:s}]}",
+                     "id", s->name, "title", s->title, "description", s->description,
+                     "version", "1.0.0", "jobControlOptions", "async-execute", "dismiss",
+                     "outputTransmission", "reference", "links", "href", href, "rel", "self",
+                     "type", "application/json", "href", exec, "rel",
+                     "http://www.opengis.net/def/rel/ogc/1.0/execute", "type",
+                     "application/json");
+}
+
+enum MHD_Result lubd_api_processes(lubd_request *r)
+{
+    json_t *list = json_array();
+    for (const lub_scene *const *s = lub_scene_list(); *s; ++s)
+        json_array_append_new(list, summary_of(*s, r->base));
+    char self[600];
+    snprintf(self, sizeof self, "%s/processes", r->base);
+    return lubd_reply_json(r, 200,
+                           json_pack("{s:o, s:[{s:s, s:s, s:s}]}", "processes", list, "links",
+                                     "href", self, "rel", "self", "type", "application/json"));
+}
+
+enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
+{
+    const lub_scene *s = lub_scene_find(id);
+    if (!s) {
+        lubd_fault f;
+        lubd_fail(&f, 404, LUBD_OGC_EXC "no-such-process", "No such process", NULL,
+                  "process \"%.100s\" does not exist (GET /processes lists them)", id);
+        return lubd_reply_fault(r, &f);
+    }
+    json_t *o = summary_of(s, r->base);
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s.schema.json", r->srv->cfg->schema_dir, s->name);
+    json_error_t err;
+    json_t *schema = json_load_file(path, JSON_PRESERVE_ORDER, &err);
+    json_t *inputs = json_object();
+    json_t *props = json_object_get(schema, "properties");
+    json_t *required = json_object_get(schema, "required");
+    const char *key;
+    json_t *prop;
+    json_object_foreach(props, key, prop) {
+        if (strcmp(key, "scene") == 0)
+            continue; /* selected by the process id, not an input */
+        int req = 0;
+        size_t i;
+        json_t *v;
+        json_array_foreach(required, i, v) if (json_is_string(v) &&
+                                               strcmp(json_string_value(v), key) == 0) req = 1;
+        json_t *title = json_object_get(prop, "title");
+        json_t *desc = json_object_get(prop, "description");
+        json_t *in = json_pack("{s:s, s:i, s:i, s:O}", "title",
+                               json_is_string(title) ? json_string_value(title) : key,
+                               "minOccurs", req, "maxOccurs", 1, "schema", prop);
+        if (json_is_string(desc))
+            json_object_set(in, "description", desc);
+        json_object_set_new(inputs, key, in);
+    }
+    json_object_set_new(o, "inputs", inputs);
+    if (schema)
+        json_object_set_new(o, "inputsSchema", schema);
+    else
+        json_object_set_new(o, "inputsSchemaError", json_string(err.text));
+    json_object_set_new(
+        o, "outputs",
+        json_pack("{s:{s:s, s:s, s:{s:s, s:s}}, s:{s:s, s:s, s:{s:s, s:s, s:s}}}",
+                  "summary.json", "title", "summary", "description",
+                  "headline results (see schema/summary.schema.json)", "schema", "type",
+                  "object", "contentMediaType", "application/json", "result.h5", "title",
+                  "H5MD result file", "description",
+                  "observables, snapshots, verbatim and resolved spec, build provenance",
+                  "schema", "type", "string", "contentEncoding", "binary",
+                  "contentMediaType", "application/x-hdf5"));
+    return lubd_reply_json(r, 200, o);
+}
+
+static int valid_idempotency_key(const char *k)
+{
+    size_t n = strlen(k);
+    if (n == 0 || n > 255)
+        return 0;
+    for (size_t i = 0; i < n; ++i)
+        if (k[i] < 0x21 || k[i] > 0x7e)
+            return 0;
+    return 1;
+}
+
+enum MHD_Result lubd_api_execute(lubd_request *r, const char *id)
+{
+    lubd_fault f;
+    if (lubd_authenticate(r, &f) != 0)
+        return lubd_reply_fault(r, &f);
+    const char *key = lubd_header(r, "Idempotency-Key");
+    if (key && !valid_idempotency_key(key)) {
+        lubd_fail(&f, 400, LUBD_PT_BASE "invalid-header", "Invalid header", NULL,
+                  "Idempotency-Key must be 1..255 visible ASCII characters");
+        return lubd_reply_fault(r, &f);
+    }
+    lubd_exec_request req;
+    if (lubd_exec_parse(r->body, r->body_len, id, &req, &f) != 0)
+        return lubd_reply_fault(r, &f);
+    if (req.priority > 0 && !r->user.is_admin) {
+        lubd_exec_free(&req);
+        lubd_fail(&f, 403, LUBD_PT_BASE "forbidden", "Forbidden", "/priority",
+                  "only admins may submit with priority > 0 (got %d)", req.priority);
+        return lubd_reply_fault(r, &f);
+    }
+    char *spec = json_dumps(req.spec, JSON_COMPACT | JSON_SORT_KEYS);
+    lubd_submit in = {r->user.id,
+                      r->user.max_active >= 0 ? (int)r->user.max_active : r->srv->cfg->user_cap,
+                      id,
+                      r->body,
+                      spec,
+                      req.fingerprint,
+                      key,
+                      req.priority,
+                      r->srv->cfg->max_attempts};
+    char job_id[33];
+    int replayed = 0, rc = -1;
+    lubd_job job;
+    sqlite3 *db = lubd_db_acquire_writer(&r->srv->pool);
+    if (spec)
+        rc = lubd_queue_submit(db, &in, job_id, &replayed, &f);
+    else
+        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "out of memory");
+    if (rc == 0 && lubd_queue_get(db, job_id, &job) != 1) {
+        rc = -1;
+        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,
+                  "job %s vanished after submission", job_id);
+    }
+    lubd_db_release_writer(&r->srv->pool, db);
+    free(spec);
+    lubd_exec_free(&req);
+    if (rc != 0)
+        return lubd_reply_fault(r, &f);
+    struct MHD_Response *resp = lubd_json_response(lubd_status_json(&job, r->base, 0),
+                                                   "application/json");
+    if (!resp)
+        return MHD_NO;
+    char loc[600];
+    snprintf(loc, sizeof loc, "%s/jobs/%s", r->base, job_id);
+    MHD_add_response_header(resp, MHD_HTTP_HEADER_LOCATION, loc);
+    const char *prefer = lubd_header(r, "Prefer");
+    if (prefer && strstr(prefer, "respond-async"))
+        MHD_add_response_header(resp, "Preference-Applied", "respond-async");
+    if (replayed)
+        MHD_add_response_header(resp, "Idempotent-Replayed", "true");
+    return lubd_queue(r, 201, resp);
+}

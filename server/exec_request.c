@@ -1,0 +1,133 @@
+/* exec_request.c — execution request validation (shape here, scene rules in the engine). */
+#include "exec_request.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene.h"
+#include "sha256.h"
+
+static const char *const allowed_members[] = {"inputs", "priority", "outputs", "response",
+                                              "subscriber", NULL};
+
+static int check_members(const json_t *body, lubd_fault *f)
+{
+    const char *key;
+    json_t *v;
+    json_object_foreach((json_t *)body, key, v) {
+        int ok = 0;
+        for (const char *const *a = allowed_members; *a; ++a)
+            if (strcmp(*a, key) == 0)
+                ok = 1;
+        if (!ok) {
+            char ptr[300];
+            lub_pointer_join(ptr, sizeof ptr, "", key);
+            return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", ptr,
+                             "unknown member \"%.100s\" (allowed: inputs, priority, outputs, "
+                             "response, subscriber)", key);
+        }
+    }
+    json_t *o = json_object_get(body, "outputs");
+    if (o && !json_is_object(o))
+        return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/outputs",
+                         "must be an object");
+    json_t *s = json_object_get(body, "subscriber");
+    if (s && !json_is_object(s))
+        return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request",
+                         "/subscriber", "must be an object");
+    json_t *resp = json_object_get(body, "response");
+    if (resp && !(json_is_string(resp) && strcmp(json_string_value(resp), "document") == 0))
+        return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/response",
+                         "only \"document\" is supported");
+    return 0;
+}
+
+int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_exec_request *r,
+                    lubd_fault *f)
+{
+    memset(r, 0, sizeof *r);
+    if (!lub_scene_find(process_id))
+        return lubd_fail(f, 404, LUBD_OGC_EXC "no-such-process", "No such process", NULL,
+                         "process \"%.100s\" does not exist (GET /processes lists them)",
+                         process_id);
+    json_error_t jerr;
+    r->body = json_loadb(body, len, JSON_REJECT_DUPLICATES, &jerr);
+    if (!r->body)
+        return lubd_fail(f, 400, LUBD_PT_BASE "malformed-json", "Malformed JSON", "",
+                         "request body is not valid JSON: %s (line %d, column %d)", jerr.text,
+                         jerr.line, jerr.column);
+    if (!json_is_object(r->body)) {
+        lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "",
+                  "request body must be a JSON object {\"inputs\": {...}}");
+        goto fail;
+    }
+    if (check_members(r->body, f) != 0)
+        goto fail;
+    json_t *prio = json_object_get(r->body, "priority");
+    if (prio) {
+        if (!json_is_integer(prio) || json_integer_value(prio) < -10 ||
+            json_integer_value(prio) > 10) {
+            lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/priority",
+                      "must be an integer in [-10, 10]");
+            goto fail;
+        }
+        r->priority = (int)json_integer_value(prio);
+    }
+    json_t *inputs = json_object_get(r->body, "inputs");
+    if (!inputs) {
+        lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/inputs",
+                  "required member is missing (an object with the process inputs; may be {})");
+        goto fail;
+    }
+    if (!json_is_object(inputs)) {
+        lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/inputs",
+                  "must be an object");
+        goto fail;
+    }
+    if (json_object_get(inputs, "scene")) {
+        lubd_fail(f, 400, LUBD_PT_BASE "invalid-input", "Invalid input", "/inputs/scene",
+                  "not an input: the process id in the URL selects the scene");
+        goto fail;
+    }
+    r->spec = json_deep_copy(inputs);
+    if (!r->spec || json_object_set_new(r->spec, "scene", json_string(process_id)) != 0) {
+        lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "out of memory");
+        goto fail;
+    }
+    lub_error err;
+    memset(&err, 0, sizeof err);
+    if (lub_spec_resolve(r->spec, &r->resolved, &err) != 0) {
+        char ptr[300];
+        snprintf(ptr, sizeof ptr, "/inputs%.250s", err.pointer);
+        lubd_fail(f, 400, LUBD_PT_BASE "invalid-input", "Invalid input", ptr, "%s: %s", ptr,
+                  err.message);
+        goto fail;
+    }
+    char *canon = json_dumps(r->body, JSON_SORT_KEYS | JSON_COMPACT);
+    if (!canon) {
+        lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "out of memory");
+        goto fail;
+    }
+    lubd_sha256 c;
+    uint8_t d[32];
+    lubd_sha256_init(&c);
+    lubd_sha256_update(&c, process_id, strlen(process_id));
+    lubd_sha256_update(&c, "\n", 1);
+    lubd_sha256_update(&c, canon, strlen(canon));
+    lubd_sha256_final(&c, d);
+    lubd_hex_encode(d, 32, r->fingerprint);
+    free(canon);
+    return 0;
+fail:
+    lubd_exec_free(r);
+    return -1;
+}
+
+void lubd_exec_free(lubd_exec_request *r)
+{
+    json_decref(r->body);
+    json_decref(r->spec);
+    json_decref(r->resolved);
+    r->body = r->spec = r->resolved = NULL;
+}

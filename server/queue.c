@@ -1,0 +1,406 @@
+/* queue.c — HTTP-side queue operations. */
+#include "queue.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "db.h"
+#include "fsutil.h"
+
+static const char *const state_names[] = {"accepted", "running", "successful", "failed",
+                                          "dismissed"};
+
+int lubd_state_bit(const char *name)
+{
+    for (int i = 0; i < 5; ++i)
+        if (strcmp(name, state_names[i]) == 0)
+            return 1 << i;
+    return 0;
+}
+
+static int db_fault(sqlite3 *db, lubd_fault *f)
+{
+    fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
+    return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,
+                     "database error: %s", sqlite3_errmsg(db));
+}
+
+#define JOB_COLUMNS                                                                         \
+    "j.seq, j.id, j.user_id, u.name, j.process_id, j.state, j.priority, j.created, "        \
+    "coalesce(j.started, -1), coalesce(j.finished, -1), j.updated, j.progress, "             \
+    "coalesce(j.message, ''), coalesce(j.failure_kind, ''), j.attempt, j.max_attempts, "      \
+    "j.purged"
+
+static void copy_text(char *dst, size_t n, sqlite3_stmt *st, int col)
+{
+    const unsigned char *t = sqlite3_column_text(st, col);
+    snprintf(dst, n, "%s", t ? (const char *)t : "");
+}
+
+static void read_job(sqlite3_stmt *st, lubd_job *j)
+{
+    j->seq = sqlite3_column_int64(st, 0);
+    copy_text(j->id, sizeof j->id, st, 1);
+    j->user_id = sqlite3_column_int64(st, 2);
+    copy_text(j->user, sizeof j->user, st, 3);
+    copy_text(j->process_id, sizeof j->process_id, st, 4);
+    copy_text(j->state, sizeof j->state, st, 5);
+    j->priority = sqlite3_column_int(st, 6);
+    j->created = sqlite3_column_double(st, 7);
+    j->started = sqlite3_column_double(st, 8);
+    j->finished = sqlite3_column_double(st, 9);
+    j->updated = sqlite3_column_double(st, 10);
+    j->progress = sqlite3_column_int(st, 11);
+    copy_text(j->message, sizeof j->message, st, 12);
+    copy_text(j->failure_kind, sizeof j->failure_kind, st, 13);
+    j->attempt = sqlite3_column_int(st, 14);
+    j->max_attempts = sqlite3_column_int(st, 15);
+    j->purged = sqlite3_column_int(st, 16);
+}
+
+int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *replayed,
+                      lubd_fault *f)
+{
+    sqlite3_stmt *st = NULL;
+    *replayed = 0;
+    if (lubd_db_begin(db) != 0)
+        return db_fault(db, f);
+    if (in->idempotency_key) {
+        if (lubd_db_prepare(db,
+                            "DELETE FROM idempotency WHERE user_id = ?1 AND key = ?2 AND "
+                            "created < " LUBD_SQL_NOW " - 86400",
+                            &st) != 0)
+            goto dberr;
+        sqlite3_bind_int64(st, 1, in->user_id);
+        sqlite3_bind_text(st, 2, in->idempotency_key, -1, SQLITE_STATIC);
+        if (sqlite3_step(st) != SQLITE_DONE)
+            goto dberr;
+        sqlite3_finalize(st);
+        if (lubd_db_prepare(db,
+                            "SELECT request_sha256, job_id FROM idempotency WHERE user_id = ?1 "
+                            "AND key = ?2",
+                            &st) != 0)
+            goto dberr;
+        sqlite3_bind_int64(st, 1, in->user_id);
+        sqlite3_bind_text(st, 2, in->idempotency_key, -1, SQLITE_STATIC);
+        int rc = sqlite3_step(st);
+        if (rc == SQLITE_ROW) {
+            int same = strcmp((const char *)sqlite3_column_text(st, 0), in->fingerprint) == 0;
+            copy_text(job_id, 33, st, 1);
+            sqlite3_finalize(st);
+            lubd_db_rollback(db);
+            if (!same)
+                return lubd_fail(f, 409, LUBD_PT_BASE "idempotency-key-reused",
+                                 "Idempotency-Key reused", NULL,
+                                 "Idempotency-Key was already used for a different request "
+                                 "(job %s); use a new key for a new request",
+                                 job_id);
+            *replayed = 1;
+            return 0;
+        }
+        if (rc != SQLITE_DONE)
+            goto dberr;
+        sqlite3_finalize(st);
+        st = NULL;
+    }
+    if (lubd_db_prepare(db,
+                        "SELECT count(*) FROM jobs WHERE user_id = ?1 AND state IN "
+                        "('accepted','running')",
+                        &st) != 0)
+        goto dberr;
+    sqlite3_bind_int64(st, 1, in->user_id);
+    if (sqlite3_step(st) != SQLITE_ROW)
+        goto dberr;
+    long long active = sqlite3_column_int64(st, 0);
+    sqlite3_finalize(st);
+    st = NULL;
+    if (active >= in->user_cap) {
+        lubd_db_rollback(db);
+        lubd_fail(f, 429, LUBD_PT_BASE "quota-exceeded", "Too many active jobs", NULL,
+                  "you have %lld queued or running jobs (limit %d); retry when some finish",
+                  active, in->user_cap);
+        f->retry_after = 10;
+        return -1;
+    }
+    if (lubd_random_hex(job_id, 16) != 0) {
+        lubd_db_rollback(db);
+        return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,
+                         "no randomness for the job id");
+    }
+    if (lubd_db_prepare(db,
+                        "INSERT INTO jobs(id, user_id, process_id, state, priority, "
+                        "request_json, spec_json, request_sha256, created, updated, "
+                        "max_attempts, message) VALUES (?1, ?2, ?3, 'accepted', ?4, ?5, ?6, ?7, "
+                        LUBD_SQL_NOW ", " LUBD_SQL_NOW ", ?8, 'queued')",
+                        &st) != 0)
+        goto dberr;
+    sqlite3_bind_text(st, 1, job_id, -1, SQLITE_STATIC);
+    sqlite3_bind_int64(st, 2, in->user_id);
+    sqlite3_bind_text(st, 3, in->process_id, -1, SQLITE_STATIC);
+    sqlite3_bind_int(st, 4, in->priority);
+    sqlite3_bind_text(st, 5, in->request_json, -1, SQLITE_STATIC);
+    sqlite3_bind_text(st, 6, in->spec_json, -1, SQLITE_STATIC);
+    sqlite3_bind_text(st, 7, in->fingerprint, -1, SQLITE_STATIC);
+    sqlite3_bind_int(st, 8, in->max_attempts);
+    if (sqlite3_step(st) != SQLITE_DONE)
+        goto dberr;
+    sqlite3_finalize(st);
+    st = NULL;
+    if (lubd_db_prepare(db,
+                        "INSERT INTO job_events(job_id, at, event, attempt) VALUES (?1, "
+                        LUBD_SQL_NOW ", 'submitted', 0)",
+                        &st) != 0)
+        goto dberr;
+    sqlite3_bind_text(st, 1, job_id, -1, SQLITE_STATIC);
+    if (sqlite3_step(st) != SQLITE_DONE)
+        goto dberr;
+    sqlite3_finalize(st);
+    st = NULL;
+    if (in->idempotency_key) {
+        if (lubd_db_prepare(db,
+                            "INSERT INTO idempotency(user_id, key, request_sha256, job_id, "
+                            "created) VALUES (?1, ?2, ?3, ?4, " LUBD_SQL_NOW ")",
+                            &st) != 0)
+            goto dberr;
+        sqlite3_bind_int64(st, 1, in->user_id);
+        sqlite3_bind_text(st, 2, in->idempotency_key, -1, SQLITE_STATIC);
+        sqlite3_bind_text(st, 3, in->fingerprint, -1, SQLITE_STATIC);
+        sqlite3_bind_text(st, 4, job_id, -1, SQLITE_STATIC);
+        if (sqlite3_step(st) != SQLITE_DONE)
+            goto dberr;
+        sqlite3_finalize(st);
+        st = NULL;
+    }
+    if (lubd_db_commit(db) != 0)
+        goto dberr;
+    return 0;
+dberr:
+    db_fault(db, f);
+    sqlite3_finalize(st);
+    lubd_db_rollback(db);
+    return -1;
+}
+
+int lubd_queue_get(sqlite3 *db, const char *id, lubd_job *j)
+{
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db,
+                        "SELECT " JOB_COLUMNS " FROM jobs j JOIN users u ON u.id = j.user_id "
+                        "WHERE j.id = ?1",
+                        &st) != 0)
+        return -1;
+    sqlite3_bind_text(st, 1, id, -1, SQLITE_STATIC);
+    int rc = sqlite3_step(st), result;
+    if (rc == SQLITE_ROW) {
+        read_job(st, j);
+        result = 1;
+    } else if (rc == SQLITE_DONE) {
+        result = 0;
+    } else {
+        fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
+        result = -1;
+    }
+    sqlite3_finalize(st);
+    return result;
+}
+
+int lubd_queue_list(sqlite3 *db, const lubd_list_query *q, lubd_job **jobs, int *n, int *more)
+{
+    *jobs = NULL;
+    *n = 0;
+    *more = 0;
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db,
+                        "SELECT " JOB_COLUMNS " FROM jobs j JOIN users u ON u.id = j.user_id "
+                        "WHERE j.purged = 0 AND (?1 < 0 OR j.user_id = ?1) AND (?2 = 0 OR "
+                        "(?2 >> (CASE j.state WHEN 'accepted' THEN 0 WHEN 'running' THEN 1 "
+                        "WHEN 'successful' THEN 2 WHEN 'failed' THEN 3 ELSE 4 END)) & 1) AND "
+                        "(?3 IS NULL OR j.process_id = ?3) AND (?4 = 0 OR j.seq < ?4) "
+                        "ORDER BY j.seq DESC LIMIT ?5",
+                        &st) != 0)
+        return -1;
+    sqlite3_bind_int64(st, 1, q->user_id);
+    sqlite3_bind_int(st, 2, q->state_mask);
+    if (q->process_id)
+        sqlite3_bind_text(st, 3, q->process_id, -1, SQLITE_STATIC);
+    else
+        sqlite3_bind_null(st, 3);
+    sqlite3_bind_int64(st, 4, q->before_seq);
+    sqlite3_bind_int(st, 5, q->limit + 1);
+    lubd_job *arr = calloc((size_t)q->limit + 1, sizeof *arr);
+    if (!arr) {
+        sqlite3_finalize(st);
+        return -1;
+    }
+    int rc, count = 0;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW)
+        read_job(st, &arr[count++]);
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE) {
+        fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
+        free(arr);
+        return -1;
+    }
+    if (count > q->limit) {
+        *more = 1;
+        count = q->limit;
+    }
+    *jobs = arr;
+    *n = count;
+    return 0;
+}
+
+static int exec_bound(sqlite3 *db, const char *sql, const char *id)
+{
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db, sql, &st) != 0)
+        return -1;
+    sqlite3_bind_text(st, 1, id, -1, SQLITE_STATIC);
+    int rc = sqlite3_step(st);
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE) {
+        fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
+        return -1;
+    }
+    return 0;
+}
+
+int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_files)
+{
+    *purge_files = 0;
+    if (lubd_db_begin(db) != 0)
+        return -1;
+    lubd_job j;
+    int found = lubd_queue_get(db, id, &j);
+    if (found <= 0) {
+        lubd_db_rollback(db);
+        return found == 0 ? 1 : -1;
+    }
+    if (j.purged) {
+        lubd_db_rollback(db);
+        return 1;
+    }
+    int rc = 0;
+    if (strcmp(j.state, "accepted") == 0 || strcmp(j.state, "running") == 0) {
+        /* The lease (if any) is kept so the worker's fenced heartbeat sees the change. */
+        rc = exec_bound(db,
+                        "UPDATE jobs SET state = 'dismissed', failure_kind = 'cancelled', "
+                        "message = CASE state WHEN 'running' THEN 'dismissed: engine stopped' "
+                        "ELSE 'dismissed before it started' END, finished = " LUBD_SQL_NOW
+                        ", updated = " LUBD_SQL_NOW " WHERE id = ?1",
+                        id);
+        if (rc == 0)
+            rc = exec_bound(db,
+                            "INSERT INTO job_events(job_id, at, event, attempt, worker, token) "
+                            "SELECT id, " LUBD_SQL_NOW ", 'dismissed', attempt, worker, "
+                            "lease_token FROM jobs WHERE id = ?1",
+                            id);
+    } else {
+        rc = exec_bound(db,
+                        "UPDATE jobs SET purged = 1, state = 'dismissed', updated = "
+                        LUBD_SQL_NOW " WHERE id = ?1",
+                        id);
+        if (rc == 0)
+            rc = exec_bound(db, "DELETE FROM results WHERE job_id = ?1", id);
+        if (rc == 0)
+            rc = exec_bound(db,
+                            "INSERT INTO job_events(job_id, at, event, attempt) SELECT id, "
+                            LUBD_SQL_NOW ", 'purged', attempt FROM jobs WHERE id = ?1",
+                            id);
+        *purge_files = 1;
+    }
+    if (rc != 0 || lubd_queue_get(db, id, after) != 1 || lubd_db_commit(db) != 0) {
+        lubd_db_rollback(db);
+        *purge_files = 0;
+        return -1;
+    }
+    return 0;
+}
+
+int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
+{
+    *requeued = *failed = 0;
+    if (lubd_db_begin(db) != 0)
+        return -1;
+    const char *ev =
+        "INSERT INTO job_events(job_id, at, event, attempt, worker, token) SELECT id, "
+        LUBD_SQL_NOW ", ?1, attempt, worker, lease_token FROM jobs WHERE state = 'running' AND "
+        "lease_until < " LUBD_SQL_NOW " AND (attempt < max_attempts) = ?2";
+    sqlite3_stmt *st;
+    for (int retry = 1; retry >= 0; --retry) {
+        if (lubd_db_prepare(db, ev, &st) != 0)
+            goto fail;
+        sqlite3_bind_text(st, 1, retry ? "requeued" : "failed", -1, SQLITE_STATIC);
+        sqlite3_bind_int(st, 2, retry);
+        int rc = sqlite3_step(st);
+        sqlite3_finalize(st);
+        if (rc != SQLITE_DONE)
+            goto fail;
+    }
+    if (lubd_db_exec(db, "UPDATE jobs SET state = 'accepted', worker = NULL, lease_token = "
+                         "NULL, lease_until = NULL, engine_pid = NULL, progress = 0, message = "
+                         "'requeued: the worker stopped heartbeating (lease expired)', updated = "
+                         LUBD_SQL_NOW " WHERE state = 'running' AND lease_until < " LUBD_SQL_NOW
+                         " AND attempt < max_attempts") != 0)
+        goto fail;
+    *requeued = sqlite3_changes(db);
+    if (lubd_db_exec(db, "UPDATE jobs SET state = 'failed', failure_kind = 'system', "
+                         "worker = NULL, lease_token = NULL, lease_until = NULL, message = "
+                         "'failed: the worker died on every attempt (lease expired after the "
+                         "last attempt)', finished = " LUBD_SQL_NOW ", updated = " LUBD_SQL_NOW
+                         " WHERE state = 'running' AND lease_until < " LUBD_SQL_NOW) != 0)
+        goto fail;
+    *failed = sqlite3_changes(db);
+    if (lubd_db_commit(db) != 0)
+        goto fail;
+    return 0;
+fail:
+    lubd_db_rollback(db);
+    return -1;
+}
+
+int lubd_queue_counts(sqlite3 *db, int *accepted, int *running)
+{
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db,
+                        "SELECT (SELECT count(*) FROM jobs WHERE state = 'accepted'), "
+                        "(SELECT count(*) FROM jobs WHERE state = 'running')",
+                        &st) != 0)
+        return -1;
+    int rc = sqlite3_step(st);
+    if (rc == SQLITE_ROW) {
+        *accepted = sqlite3_column_int(st, 0);
+        *running = sqlite3_column_int(st, 1);
+    }
+    sqlite3_finalize(st);
+    return rc == SQLITE_ROW ? 0 : -1;
+}
+
+int lubd_queue_results(sqlite3 *db, const char *id, lubd_result_file **files, int *n)
+{
+    *files = NULL;
+    *n = 0;
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db,
+                        "SELECT name, media_type, size, sha256 FROM results WHERE job_id = ?1 "
+                        "ORDER BY name LIMIT 64",
+                        &st) != 0)
+        return -1;
+    sqlite3_bind_text(st, 1, id, -1, SQLITE_STATIC);
+    lubd_result_file *arr = calloc(64, sizeof *arr);
+    int rc, count = 0;
+    while (arr && (rc = sqlite3_step(st)) == SQLITE_ROW) {
+        copy_text(arr[count].name, sizeof arr[count].name, st, 0);
+        copy_text(arr[count].media_type, sizeof arr[count].media_type, st, 1);
+        arr[count].size = sqlite3_column_int64(st, 2);
+        copy_text(arr[count].sha256, sizeof arr[count].sha256, st, 3);
+        ++count;
+    }
+    sqlite3_finalize(st);
+    if (!arr)
+        return -1;
+    *files = arr;
+    *n = count;
+    return 0;
+}

@@ -1,0 +1,87 @@
+/* queue.h — the job queue as seen by the HTTP side: submit, read, list, dismiss, reap.
+ *
+ * Every read-then-write runs inside BEGIN IMMEDIATE (db.h). Functions take a caller-owned
+ * connection; none keeps references. Return conventions are given per function; database
+ * errors print one line on stderr and return -1. Worker-side operations are in lease.h. */
+#ifndef LUBD_QUEUE_H
+#define LUBD_QUEUE_H
+
+#include <sqlite3.h>
+
+#include "problem.h"
+
+enum { LUBD_ST_ACCEPTED = 1, LUBD_ST_RUNNING = 2, LUBD_ST_SUCCESSFUL = 4, LUBD_ST_FAILED = 8,
+       LUBD_ST_DISMISSED = 16 };
+/* Bit of a state name, 0 if unknown. */
+int lubd_state_bit(const char *name);
+
+typedef struct {
+    long long seq;
+    char id[33];
+    long long user_id;
+    char user[64];
+    char process_id[64];
+    char state[16];
+    int priority;
+    double created, started, finished, updated; /* < 0 = not set */
+    int progress;
+    char message[600];
+    char failure_kind[16];
+    int attempt, max_attempts;
+    int purged;
+} lubd_job;
+
+typedef struct {
+    long long user_id;
+    int user_cap;              /* max accepted+running jobs for this user */
+    const char *process_id;
+    const char *request_json;
+    const char *spec_json;
+    const char *fingerprint;
+    const char *idempotency_key; /* NULL = none */
+    int priority;
+    int max_attempts;
+} lubd_submit;
+
+/* Returns 0 with job_id set (*replayed = 1 if an Idempotency-Key matched an earlier
+ * identical request), or -1 with *f set (409 key reused with a different body, 429 over the
+ * per-user cap with retry_after, 500 database error). */
+int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *replayed,
+                      lubd_fault *f);
+
+/* 1 found, 0 not found, -1 error. */
+int lubd_queue_get(sqlite3 *db, const char *id, lubd_job *j);
+
+typedef struct {
+    long long user_id;   /* -1 = every user (admin) */
+    int state_mask;      /* 0 = every state */
+    const char *process_id; /* NULL = any */
+    int limit;
+    long long before_seq; /* cursor: only jobs with seq < before_seq; 0 = from the newest */
+} lubd_list_query;
+
+/* Fills a malloc'd array (caller frees) newest first; *more = 1 if more rows follow. */
+int lubd_queue_list(sqlite3 *db, const lubd_list_query *q, lubd_job **jobs, int *n, int *more);
+
+/* DELETE /jobs/{id}: accepted -> dismissed; running -> dismissed (the worker holding the lease
+ * notices at its next heartbeat and stops the engine); finished -> purged (tombstone).
+ * Returns 0 and the job after the change, with *purge_files = 1 when the caller must delete
+ * the job directory; 1 if the job is already purged; -1 error. */
+int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_files);
+
+/* Requeues running jobs whose lease expired (attempt < max_attempts) and fails the others.*/
+int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed);
+
+int lubd_queue_counts(sqlite3 *db, int *accepted, int *running);
+
+typedef struct {
+    char name[64];
+    char media_type[64];
+    long long size;
+    char sha256[65];
+} lubd_result_file;
+
+/* Registered files of a job (malloc'd array, caller frees). */
+int lubd_queue_results(sqlite3 *db, const char *id, lubd_result_file **files, int *n);
+
+#endif

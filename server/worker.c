@@ -1,0 +1,358 @@
+/* worker.c — the worker loop and the life of one job attempt. */
+#define _GNU_SOURCE
+#include "worker.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <jansson.h>
+#include <poll.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "db.h"
+#include "engine_child.h"
+#include "fsutil.h"
+#include "lease.h"
+#include "progress_line.h"
+
+typedef struct {
+    const lubd_config *cfg;
+    sqlite3 *db;
+    char name[64];
+    volatile sig_atomic_t *stop;
+} worker_ctx;
+
+static volatile sig_atomic_t worker_stop_flag = 0; /* written by the signal handler only */
+
+static void on_term(int sig)
+{
+    (void)sig;
+    worker_stop_flag = 1;
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void sleep_ms(int ms)
+{
+    struct timespec ts = {ms / 1000, (long)(ms % 1000) * 1000000L};
+    nanosleep(&ts, NULL);
+}
+
+static const char *media_type_of(const char *name)
+{
+    size_t n = strlen(name);
+    if (n > 3 && strcmp(name + n - 3, ".h5") == 0)
+        return "application/x-hdf5";
+    if (n > 5 && strcmp(name + n - 5, ".json") == 0)
+        return "application/json";
+    return "application/octet-stream";
+}
+
+/* Last line of the log that is not a progress line, as the failure diagnostic. */
+static void log_diagnostic(const char *log_path, char *out, size_t n)
+{
+    out[0] = '\0';
+    int fd = open(log_path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return;
+    char buf[8192];
+    off_t end = lseek(fd, 0, SEEK_END);
+    off_t start = end > (off_t)sizeof buf - 1 ? end - (off_t)sizeof buf + 1 : 0;
+    ssize_t got = pread(fd, buf, sizeof buf - 1, start);
+    close(fd);
+    if (got <= 0)
+        return;
+    buf[got] = '\0';
+    char *save = NULL, *best = NULL, *best_error = NULL;
+    for (char *line = strtok_r(buf, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
+        if (strncmp(line, "progress ", 9) == 0 || line[0] == '\0')
+            continue;
+        best = line;
+        if (strncmp(line, "error", 5) == 0)
+            best_error = line;
+    }
+    if (best_error)
+        best = best_error;
+    if (best)
+        snprintf(out, n, "%s", best);
+}
+
+/* summary.json "diagnostic" member if present. */
+static void summary_diagnostic(const char *out_dir, char *out, size_t n)
+{
+    char path[1400];
+    lubd_pathf(path, sizeof path, "%s/summary.json", out_dir);
+    json_t *s = json_load_file(path, 0, NULL);
+    json_t *d = json_object_get(s, "diagnostic");
+    if (json_is_string(d))
+        snprintf(out, n, "%s", json_string_value(d));
+    else if (json_is_object(d)) {
+        char *txt = json_dumps(d, JSON_COMPACT);
+        if (txt)
+            snprintf(out, n, "%s", txt);
+        free(txt);
+    }
+    json_decref(s);
+}
+
+/* Enumerates the output files and checksums them. Returns count or -1. */
+static int collect_outputs(const char *out_dir, lubd_output_file *files, char names[][64],
+                           int max)
+{
+    DIR *d = opendir(out_dir);
+    if (!d)
+        return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)) && n < max) {
+        if (e->d_name[0] == '.' || strlen(e->d_name) >= 64)
+            continue;
+        size_t len = strlen(e->d_name);
+        if (len > 4 && strcmp(e->d_name + len - 4, ".tmp") == 0)
+            continue;
+        char path[1400];
+        if (lubd_pathf(path, sizeof path, "%s/%s", out_dir, e->d_name) != 0)
+            continue;
+        struct stat st;
+        if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode))
+            continue;
+        uint64_t size;
+        lubd_pathf(names[n], 64, "%s", e->d_name);
+        if (lubd_file_sha256(path, files[n].sha256, &size) != 0)
+            continue;
+        files[n].name = names[n];
+        files[n].media_type = media_type_of(names[n]);
+        files[n].size = (long long)size;
+        ++n;
+    }
+    closedir(d);
+    return n;
+}
+
+typedef enum { END_EXITED, END_LOST, END_SHUTDOWN } end_reason;
+
+/* Runs one claimed job to its end. */
+static void run_job(worker_ctx *w, lubd_claim *c)
+{
+    const lubd_config *cfg = w->cfg;
+    char job_dir[1200], attempt_dir[1300], out_dir[1400], spec_path[1400], log_path[1400],
+        result_dir[1300];
+    snprintf(job_dir, sizeof job_dir, "%s/%s", cfg->jobs_dir, c->id);
+    snprintf(attempt_dir, sizeof attempt_dir, "%s/attempt-%d", job_dir, c->attempt);
+    snprintf(out_dir, sizeof out_dir, "%s/out", attempt_dir);
+    snprintf(spec_path, sizeof spec_path, "%s/spec.json", attempt_dir);
+    snprintf(log_path, sizeof log_path, "%s/log", attempt_dir);
+    snprintf(result_dir, sizeof result_dir, "%s/result", job_dir);
+
+    char msg[900];
+    if (lubd_rm_rf(attempt_dir) != 0 || lubd_mkdir_p(attempt_dir, 0750) != 0 ||
+        lubd_write_file_atomic(spec_path, c->spec_json, strlen(c->spec_json)) != 0) {
+        lubd_pathf(msg, sizeof msg, "system error: cannot prepare %s: %s", attempt_dir,
+                   strerror(errno));
+        lubd_lease_fail(w->db, c, "system", msg);
+        return;
+    }
+    int log_fd = open(log_path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0640);
+    if (log_fd < 0) {
+        snprintf(msg, sizeof msg, "system error: cannot open the log: %s", strerror(errno));
+        lubd_lease_fail(w->db, c, "system", msg);
+        return;
+    }
+    dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s\n", c->id, c->attempt, w->name);
+    lubd_engine_opts eo = {cfg->engine, spec_path, out_dir,        log_fd,
+                           cfg->cpu_s,  cfg->mem_mb, cfg->fsize_mb, cfg->engine_threads};
+    lubd_engine_proc ep;
+    if (lubd_engine_spawn(&eo, &ep) != 0) {
+        snprintf(msg, sizeof msg, "system error: cannot start the engine: %s", strerror(errno));
+        close(log_fd);
+        lubd_lease_fail(w->db, c, "system", msg);
+        return;
+    }
+    double hb_every = cfg->lease_s / 3.0;
+    if (hb_every > 1.0)
+        hb_every = 1.0;
+    double next_hb = 0, kill_at = -1;
+    int progress = 0, progress_dirty = 1, pipe_open = 1, exited = 0, status = 0;
+    char message[200] = "running";
+    end_reason why = END_EXITED;
+    char line[4096];
+    size_t line_len = 0;
+    while (!exited || pipe_open) {
+        if (pipe_open) {
+            struct pollfd pfd = {ep.stdout_fd, POLLIN, 0};
+            int pr = poll(&pfd, 1, 200);
+            if (pr > 0) {
+                char buf[4096];
+                ssize_t got = read(ep.stdout_fd, buf, sizeof buf);
+                if (got <= 0 && !(got < 0 && errno == EINTR)) {
+                    pipe_open = 0;
+                } else if (got > 0) {
+                    ssize_t wr = write(log_fd, buf, (size_t)got);
+                    (void)wr;
+                    for (ssize_t i = 0; i < got; ++i) {
+                        if (buf[i] != '\n') {
+                            if (line_len < sizeof line - 1)
+                                line[line_len++] = buf[i];
+                            continue;
+                        }
+                        line[line_len] = '\0';
+                        line_len = 0;
+                        lubd_progress p;
+                        if (lubd_progress_parse(line, &p)) {
+                            progress = (int)(p.fraction * 100.0);
+                            if (p.eta_s >= 0)
+                                snprintf(message, sizeof message,
+                                         "running: %.1f%% (step %lld, eta %.0f s)",
+                                         p.fraction * 100.0, p.step, p.eta_s);
+                            else
+                                snprintf(message, sizeof message, "running: %.1f%%",
+                                         p.fraction * 100.0);
+                            progress_dirty = 1;
+                        }
+                    }
+                }
+            }
+        } else {
+            sleep_ms(50);
+        }
+        if (!exited) {
+            pid_t r = waitpid(ep.pid, &status, WNOHANG);
+            if (r == ep.pid)
+                exited = 1;
+        }
+        if (exited && pipe_open) {
+            /* Drain what is left without blocking forever on a grandchild holding it. */
+            struct pollfd pfd = {ep.stdout_fd, POLLIN, 0};
+            if (poll(&pfd, 1, 0) <= 0)
+                pipe_open = 0;
+        }
+        double t = now_s();
+        if (*w->stop && kill_at < 0) {
+            why = END_SHUTDOWN;
+            kill(-ep.pid, SIGTERM);
+            kill_at = t + cfg->grace_s;
+        }
+        if (!exited && t >= next_hb) {
+            int hb = lubd_lease_heartbeat(w->db, c, cfg->lease_s, progress_dirty ? progress : -1,
+                                          progress_dirty ? message : NULL, (long)ep.pid);
+            progress_dirty = 0;
+            next_hb = t + hb_every;
+            if (hb == 0 && kill_at < 0) { /* lease lost or job dismissed: stop now */
+                why = END_LOST;
+                kill(-ep.pid, SIGTERM);
+                kill_at = t + cfg->grace_s;
+            }
+        }
+        if (kill_at >= 0 && !exited && t >= kill_at) {
+            kill(-ep.pid, SIGKILL);
+            kill_at = t + 3600;
+        }
+    }
+    close(ep.stdout_fd);
+    kill(-ep.pid, SIGKILL); /* anything the engine left behind in its group */
+    char st_text[200];
+    lubd_describe_status(status, st_text, sizeof st_text);
+    dprintf(log_fd, "lubdemd: engine finished: %s\n", st_text);
+    close(log_fd);
+
+    if (why == END_SHUTDOWN) {
+        lubd_lease_release(w->db, c);
+        return;
+    }
+    if (why == END_LOST) {
+        lubd_lease_drop(w->db, c);
+        return;
+    }
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+        lubd_output_file files[16];
+        char names[16][64];
+        int n = collect_outputs(out_dir, files, names, 16);
+        int have_summary = 0, have_h5 = 0;
+        for (int i = 0; i < n; ++i) {
+            have_summary |= strcmp(files[i].name, "summary.json") == 0;
+            have_h5 |= strcmp(files[i].name, "result.h5") == 0;
+        }
+        if (n < 0 || !have_summary || !have_h5) {
+            lubd_lease_fail(w->db, c, "executor",
+                            "the engine exited with code 0 but summary.json or result.h5 is "
+                            "missing");
+            return;
+        }
+        int done = lubd_lease_succeed(w->db, c, out_dir, result_dir, files, n, "completed");
+        if (done < 0)
+            fprintf(stderr, "lubdemd worker %s: could not record success of %s\n", w->name,
+                    c->id);
+        else if (done == 0) /* dismissed (or lease lost) while finishing: keep nothing */
+            lubd_lease_drop(w->db, c);
+        return;
+    }
+    char diag[600] = "";
+    summary_diagnostic(out_dir, diag, sizeof diag);
+    if (!diag[0])
+        log_diagnostic(log_path, diag, sizeof diag);
+    /* 4 = cannot write output; 126/127 = the engine could not be executed: infrastructure. */
+    int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    const char *kind = (code == 4 || code == 126 || code == 127) ? "system" : "executor";
+    snprintf(msg, sizeof msg, "engine failed (%s)%s%s", st_text, diag[0] ? ": " : "", diag);
+    if (lubd_lease_fail(w->db, c, kind, msg) == 0)
+        lubd_lease_drop(w->db, c);
+}
+
+int lubd_worker_main(const lubd_config *cfg, const char *name)
+{
+    prctl(PR_SET_PDEATHSIG, SIGKILL); /* the service died: so do we (and our engine) */
+    if (getppid() == 1)
+        return 1;
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_term;
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGINT, &sa, NULL);
+    signal(SIGPIPE, SIG_IGN);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, NULL);
+
+    worker_ctx w = {cfg, NULL, "", &worker_stop_flag};
+    snprintf(w.name, sizeof w.name, "%s-pid%ld", name, (long)getpid());
+    w.db = lubd_db_open(cfg->db_path, 0);
+    if (!w.db)
+        return 1;
+    sqlite3_stmt *peek;
+    if (lubd_db_prepare(w.db, "SELECT 1 FROM jobs WHERE state = 'accepted' LIMIT 1", &peek) !=
+        0)
+        return 1;
+    while (!worker_stop_flag) {
+        /* Cheap read first: only take the write lock when there is something to claim. */
+        int rc = sqlite3_step(peek);
+        sqlite3_reset(peek);
+        if (rc != SQLITE_ROW) {
+            sleep_ms(100);
+            continue;
+        }
+        lubd_claim c;
+        int got = lubd_lease_claim(w.db, w.name, cfg->lease_s, &c);
+        if (got <= 0) {
+            sleep_ms(got < 0 ? 500 : 20);
+            continue;
+        }
+        run_job(&w, &c);
+        lubd_lease_clear(&c);
+    }
+    sqlite3_finalize(peek);
+    lubd_db_close(w.db);
+    return 0;
+}

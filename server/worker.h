@@ -1,0 +1,17 @@
+/* worker.h — one worker process: claims jobs and runs the engine for each.
+ *
+ * Started by the supervisor as `lubdemd worker <options>` (a fresh exec, so no database
+ * connection or thread crosses fork()). Loop: claim (lease + fencing token), run
+ * `lubdem run spec.json --out <job>/attempt-<n>/out` (engine_child.h), stream progress into
+ * the job row with each heartbeat, stop the engine (SIGTERM, then SIGKILL after grace_s) when
+ * the lease is lost or the job is dismissed, and finish with a fenced transaction (lease.h).
+ * An engine crash fails the job with its diagnostic and is not retried. SIGTERM to the
+ * worker: stop the engine and give the job back. Returns the process exit code. */
+#ifndef LUBD_WORKER_H
+#define LUBD_WORKER_H
+
+#include "config.h"
+
+int lubd_worker_main(const lubd_config *cfg, const char *name);
+
+#endif

@@ -1,0 +1,23 @@
+#!/bin/sh
+# fake_engine.sh — stands in for `lubdem run SPEC --out DIR` to drive the worker's failure
+# paths that the real engine cannot be made to hit on demand. The spec's "duration" picks:
+#   3 -> numerical failure: summary.json with a diagnostic, exit 3
+#   4 -> stderr "error: ..." only, exit 4 (output error: a system failure)
+#   11 -> the engine crashes (SIGSEGV)
+#   7 -> exit 0 without writing any output
+spec=$2 out=$4
+mkdir -p "$out"
+echo "progress fraction=0.5000 step=10 steps_per_s=1.0e+03 eta_s=1.0"
+case $(tr -d ' \n' < "$spec") in
+  *'"duration":3'[,}]*)
+    printf '{"scene": "falling_sphere", "status": "failed", "diagnostic": "NaN in the gap at step 10, t = 0.5"}\n' > "$out/summary.json"
+    echo "error: numerical failure" >&2; exit 3 ;;
+  *'"duration":4'[,}]*)
+    echo "error: cannot write $out/result.h5: No space left on device" >&2; exit 4 ;;
+  *'"duration":11'[,}]*)
+    kill -SEGV $$ ;;
+  *'"duration":7'[,}]*)
+    exit 0 ;;
+esac
+echo "error: fake engine: unexpected spec" >&2
+exit 1

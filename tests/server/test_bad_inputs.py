@@ -1,0 +1,143 @@
+"""Bad requests get the right status and a precise problem+json, and queue nothing:
+malformed JSON, wrong types, out-of-range, unknown fields (top level and inside inputs),
+oversized bodies (Content-Length and chunked), wrong Content-Type, unknown process,
+missing/invalid token, another user's job, priority without admin rights, bad job ids."""
+import http.client
+import json
+import socket
+
+import lubd_testlib as T
+
+PROBLEM = "application/problem+json"
+
+
+def run():
+    a = T.args()
+    srv = T.Server(a, "bad_inputs", workers=0, extra=["--max-body-kb", "16"]).fresh()
+    alice = srv.token("alice")
+    bob = srv.token("bob")
+    admin = srv.token("root", admin=True)
+    srv.start()
+    try:
+        ex = "/processes/falling_sphere/execution"
+        # (description, path, body, headers, token, status, pointer or None, detail fragment)
+        cases = [
+            ("malformed JSON", ex, b'{"inputs": {"duration": 1,}', {}, alice, 400, "",
+             "not valid JSON"),
+            ("duplicate key", ex, b'{"inputs": {}, "inputs": {}}', {}, alice, 400, "",
+             "duplicate"),
+            ("body not an object", ex, b'[1,2]', {}, alice, 400, "", "JSON object"),
+            ("inputs missing", ex, {"priority": 0}, {}, alice, 400, "/inputs", "required"),
+            ("inputs wrong type", ex, {"inputs": [1]}, {}, alice, 400, "/inputs", "object"),
+            ("unknown top-level member", ex, {"inputs": {}, "input": {}}, {}, alice, 400,
+             "/input", "unknown member"),
+            ("scene inside inputs", ex, {"inputs": {"scene": "x"}}, {}, alice, 400,
+             "/inputs/scene", "process id"),
+            ("wrong type", ex, {"inputs": {"duration": "long"}}, {}, alice, 400,
+             "/inputs/duration", ""),
+            ("out of range", ex, {"inputs": {"duration": -1}}, {}, alice, 400,
+             "/inputs/duration", ""),
+            ("nested out of range", ex, {"inputs": {"law": {"eps": -0.5}}}, {}, alice, 400,
+             "/inputs/law/eps", ""),
+            ("unknown input", ex, {"inputs": {"durration": 1}}, {}, alice, 400,
+             "/inputs/durration", ""),
+            ("nested unknown input", ex, {"inputs": {"law": {"bogus": 1}}}, {}, alice, 400,
+             "/inputs/law/bogus", ""),
+            ("enum", ex, {"inputs": {"sample_spacing": "cubic"}}, {}, alice, 400,
+             "/inputs/sample_spacing", ""),
+            ("priority type", ex, {"inputs": {}, "priority": "high"}, {}, alice, 400,
+             "/priority", "integer"),
+            ("priority range", ex, {"inputs": {}, "priority": 11}, {}, alice, 400,
+             "/priority", "[-10, 10]"),
+            ("priority > 0 without admin", ex, {"inputs": {}, "priority": 5}, {}, alice, 403,
+             "/priority", "admin"),
+            ("two_spheres_shear wrong type", "/processes/two_spheres_shear/execution",
+             {"inputs": {"St": True}}, {}, alice, 400, "/inputs/St", ""),
+            ("unknown process", "/processes/nope/execution", {"inputs": {}}, {}, alice, 404,
+             None, "does not exist"),
+            ("text/plain", ex, b'{"inputs": {}}', {"Content-Type": "text/plain"}, alice, 415,
+             None, "Content-Type"),
+            ("form encoding", ex, b'inputs=1',
+             {"Content-Type": "application/x-www-form-urlencoded"}, alice, 415, None,
+             "application/json"),
+            ("oversized body", ex, b'{"inputs": {"pad": "' + b"x" * 20000 + b'"}}', {},
+             alice, 413, None, "exceeds"),
+            ("no token", ex, {"inputs": {}}, {}, None, 401, None, "Authorization"),
+            ("bad token", ex, {"inputs": {}}, {}, "lub_0000000000000000_" + "0" * 64, 401,
+             None, "unknown"),
+            ("garbage token", ex, {"inputs": {}}, {}, "hello", 401, None, "malformed"),
+            ("bad idempotency key", ex, {"inputs": {}}, {"Idempotency-Key": "a b"}, alice,
+             400, None, "Idempotency-Key"),
+            ("GET on execution", ex, None, {}, alice, 405, None, "not allowed"),
+        ]
+        for desc, path, body, headers, tok, status, pointer, frag in cases:
+            method = "GET" if body is None else "POST"
+            st, h, doc = srv.request(method, path, tok, body, headers)
+            T.check(st == status, "%s: status %s (want %s): %s" % (desc, st, status, doc))
+            T.check(h.get("content-type") == PROBLEM, "%s: content-type %s" %
+                    (desc, h.get("content-type")))
+            T.check(doc["status"] == status and doc["type"] and doc["title"], desc + ": shape")
+            if pointer is not None:
+                T.check(doc.get("errors") and doc["errors"][0]["pointer"] == pointer,
+                        "%s: pointer %s (want %s)" % (desc, doc.get("errors"), pointer))
+            T.check(frag in doc["detail"], "%s: detail %r lacks %r" % (desc, doc["detail"],
+                                                                       frag))
+            if status == 401:
+                T.check(h.get("www-authenticate", "").startswith("Bearer"), desc + ": 401 hdr")
+
+        # A chunked oversized body (no Content-Length) is cut off at the limit too.
+        s = socket.create_connection(("127.0.0.1", srv.port), timeout=10)
+        head = ("POST %s HTTP/1.1\r\nHost: x\r\nAuthorization: Bearer %s\r\n"
+                "Content-Type: application/json\r\nTransfer-Encoding: chunked\r\n\r\n" %
+                (ex, alice)).encode()
+        chunk = b"x" * 4096
+        payload = b"".join(b"%x\r\n%s\r\n" % (len(chunk), chunk) for _ in range(6)) + b"0\r\n\r\n"
+        s.sendall(head + payload)
+        reply = b""
+        while b"\r\n\r\n" not in reply:
+            got = s.recv(4096)
+            if not got:
+                break
+            reply += got
+        s.close()
+        T.check(reply.startswith(b"HTTP/1.1 413"), "chunked oversized -> %r" % reply[:40])
+
+        # Nothing was queued by any of the above.
+        st, _, lst = srv.request("GET", "/jobs?limit=1000", admin)
+        T.check(st == 200 and lst["jobs"] == [], "jobs were queued: %s" % lst["jobs"])
+        st, _, health = srv.request("GET", "/health")
+        T.check(health["queue"] == {"accepted": 0, "running": 0}, "queue not empty")
+
+        # Another user's job; bad job ids; unknown routes; wrong methods.
+        st, _, doc = srv.request("POST", ex, alice, {"inputs": {"duration": 1}})
+        T.check(st == 201, "valid submit")
+        jid = doc["jobID"]
+        for path in ("/jobs/" + jid, "/jobs/%s/results" % jid, "/jobs/%s/log" % jid,
+                     "/jobs/%s/results/result.h5" % jid):
+            st, h, doc = srv.request("GET", path, bob)
+            T.check(st == 404 and doc["type"].endswith("no-such-job"),
+                    "bob GET %s -> %s" % (path, st))
+        st, _, doc = srv.request("DELETE", "/jobs/" + jid, bob)
+        T.check(st == 404, "bob DELETE -> %s" % st)
+        st, _, doc = srv.request("GET", "/jobs/" + jid, alice)
+        T.check(st == 200 and doc["status"] == "accepted", "alice's job untouched")
+        for path in ("/jobs/../../etc/passwd", "/jobs/ZZZ", "/jobs/" + "0" * 32):
+            st, _, doc = srv.request("GET", path, alice)
+            T.check(st == 404, "GET %s -> %s" % (path, st))
+        st, _, doc = srv.request("GET", "/jobs/%s/results/..%%2Fqueue.db" % jid, alice)
+        T.check(st == 404, "traversal -> %s" % st)
+        st, _, doc = srv.request("GET", "/nope", alice)
+        T.check(st == 404 and doc["status"] == 404, "unknown route")
+        st, h, doc = srv.request("PUT", "/jobs", alice, {"x": 1})
+        T.check(st == 405 and "GET" in h.get("allow", ""), "PUT /jobs -> %s" % st)
+        st, _, doc = srv.request("GET", "/jobs?limit=0", alice)
+        T.check(st == 400 and "limit" in doc["detail"], "limit=0")
+        st, _, doc = srv.request("GET", "/jobs?cursor=abc", alice)
+        T.check(st == 400 and "cursor" in doc["detail"], "bad cursor")
+        st, _, doc = srv.request("GET", "/processes/nope")
+        T.check(st == 404 and doc["type"].endswith("no-such-process"), "unknown process desc")
+    finally:
+        srv.stop()
+
+
+T.main(run)

@@ -1,0 +1,94 @@
+"""The client examples against a live server: the curl walk-through, the CI script (success
+with sha256 check, a failing job -> exit 1, a rejected submission -> exit 2, a timeout ->
+exit 3, a retried CI step -> same job), and the Python client + h5py reader."""
+import os
+import shutil
+import subprocess
+import sys
+
+import lubd_testlib as T
+
+
+def run():
+    a = T.args()
+    ce = a.clients
+    # CPU limit 20 s: the short jobs here take well under a second; the "failing" job is
+    # a very long run that the limit kills.
+    srv = T.Server(a, "clients", workers=2, extra=["--cpu-s", "20", "--grace-s", "1"]).fresh()
+    tok = srv.token("ci")
+    srv.start()
+    out_dir = os.path.join(a.work, "clients-out")
+    shutil.rmtree(out_dir, ignore_errors=True)
+    os.makedirs(out_dir)
+    env = dict(os.environ, LUBDEM_URL="http://127.0.0.1:%d" % srv.port, LUBDEM_TOKEN=tok,
+               LUBDEM_OUT=out_dir, PATH="/usr/bin:/bin:" + os.environ.get("PATH", ""))
+
+    def sh(*argv, timeout=300, extra_env=None):
+        e = dict(env, **(extra_env or {}))
+        r = subprocess.run(list(argv), env=e, capture_output=True, text=True, timeout=timeout,
+                           cwd=out_dir)
+        return r.returncode, r.stdout + r.stderr
+
+    try:
+        rc, out = sh("bash", os.path.join(ce, "walkthrough.sh"))
+        T.check(rc == 0 and "sha256" in out and "OK" in out, "walkthrough.sh:\n" + out)
+
+        ci = os.path.join(ce, "ci_submit.sh")
+        h5 = os.path.join(out_dir, "ci.h5")
+        rc, out = sh("bash", ci, "two_spheres_shear", '{"duration": 5.0}', "300", h5,
+                     extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-step-1"})
+        T.check(rc == 0 and "verified" in out, "ci_submit.sh success:\n" + out)
+        job1 = out.split("job ", 1)[1].split()[0]
+        rc, out = sh("bash", ci, "two_spheres_shear", '{"duration": 5.0}', "300", h5,
+                     extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-step-1"})
+        T.check(rc == 0 and ("job %s" % job1) in out, "retried CI step made a new job:\n" + out)
+        rc, out = sh("bash", ci, "falling_sphere", '{"duration": "x"}', "60")
+        T.check(rc == 2 and "/inputs/duration" in out, "rejected submission:\n" + out)
+        rc, out = sh("bash", ci, "falling_sphere", '{"duration": 1e9}', "2")
+        T.check(rc == 3 and "timeout" in out, "timeout:\n" + out)
+        # A failing job: the CPU limit kills it (rc 1, message printed).
+        slow = T.Server(a, "clients-fail", workers=1, extra=["--cpu-s", "1"]).fresh()
+        tok2 = slow.token("ci")
+        slow.start()
+        try:
+            rc, out = sh("bash", ci, "falling_sphere", '{"duration": 1e9}', "120",
+                         extra_env={"LUBDEM_URL": "http://127.0.0.1:%d" % slow.port,
+                                    "LUBDEM_TOKEN": tok2})
+        finally:
+            slow.stop()
+        T.check(rc == 1 and "failed" in out and "CPU time limit" in out,
+                "failed job:\n" + out)
+
+        py = sys.executable
+        client = os.path.join(ce, "lubdem_client.py")
+        pyh5 = os.path.join(out_dir, "py.h5")
+        rc, out = sh(py, client, "submit", "falling_sphere", '{"duration": 2.0}',
+                     "--download", pyh5, "--timeout", "300")
+        T.check(rc == 0 and "downloaded" in out and os.path.exists(pyh5),
+                "python client:\n" + out)
+        rc, out = sh(py, client, "list", "--status", "successful")
+        T.check(rc == 0 and "falling_sphere successful" in out, "python list:\n" + out)
+        rc, out = sh(py, client, "submit", "falling_sphere", '{"duration": -1}')
+        T.check(rc == 1 and "/inputs/duration" in out, "python client error:\n" + out)
+        # Resume: truncate the file and download again with a Range request.
+        sys.path.insert(0, ce)
+        import lubdem_client
+        c = lubdem_client.Client(env["LUBDEM_URL"], tok)
+        job = c.jobs("successful", limit=1)[0]
+        full = c.download(job["jobID"], "result.h5", os.path.join(out_dir, "resume.h5"))
+        size = os.path.getsize(full)
+        with open(full, "r+b") as f:
+            f.truncate(size // 3)
+        c.download(job["jobID"], "result.h5", full)
+        T.check(os.path.getsize(full) == size, "resumed download size")
+        try:
+            import h5py  # noqa: F401
+            rc, out = sh(py, os.path.join(ce, "read_result.py"), pyh5)
+            T.check(rc == 0 and "H5MD version: [1, 1]" in out, "read_result.py:\n" + out)
+        except ImportError:
+            print("h5py not available: read_result.py not exercised")
+    finally:
+        srv.stop()
+
+
+T.main(run)

@@ -1,0 +1,118 @@
+"""8 concurrent clients submit 500 jobs in total (queue-only server, --workers 0), each
+with an Idempotency-Key; a fifth of them are retried with the same key (sequentially and
+racing from two threads). Expect exactly 500 distinct jobs, every retry mapped to its
+original job, 409 for a key reused with another body, and 429 + Retry-After over the
+per-user cap."""
+import threading
+import time
+
+import lubd_testlib as T
+
+CLIENTS = 8
+TOTAL = 500
+
+
+def run():
+    a = T.args()
+    srv = T.Server(a, "concurrency", workers=0,
+                   extra=["--user-cap", "100000", "--http-threads", "4"]).fresh()
+    tokens = [srv.token("client%d" % i) for i in range(CLIENTS)]
+    admin = srv.token("root", admin=True)
+    capped = srv.token("capped")
+    srv.cli("user", "cap", "--user", "capped", "3")
+    srv.start()
+    errors = []
+    results = {}  # key -> job id
+    lock = threading.Lock()
+
+    def submit(tok, key, n):
+        body = {"inputs": {"duration": 1.0 + n * 1e-3}}
+        for attempt in range(5):
+            try:
+                return srv.request("POST", "/processes/falling_sphere/execution", tok, body,
+                                   {"Idempotency-Key": key})
+            except OSError as e:  # connection trouble: retry with the same key
+                err = e
+                time.sleep(0.05)
+        raise err
+
+    def client(ci):
+        tok = tokens[ci]
+        mine = range(ci, TOTAL, CLIENTS)
+        try:
+            for n in mine:
+                key = "c%d-job%d" % (ci, n)
+                st, h, doc = submit(tok, key, n)
+                if st != 201:
+                    errors.append("submit %s -> %s %s" % (key, st, doc))
+                    continue
+                jid = doc["jobID"]
+                if n % 5 == 0:  # a retry of the same request
+                    st2, h2, doc2 = submit(tok, key, n)
+                    if st2 != 201 or doc2["jobID"] != jid or h2.get("idempotent-replayed") != "true":
+                        errors.append("retry %s -> %s %s" % (key, st2, doc2.get("jobID")))
+                with lock:
+                    results[key] = jid
+        except Exception as e:  # noqa: BLE001 - report any client failure
+            errors.append("client %d: %r" % (ci, e))
+
+    t0 = time.time()
+    threads = [threading.Thread(target=client, args=(i,)) for i in range(CLIENTS)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join(120)
+    elapsed = time.time() - t0
+    try:
+        T.check(not errors, "errors: %s" % errors[:5])
+        T.check(len(results) == TOTAL, "accepted %d of %d" % (len(results), TOTAL))
+        T.check(len(set(results.values())) == TOTAL, "duplicate job ids")
+        # Racing duplicates: the same key from 4 threads at once -> one job.
+        race = []
+        def racer():
+            st, h, doc = submit(tokens[0], "race-key", 7)
+            race.append((st, doc.get("jobID")))
+        rt = [threading.Thread(target=racer) for _ in range(4)]
+        for t in rt:
+            t.start()
+        for t in rt:
+            t.join(30)
+        T.check(len(race) == 4 and all(s == 201 for s, _ in race)
+                and len({j for _, j in race}) == 1, "racing retries: %s" % race)
+        # Key reused with a different body -> 409, nothing new queued.
+        st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", tokens[0],
+                                 {"inputs": {"duration": 99.0}}, {"Idempotency-Key": "race-key"})
+        T.check(st == 409 and "different request" in doc["detail"], "409: %s %s" % (st, doc))
+        # The queue holds exactly TOTAL + 1 jobs, all distinct.
+        ids, path = [], "/jobs?limit=1000"
+        while path:
+            st, _, lst = srv.request("GET", path, admin)
+            T.check(st == 200, "list")
+            ids += [j["jobID"] for j in lst["jobs"]]
+            nxt = [l["href"] for l in lst["links"] if l["rel"] == "next"]
+            path = nxt[0].split(str(srv.port), 1)[1] if nxt else None
+        T.check(len(ids) == TOTAL + 1 and len(set(ids)) == TOTAL + 1,
+                "queue has %d jobs (%d distinct)" % (len(ids), len(set(ids))))
+        st, _, health = srv.request("GET", "/health")
+        T.check(health["queue"]["accepted"] == TOTAL + 1, "health queue depth")
+        # Per-user cap -> 429 with Retry-After.
+        for i in range(3):
+            st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", capped,
+                                     {"inputs": {}})
+            T.check(st == 201, "capped submit %d -> %s" % (i, st))
+        st, h, doc = srv.request("POST", "/processes/falling_sphere/execution", capped,
+                                 {"inputs": {}})
+        T.check(st == 429 and int(h.get("retry-after", "0")) > 0 and "limit 3" in doc["detail"],
+                "cap: %s %s" % (st, doc))
+        # Dismissing one frees a slot.
+        st, _, lst = srv.request("GET", "/jobs?limit=1", capped)
+        srv.request("DELETE", "/jobs/" + lst["jobs"][0]["jobID"], capped)
+        st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", capped,
+                                 {"inputs": {}})
+        T.check(st == 201, "after dismiss -> %s" % st)
+        print("submitted=%d clients=%d seconds=%.2f" % (TOTAL, CLIENTS, elapsed))
+    finally:
+        srv.stop()
+
+
+T.main(run)

@@ -1,0 +1,50 @@
+"""Worker failure paths with a fake engine (fake_engine.sh): a numerical failure (diagnostic
+from summary.json), an output error (stderr, failure_kind system), a crash (SIGSEGV) and a
+clean exit without files. Each job fails once with the engine's diagnostic, is not retried,
+serves no result, and the worker survives."""
+import os
+import time
+
+import lubd_testlib as T
+
+
+def run():
+    a = T.args()
+    a.engine = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fake_engine.sh")
+    srv = T.Server(a, "engine_failures", workers=1, extra=["--lease-s", "2"]).fresh()
+    tok = srv.token("dave")
+    srv.start()
+    try:
+        cases = {3: ("executor", "NaN in the gap"),
+                 4: ("system", "No space left on device"),
+                 11: ("executor", "signal 11"),
+                 7: ("executor", "summary.json or result.h5 is missing")}
+        ids = {}
+        for dur in cases:
+            st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", tok,
+                                     {"inputs": {"duration": dur}})
+            T.check(st == 201, "submit %s" % dur)
+            ids[dur] = doc["jobID"]
+        for dur, (kind, text) in cases.items():
+            final = T.wait_final(srv, tok, ids[dur], timeout=60)
+            T.check(final["status"] == "failed" and final["failure_kind"] == kind
+                    and text in final["message"] and final["attempt"] == 1,
+                    "duration %s: %s" % (dur, final))
+            st, _, res = srv.request("GET", "/jobs/%s/results" % ids[dur], tok)
+            T.check(st == (500 if kind == "system" else 422) and text in res["detail"],
+                    "results of failed job %s -> %s" % (dur, st))
+            st, _, res = srv.request("GET", "/jobs/%s/results/result.h5" % ids[dur], tok)
+            T.check(st == 404, "file of failed job -> %s" % st)
+            st, _, log = srv.request("GET", "/jobs/%s/log" % ids[dur], tok, raw=True)
+            T.check(st == 200 and b"progress fraction=0.5000" in log, "log of %s" % dur)
+        time.sleep(3)  # > lease: nothing comes back to life
+        for dur in cases:
+            st, _, doc = srv.request("GET", "/jobs/" + ids[dur], tok)
+            T.check(doc["status"] == "failed" and doc["attempt"] == 1, "retried: %s" % doc)
+        st, _, h = srv.request("GET", "/health")
+        T.check(h["workers"]["alive"] == 1 and h["queue"]["running"] == 0, "health %s" % h)
+    finally:
+        srv.stop()
+
+
+T.main(run)

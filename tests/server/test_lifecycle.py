@@ -1,0 +1,227 @@
+"""Full job life cycle on a live lubdemd with the real engine, for two processes:
+submit -> poll -> results document -> HDF5 download (sha256, ETag/304, Range 206/416) ->
+log -> list/filter/paging -> dismiss (running and finished) -> user isolation, admin view,
+token revocation; an engine killed by its CPU limit fails the job, not retried."""
+import hashlib
+import json
+import time
+
+import lubd_testlib as T
+
+
+def run():
+    a = T.args()
+    srv = T.Server(a, "lifecycle", workers=2,
+                   extra=["--lease-s", "6", "--grace-s", "2"]).fresh()
+    alice = srv.token("alice")
+    bob = srv.token("bob")
+    admin = srv.token("root", admin=True)
+    srv.start()
+    try:
+        st, _, doc = srv.request("GET", "/")
+        T.check(st == 200 and any(l["rel"] == "service-desc" for l in doc["links"]), "landing")
+        st, _, doc = srv.request("GET", "/conformance")
+        T.check(st == 200 and any("job-list" in c for c in doc["conformsTo"]), "conformance")
+        st, _, doc = srv.request("GET", "/openapi.json")
+        T.check(st == 200 and doc.get("openapi", "").startswith("3."), "openapi: %s" % st)
+        st, _, doc = srv.request("GET", "/health")
+        T.check(st == 200 and doc["status"] == "ok", "health")
+        st, _, doc = srv.request("GET", "/processes")
+        ids = [p["id"] for p in doc["processes"]]
+        T.check("falling_sphere" in ids and "two_spheres_shear" in ids, "processes: %s" % ids)
+        st, _, doc = srv.request("GET", "/processes/falling_sphere")
+        T.check(st == 200 and "duration" in doc["inputs"]
+                and doc["inputs"]["duration"]["schema"]["type"] == "number"
+                and "scene" not in doc["inputs"], "process description inputs")
+        T.check(doc["jobControlOptions"] == ["async-execute", "dismiss"], "jobControlOptions")
+
+        specs = {"falling_sphere": {"duration": 2.0},
+                 "two_spheres_shear": {"duration": 5.0}}
+        jobs = {}
+        for pid, inputs in specs.items():
+            st, h, doc = srv.request("POST", "/processes/%s/execution" % pid, alice,
+                                     {"inputs": inputs}, {"Prefer": "respond-async"})
+            T.check(st == 201, "submit %s -> %s %s" % (pid, st, doc))
+            T.check(h["location"].endswith("/jobs/" + doc["jobID"]), "Location header")
+            T.check(h.get("preference-applied") == "respond-async", "Preference-Applied")
+            T.check(doc["status"] in ("accepted", "running"), "initial status")
+            jobs[pid] = doc["jobID"]
+        for pid, jid in jobs.items():
+            final = T.wait_final(srv, alice, jid, timeout=180)
+            T.check(final["status"] == "successful",
+                    "%s finished %s: %s" % (pid, final["status"], final.get("message")))
+            T.check(final["progress"] == 100 and final["attempt"] == 1, "progress/attempt")
+            T.check(all(k in final for k in ("created", "started", "finished", "updated")),
+                    "timestamps")
+            st, _, res = srv.request("GET", "/jobs/%s/results" % jid, alice)
+            T.check(st == 200 and res["summary"]["scene"] == pid, "results document")
+            h5 = res["outputs"]["result.h5"]
+            T.check(h5["type"] == "application/x-hdf5" and h5["size"] > 0, "result.h5 entry")
+            st, hd, data = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
+                                       raw=True)
+            T.check(st == 200 and len(data) == h5["size"], "download size")
+            digest = hashlib.sha256(data).hexdigest()
+            T.check(digest == h5["sha256"], "sha256 of the download")
+            T.check(hd["etag"] == '"%s"' % digest, "ETag")
+            T.check(data[:8] == b"\x89HDF\r\n\x1a\n", "HDF5 signature")
+            st, _, _ = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
+                                   headers={"If-None-Match": hd["etag"]}, raw=True)
+            T.check(st == 304, "If-None-Match -> %s" % st)
+            st, hd, part = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
+                                       headers={"Range": "bytes=10-99"}, raw=True)
+            T.check(st == 206 and part == data[10:100]
+                    and hd["content-range"] == "bytes 10-99/%d" % len(data), "Range 206")
+            st, hd, part = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
+                                       headers={"Range": "bytes=-16"}, raw=True)
+            T.check(st == 206 and part == data[-16:], "suffix Range")
+            st, hd, body = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
+                                       headers={"Range": "bytes=%d-" % len(data)})
+            T.check(st == 416 and hd["content-range"] == "bytes */%d" % len(data), "416")
+            st, hd, head = srv.request("HEAD", "/jobs/%s/results/result.h5" % jid, alice,
+                                       raw=True)
+            T.check(st == 200 and head == b"" and int(hd["content-length"]) == len(data),
+                    "HEAD -> %s %s" % (st, hd))
+            st, hd, summ = srv.request("GET", "/jobs/%s/results/summary.json" % jid, alice)
+            T.check(st == 200 and summ["scene"] == pid, "summary.json download")
+            st, hd, log = srv.request("GET", "/jobs/%s/log" % jid, alice, raw=True)
+            T.check(st == 200 and b"progress fraction=1.0000" in log
+                    and hd["content-type"].startswith("text/plain"), "log")
+            # Isolation: bob cannot see alice's job (404, as for an unknown id).
+            st, _, body = srv.request("GET", "/jobs/" + jid, bob)
+            T.check(st == 404 and body["type"].endswith("no-such-job"), "bob sees alice's job")
+            st, _, body = srv.request("GET", "/jobs/%s/results/result.h5" % jid, bob)
+            T.check(st == 404, "bob downloads alice's file")
+            st, _, body = srv.request("DELETE", "/jobs/" + jid, bob)
+            T.check(st == 404, "bob dismisses alice's job")
+            st, _, body = srv.request("GET", "/jobs/" + jid, admin)
+            T.check(st == 200 and body["user"] == "alice", "admin sees alice's job")
+
+        # Listing, filters, paging.
+        st, _, lst = srv.request("GET", "/jobs?limit=1", alice)
+        T.check(st == 200 and len(lst["jobs"]) == 1, "list limit")
+        nxt = [l["href"] for l in lst["links"] if l["rel"] == "next"]
+        T.check(nxt, "next link")
+        path = nxt[0].split(str(srv.port), 1)[1]
+        st, _, lst2 = srv.request("GET", path, alice)
+        T.check(st == 200 and len(lst2["jobs"]) == 1
+                and lst2["jobs"][0]["jobID"] != lst["jobs"][0]["jobID"], "second page")
+        st, _, lst = srv.request("GET", "/jobs?processID=two_spheres_shear&status=successful",
+                                 alice)
+        T.check([j["jobID"] for j in lst["jobs"]] == [jobs["two_spheres_shear"]], "filters")
+        st, _, lst = srv.request("GET", "/jobs", bob)
+        T.check(st == 200 and lst["jobs"] == [], "bob's list is empty")
+        st, _, lst = srv.request("GET", "/jobs?status=bogus", alice)
+        T.check(st == 400 and "status" in lst["detail"], "bad status filter")
+
+        # Dismiss a running job: the engine is stopped, the job becomes dismissed.
+        st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", alice,
+                                 {"inputs": {"duration": 100000.0}})
+        T.check(st == 201, "long job submit")
+        long_id = doc["jobID"]
+        deadline = time.time() + 60
+        while time.time() < deadline:
+            st, _, doc = srv.request("GET", "/jobs/" + long_id, alice)
+            if doc["status"] == "running" and doc["progress"] >= 0 and doc["attempt"] == 1:
+                break
+            time.sleep(0.1)
+        T.check(doc["status"] == "running", "long job running")
+        time.sleep(1.0)
+        st, _, doc = srv.request("GET", "/jobs/" + long_id, alice)
+        T.check(doc["message"].startswith("running"), "progress message: %s" % doc["message"])
+        st, _, res = srv.request("GET", "/jobs/%s/results" % long_id, alice)
+        T.check(st == 404 and res["type"].endswith("result-not-ready"), "result-not-ready")
+        st, _, doc = srv.request("DELETE", "/jobs/" + long_id, alice)
+        T.check(st == 200 and doc["status"] == "dismissed", "dismiss running")
+        deadline = time.time() + 20
+        while time.time() < deadline and T.engine_processes(srv.run):
+            time.sleep(0.1)
+        T.check(not T.engine_processes(srv.run), "engine still running after dismiss")
+        st, _, res = srv.request("GET", "/jobs/%s/results" % long_id, alice)
+        T.check(st == 410, "results of a dismissed job -> %s" % st)
+        # Purge a finished job: tombstone, files gone.
+        jid = jobs["falling_sphere"]
+        st, _, doc = srv.request("DELETE", "/jobs/" + jid, alice)
+        T.check(st == 200 and doc["status"] == "dismissed", "purge finished job")
+        st, _, doc = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice)
+        T.check(st == 410, "purged job download -> %s" % st)
+        T.check(not __import__("os").path.exists("%s/jobs/%s" % (srv.run, jid)),
+                "purged files remain")
+        # Revoked token -> 401.
+        srv.cli("token", "revoke", bob)
+        st, h, body = srv.request("GET", "/jobs", bob)
+        T.check(st == 401 and "www-authenticate" in h, "revoked token -> %s" % st)
+        st, _, doc = srv.request("GET", "/health")
+        T.check(doc["workers"]["alive"] == 2, "workers alive: %s" % doc["workers"])
+    finally:
+        rc = srv.stop()
+    T.check(rc == 0, "lubdemd exit code %s after SIGTERM" % rc)
+
+    # An engine killed by its CPU limit: failed with the diagnostic, not retried.
+    srv2 = T.Server(a, "cpulimit", workers=1, extra=["--cpu-s", "1", "--lease-s", "4"]).fresh()
+    tok = srv2.token("carol")
+    srv2.start()
+    try:
+        st, _, doc = srv2.request("POST", "/processes/falling_sphere/execution", tok,
+                                  {"inputs": {"duration": 100000.0}})
+        T.check(st == 201, "submit")
+        final = T.wait_final(srv2, tok, doc["jobID"], timeout=60)
+        T.check(final["status"] == "failed" and final["failure_kind"] == "executor"
+                and "CPU time limit" in final["message"] and final["attempt"] == 1,
+                "cpu-limited job: %s" % json.dumps(final))
+        st, _, res = srv2.request("GET", "/jobs/%s/results" % doc["jobID"], tok)
+        T.check(st == 422 and "CPU time limit" in res["detail"], "failed results -> %s" % st)
+        time.sleep(5)  # longer than the lease: a failed job must not come back
+        st, _, again = srv2.request("GET", "/jobs/" + doc["jobID"], tok)
+        T.check(again["status"] == "failed" and again["attempt"] == 1, "failed job retried")
+        st, _, doc = srv2.request("GET", "/health")
+        T.check(doc["workers"]["alive"] == 1, "worker survived the engine crash")
+    finally:
+        srv2.stop()
+
+    # An engine writing more than the output limit is killed (SIGXFSZ): failed, not retried.
+    srv3 = T.Server(a, "fsizelimit", workers=1, extra=["--fsize-mb", "1"]).fresh()
+    tok = srv3.token("erin")
+    srv3.start()
+    try:
+        st, _, doc = srv3.request("POST", "/processes/falling_sphere/execution", tok,
+                                  {"inputs": {"duration": 2.0, "samples": 200000}})
+        T.check(st == 201, "submit")
+        final = T.wait_final(srv3, tok, doc["jobID"], timeout=60)
+        T.check(final["status"] == "failed" and "output size limit" in final["message"]
+                and final["attempt"] == 1, "fsize-limited job: %s" % json.dumps(final))
+    finally:
+        srv3.stop()
+
+    # Graceful stop (SIGTERM) while a job runs: the job goes back to the queue without using
+    # up an attempt, and runs again after a restart.
+    srv4 = T.Server(a, "shutdown", workers=1, extra=["--grace-s", "2"]).fresh()
+    tok = srv4.token("frank")
+    srv4.start()
+    st, _, doc = srv4.request("POST", "/processes/falling_sphere/execution", tok,
+                              {"inputs": {"duration": 100000.0}})
+    T.check(st == 201, "submit")
+    jid = doc["jobID"]
+    deadline = time.time() + 30
+    while time.time() < deadline and doc["status"] != "running":
+        time.sleep(0.1)
+        st, _, doc = srv4.request("GET", "/jobs/" + jid, tok)
+    T.check(doc["status"] == "running", "running before SIGTERM")
+    T.check(srv4.stop() == 0, "clean stop")
+    T.check(not T.engine_processes(srv4.run), "engine survived a clean stop")
+    srv4.start()
+    try:
+        st, _, doc = srv4.request("GET", "/jobs/" + jid, tok)
+        T.check(doc["status"] in ("accepted", "running") and doc["attempt"] <= 1,
+                "after restart: %s" % doc)
+        deadline = time.time() + 30
+        while time.time() < deadline and doc["status"] != "running":
+            time.sleep(0.1)
+            st, _, doc = srv4.request("GET", "/jobs/" + jid, tok)
+        T.check(doc["status"] == "running" and doc["attempt"] == 1,
+                "rerun after restart: %s" % doc)
+        srv4.request("DELETE", "/jobs/" + jid, tok)
+    finally:
+        srv4.stop()
+
+
+T.main(run)

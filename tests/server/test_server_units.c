@@ -1,0 +1,209 @@
+/* test_server_units.c — unit tests of the server's pure parts and of the queue/lease SQL on a
+ * scratch database: SHA-256 vectors, Range parsing, progress lines, execution-request
+ * validation, claim order/fencing/reaping. Usage: test_server_units SCRATCH_DIR */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "db.h"
+#include "exec_request.h"
+#include "fsutil.h"
+#include "http_range.h"
+#include "lease.h"
+#include "progress_line.h"
+#include "queue.h"
+#include "sha256.h"
+#include "tokens.h"
+
+static int failures = 0;
+#define CHECK(c)                                                                             \
+    do {                                                                                     \
+        if (!(c)) {                                                                          \
+            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #c);            \
+            ++failures;                                                                      \
+        }                                                                                    \
+    } while (0)
+
+static void test_sha256(void)
+{
+    char hex[65];
+    lubd_sha256_hex("", 0, hex);
+    CHECK(strcmp(hex, "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855") == 0);
+    lubd_sha256_hex("abc", 3, hex);
+    CHECK(strcmp(hex, "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad") == 0);
+    const char *two = "abcdbcdecdefdefgefghfghighijhijkijkljklmklmnlmnomnopnopq";
+    lubd_sha256_hex(two, strlen(two), hex);
+    CHECK(strcmp(hex, "248d6a61d20638b8e5c026930c3e6039a33ce45964ff2167f6ecedd419db06c1") == 0);
+    /* one million 'a', fed in uneven pieces */
+    lubd_sha256 c;
+    lubd_sha256_init(&c);
+    char block[997];
+    memset(block, 'a', sizeof block);
+    size_t left = 1000000;
+    while (left) {
+        size_t n = left < sizeof block ? left : sizeof block;
+        lubd_sha256_update(&c, block, n);
+        left -= n;
+    }
+    uint8_t d[32];
+    lubd_sha256_final(&c, d);
+    lubd_hex_encode(d, 32, hex);
+    CHECK(strcmp(hex, "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0") == 0);
+    CHECK(lubd_ct_equal("abc", "abc", 3) && !lubd_ct_equal("abc", "abd", 3));
+}
+
+static void test_range(void)
+{
+    uint64_t f = 0, l = 0;
+    CHECK(lubd_range_parse(NULL, 100, &f, &l) == LUBD_RANGE_NONE);
+    CHECK(lubd_range_parse("bytes=0-9", 100, &f, &l) == LUBD_RANGE_OK && f == 0 && l == 9);
+    CHECK(lubd_range_parse("bytes=90-", 100, &f, &l) == LUBD_RANGE_OK && f == 90 && l == 99);
+    CHECK(lubd_range_parse("bytes=90-1000", 100, &f, &l) == LUBD_RANGE_OK && l == 99);
+    CHECK(lubd_range_parse("bytes=-10", 100, &f, &l) == LUBD_RANGE_OK && f == 90 && l == 99);
+    CHECK(lubd_range_parse("bytes=-1000", 100, &f, &l) == LUBD_RANGE_OK && f == 0);
+    CHECK(lubd_range_parse("bytes=100-", 100, &f, &l) == LUBD_RANGE_UNSATISFIABLE);
+    CHECK(lubd_range_parse("bytes=-0", 100, &f, &l) == LUBD_RANGE_UNSATISFIABLE);
+    CHECK(lubd_range_parse("bytes=5-1", 100, &f, &l) == LUBD_RANGE_NONE);
+    CHECK(lubd_range_parse("bytes=0-1,5-6", 100, &f, &l) == LUBD_RANGE_NONE);
+    CHECK(lubd_range_parse("items=0-1", 100, &f, &l) == LUBD_RANGE_NONE);
+    CHECK(lubd_range_parse("bytes=99999999999999999999-", 100, &f, &l) == LUBD_RANGE_NONE);
+    CHECK(lubd_range_parse("bytes=-", 100, &f, &l) == LUBD_RANGE_NONE);
+}
+
+static void test_progress(void)
+{
+    lubd_progress p;
+    CHECK(lubd_progress_parse("progress fraction=0.2500 step=1200 steps_per_s=3.1e+05 eta_s=12.0",
+                              &p) == 1);
+    CHECK(p.fraction == 0.25 && p.step == 1200 && p.eta_s == 12.0 && p.steps_per_s == 3.1e5);
+    CHECK(lubd_progress_parse("progress fraction=7", &p) == 1 && p.fraction == 1.0);
+    CHECK(lubd_progress_parse("progress fraction=nan", &p) == 0);
+    CHECK(lubd_progress_parse("progress step=3", &p) == 0);
+    CHECK(lubd_progress_parse("info: hello", &p) == 0);
+}
+
+static void test_exec(void)
+{
+    lubd_exec_request r, r2;
+    lubd_fault f;
+    const char *ok = "{\"inputs\": {\"duration\": 1.5}, \"priority\": -2}";
+    CHECK(lubd_exec_parse(ok, strlen(ok), "falling_sphere", &r, &f) == 0);
+    CHECK(r.priority == -2);
+    CHECK(strcmp(json_string_value(json_object_get(r.spec, "scene")), "falling_sphere") == 0);
+    CHECK(json_object_get(r.resolved, "St") != NULL); /* defaults filled in */
+    const char *reordered = "{\"priority\": -2, \"inputs\": {\"duration\": 1.5}}";
+    CHECK(lubd_exec_parse(reordered, strlen(reordered), "falling_sphere", &r2, &f) == 0);
+    CHECK(strcmp(r.fingerprint, r2.fingerprint) == 0);
+    lubd_exec_free(&r2);
+    CHECK(lubd_exec_parse(ok, strlen(ok), "two_spheres_shear", &r2, &f) == 0);
+    CHECK(strcmp(r.fingerprint, r2.fingerprint) != 0); /* process id is part of it */
+    lubd_exec_free(&r2);
+    lubd_exec_free(&r);
+    const char *bad = "{\"inputs\": {\"duration\": -1}}";
+    CHECK(lubd_exec_parse(bad, strlen(bad), "falling_sphere", &r, &f) == -1);
+    CHECK(f.status == 400 && strcmp(f.pointer, "/inputs/duration") == 0);
+    CHECK(lubd_exec_parse(bad, strlen(bad), "nope", &r, &f) == -1 && f.status == 404);
+    CHECK(lubd_exec_parse("{", 1, "falling_sphere", &r, &f) == -1 && f.status == 400);
+    CHECK(lubd_exec_parse("", 0, "falling_sphere", &r, &f) == -1 && f.status == 400);
+}
+
+static void test_queue(const char *dir)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/units.db", dir);
+    unlink(path);
+    sqlite3 *db = lubd_db_open(path, 1);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    char tok[LUBD_TOKEN_MAX];
+    CHECK(lubd_token_create(db, "u", 0, tok) == 0);
+    char auth[200];
+    snprintf(auth, sizeof auth, "Bearer %s", tok);
+    lubd_user u;
+    CHECK(lubd_auth_bearer(db, auth, &u) == 0 && strcmp(u.name, "u") == 0 && !u.is_admin);
+    auth[strlen(auth) - 1] ^= 1; /* flip the last hex digit */
+    CHECK(lubd_auth_bearer(db, auth, &u) == 1);
+    CHECK(lubd_auth_bearer(db, "Basic abc", &u) == 1);
+    /* Submit three jobs; the highest priority is claimed first, then FIFO. */
+    const char *ids_prio[3] = {"0", "5", "0"};
+    char ids[3][33];
+    for (int i = 0; i < 3; ++i) {
+        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{\"scene\":\"falling_sphere\"}",
+                         ids_prio[i], NULL, atoi(ids_prio[i]), 2};
+        int replayed;
+        lubd_fault f;
+        CHECK(lubd_queue_submit(db, &s, ids[i], &replayed, &f) == 0 && !replayed);
+    }
+    lubd_claim c1, c2;
+    CHECK(lubd_lease_claim(db, "t1", 60, &c1) == 1 && strcmp(c1.id, ids[1]) == 0);
+    CHECK(lubd_lease_claim(db, "t2", 0, &c2) == 1 && strcmp(c2.id, ids[0]) == 0);
+    lubd_claim stale = c1;
+    strcpy(stale.token, "00000000000000000000000000000000");
+    CHECK(lubd_lease_heartbeat(db, &stale, 60, 10, "x", 0) == 0); /* fenced */
+    CHECK(lubd_lease_heartbeat(db, &c1, 60, 10, "running: 10%", 1234) == 1);
+    CHECK(lubd_lease_fail(db, &stale, "executor", "no") == 0);
+    /* c2's lease (0 s) has expired: the reaper requeues it and its token is dead. */
+    struct timespec ts = {0, 20000000L};
+    nanosleep(&ts, NULL);
+    int rq, fl;
+    CHECK(lubd_queue_reap(db, &rq, &fl) == 0 && rq == 1 && fl == 0);
+    CHECK(lubd_lease_heartbeat(db, &c2, 60, 20, NULL, 0) == 0);
+    CHECK(lubd_lease_fail(db, &c2, "executor", "late") == 0);
+    lubd_job j;
+    CHECK(lubd_queue_get(db, ids[0], &j) == 1 && strcmp(j.state, "accepted") == 0 &&
+          j.attempt == 1);
+    /* Second attempt also dies (lease 0 s): max_attempts = 2 is reached -> failed/system. */
+    lubd_claim c3;
+    CHECK(lubd_lease_claim(db, "t3", 0, &c3) == 1 && strcmp(c3.id, ids[0]) == 0 &&
+          c3.attempt == 2);
+    nanosleep(&ts, NULL);
+    CHECK(lubd_queue_reap(db, &rq, &fl) == 0 && rq == 0 && fl == 1);
+    CHECK(lubd_queue_get(db, ids[0], &j) == 1 && strcmp(j.state, "failed") == 0 &&
+          strcmp(j.failure_kind, "system") == 0);
+    CHECK(lubd_lease_fail(db, &c3, "executor", "late") == 0);
+    lubd_lease_clear(&c3);
+    /* Idempotency: same key + same fingerprint -> same job; other fingerprint -> 409. */
+    {
+        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{}", "fp-a", "key-1", 0, 3};
+        char a1[33], a2[33];
+        int rep;
+        lubd_fault f;
+        CHECK(lubd_queue_submit(db, &s, a1, &rep, &f) == 0 && !rep);
+        CHECK(lubd_queue_submit(db, &s, a2, &rep, &f) == 0 && rep && strcmp(a1, a2) == 0);
+        s.fingerprint = "fp-b";
+        CHECK(lubd_queue_submit(db, &s, a2, &rep, &f) == -1 && f.status == 409);
+        /* cap: u has ids[2] + a1 active = 2; a cap of 2 refuses the next one */
+        s.idempotency_key = NULL;
+        s.user_cap = 2;
+        CHECK(lubd_queue_submit(db, &s, a2, &rep, &f) == -1 && f.status == 429 &&
+              f.retry_after > 0);
+    }
+    /* Dismissing the running job makes its holder's heartbeat fail. */
+    int purge;
+    lubd_job after;
+    CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 0 && !purge &&
+          strcmp(after.state, "dismissed") == 0);
+    CHECK(lubd_lease_heartbeat(db, &c1, 60, 30, NULL, 0) == 0);
+    CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 0 && purge && after.purged);
+    CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 1);
+    lubd_lease_clear(&c1);
+    lubd_lease_clear(&c2);
+    lubd_db_close(db);
+}
+
+int main(int argc, char **argv)
+{
+    test_sha256();
+    test_range();
+    test_progress();
+    test_exec();
+    test_queue(argc > 1 ? argv[1] : ".");
+    if (failures)
+        fprintf(stderr, "%d check(s) failed\n", failures);
+    else
+        printf("PASS\n");
+    return failures ? 1 : 0;
+}
