@@ -30,15 +30,20 @@ int main(int argc, char **argv)
     double *r = malloc((size_t)n * sizeof *r);
     vec3 *x = malloc((size_t)n * sizeof *x);
     lub_cell c;
-    lub_packing_params pp = {.n = n, .phi = 0.5, .radius_std = 0.05, .seed = 5, .margin = 0.01,
-                             .max_sweeps = 5000000};
+    lub_packing_params pp = {
+        .n = n, .phi = 0.5, .radius_std = 0.05, .seed = 5, .margin = 0.01, .max_sweeps = 5000000};
     if (!r || !x || lub_packing_generate(&pp, r, x, &c, NULL)) {
         fprintf(stderr, "packing failed\n");
         return 1;
     }
     c.L[0][1] = 1.0;
-    lub_law_params law = {.eta = 1, .k_bulk = 1e4, .alpha = 1, .k_t = 5e3, .eps = 0.02,
-                          .mu = 0.5, .terms = LUB_TERM_ALL};
+    lub_law_params law = {.eta = 1,
+                          .k_bulk = 1e4,
+                          .alpha = 1,
+                          .k_t = 5e3,
+                          .eps = 0.02,
+                          .mu = 0.5,
+                          .terms = LUB_TERM_ALL};
     lub_shear_system s;
     if (lub_shear_init(&s, n, r, x, &c, &law, 1e-2, 2.0, 0.5, 1.0, threads, 0, 0)) {
         fprintf(stderr, "init failed\n");

@@ -1,0 +1,60 @@
+/* neighbor_list.h — Verlet candidate pairs from a cell list in a (sheared) periodic cell.
+ *
+ * A pair (i < j) is listed when the centre distance to the nearest image of j is below
+ *   (r_i + r_j)(1 + range/2) + skin,   i.e. u_n < range * a_ij + skin,  a_ij = (r_i + r_j)/2,
+ * where `range` is the lubrication cut-off in units of a_ij (e.g. 2). Each pair carries the
+ * integer image shift c such that the branch vector is d = x_j + H c - x_i. Positions may be
+ * anywhere (not necessarily wrapped): the cell list bins their wrapped fractional coordinates
+ * and c accounts for the unwrapped positions.
+ *
+ * Output order: sorted by (i, j), so first[i] .. first[i+1] are the pairs whose body 1 is i.
+ *
+ * Validity: the nearest image is found exactly when the listing distance is below half of
+ * every perpendicular cell width (lub_nlist_build returns LUB_NLIST_CELL_TOO_SMALL
+ * otherwise). Cells are searched in fractional space (works for any tilt), each bin at least
+ * one listing distance wide; when a direction has fewer than 3 bins the stencil is
+ * de-duplicated.
+ *
+ * Memory: all arrays are owned by the lub_nlist and grow (realloc) only inside
+ * lub_nlist_build; repeated builds with similar sizes do not allocate. Free with
+ * lub_nlist_free. Not thread-safe per instance.
+ */
+#ifndef LUBDEM_NEIGHBOR_LIST_H
+#define LUBDEM_NEIGHBOR_LIST_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "periodic_cell.h"
+
+enum { LUB_NLIST_OK = 0, LUB_NLIST_NOMEM = -1, LUB_NLIST_CELL_TOO_SMALL = -2 };
+
+typedef struct {
+    double range; /* cut-off in units of a_ij (>= 0) */
+    double skin;  /* extra listing distance, length units (>= 0) */
+
+    /* result */
+    size_t npairs;
+    int32_t *pi, *pj; /* [npairs] */
+    int32_t *pc;      /* [3 * npairs] image shifts */
+    size_t *first;    /* [n + 1] */
+    double max_dist;  /* the largest listing distance used (length) */
+
+    /* internal buffers (grown at build time only) */
+    size_t pair_cap, part_cap, bin_cap;
+    int ncell[3];
+    int *bin_start; /* [nbins + 1] */
+    int *bin_items; /* [n] particle ids sorted by bin */
+    int *bin_of;    /* [n] */
+    vec3 *frac;     /* [n] unwrapped fractional coordinates */
+} lub_nlist;
+
+void lub_nlist_init(lub_nlist *nl, double range, double skin);
+void lub_nlist_free(lub_nlist *nl);
+
+/* Builds the list for n particles. Returns LUB_NLIST_OK, LUB_NLIST_NOMEM or
+ * LUB_NLIST_CELL_TOO_SMALL (cell narrower than twice the listing distance). */
+int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const double *radius,
+                    int n);
+
+#endif

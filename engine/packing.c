@@ -1,0 +1,256 @@
+/* packing.c — random non-overlapping packings compressed to a target fraction. */
+#include "packing.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "neighbor_list.h"
+#include "rng.h"
+
+static double sphere_volume_sum(const double *r, int n)
+{
+    double s = 0.0;
+    for (int i = 0; i < n; ++i)
+        s += r[i] * r[i] * r[i];
+    return 4.0 / 3.0 * 3.14159265358979323846 * s;
+}
+
+static vec3 min_image(const lub_cell *cell, vec3 d)
+{
+    vec3 s = lub_cell_to_frac(cell, d);
+    s = v3(s.x - nearbyint(s.x), s.y - nearbyint(s.y), s.z - nearbyint(s.z));
+    return lub_cell_to_cart(cell, s);
+}
+
+double lub_packing_min_gap(const lub_cell *cell, const vec3 *pos, const double *radius, int n)
+{
+    double g = INFINITY;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j) {
+            vec3 d = min_image(cell, v3_sub(pos[j], pos[i]));
+            double u = v3_norm(d) - radius[i] - radius[j];
+            if (u < g)
+                g = u;
+        }
+    return g;
+}
+
+/* One relaxation pass over the candidate pairs; returns the largest relative overlap
+ * (overlap / (r_i + r_j)) BEFORE the displacement. */
+static double relax_sweep(const lub_nlist *nl, const lub_cell *cell, vec3 *pos, const double *r,
+                          double infl, vec3 *disp, int n)
+{
+    double worst = 0.0;
+    for (int i = 0; i < n; ++i)
+        disp[i] = v3(0, 0, 0);
+    for (size_t k = 0; k < nl->npairs; ++k) {
+        int i = nl->pi[k], j = nl->pj[k];
+        const int *c = &nl->pc[3 * k];
+        vec3 d = v3_sub(v3_add(pos[j], lub_cell_shift(cell, c)), pos[i]);
+        double dist = v3_norm(d);
+        double sum = (r[i] + r[j]) * infl;
+        double ov = sum - dist;
+        if (ov <= 0.0)
+            continue;
+        double rel = ov / (r[i] + r[j]);
+        if (rel > worst)
+            worst = rel;
+        vec3 nrm = dist > 0 ? v3_scale(d, 1.0 / dist) : v3(1, 0, 0);
+        /* move both apart, weighted by the inverse volume ratio; 0.5 over-all damping */
+        double wi = r[j] * r[j] * r[j] / (r[i] * r[i] * r[i] + r[j] * r[j] * r[j]);
+        double step = 0.5 * ov;
+        disp[i] = v3_axpy(disp[i], -step * wi, nrm);
+        disp[j] = v3_axpy(disp[j], step * (1.0 - wi), nrm);
+    }
+    for (int i = 0; i < n; ++i)
+        pos[i] = v3_add(pos[i], disp[i]);
+    return worst;
+}
+
+/* Renumbers the spheres along bins of ~2.5 a (x fastest, then y, then z) so that neighbours have
+ * close indices (memory locality of the pair loops). Stable counting sort; uses the two work
+ * arrays (n vec3 each) as scratch. */
+static void spatial_sort(const lub_cell *cell, vec3 *pos, double *radius, vec3 *w1, vec3 *w2, int n)
+{
+    int nb[3];
+    for (int a = 0; a < 3; ++a) {
+        nb[a] = (int)(cell->h[a][a] / 2.5);
+        if (nb[a] < 1)
+            nb[a] = 1;
+    }
+    size_t nbins = (size_t)nb[0] * nb[1] * nb[2];
+    size_t *start = calloc(nbins + 1, sizeof *start);
+    int *key = malloc((size_t)n * sizeof *key);
+    if (!start || !key) {
+        free(start);
+        free(key);
+        return; /* ordering is an optimisation only */
+    }
+    for (int i = 0; i < n; ++i) {
+        vec3 s = lub_cell_to_frac(cell, pos[i]);
+        double f[3] = {s.x, s.y, s.z};
+        int b[3];
+        for (int a = 0; a < 3; ++a) {
+            b[a] = (int)(f[a] * nb[a]);
+            if (b[a] < 0)
+                b[a] = 0;
+            if (b[a] >= nb[a])
+                b[a] = nb[a] - 1;
+        }
+        key[i] = (b[2] * nb[1] + b[1]) * nb[0] + b[0];
+        start[key[i] + 1]++;
+    }
+    for (size_t b = 0; b < nbins; ++b)
+        start[b + 1] += start[b];
+    /* w1 <- positions, w2.x <- radii, in the new order */
+    for (int i = 0; i < n; ++i) {
+        size_t d = start[key[i]]++;
+        w1[d] = pos[i];
+        w2[d].x = radius[i];
+    }
+    for (int i = 0; i < n; ++i) {
+        pos[i] = w1[i];
+        radius[i] = w2[i].x;
+    }
+    free(start);
+    free(key);
+}
+
+int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
+                         lub_packing_info *info)
+{
+    const int n = p->n;
+    lub_rng rng;
+    lub_rng_seed(&rng, p->seed);
+    double lo = fmax(1.0 - 3.0 * p->radius_std, 0.2), hi = 1.0 + 3.0 * p->radius_std;
+    double mean = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double r = 1.0 + p->radius_std * lub_rng_gauss(&rng);
+        radius[i] = fmin(fmax(r, lo), hi);
+        mean += radius[i];
+    }
+    mean /= n;
+    for (int i = 0; i < n; ++i)
+        radius[i] /= mean;
+    double vs = sphere_volume_sum(radius, n);
+
+    /* 2. random sequential placement in a dilute cube */
+    double phi0 = fmin(p->phi, 0.25);
+    double side = cbrt(vs / phi0);
+    lub_cell_init_box(cell, side, side, side);
+    for (int i = 0; i < n; ++i) {
+        for (long attempt = 0;; ++attempt) {
+            vec3 x = v3(side * lub_rng_uniform(&rng), side * lub_rng_uniform(&rng),
+                        side * lub_rng_uniform(&rng));
+            int ok = 1;
+            for (int j = 0; j < i && ok; ++j) {
+                vec3 d = min_image(cell, v3_sub(pos[j], x));
+                double s = (radius[i] + radius[j]) * (1.0 + p->margin);
+                if (v3_norm2(d) < s * s)
+                    ok = 0;
+            }
+            if (ok || attempt > 100000) {
+                pos[i] = x; /* overlaps left (extremely unlikely) are relaxed below */
+                break;
+            }
+        }
+    }
+
+    /* 3. compression + relaxation */
+    lub_nlist nl;
+    lub_nlist_init(&nl, 0.0, 0.0);
+    vec3 *disp = malloc((size_t)n * sizeof *disp);
+    vec3 *ref = malloc((size_t)n * sizeof *ref);
+    if (!disp || !ref) {
+        free(disp);
+        free(ref);
+        return -1;
+    }
+    const double infl = 1.0 + p->margin;
+    const double skin = 0.3;
+    nl.skin = skin;
+    double phi = phi0;
+    int sweeps = 0, rc = 0;
+    double target_side = cbrt(vs / p->phi);
+    for (;;) {
+        double new_phi = fmin(p->phi, phi * 1.03);
+        double new_side = (new_phi >= p->phi) ? target_side : cbrt(vs / new_phi);
+        double f = new_side / cell->h[0][0];
+        for (int i = 0; i < n; ++i)
+            pos[i] = v3_scale(pos[i], f);
+        lub_cell_init_box(cell, new_side, new_side, new_side);
+        phi = new_phi;
+        int need_build = 1;
+        double worst = INFINITY;
+        int local = 0;
+        while (worst > 0.5 * p->margin) {
+            if (need_build) {
+                for (int i = 0; i < n; ++i)
+                    lub_cell_wrap(cell, &pos[i], NULL, NULL);
+                int b = lub_nlist_build(&nl, cell, pos, radius, n);
+                if (b == LUB_NLIST_CELL_TOO_SMALL) {
+                    /* tiny systems: fall back to a thinner listing distance */
+                    nl.skin = 0.0;
+                    b = lub_nlist_build(&nl, cell, pos, radius, n);
+                }
+                if (b != LUB_NLIST_OK) {
+                    rc = (b == LUB_NLIST_NOMEM) ? -1 : -2;
+                    goto done;
+                }
+                memcpy(ref, pos, (size_t)n * sizeof *ref);
+                need_build = 0;
+            }
+            worst = relax_sweep(&nl, cell, pos, radius, infl, disp, n);
+            ++sweeps;
+            ++local;
+            if (sweeps > p->max_sweeps) {
+                rc = -2;
+                goto done;
+            }
+            double dm = 0.0;
+            for (int i = 0; i < n; ++i) {
+                double d2 = v3_norm2(v3_sub(pos[i], ref[i]));
+                if (d2 > dm)
+                    dm = d2;
+            }
+            if (2.0 * sqrt(dm) > 0.9 * nl.skin)
+                need_build = 1;
+        }
+        (void)local;
+        if (phi >= p->phi)
+            break;
+    }
+    for (int i = 0; i < n; ++i)
+        lub_cell_wrap(cell, &pos[i], NULL, NULL);
+    spatial_sort(cell, pos, radius, disp, ref, n);
+    {
+        /* final verification with the true radii on a fresh list (pairs with u_n < 0.2 a) */
+        nl.skin = 0.0;
+        nl.range = 0.2;
+        double g = INFINITY;
+        if (lub_nlist_build(&nl, cell, pos, radius, n) == LUB_NLIST_OK) {
+            for (size_t k = 0; k < nl.npairs; ++k) {
+                int i = nl.pi[k], j = nl.pj[k];
+                vec3 d = v3_sub(v3_add(pos[j], lub_cell_shift(cell, &nl.pc[3 * k])), pos[i]);
+                double u = v3_norm(d) - radius[i] - radius[j];
+                if (u < g)
+                    g = u;
+            }
+        } else {
+            g = lub_packing_min_gap(cell, pos, radius, n);
+        }
+        if (info) {
+            info->min_gap = g;
+            info->phi = vs / cell->volume;
+            info->sweeps = sweeps;
+        }
+        if (!(g > 0.0))
+            rc = -2;
+    }
+done:
+    lub_nlist_free(&nl);
+    free(disp);
+    free(ref);
+    return rc;
+}

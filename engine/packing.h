@@ -1,0 +1,48 @@
+/* packing.h — random dense packings of polydisperse spheres in a periodic cube.
+ *
+ * Algorithm (documented in the README section of the simple_shear scene):
+ *  1. radii r_i = 1 + std * N(0,1), clipped to [1 - 3 std, 1 + 3 std] (and > 0.2), then scaled
+ *     so that their mean is exactly 1 (the length unit a);
+ *  2. random sequential placement without overlap in a dilute cube (phi_0 = min(phi, 0.25));
+ *  3. compression by affine rescaling in volume steps of at most 3 %, each followed by an
+ *     overlap-removal relaxation (Jacobi displacement iterations on radii inflated by `margin`),
+ *     until phi is reached and every inflated overlap is below margin/2 of the pair radius sum;
+ *     so every true gap is >= margin/2 * (r_i + r_j) > 0 (verified at the end).
+ * Finally the spheres are renumbered along spatial bins (memory locality of pair loops).
+ * Reproducible: a pure function of (n, phi, std, seed, margin).
+ *
+ * Memory: allocates its work arrays on entry and frees them on exit (setup only, not used
+ * in time loops). Outputs are caller-owned arrays of length n.
+ */
+#ifndef LUBDEM_PACKING_H
+#define LUBDEM_PACKING_H
+
+#include <stdint.h>
+
+#include "periodic_cell.h"
+
+typedef struct {
+    int n;             /* number of spheres (>= 2) */
+    double phi;        /* target solid fraction, (0, 0.62] */
+    double radius_std; /* relative standard deviation of radii, [0, 0.3] */
+    uint64_t seed;
+    double margin;  /* relative radius inflation during relaxation (e.g. 0.01), > 0 */
+    int max_sweeps; /* safety cap on relaxation sweeps in total (e.g. 200000) */
+} lub_packing_params;
+
+typedef struct {
+    double phi;     /* achieved solid fraction (equal to the target up to round-off) */
+    double min_gap; /* smallest surface gap u_n = |d| - r_i - r_j found (> 0 on success) */
+    int sweeps;     /* relaxation sweeps used */
+} lub_packing_info;
+
+/* Fills radius[n] and pos[n] (wrapped in the cube) and initialises *cell to the cube.
+ * Returns 0 on success, -1 if out of memory, -2 if the target could not be reached without
+ * overlaps within max_sweeps (phi too high). */
+int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
+                         lub_packing_info *info);
+
+/* Smallest gap over all pairs (brute force O(n^2), for tests and checks). */
+double lub_packing_min_gap(const lub_cell *cell, const vec3 *pos, const double *radius, int n);
+
+#endif

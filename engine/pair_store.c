@@ -1,0 +1,141 @@
+/* pair_store.c — persistent pair states carried across neighbour-list rebuilds. */
+#include "pair_store.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void lub_pairs_init(lub_pairs *ps) { memset(ps, 0, sizeof *ps); }
+
+void lub_pairs_free(lub_pairs *ps)
+{
+    free(ps->i);
+    free(ps->j);
+    free(ps->c);
+    free(ps->state);
+    free(ps->active);
+    free(ps->f1);
+    free(ps->t1);
+    free(ps->t2);
+    free(ps->near);
+    free(ps->first1);
+    free(ps->first2);
+    free(ps->by2);
+    free(ps->oi);
+    free(ps->oj);
+    free(ps->ostate);
+    free(ps->oactive);
+    memset(ps, 0, sizeof *ps);
+}
+
+static int re(void **p, size_t count, size_t elem)
+{
+    void *q = realloc(*p, (count ? count : 1) * elem);
+    if (!q)
+        return -1;
+    *p = q;
+    return 0;
+}
+
+int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
+{
+    size_t nn = nl->npairs;
+    size_t np = (size_t)n_particles;
+    /* move the current keys/states into the old buffers (swap pointers, no copy) */
+    {
+        int32_t *t;
+        t = ps->oi;
+        ps->oi = ps->i;
+        ps->i = t;
+        t = ps->oj;
+        ps->oj = ps->j;
+        ps->j = t;
+        lub_pair_state *s = ps->ostate;
+        ps->ostate = ps->state;
+        ps->state = s;
+        unsigned char *a = ps->oactive;
+        ps->oactive = ps->active;
+        ps->active = a;
+        size_t c = ps->ocap;
+        ps->ocap = ps->cap;
+        ps->cap = c;
+    }
+    size_t nold = ps->n;
+    if (nn > ps->cap || !ps->i) {
+        size_t cap = nn + nn / 4 + 64;
+        if (re((void **)&ps->i, cap, sizeof *ps->i) || re((void **)&ps->j, cap, sizeof *ps->j) ||
+            re((void **)&ps->state, cap, sizeof *ps->state) ||
+            re((void **)&ps->active, cap, sizeof *ps->active))
+            return -1;
+        ps->cap = cap;
+    }
+    /* per-pair arrays that are not double-buffered follow the largest capacity */
+    size_t fcap = ps->cap > ps->ocap ? ps->cap : ps->ocap;
+    if (fcap > ps->fcap || !ps->f1) {
+        if (re((void **)&ps->c, 3 * fcap, sizeof *ps->c) ||
+            re((void **)&ps->f1, fcap, sizeof *ps->f1) ||
+            re((void **)&ps->t1, fcap, sizeof *ps->t1) ||
+            re((void **)&ps->t2, fcap, sizeof *ps->t2) ||
+            re((void **)&ps->near, fcap, sizeof *ps->near) ||
+            re((void **)&ps->by2, fcap, sizeof *ps->by2))
+            return -1;
+        ps->fcap = fcap;
+    }
+    if (np + 1 > ps->part_cap) {
+        if (re((void **)&ps->first1, np + 1, sizeof *ps->first1) ||
+            re((void **)&ps->first2, np + 1, sizeof *ps->first2))
+            return -1;
+        ps->part_cap = np + 1;
+    }
+
+    /* sorted merge: carry state of (i, j) present in the old list */
+    size_t o = 0, carried = 0;
+    for (size_t k = 0; k < nn; ++k) {
+        int32_t a = nl->pi[k], b = nl->pj[k];
+        ps->i[k] = a;
+        ps->j[k] = b;
+        ps->c[3 * k] = nl->pc[3 * k];
+        ps->c[3 * k + 1] = nl->pc[3 * k + 1];
+        ps->c[3 * k + 2] = nl->pc[3 * k + 2];
+        while (o < nold && (ps->oi[o] < a || (ps->oi[o] == a && ps->oj[o] < b)))
+            ++o;
+        if (o < nold && ps->oi[o] == a && ps->oj[o] == b) {
+            ps->state[k] = ps->ostate[o];
+            ps->active[k] = ps->oactive[o];
+            carried += ps->oactive[o];
+            ++o;
+        } else {
+            memset(&ps->state[k], 0, sizeof ps->state[k]);
+            ps->state[k].is_new = 1;
+            ps->active[k] = 0;
+        }
+        ps->f1[k] = v3(0, 0, 0);
+        ps->t1[k] = v3(0, 0, 0);
+        ps->t2[k] = v3(0, 0, 0);
+        ps->near[k] = 0;
+    }
+    ps->n = nn;
+    ps->n_particles = n_particles;
+    ps->carried = carried;
+    memcpy(ps->first1, nl->first, (np + 1) * sizeof *ps->first1);
+
+    /* transposed index: counting sort of the pairs by body 2 (stable: ascending pair index) */
+    memset(ps->first2, 0, (np + 1) * sizeof *ps->first2);
+    for (size_t k = 0; k < nn; ++k)
+        ps->first2[ps->j[k] + 1]++;
+    for (size_t p = 0; p < np; ++p)
+        ps->first2[p + 1] += ps->first2[p];
+    for (size_t k = 0; k < nn; ++k)
+        ps->by2[ps->first2[ps->j[k]]++] = k;
+    for (size_t p = np; p > 0; --p)
+        ps->first2[p] = ps->first2[p - 1];
+    ps->first2[0] = 0;
+    return 0;
+}
+
+size_t lub_pairs_count_active(const lub_pairs *ps)
+{
+    size_t c = 0;
+    for (size_t k = 0; k < ps->n; ++k)
+        c += ps->active[k];
+    return c;
+}

@@ -1,0 +1,62 @@
+/* pair_store.h — persistent per-pair storage (structure of arrays) for a particle system.
+ *
+ * Holds the current Verlet candidate pairs (i < j, sorted by (i, j)), their image shifts, the
+ * persistent lub_pair_state of the contact law and an `active` flag:
+ *   active = 1  the pair is inside the lubrication cut-off and its state carries history;
+ *   active = 0  candidate only (outside the cut-off): no force, state meaningless.
+ * The life cycle (notes §5): a candidate becomes active, with a fresh state (is_new = 1),
+ * the first step its gap u_n <= cutoff*a; an active pair whose u_n exceeds cutoff*a is
+ * deactivated (history erased). Candidates are listed with a Verlet skin, so pairs are created
+ * with a positive gap well before they touch.
+ *
+ * lub_pairs_adopt() replaces the candidate list by a new neighbour list and CARRIES the state
+ * and active flag of every pair (i, j) present in both (sorted-key merge, O(old + new)). It also
+ * builds the transposed index (pairs whose body 2 is j) used for race-free force gathering.
+ *
+ * Per-step outputs (force on body 1, torques on both bodies) live here too so that forces can be
+ * computed in parallel over pairs and gathered in parallel over particles.
+ *
+ * Memory: everything is owned here; arrays grow (realloc) only inside lub_pairs_adopt (i.e. at
+ * neighbour-list rebuilds), never during a time step. Free with lub_pairs_free.
+ */
+#ifndef LUBDEM_PAIR_STORE_H
+#define LUBDEM_PAIR_STORE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "contact_law.h"
+#include "neighbor_list.h"
+
+typedef struct {
+    size_t n, cap;
+    int n_particles;
+    int32_t *i, *j, *c;    /* c: [3n] image shifts */
+    lub_pair_state *state; /* [n] */
+    unsigned char *active; /* [n] */
+    vec3 *f1, *t1, *t2;    /* [n] per-step outputs (zero for inactive pairs) */
+    unsigned char *near;   /* [n] 1 if the last evaluation had u < a (spin torques on) */
+    size_t *first1;        /* [n_particles + 1]: pairs with body 1 = p */
+    size_t *first2;        /* [n_particles + 1]: index ranges into by2 */
+    size_t *by2;           /* [n]: pair indices grouped by body 2 */
+    size_t part_cap;
+    size_t fcap; /* capacity of c, f1, t1, t2, near, by2 */
+    /* double buffer for the merge */
+    int32_t *oi, *oj;
+    lub_pair_state *ostate;
+    unsigned char *oactive;
+    size_t ocap;
+    size_t carried; /* statistics of the last adopt: active states carried over */
+} lub_pairs;
+
+void lub_pairs_init(lub_pairs *ps);
+void lub_pairs_free(lub_pairs *ps);
+
+/* Adopts the pairs of nl for n_particles particles, carrying states. Returns 0 or -1 (no memory).
+ */
+int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles);
+
+/* Number of active pairs. */
+size_t lub_pairs_count_active(const lub_pairs *ps);
+
+#endif

@@ -1,0 +1,354 @@
+/* resuspension_system.c — lubricated spheres under gravity above a rough floor
+ * (resuspension_system.h). Reuses periodic_cell, neighbor_list and pair_store unchanged. */
+#include "resuspension_system.h"
+
+#include "floor_wall.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const double RS_PI = 3.14159265358979323846;
+
+static vec3 mat_vec(const double m[3][3], vec3 x)
+{
+    return v3(m[0][0] * x.x + m[0][1] * x.y + m[0][2] * x.z,
+              m[1][0] * x.x + m[1][1] * x.y + m[1][2] * x.z,
+              m[2][0] * x.x + m[2][1] * x.y + m[2][2] * x.z);
+}
+
+static double frob(const double m[3][3])
+{
+    double s = 0.0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            s += m[i][j] * m[i][j];
+    return sqrt(s);
+}
+
+vec3 lub_rs_mean_velocity(const lub_rs_system *s, vec3 x)
+{
+    return mat_vec(s->L_flow, v3(x.x, x.y - s->p.y_floor, x.z));
+}
+
+/* mean spin = half the vorticity of u */
+static vec3 mean_spin(const double L[3][3])
+{
+    return v3(0.5 * (L[2][1] - L[1][2]), 0.5 * (L[0][2] - L[2][0]), 0.5 * (L[1][0] - L[0][1]));
+}
+
+void lub_rs_free(lub_rs_system *s)
+{
+    free(s->x);
+    free(s->v);
+    free(s->w);
+    free(s->f);
+    free(s->t);
+    free(s->x_ref);
+    free(s->r);
+    free(s->m);
+    free(s->inv_m);
+    free(s->inv_i);
+    free(s->weight);
+    free(s->nint);
+    free(s->img);
+    lub_nlist_free(&s->nl);
+    lub_pairs_free(&s->pairs);
+    memset(s, 0, sizeof *s);
+}
+
+int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *law, int n_mobile,
+                const double *radius, const vec3 *pos, int n_floor, const double *floor_r,
+                const vec3 *floor_pos, double lx, double ly, double lz)
+{
+    memset(s, 0, sizeof *s);
+    const int n = n_mobile + n_floor;
+    const size_t nn = (size_t)(n > 0 ? n : 1);
+    s->n = n;
+    s->n_mobile = n_mobile;
+    s->p = *p;
+    s->law = *law;
+    s->fail_pair = -1;
+    s->x = calloc(nn, sizeof *s->x);
+    s->v = calloc(nn, sizeof *s->v);
+    s->w = calloc(nn, sizeof *s->w);
+    s->f = calloc(nn, sizeof *s->f);
+    s->t = calloc(nn, sizeof *s->t);
+    s->x_ref = calloc(nn, sizeof *s->x_ref);
+    s->r = calloc(nn, sizeof *s->r);
+    s->m = calloc(nn, sizeof *s->m);
+    s->inv_m = calloc(nn, sizeof *s->inv_m);
+    s->inv_i = calloc(nn, sizeof *s->inv_i);
+    s->weight = calloc(nn, sizeof *s->weight);
+    s->nint = calloc(nn, sizeof *s->nint);
+    s->img = calloc(3 * nn, sizeof *s->img);
+    lub_nlist_init(&s->nl, p->cutoff, p->skin);
+    lub_pairs_init(&s->pairs);
+    if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
+        !s->inv_i || !s->weight || !s->nint || !s->img) {
+        lub_rs_free(s);
+        return LUB_RS_NOMEM;
+    }
+    lub_cell_init_box(&s->cell, lx, ly, lz);
+    memset(s->L_flow, 0, sizeof s->L_flow);
+    if (p->orientation == LUB_RS_VORTICITY) {
+        s->L_flow[0][2] = p->shear_rate;
+        s->cell.L[0][2] = p->shear_rate;
+    } else {
+        s->L_flow[0][1] = p->shear_rate;
+    }
+    const vec3 w0 = mean_spin(s->L_flow);
+    for (int i = 0; i < n; ++i) {
+        const int mob = i < n_mobile;
+        const double r = mob ? radius[i] : floor_r[i - n_mobile];
+        const double vol = 4.0 / 3.0 * RS_PI * r * r * r;
+        s->r[i] = r;
+        s->x[i] = mob ? pos[i] : floor_pos[i - n_mobile];
+        s->m[i] = p->rho * vol;
+        s->inv_m[i] = mob ? 1.0 / s->m[i] : 0.0;
+        s->inv_i[i] = mob ? 1.0 / (0.4 * s->m[i] * r * r) : 0.0;
+        s->weight[i] = mob ? p->drho * vol * p->gravity : 0.0;
+        /* floor spheres in the gradient orientation sit where u ~ 0 and are held at rest;
+         * in the vorticity orientation they ride with the sheared cell */
+        s->v[i] = (mob || p->orientation == LUB_RS_VORTICITY) ? lub_rs_mean_velocity(s, s->x[i])
+                                                              : v3(0, 0, 0);
+        s->w[i] = mob ? w0 : v3(0, 0, 0);
+    }
+    s->need_rebuild = 1;
+    return LUB_RS_OK;
+}
+
+static int rebuild(lub_rs_system *s)
+{
+    int m[3];
+    if (lub_cell_flip(&s->cell, m))
+        s->flips++;
+    for (int i = 0; i < s->n; ++i) {
+        const int mob = i < s->n_mobile;
+        vec3 *vp = (mob || s->p.orientation == LUB_RS_VORTICITY) ? &s->v[i] : NULL;
+        int k[3];
+        lub_cell_wrap(&s->cell, &s->x[i], vp, k);
+        s->img[3 * i] += k[0];
+        s->img[3 * i + 1] += k[1];
+        s->img[3 * i + 2] += k[2];
+    }
+    int rc = lub_nlist_build(&s->nl, &s->cell, s->x, s->r, s->n);
+    if (rc == LUB_NLIST_NOMEM)
+        return LUB_RS_NOMEM;
+    if (rc == LUB_NLIST_CELL_TOO_SMALL) {
+        snprintf(s->fail_msg, sizeof s->fail_msg,
+                 "cell narrower than twice the listing distance %.4g", s->nl.max_dist);
+        return LUB_RS_CELL_TOO_SMALL;
+    }
+    if (lub_pairs_adopt(&s->pairs, &s->nl, s->n))
+        return LUB_RS_NOMEM;
+    memcpy(s->x_ref, s->x, (size_t)s->n * sizeof *s->x);
+    s->t_ref = s->time;
+    s->need_rebuild = 0;
+    s->rebuilds++;
+    return LUB_RS_OK;
+}
+
+int lub_rs_step(lub_rs_system *s)
+{
+    if (s->need_rebuild) {
+        int rc = rebuild(s);
+        if (rc != LUB_RS_OK)
+            return rc;
+    }
+    lub_pairs *ps = &s->pairs;
+    const lub_cell *cell = &s->cell;
+    const double dt = s->p.dt, cutoff = s->p.cutoff;
+    const long npairs = (long)ps->n;
+    const int nt = s->p.threads > 0 ? s->p.threads : 1;
+    const int nmob = s->n_mobile;
+    int failed = 0;
+    (void)nt;
+
+#pragma omp parallel for num_threads(nt) schedule(static) reduction(| : failed)
+    for (long k = 0; k < npairs; ++k) {
+        const int i = ps->i[k], j = ps->j[k];
+        if (i >= nmob && j >= nmob) { /* floor-floor: never interacts */
+            ps->active[k] = 0;
+            ps->f1[k] = ps->t1[k] = ps->t2[k] = v3(0, 0, 0);
+            continue;
+        }
+        const vec3 shift = lub_cell_shift(cell, &ps->c[3 * k]);
+        const vec3 d = v3_sub(v3_add(s->x[j], shift), s->x[i]);
+        const double ri = s->r[i], rj = s->r[j];
+        const double un = v3_norm(d) - ri - rj;
+        const double a = 0.5 * (ri + rj);
+        if (un > cutoff * a) {
+            if (ps->active[k]) {
+                ps->active[k] = 0;
+                ps->f1[k] = ps->t1[k] = ps->t2[k] = v3(0, 0, 0);
+            }
+            continue;
+        }
+        if (!ps->active[k]) {
+            memset(&ps->state[k], 0, sizeof ps->state[k]);
+            ps->state[k].is_new = 1;
+            ps->active[k] = 1;
+        }
+        lub_pair_input in;
+        in.branch = d;
+        in.v1 = s->v[i];
+        in.v2 = v3_add(s->v[j], mat_vec(cell->L, shift));
+        in.w1 = s->w[i];
+        in.w2 = s->w[j];
+        in.r1 = ri;
+        in.r2 = rj;
+        /* N_i / I_i (contact_law.h recommendation); 0 for floor spheres */
+        in.inv_inertia1 = s->inv_i[i] * (s->nint[i] > 1 ? s->nint[i] : 1);
+        in.inv_inertia2 = s->inv_i[j] * (s->nint[j] > 1 ? s->nint[j] : 1);
+        in.dt = dt;
+        lub_pair_output o;
+        if (lub_pair_step(&s->law, &in, &ps->state[k], &o) != 0 || !v3_isfinite(o.force1) ||
+            !v3_isfinite(o.torque1) || !v3_isfinite(o.torque2)) {
+            failed = 1;
+#pragma omp critical(lub_rs_fail)
+            {
+                if (s->fail_pair < 0) {
+                    s->fail_pair = k;
+                    snprintf(s->fail_msg, sizeof s->fail_msg,
+                             "pair law non-finite for pair %ld (bodies %d, %d; u_n/a=%.6g) at "
+                             "step %ld, t=%.6g",
+                             k, i, j, un / a, s->step, s->time);
+                }
+            }
+            continue;
+        }
+        ps->f1[k] = o.force1;
+        ps->t1[k] = o.torque1;
+        ps->t2[k] = o.torque2;
+    }
+    if (failed)
+        return LUB_RS_NONFINITE;
+
+    /* gather and integrate the free particles */
+    const double g_eta_s = s->p.orientation == LUB_RS_GRADIENT ? s->p.eta_shear : 0.0;
+    const double eta_d = s->p.eta_dilute;
+    const int ndil = s->p.dilute_max_interactions;
+    const double y_lid = s->p.y_lid;
+    double umax2 = 0.0, vmax2 = 0.0;
+    long hits = 0;
+    int bad = 0;
+    const double tau = s->time + dt - s->t_ref;
+#pragma omp parallel for num_threads(nt) schedule(static) reduction(max : umax2, vmax2) \
+    reduction(+ : hits) reduction(| : bad)
+    for (int p = 0; p < s->n; ++p) {
+        vec3 F = v3(0, 0, 0), T = v3(0, 0, 0);
+        int count = 0;
+        for (size_t k = ps->first1[p]; k < ps->first1[p + 1]; ++k) {
+            F = v3_add(F, ps->f1[k]);
+            T = v3_add(T, ps->t1[k]);
+            count += ps->active[k];
+        }
+        for (size_t q = ps->first2[p]; q < ps->first2[p + 1]; ++q) {
+            const size_t k = ps->by2[q];
+            F = v3_sub(F, ps->f1[k]);
+            T = v3_add(T, ps->t2[k]);
+            count += ps->active[k];
+        }
+        s->nint[p] = count;
+        if (p >= nmob) { /* floor sphere: prescribed velocity */
+            s->f[p] = F;
+            s->t[p] = T;
+            s->x[p] = v3_axpy(s->x[p], dt, s->v[p]);
+            continue;
+        }
+        F.y -= s->weight[p];
+        s->f[p] = F;
+        s->t[p] = T;
+        const vec3 u = lub_rs_mean_velocity(s, s->x[p]);
+        const double c = 6.0 * RS_PI * s->r[p] * (g_eta_s + (count <= ndil ? eta_d : 0.0));
+        const double cm = dt * c * s->inv_m[p];
+        vec3 v = v3_add(s->v[p],
+                        v3_scale(v3_add(v3_scale(F, s->inv_m[p]), mat_vec(cell->L, s->v[p])), dt));
+        v = v3_scale(v3_axpy(v, cm, u), 1.0 / (1.0 + cm));
+        s->w[p] = v3_axpy(s->w[p], dt * s->inv_i[p], T);
+        vec3 x = v3_axpy(s->x[p], dt, v);
+        hits += lub_lid_reflect(x.y, s->r[p], y_lid, &v.y);
+        s->v[p] = v;
+        s->x[p] = x;
+        if (!v3_isfinite(x) || !v3_isfinite(v) || !v3_isfinite(s->w[p]))
+            bad = 1;
+        const vec3 dv = v3_sub(v, lub_rs_mean_velocity(s, x));
+        if (v3_norm2(dv) > vmax2)
+            vmax2 = v3_norm2(dv);
+        /* non-affine displacement since the last rebuild */
+        const vec3 xr = s->x_ref[p];
+        const vec3 aff = v3_axpy(xr, tau, mat_vec(s->L_flow, v3(xr.x, xr.y - s->p.y_floor, xr.z)));
+        const double u2 = v3_norm2(v3_sub(x, aff));
+        if (u2 > umax2)
+            umax2 = u2;
+    }
+    s->lid_hits += hits;
+    s->max_speed = sqrt(vmax2);
+    if (bad) {
+        snprintf(s->fail_msg, sizeof s->fail_msg,
+                 "a particle position or velocity became non-finite at step %ld, t=%.6g", s->step,
+                 s->time);
+        return LUB_RS_NONFINITE;
+    }
+    if (s->p.orientation == LUB_RS_VORTICITY && lub_cell_update(&s->cell, dt)) {
+        snprintf(s->fail_msg, sizeof s->fail_msg, "cell degenerate at step %ld", s->step);
+        return LUB_RS_NONFINITE;
+    }
+    s->time += dt;
+    s->step++;
+    double strain_term[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            strain_term[i][j] = tau * s->L_flow[i][j];
+    if (2.0 * sqrt(umax2) + frob(strain_term) * s->nl.max_dist > s->p.skin)
+        s->need_rebuild = 1;
+    /* confinement check: a free particle below the floor centre plane or above the cell */
+    const double ly = s->cell.h[1][1];
+    for (int p = 0; p < nmob; ++p) {
+        const double y = s->x[p].y;
+        if (y < s->p.y_floor || y > ly) {
+            snprintf(s->fail_msg, sizeof s->fail_msg,
+                     "particle %d escaped the cell (y = %.6g, floor plane %.6g, top %.6g) at "
+                     "step %ld",
+                     p, y, s->p.y_floor, ly, s->step);
+            return LUB_RS_ESCAPED;
+        }
+    }
+    return LUB_RS_OK;
+}
+
+void lub_rs_unwrapped(const lub_rs_system *s, int i, vec3 *x, vec3 *v)
+{
+    const vec3 shift = lub_cell_shift(&s->cell, &s->img[3 * i]);
+    *x = v3_add(s->x[i], shift);
+    *v = v3_add(s->v[i], mat_vec(s->cell.L, shift));
+}
+
+double lub_rs_kinetic_energy(const lub_rs_system *s)
+{
+    double e = 0.0;
+    for (int p = 0; p < s->n_mobile; ++p) {
+        const vec3 dv = v3_sub(s->v[p], lub_rs_mean_velocity(s, s->x[p]));
+        e += 0.5 * s->m[p] * v3_norm2(dv);
+    }
+    return e;
+}
+
+double lub_rs_area(const lub_rs_system *s) { return s->cell.volume / s->cell.h[1][1]; }
+
+double lub_rs_lowest(const lub_rs_system *s, int *below_floor)
+{
+    double low = INFINITY;
+    int below = 0;
+    for (int p = 0; p < s->n_mobile; ++p) {
+        const double b = s->x[p].y - s->r[p];
+        if (b < low)
+            low = b;
+        below += s->x[p].y < s->p.y_floor;
+    }
+    if (below_floor)
+        *below_floor = below;
+    return low;
+}

@@ -1,0 +1,694 @@
+/* scene_resuspension.c — viscous resuspension of buoyant lubricated spheres sheared above a
+ * rough floor (physics-reference §4; seed 000, resuspension article §II.C–E, §III.B).
+ *
+ * Units (dimensionless): length a (mean radius), viscosity eta (fluid), time 1/gd (gd = 1).
+ * Hence stresses are in eta gd, forces in eta gd a^2, energies in eta gd a^3.
+ * Inputs are dimensionless groups:
+ *   Sh = eta gd/(drho g a)          Shields number: drho g = 1/Sh (buoyant weight of a sphere
+ *                                    = (4/3) pi r^3 / Sh)
+ *   I  = gd sqrt(a/g)               inertial number: g = 1/I^2, hence drho = I^2/Sh
+ *   density_ratio = rho_p/drho      particle mass density rho_p = density_ratio * drho
+ *                                    (1: gravity acts on the whole particle mass, as in Yade)
+ *   stiffness = g_bulk/(eta gd a)   contact-law bulk stiffness
+ * The particle Stokes number St = rho_p gd a^2/eta = density_ratio I^2/Sh is reported.
+ *
+ * Cell: periodic in x (flow) and z; gravity along -y; rough floor of fixed spheres
+ * (floor_wall.h), reflecting lid far above (lid_height x initial bed height). Orientation
+ * "gradient": gravity along the gradient direction, shear imposed by a drag of viscosity
+ * shear_drag_viscosity*eta towards u = gd (y - y_floor) e_x. "vorticity": gravity along the
+ * vorticity direction, Lees–Edwards shear of the x-z plane (u = gd z e_x), no shear drag.
+ * Dilute-region damping: Stokes drag with viscosity dilute_drag.viscosity*eta on particles
+ * with at most dilute_drag.max_interactions active pairs (default 2: "fewer than three").
+ *
+ * Observables: phi(y) time- and plane-averaged over strain >= average_from with blocking
+ * error bars (exact sphere–slab volumes, resuspension_profile.h), suspension height (phi
+ * crosses half its maximum), eta_ii(y) = (1/Sh) int_y^inf phi (resuspension_analysis.h), the
+ * bulk points eta_ii(phi) after lub_profile_select_bulk, and the seed's laws (eq. 9; for the
+ * vorticity orientation eta_33 = lambda_33 eta_22 with eq. 8) for comparison.
+ * y in all outputs is measured from the floor centre plane.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "floor_wall.h"
+#include "law_spec.h"
+#include "resuspension_analysis.h"
+#include "resuspension_bed.h"
+#include "resuspension_profile.h"
+#include "resuspension_system.h"
+#include "run_context.h"
+#include "scene.h"
+#include "scene_summary.h"
+#include "stats.h"
+
+#define RS_PI 3.14159265358979323846
+
+typedef struct {
+    long long n, seed, snapshots, dilute_max;
+    double width, radius_std, Sh, I, density_ratio, stiffness, eta_shear, eta_dilute;
+    double floor_radius, floor_jitter, lid_height, strain, average_from, sample_strain, bin_width,
+        interface_width, floor_skip, phi_min, phi_m, dt, dt_safety, cutoff, skin, initial_phi;
+    int orientation;
+    lub_law_spec law;
+} rs_params;
+
+static const lub_law_spec_opts rs_law_opts = {
+    .allowed_terms = LUB_TERM_ALL,
+    .default_terms = LUB_TERM_ALL,
+    .tangential = 1,
+    .default_eps = 2e-3, /* physical convention: the seed's eps = 1e-3 (Yade's eps_Y) */
+    .default_alpha = 1.0,
+    .default_kt_ratio = 0.5,
+    .default_mu = 0.5,
+};
+
+static int rs_read(json_t *spec, rs_params *p, lub_error *err)
+{
+    static const char *keys[] = {"scene",
+                                 "n",
+                                 "width",
+                                 "radius_std",
+                                 "orientation",
+                                 "shields",
+                                 "inertial_number",
+                                 "density_ratio",
+                                 "stiffness",
+                                 "shear_drag_viscosity",
+                                 "dilute_drag",
+                                 "floor",
+                                 "lid_height",
+                                 "strain",
+                                 "average_from",
+                                 "sample_strain",
+                                 "bin_width",
+                                 "analysis",
+                                 "dt",
+                                 "dt_safety",
+                                 "cutoff",
+                                 "skin",
+                                 "initial_phi",
+                                 "seed",
+                                 "snapshots",
+                                 "law",
+                                 NULL};
+    static const char *orient[] = {"gradient", "vorticity", NULL};
+    if (lub_spec_only_keys(spec, "", keys, err))
+        return -1;
+    const char *o = NULL;
+    const lub_range unit_open = {0.0, 1.0, 1, 1};
+    const lub_range unit_half = {0.0, 1.0, 1, 0};
+    if (lub_spec_integer(spec, "", "n", 20, 100000, 1, 400, &p->n, err) ||
+        lub_spec_number(spec, "", "width", (lub_range){8.0, 1000.0, 0, 0}, 1, 14.0, &p->width,
+                        err) ||
+        lub_spec_number(spec, "", "radius_std", (lub_range){0.0, 0.1, 0, 0}, 1, 0.05,
+                        &p->radius_std, err) ||
+        lub_spec_enum(spec, "", "orientation", orient, "gradient", &o, err) ||
+        lub_spec_number(spec, "", "shields", LUB_POSITIVE, 1, 0.5, &p->Sh, err) ||
+        lub_spec_number(spec, "", "inertial_number", (lub_range){0.0, 10.0, 1, 0}, 1, 0.03, &p->I,
+                        err) ||
+        lub_spec_number(spec, "", "density_ratio", (lub_range){1.0, INFINITY, 0, 0}, 1, 1.0,
+                        &p->density_ratio, err) ||
+        lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 1, 1e4, &p->stiffness, err) ||
+        lub_spec_number(spec, "", "shear_drag_viscosity", LUB_NONNEGATIVE, 1, 1.0 / 30.0,
+                        &p->eta_shear, err) ||
+        lub_spec_number(spec, "", "lid_height", (lub_range){1.0, 100.0, 0, 0}, 1, 3.0,
+                        &p->lid_height, err) ||
+        lub_spec_number(spec, "", "strain", LUB_POSITIVE, 1, 40.0, &p->strain, err) ||
+        lub_spec_number(spec, "", "average_from", LUB_NONNEGATIVE, 1, 20.0, &p->average_from,
+                        err) ||
+        lub_spec_number(spec, "", "sample_strain", LUB_POSITIVE, 1, 0.1, &p->sample_strain, err) ||
+        lub_spec_number(spec, "", "bin_width", (lub_range){0.01, 10.0, 0, 0}, 1, 0.5, &p->bin_width,
+                        err) ||
+        lub_spec_number(spec, "", "dt", LUB_NONNEGATIVE, 1, 0.0, &p->dt, err) ||
+        lub_spec_number(spec, "", "dt_safety", unit_half, 1, 0.3, &p->dt_safety, err) ||
+        lub_spec_number(spec, "", "cutoff", (lub_range){0.0, 4.0, 1, 0}, 1, 2.0, &p->cutoff, err) ||
+        lub_spec_number(spec, "", "skin", (lub_range){0.0, 2.0, 1, 0}, 1, 0.3, &p->skin, err) ||
+        lub_spec_number(spec, "", "initial_phi", (lub_range){0.05, 0.55, 0, 0}, 1, 0.5,
+                        &p->initial_phi, err) ||
+        lub_spec_integer(spec, "", "seed", 0, 4294967295LL, 1, 1, &p->seed, err) ||
+        lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 2, &p->snapshots, err))
+        return -1;
+    p->orientation = strcmp(o, "vorticity") == 0 ? LUB_RS_VORTICITY : LUB_RS_GRADIENT;
+    if (p->average_from >= p->strain)
+        return lub_fail(err, "/average_from",
+                        "must be below /strain (%.17g) so that something is averaged (got %.17g)",
+                        p->strain, p->average_from);
+
+    json_t *dd = lub_spec_object(spec, "", "dilute_drag", err);
+    if (!dd)
+        return -1;
+    static const char *dd_keys[] = {"viscosity", "max_interactions", NULL};
+    if (lub_spec_only_keys(dd, "/dilute_drag", dd_keys, err) ||
+        lub_spec_number(dd, "/dilute_drag", "viscosity", LUB_NONNEGATIVE, 1, 1.0, &p->eta_dilute,
+                        err) ||
+        lub_spec_integer(dd, "/dilute_drag", "max_interactions", -1, 1000, 1, 2, &p->dilute_max,
+                         err))
+        return -1;
+
+    json_t *fl = lub_spec_object(spec, "", "floor", err);
+    if (!fl)
+        return -1;
+    static const char *fl_keys[] = {"radius", "jitter", NULL};
+    if (lub_spec_only_keys(fl, "/floor", fl_keys, err) ||
+        lub_spec_number(fl, "/floor", "radius", (lub_range){0.5, 2.0, 0, 0}, 1, 1.0,
+                        &p->floor_radius, err) ||
+        lub_spec_number(fl, "/floor", "jitter", (lub_range){0.0, 0.3, 0, 0}, 1, 0.15,
+                        &p->floor_jitter, err))
+        return -1;
+    /* impermeability: the smallest particle must not fit through the floor (floor_wall.h);
+     * the actual floor radius may be up to 12.5 % larger (>= 4 spheres per side) than requested
+     * (fitted to the cell) */
+    const double rmin = 1.0 - 3.0 * p->radius_std;
+    const double pass = lub_floor_max_passing_radius(1.13 * p->floor_radius, p->floor_jitter);
+    if (!(pass < rmin))
+        return lub_fail(err, "/floor/radius",
+                        "the floor would let particles through: a sphere of radius %.4g a "
+                        "passes a floor of radius %.4g with jitter %.4g, smallest particle "
+                        "radius is %.4g a",
+                        pass, p->floor_radius, p->floor_jitter, rmin);
+
+    json_t *an = lub_spec_object(spec, "", "analysis", err);
+    if (!an)
+        return -1;
+    static const char *an_keys[] = {"interface_width", "floor_skip", "phi_min", "phi_m", NULL};
+    if (lub_spec_only_keys(an, "/analysis", an_keys, err) ||
+        lub_spec_number(an, "/analysis", "interface_width", LUB_NONNEGATIVE, 1, 5.0,
+                        &p->interface_width, err) ||
+        lub_spec_number(an, "/analysis", "floor_skip", LUB_NONNEGATIVE, 1, 3.0, &p->floor_skip,
+                        err) ||
+        lub_spec_number(an, "/analysis", "phi_min", (lub_range){0.0, 1.0, 0, 1}, 1, 0.05,
+                        &p->phi_min, err) ||
+        lub_spec_number(an, "/analysis", "phi_m", unit_open, 1, 0.58, &p->phi_m, err))
+        return -1;
+
+    json_t *law = lub_spec_object(spec, "", "law", err);
+    if (!law || lub_law_spec_resolve(law, "/law", &rs_law_opts, &p->law, err))
+        return -1;
+    return 0;
+}
+
+static int rs_resolve(json_t *spec, lub_error *err)
+{
+    rs_params p;
+    return rs_read(spec, &p, err);
+}
+
+/* Seed's laws (resuspension article eq. 8–9). */
+static double eta22_law(double phi, double phi_m)
+{
+    const double x = phi / phi_m;
+    if (!(x < 1.0))
+        return INFINITY;
+    return pow(x, 9.0) / ((1.0 - x) * (1.0 - x)) + 150.0 * pow(x, 10.0);
+}
+static double lambda33_law(double phi)
+{
+    const double x = phi / 0.64;
+    return pow(x, 7.5) / (1e-3 + pow(x, 6.0));
+}
+
+/* Everything allocated for a run (freed in one place). */
+typedef struct {
+    double *radius, *floor_r, *samples, *scratch, *series_h, *phi_inst, *vol;
+    double *phi, *phi_err, *eta, *eta_err, *ybin, *keepd, *law, *pairs_out, *scratch2, *vx_vol,
+        *vx_sum, *vx_inst;
+    vec3 *pos, *floor_pos;
+    int *keep;
+    double *snap_x, *snap_v, *snap_w;
+} rs_buffers;
+
+static void rs_buffers_free(rs_buffers *b)
+{
+    double *d[] = {b->radius,  b->floor_r, b->samples,   b->scratch,  b->series_h, b->phi_inst,
+                   b->vol,     b->phi,     b->phi_err,   b->eta,      b->eta_err,  b->ybin,
+                   b->keepd,   b->law,     b->pairs_out, b->scratch2, b->vx_vol,   b->vx_sum,
+                   b->vx_inst, b->snap_x,  b->snap_v,    b->snap_w};
+    for (size_t i = 0; i < sizeof d / sizeof d[0]; ++i)
+        free(d[i]);
+    free(b->pos);
+    free(b->floor_pos);
+    free(b->keep);
+    memset(b, 0, sizeof *b);
+}
+
+static int write_profiles(lub_h5 *h5, const char *name, int n, const double *data, const char *unit)
+{
+    int64_t dims[1] = {n};
+    return lub_h5_write_array(h5, name, 1, dims, data, unit);
+}
+
+static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
+{
+    rs_params p;
+    lub_error err;
+    json_t *spec = json_deep_copy(resolved);
+    int rr = rs_read(spec, &p, &err);
+    json_decref(spec);
+    if (rr) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s: %s", err.pointer, err.message);
+        return LUB_EXIT_INTERNAL;
+    }
+    /* units: a = eta = gd = 1 */
+    const double a = 1.0, eta = 1.0, gd = 1.0;
+    const double grav = a * gd * gd / (p.I * p.I);
+    const double drho = eta * gd / (p.Sh * grav * a);
+    const double rho = p.density_ratio * drho;
+    const double St = rho * gd * a * a / eta;
+    const int N = (int)p.n;
+
+    rs_buffers B;
+    memset(&B, 0, sizeof B);
+    lub_rs_system S;
+    memset(&S, 0, sizeof S);
+    int rc = LUB_EXIT_OK;
+    B.radius = malloc((size_t)N * sizeof *B.radius);
+    B.pos = malloc((size_t)N * sizeof *B.pos);
+    if (!B.radius || !B.pos) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory");
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
+    }
+    lub_bed_params bp = {.n = N,
+                         .width = p.width,
+                         .phi_target = p.initial_phi,
+                         .radius_std = p.radius_std,
+                         .seed = (uint64_t)p.seed};
+    lub_bed_info binfo;
+    int brc = lub_bed_build(&bp, B.radius, B.pos, &binfo);
+    if (brc) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "initial bed failed (%s; packing code %d, %d per layer, phi %.4g)",
+                 brc == -1 ? "out of memory" : "packing", binfo.info_code, binfo.per_layer,
+                 binfo.layer_phi);
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
+    }
+    const double L = binfo.side;
+    /* floor: square lattice fitted to the cell width */
+    const int nside = lub_floor_side_count(L, p.floor_radius, 4);
+    const double rf = L / (2.0 * nside);
+    const int nfloor = nside * nside;
+    double rmax = 0.0, rmin = INFINITY, vsum = 0.0, ylow = INFINITY;
+    for (int i = 0; i < N; ++i) {
+        rmax = fmax(rmax, B.radius[i]);
+        rmin = fmin(rmin, B.radius[i]);
+        vsum += 4.0 / 3.0 * RS_PI * pow(B.radius[i], 3.0);
+        ylow = fmin(ylow, B.pos[i].y - B.radius[i]);
+    }
+    if (!(lub_floor_max_passing_radius(rf, p.floor_jitter) < rmin)) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "fitted floor radius %.4g lets particles of radius %.4g through", rf, rmin);
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
+    }
+    const double y_floor = rf * (1.0 + p.floor_jitter) + 1.0;
+    const double y_start = y_floor + rf * (1.0 + p.floor_jitter) + 0.05;
+    double ytop = 0.0;
+    for (int i = 0; i < N; ++i) {
+        B.pos[i].y += y_start - ylow;
+        ytop = fmax(ytop, B.pos[i].y + B.radius[i]);
+    }
+    const double h_init = ytop - y_floor;
+    const double y_lid = y_floor + p.lid_height * h_init;
+    const double d_list = 2.0 * rmax * (1.0 + 0.5 * p.cutoff) + p.skin;
+    const double Ly = y_lid + d_list + 2.0 * rmax + 1.0;
+
+    B.floor_r = malloc((size_t)nfloor * sizeof *B.floor_r);
+    B.floor_pos = malloc((size_t)nfloor * sizeof *B.floor_pos);
+    if (!B.floor_r || !B.floor_pos) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory");
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
+    }
+    for (int i = 0; i < nfloor; ++i)
+        B.floor_r[i] = rf;
+    lub_floor_build(nside, rf, y_floor, p.floor_jitter, (uint64_t)p.seed + 7919u, B.floor_pos);
+
+    lub_law_spec_scale(&p.law, eta, p.stiffness * eta * gd * a);
+    lub_rs_params sp = {.orientation = p.orientation,
+                        .shear_rate = gd,
+                        .gravity = grav,
+                        .drho = drho,
+                        .rho = rho,
+                        .eta_shear = p.eta_shear * eta,
+                        .eta_dilute = p.eta_dilute * eta,
+                        .dilute_max_interactions = (int)p.dilute_max,
+                        .y_floor = y_floor,
+                        .y_lid = y_lid,
+                        .cutoff = p.cutoff,
+                        .skin = p.skin,
+                        .dt = 1.0,
+                        .threads = ctx->threads};
+    /* time step: elastic bound on the lightest particle (normal and tangential), notes §7 */
+    const double mmin = rho * 4.0 / 3.0 * RS_PI * rmin * rmin * rmin;
+    double dt_crit = sqrt(mmin / p.law.params.k_bulk);
+    if (p.law.params.k_t > 0.0)
+        dt_crit = fmin(dt_crit, sqrt(0.4 * mmin / p.law.params.k_t));
+    sp.dt = p.dt > 0.0 ? p.dt : p.dt_safety * dt_crit;
+    int src = lub_rs_init(&S, &sp, &p.law.params, N, B.radius, B.pos, nfloor, B.floor_r,
+                          B.floor_pos, L, Ly, L);
+    if (src) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "system init failed (%d)", src);
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
+    }
+    const double dt = sp.dt;
+    const double area = lub_rs_area(&S);
+
+    /* profile bins from the floor centre plane to the lid */
+    const double dy = p.bin_width;
+    const int nb = (int)ceil((y_lid - y_floor) / dy);
+    const int64_t nsteps = (int64_t)ceil(p.strain / (gd * dt) - 1e-9);
+    const int64_t sample_every = (int64_t)fmax(1.0, floor(p.sample_strain / (gd * dt) + 0.5));
+    const int64_t nsamp_total = nsteps / sample_every + 2;
+    const int64_t avg_start_step = (int64_t)ceil(p.average_from / (gd * dt) - 1e-9);
+    const int64_t nsamp_avg = (nsteps - avg_start_step) / sample_every + 2;
+    B.samples = calloc((size_t)(nsamp_avg * nb), sizeof *B.samples);
+    B.scratch =
+        calloc((size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1, sizeof *B.scratch);
+    B.scratch2 =
+        calloc((size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1, sizeof *B.scratch2);
+    B.series_h = calloc((size_t)nsamp_total, sizeof *B.series_h);
+    B.phi_inst = calloc((size_t)nb, sizeof *B.phi_inst);
+    B.vx_vol = calloc((size_t)nb, sizeof *B.vx_vol);
+    B.vx_sum = calloc((size_t)nb, sizeof *B.vx_sum);
+    B.vx_inst = calloc((size_t)nb, sizeof *B.vx_inst);
+    B.vol = calloc((size_t)nb, sizeof *B.vol);
+    B.phi = calloc((size_t)nb, sizeof *B.phi);
+    B.phi_err = calloc((size_t)nb, sizeof *B.phi_err);
+    B.eta = calloc((size_t)nb, sizeof *B.eta);
+    B.eta_err = calloc((size_t)nb, sizeof *B.eta_err);
+    B.ybin = calloc((size_t)nb, sizeof *B.ybin);
+    B.keepd = calloc((size_t)nb, sizeof *B.keepd);
+    B.law = calloc((size_t)nb, sizeof *B.law);
+    B.pairs_out = calloc((size_t)nb * 4, sizeof *B.pairs_out);
+    B.keep = calloc((size_t)nb, sizeof *B.keep);
+    B.snap_x = calloc((size_t)N * 3, sizeof *B.snap_x);
+    B.snap_v = calloc((size_t)N * 3, sizeof *B.snap_v);
+    B.snap_w = calloc((size_t)N * 3, sizeof *B.snap_w);
+    if (!B.samples || !B.scratch || !B.scratch2 || !B.vx_vol || !B.vx_sum || !B.vx_inst ||
+        !B.series_h || !B.phi_inst || !B.vol || !B.phi || !B.phi_err || !B.eta || !B.eta_err ||
+        !B.ybin || !B.keepd || !B.law || !B.pairs_out || !B.keep || !B.snap_x || !B.snap_v ||
+        !B.snap_w) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (%d bins x %lld samples)",
+                 nb, (long long)nsamp_avg);
+        lub_rs_free(&S);
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
+    }
+
+    const char *names[] = {"suspension_height", "center_of_mass_height", "mean_phi",
+                           "kinetic_energy",    "max_fluctuation_speed", "dilute_particles"};
+    const int ncomp[] = {1, 1, 1, 1, 1, 1};
+    const char *units[] = {"a", "a", "1", "eta gd a^3", "a gd", "1"};
+    lub_h5_table *tab = lub_h5_table_create(ctx->out, 6, names, ncomp, units);
+    const char *bnd[3] = {"periodic", "none", "periodic"};
+    int snap_ok = p.snapshots == 0 || lub_h5_particles_define(ctx->out, N, B.radius, bnd) == 0;
+    if (!tab || !snap_ok) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+        lub_rs_free(&S);
+        rs_buffers_free(&B);
+        return LUB_EXIT_IO;
+    }
+    const int64_t snap_every =
+        p.snapshots > 1 ? (nsteps + p.snapshots - 2) / (p.snapshots - 1) : nsteps + 1;
+
+    int64_t nh = 0, navg = 0;
+    double max_ke = 0.0, min_lowest = INFINITY;
+    int below_floor_max = 0;
+    for (int64_t step = 0; step <= nsteps; ++step) {
+        const double t = S.time;
+        const int sample = (step % sample_every == 0) || step == nsteps;
+        if (sample || (p.snapshots > 0 && (step % snap_every == 0 || step == nsteps))) {
+            int below = 0;
+            double low = lub_rs_lowest(&S, &below);
+            min_lowest = fmin(min_lowest, low - y_floor);
+            if (below > below_floor_max)
+                below_floor_max = below;
+        }
+        if (sample) {
+            memset(B.vol, 0, (size_t)nb * sizeof *B.vol);
+            double ysum = 0.0, msum = 0.0;
+            int dilute = 0;
+            const int in_avg = step >= avg_start_step;
+            memset(B.vx_inst, 0, (size_t)nb * sizeof *B.vx_inst);
+            for (int i = 0; i < N; ++i) {
+                /* velocity along the flow relative to the floor-plane mean flow: v_x for the
+                 * gradient orientation, v_x - gd z for the vorticity one (should be ~ 0) */
+                const double vrel = p.orientation == LUB_RS_VORTICITY
+                                        ? S.v[i].x - lub_rs_mean_velocity(&S, S.x[i]).x
+                                        : S.v[i].x;
+                lub_profile_add_sphere_weighted(B.vol, B.vx_inst, nb, y_floor, dy, S.x[i].y, S.r[i],
+                                                vrel);
+                ysum += S.m[i] * (S.x[i].y - y_floor);
+                msum += S.m[i];
+                dilute += step > 0 && S.nint[i] <= (int)p.dilute_max;
+            }
+            if (in_avg)
+                for (int i = 0; i < nb; ++i) {
+                    B.vx_vol[i] += B.vol[i];
+                    B.vx_sum[i] += B.vx_inst[i];
+                }
+            lub_profile_normalise(B.vol, nb, dy, area, B.phi_inst);
+            double pmax = 0.0;
+            for (int i = 0; i < nb; ++i)
+                pmax = fmax(pmax, B.phi_inst[i]);
+            const double hs = lub_profile_height(B.phi_inst, nb, 0.0, dy, 0.5 * pmax);
+            const double inv = lub_profile_inventory(B.phi_inst, nb, dy);
+            const double ke = lub_rs_kinetic_energy(&S);
+            max_ke = fmax(max_ke, ke);
+            double row[6] = {hs, ysum / msum, inv / hs, ke, S.max_speed, (double)dilute};
+            if (lub_h5_table_append(tab, S.step, t * gd, row)) {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
+                         lub_h5_last_error(ctx->out));
+                rc = LUB_EXIT_IO;
+                break;
+            }
+            if (nh < nsamp_total)
+                B.series_h[nh++] = hs;
+            if (step >= avg_start_step && navg < nsamp_avg) {
+                memcpy(&B.samples[navg * nb], B.phi_inst, (size_t)nb * sizeof *B.phi_inst);
+                navg++;
+            }
+        }
+        if (p.snapshots > 0 && (step % snap_every == 0 || step == nsteps)) {
+            for (int i = 0; i < N; ++i) {
+                vec3 xu, vu;
+                lub_rs_unwrapped(&S, i, &xu, &vu);
+                memcpy(&B.snap_x[3 * i], &xu, 3 * sizeof(double));
+                memcpy(&B.snap_v[3 * i], &vu, 3 * sizeof(double));
+                memcpy(&B.snap_w[3 * i], &S.w[i], 3 * sizeof(double));
+            }
+            double edges[9];
+            for (int r = 0; r < 3; ++r) /* rows = edge vectors = columns of H */
+                for (int c = 0; c < 3; ++c)
+                    edges[3 * r + c] = S.cell.h[c][r];
+            if (lub_h5_particles_snapshot(ctx->out, S.step, t, edges, B.snap_x, B.snap_v,
+                                          B.snap_w)) {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
+                         lub_h5_last_error(ctx->out));
+                rc = LUB_EXIT_IO;
+                break;
+            }
+        }
+        if (step == nsteps)
+            break;
+        if (ctx->stop_requested && *ctx->stop_requested) {
+            rc = LUB_EXIT_INTERRUPTED;
+            break;
+        }
+        int e = lub_rs_step(&S);
+        if (e != LUB_RS_OK) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (code %d)", S.fail_msg, e);
+            rc = e == LUB_RS_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
+            break;
+        }
+        if ((step & 255) == 0)
+            lub_progress_update(ctx->progress, (double)step / (double)nsteps, S.step);
+    }
+    lub_progress_final(ctx->progress, S.step);
+
+    /* ---- steady-state analysis (also for a partial run: whatever was averaged) ---- */
+    int steady = 0;
+    const size_t mser = nh >= 10 ? lub_stats_mser(B.series_h, (size_t)nh, 5, &steady) : 0;
+    int sem_blocking = 1;
+    for (int i = 0; i < nb; ++i) {
+        B.ybin[i] = (i + 0.5) * dy;
+        for (int64_t j = 0; j < navg; ++j)
+            B.scratch[j] = B.samples[j * nb + i];
+        B.phi[i] = navg > 0 ? lub_stats_mean(B.scratch, (size_t)navg) : NAN;
+        double sem = NAN;
+        if (navg >= 32)
+            sem = lub_stats_block_sem(B.scratch, (size_t)navg, B.scratch2);
+        if (!(sem >= 0.0) && navg >= 2) {
+            sem = sqrt(lub_stats_var(B.scratch, (size_t)navg) / (double)navg);
+            sem_blocking = 0;
+        }
+        B.phi_err[i] = sem;
+    }
+    double hs_mean = NAN, hs_sem = NAN, inv = NAN, pmax = 0.0;
+    int nkeep = 0;
+    double law_rms = NAN, bulk_rate = NAN;
+    if (navg > 0) {
+        for (int i = 0; i < nb; ++i)
+            pmax = fmax(pmax, B.phi[i]);
+        hs_mean = lub_profile_height(B.phi, nb, 0.0, dy, 0.5 * pmax);
+        /* error of the height: blocking SEM of the instantaneous heights in the window */
+        size_t h0i = (size_t)(nh - navg);
+        lub_stats_result hr;
+        lub_stats_analyse(B.series_h + h0i, (size_t)navg, 0, B.scratch2, &hr);
+        hs_sem = hr.sem;
+        inv = lub_profile_inventory(B.phi, nb, dy);
+        lub_profile_normal_viscosity(B.phi, B.phi_err, nb, dy, p.Sh, B.eta, B.eta_err);
+        nkeep = lub_profile_select_bulk(B.phi, nb, 0.0, dy, p.interface_width, p.floor_skip,
+                                        p.phi_min, B.keep);
+        double s2 = 0.0;
+        int nl = 0, q = 0;
+        for (int i = 0; i < nb; ++i) {
+            double lw = eta22_law(B.phi[i], p.phi_m);
+            if (p.orientation == LUB_RS_VORTICITY)
+                lw *= lambda33_law(B.phi[i]);
+            B.law[i] = isfinite(lw) ? lw : NAN;
+            B.keepd[i] = B.keep[i];
+            if (B.keep[i]) {
+                B.pairs_out[4 * q + 0] = B.phi[i];
+                B.pairs_out[4 * q + 1] = B.phi_err[i];
+                B.pairs_out[4 * q + 2] = B.eta[i];
+                B.pairs_out[4 * q + 3] = B.eta_err[i];
+                ++q;
+                if (isfinite(lw) && lw > 0.0 && B.eta[i] > 0.0) {
+                    double d = log(B.eta[i] / lw);
+                    s2 += d * d;
+                    ++nl;
+                }
+            }
+        }
+        law_rms = nl > 0 ? sqrt(s2 / nl) : NAN;
+        /* mean flow-direction velocity per bin and its least-squares slope over bulk bins */
+        double sw = 0, sy = 0, sv = 0, syy = 0, syv = 0;
+        for (int i = 0; i < nb; ++i) {
+            B.vx_inst[i] = B.vx_vol[i] > 0.0 ? B.vx_sum[i] / B.vx_vol[i] : NAN;
+            if (B.keep[i] && isfinite(B.vx_inst[i])) {
+                sw += 1.0;
+                sy += B.ybin[i];
+                sv += B.vx_inst[i];
+                syy += B.ybin[i] * B.ybin[i];
+                syv += B.ybin[i] * B.vx_inst[i];
+            }
+        }
+        if (sw >= 3.0)
+            bulk_rate = (sw * syv - sy * sv) / (sw * syy - sy * sy);
+        int wr = write_profiles(ctx->out, "y", nb, B.ybin, "a") ||
+                 write_profiles(ctx->out, "phi", nb, B.phi, "1") ||
+                 write_profiles(ctx->out, "phi_err", nb, B.phi_err, "1") ||
+                 write_profiles(ctx->out, "eta_normal", nb, B.eta, "1") ||
+                 write_profiles(ctx->out, "eta_normal_err", nb, B.eta_err, "1") ||
+                 write_profiles(ctx->out, "bulk_mask", nb, B.keepd, "1") ||
+                 write_profiles(ctx->out, "eta_normal_law", nb, B.law, "1") ||
+                 write_profiles(ctx->out, "velocity_x", nb, B.vx_inst, "a gd");
+        if (!wr && q > 0) {
+            int64_t dims[2] = {q, 4};
+            wr = lub_h5_write_array(ctx->out, "eta_vs_phi", 2, dims, B.pairs_out, "1");
+        }
+        if (wr && rc == LUB_EXIT_OK) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+            rc = LUB_EXIT_IO;
+        }
+    }
+
+    const double h0 = inv / p.phi_m;
+    const double A = lub_acrivos_number(eta, gd, drho, grav, h0 * a);
+    lub_summary_put(ctx, "shields", lub_shields_number(eta, gd, drho, grav, a), NAN, "1");
+    lub_summary_put(ctx, "acrivos", A, NAN, "1");
+    lub_summary_put(ctx, "inertial_number", gd * sqrt(a / grav), NAN, "1");
+    lub_summary_put(ctx, "stokes_number", St, NAN, "1");
+    lub_summary_put(ctx, "suspension_height", hs_mean, hs_sem, "a");
+    lub_summary_put(ctx, "settled_height", h0, NAN, "a");
+    lub_summary_put(ctx, "relative_height_increase", (hs_mean - h0) / h0, hs_sem / h0, "1");
+    lub_summary_put(ctx, "inventory", inv, NAN, "a");
+    lub_summary_put(ctx, "max_phi", pmax, NAN, "1");
+    lub_summary_put(ctx, "bulk_bins", nkeep, NAN, "1");
+    lub_summary_put(ctx, "bulk_velocity_slope", bulk_rate, NAN, "gd");
+    lub_summary_put(ctx, "eta_vs_law_log_rms", law_rms, NAN, "1");
+    lub_summary_put(ctx, "averaged_samples", (double)navg, NAN, "1");
+    lub_summary_put(ctx, "min_clearance_above_floor", min_lowest, NAN, "a");
+    lub_summary_put(ctx, "particles_below_floor", below_floor_max, NAN, "1");
+    lub_summary_put(ctx, "lid_reflections", (double)S.lid_hits, NAN, "1");
+    lub_summary_put(ctx, "max_kinetic_energy", max_ke, NAN, "eta gd a^3");
+    lub_summary_put(ctx, "cell_width", L, NAN, "a");
+    lub_summary_put(ctx, "floor_radius", rf, NAN, "a");
+    lub_summary_put(ctx, "lid_height", y_lid - y_floor, NAN, "a");
+    lub_summary_put(ctx, "initial_height", h_init, NAN, "a");
+    lub_summary_put(ctx, "dt", dt, NAN, "1/gd");
+    lub_summary_put(ctx, "dt_critical", dt_crit, NAN, "1/gd");
+    lub_summary_put(ctx, "rebuilds", (double)S.rebuilds, NAN, "1");
+    lub_summary_put(ctx, "solid_volume", vsum, NAN, "a^3");
+    lub_summary_put(ctx, "initial_phi", binfo.layer_phi, NAN, "1");
+
+    json_t *terms = json_array();
+    json_array_append_new(terms, json_string("gravity"));
+    lub_law_terms_append(terms, S.law.terms);
+    if (S.law.eps > 0.0)
+        json_array_append_new(terms, json_string("normal_contact"));
+    if (p.orientation == LUB_RS_GRADIENT && p.eta_shear > 0.0)
+        json_array_append_new(terms, json_string("shear_drag"));
+    if (p.eta_dilute > 0.0 && p.dilute_max >= 0)
+        json_array_append_new(terms, json_string("dilute_drag"));
+    json_array_append_new(terms, json_string("rough_floor"));
+    json_array_append_new(terms, json_string("reflecting_lid"));
+    json_object_set_new(ctx->summary_extra, "active_terms", terms);
+    json_object_set_new(ctx->summary_extra, "steps", json_integer(S.step));
+    json_object_set_new(ctx->summary_extra, "simulated_time", json_real(S.time));
+    json_object_set_new(ctx->summary_extra, "orientation",
+                        json_string(p.orientation == LUB_RS_VORTICITY ? "vorticity" : "gradient"));
+    json_object_set_new(ctx->summary_extra, "height_steady", json_boolean(steady));
+    json_object_set_new(ctx->summary_extra, "height_transient_end_strain",
+                        json_real((double)mser * p.sample_strain));
+    json_object_set_new(ctx->summary_extra, "phi_err_method",
+                        json_string(sem_blocking ? "blocking" : "naive (fewer than 32 samples)"));
+    json_t *warn = json_array();
+    if (gd * sqrt(a / grav) > 5e-2)
+        json_array_append_new(warn, json_string("inertial number gd sqrt(a/g) above 5e-2: "
+                                                "inertia enhances resuspension (seed 000 §IV.C)"));
+    if (!steady)
+        json_array_append_new(warn, json_string("suspension height not steady (MSER-5): "
+                                                "increase /strain"));
+    if (p.orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) && fabs(bulk_rate - gd) > 0.2 * gd)
+        json_array_append_new(warn, json_string("the bed is not sheared homogeneously (bulk "
+                                                "dv_x/dy differs from gd by more than 20 %, see "
+                                                "results/bulk_velocity_slope): raise "
+                                                "/shear_drag_viscosity"));
+    if (S.lid_hits > 0)
+        json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
+    json_object_set_new(ctx->summary_extra, "warnings", warn);
+    json_object_set_new(
+        ctx->summary_extra, "units",
+        json_pack("{s:s, s:s, s:s, s:s, s:s, s:s}", "length", "a (mean particle radius)",
+                  "viscosity", "eta (fluid viscosity)", "time", "1/gd (inverse shear rate)",
+                  "stress", "eta gd", "energy", "eta gd a^3", "note",
+                  "drho g = 1/Sh, g = 1/I^2, rho_p = density_ratio drho; y from the floor "
+                  "centre plane"));
+    lub_rs_free(&S);
+    rs_buffers_free(&B);
+    return rc;
+}
+
+const lub_scene lub_scene_resuspension = {
+    .name = "resuspension",
+    .title = "Viscous resuspension of buoyant spheres sheared above a rough floor",
+    .description =
+        "Viscous resuspension (Chevremont, Chareyre & Bodiguel, resuspension article): N "
+        "lubricated spheres (Gaussian radii) in a cell periodic in x and z above a rough "
+        "floor of fixed spheres, gravity along -y, a reflecting lid far above. orientation "
+        "'gradient': gravity along the gradient, shear imposed by a drag (viscosity "
+        "shear_drag_viscosity eta, default 1/30) towards u = gd y e_x; 'vorticity': gravity "
+        "along the vorticity, Lees-Edwards shear of the x-z plane, no shear drag. Particles "
+        "with at most dilute_drag.max_interactions pairs get a Stokes drag. Units: a, eta, "
+        "1/gd; inputs Sh = eta gd/(drho g a), I = gd sqrt(a/g), density_ratio rho_p/drho. "
+        "Reports the steady phi(y) with error bars, the suspension height, eta_ii(y) = "
+        "(1/Sh) int_y phi, the bulk eta_ii(phi) (interface discarded), Sh, Acrivos A, I.",
+    .resolve = rs_resolve,
+    .run = rs_run,
+};

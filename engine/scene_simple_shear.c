@@ -1,0 +1,671 @@
+/* scene_simple_shear.c — tri-periodic simple-shear rheometer of a dense suspension of rough,
+ * lubricated, frictional spheres (physics-reference §2–§3; seed 000 rheology article and
+ * normal-stress chapter; seed 004).
+ *
+ * Units (dimensionless):
+ *   length a = mean radius (radii Gaussian, relative std `radius_std`), fluid viscosity eta = 1;
+ *   control "volume":   shear rate gd = 1  -> stress unit eta gd, time unit 1/gd;
+ *   control "pressure": particle pressure P = 1 -> stress unit P, gd = Iv P/eta = Iv,
+ *                       time unit eta/P.
+ *   Density from the Stokes number St = rho gd a^2/eta; bulk stiffness g = stiffness * s0 * a
+ *   with s0 = eta gd (volume) or P (pressure); k_n = alpha g; k_t = kt_ratio g.
+ * Controls: imposed volume (cell fixed in y, pressure measured) or imposed particle pressure
+ * (servo on the gradient-direction cell size, see servo_step()).
+ * Observables: virial stress split NC/SC/NL/SL/kinetic (stress.h), phi, P = -sigma_yy,
+ * mu = sigma_xy/P, eta_r = sigma_xy/(eta gd), Iv = eta gd/P, eta_ii = -sigma_ii/(eta gd),
+ * sigma_11/sigma_22, sigma_33/sigma_22, coordination Z and contact number Z_c (2 x pairs / N),
+ * optional microstructure (microstructure.h). Steady state and error bars: stats.h.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "law_spec.h"
+#include "packing.h"
+#include "run_context.h"
+#include "scene.h"
+#include "scene_summary.h"
+#include "shear_system.h"
+#include "stats.h"
+
+#define SS_PI 3.14159265358979323846
+
+typedef struct {
+    long long n, seed, snapshots;
+    double radius_std, phi, Iv, St, stiffness, cutoff, skin, dt, dt_safety, strain;
+    double target_rel_error, transient_strain, sample_strain;
+    int pressure; /* control */
+    double servo_gain, servo_filter_strain;
+    int pdf_on;
+    long long pdf_nt, pdf_np;
+    double pdf_start, pdf_interval;
+    lub_law_spec law;
+} ss_params;
+
+static const lub_law_spec_opts ss_law_opts = {
+    .allowed_terms = LUB_TERM_ALL,
+    .default_terms = LUB_TERM_ALL,
+    .tangential = 1,
+    .default_eps = 0.02,
+    .default_alpha = 1.0,
+    .default_kt_ratio = 0.5,
+    .default_mu = 0.5,
+};
+
+/* Smallest admissible cube side for the neighbour search (with margin for tilt/servo). */
+static double ss_min_side(double radius_std, double cutoff, double skin)
+{
+    double rmax = fmax(1.0 + 3.0 * radius_std, 1.0);
+    double dmax = 2.0 * rmax * (1.0 + 0.5 * cutoff) + skin;
+    return 2.0 * dmax / 0.8;
+}
+
+static int ss_read(json_t *spec, ss_params *p, lub_error *err)
+{
+    static const char *keys[] = {"scene",
+                                 "n_particles",
+                                 "seed",
+                                 "radius_std",
+                                 "control",
+                                 "phi",
+                                 "Iv",
+                                 "St",
+                                 "stiffness",
+                                 "cutoff",
+                                 "skin",
+                                 "dt",
+                                 "dt_safety",
+                                 "strain",
+                                 "target_rel_error",
+                                 "transient_strain",
+                                 "sample_strain",
+                                 "snapshots",
+                                 "servo",
+                                 "microstructure",
+                                 "law",
+                                 NULL};
+    static const char *controls[] = {"volume", "pressure", NULL};
+    if (lub_spec_only_keys(spec, "", keys, err))
+        return -1;
+    const char *control = NULL;
+    if (lub_spec_enum(spec, "", "control", controls, "volume", &control, err))
+        return -1;
+    p->pressure = strcmp(control, "pressure") == 0;
+    const lub_range phi_r = {0.05, 0.6, 0, 0};
+    const lub_range std_r = {0.0, 0.2, 0, 0};
+    const lub_range iv_r = {1e-6, 10.0, 0, 0};
+    const lub_range st_r = {1e-8, 10.0, 0, 0};
+    const lub_range k_r = {10.0, 1e9, 0, 0};
+    const lub_range cut_r = {0.1, 10.0, 0, 0};
+    const lub_range skin_r = {0.05, 2.0, 0, 0};
+    const lub_range saf_r = {0.0, 1.0, 1, 0};
+    const lub_range rel_r = {0.0, 1.0, 0, 1};
+    const lub_range samp_r = {1e-4, 10.0, 0, 0};
+    if (lub_spec_integer(spec, "", "n_particles", 2, 10000000, 1, 1000, &p->n, err) ||
+        lub_spec_integer(spec, "", "seed", 0, 4294967295LL, 1, 1, &p->seed, err) ||
+        lub_spec_number(spec, "", "radius_std", std_r, 1, 0.05, &p->radius_std, err) ||
+        lub_spec_number(spec, "", "phi", phi_r, 1, 0.5, &p->phi, err))
+        return -1;
+    if (p->pressure) {
+        if (lub_spec_number(spec, "", "Iv", iv_r, 1, 0.01, &p->Iv, err))
+            return -1;
+    } else if (json_object_get(spec, "Iv")) {
+        return lub_fail(err, "/Iv", "only used with \"control\": \"pressure\"");
+    }
+    if (lub_spec_number(spec, "", "St", st_r, 1, 1e-2, &p->St, err) ||
+        lub_spec_number(spec, "", "stiffness", k_r, 1, p->pressure ? 1e4 : 1e5, &p->stiffness,
+                        err) ||
+        lub_spec_number(spec, "", "cutoff", cut_r, 1, 2.0, &p->cutoff, err) ||
+        lub_spec_number(spec, "", "skin", skin_r, 1, 0.5, &p->skin, err) ||
+        lub_spec_number(spec, "", "dt", LUB_NONNEGATIVE, 1, 0.0, &p->dt, err) ||
+        lub_spec_number(spec, "", "dt_safety", saf_r, 1, 0.3, &p->dt_safety, err) ||
+        lub_spec_number(spec, "", "strain", (lub_range){0.0, 1e6, 1, 0}, 1, 20.0, &p->strain,
+                        err) ||
+        lub_spec_number(spec, "", "target_rel_error", rel_r, 1, 0.0, &p->target_rel_error, err) ||
+        lub_spec_number(spec, "", "transient_strain", LUB_NONNEGATIVE, 1, 2.0, &p->transient_strain,
+                        err) ||
+        lub_spec_number(spec, "", "sample_strain", samp_r, 1, 0.02, &p->sample_strain, err) ||
+        lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 1, &p->snapshots, err))
+        return -1;
+    if (p->pressure) {
+        json_t *servo = lub_spec_object(spec, "", "servo", err);
+        static const char *skeys[] = {"gain", "filter_strain", NULL};
+        if (!servo || lub_spec_only_keys(servo, "/servo", skeys, err) ||
+            lub_spec_number(servo, "/servo", "gain", (lub_range){0.0, 100.0, 1, 0}, 1, 1.0,
+                            &p->servo_gain, err) ||
+            lub_spec_number(servo, "/servo", "filter_strain", (lub_range){1e-4, 10.0, 0, 0}, 1,
+                            0.05, &p->servo_filter_strain, err))
+            return -1;
+    } else if (json_object_get(spec, "servo")) {
+        return lub_fail(err, "/servo", "only used with \"control\": \"pressure\"");
+    }
+    json_t *ms = lub_spec_object(spec, "", "microstructure", err);
+    static const char *mkeys[] = {"enabled",      "n_theta",         "n_phi",
+                                  "start_strain", "interval_strain", NULL};
+    if (!ms || lub_spec_only_keys(ms, "/microstructure", mkeys, err) ||
+        lub_spec_bool(ms, "/microstructure", "enabled", 1, 0, &p->pdf_on, err) ||
+        lub_spec_integer(ms, "/microstructure", "n_theta", 1, 360, 1, 13, &p->pdf_nt, err) ||
+        lub_spec_integer(ms, "/microstructure", "n_phi", 1, 360, 1, 9, &p->pdf_np, err) ||
+        lub_spec_number(ms, "/microstructure", "start_strain", LUB_NONNEGATIVE, 1, 5.0,
+                        &p->pdf_start, err) ||
+        lub_spec_number(ms, "/microstructure", "interval_strain", samp_r, 1, 0.1, &p->pdf_interval,
+                        err))
+        return -1;
+    json_t *law = lub_spec_object(spec, "", "law", err);
+    if (!law || lub_law_spec_resolve(law, "/law", &ss_law_opts, &p->law, err))
+        return -1;
+
+    /* the cell must hold twice the neighbour listing distance (see neighbor_list.h) */
+    double mean_r3 = 1.0 + 3.0 * p->radius_std * p->radius_std;
+    double side = cbrt((double)p->n * 4.0 / 3.0 * SS_PI * mean_r3 / p->phi);
+    double need = ss_min_side(p->radius_std, p->cutoff, p->skin);
+    if (side < need) {
+        long long nmin =
+            (long long)ceil(need * need * need * p->phi / (4.0 / 3.0 * SS_PI * mean_r3));
+        return lub_fail(err, "/n_particles",
+                        "too few particles for the cut-off and skin: the cubic cell side %.3g a "
+                        "must be >= %.3g a, i.e. n_particles >= %lld at phi = %g (got %lld)",
+                        side, need, nmin, p->phi, p->n);
+    }
+    return 0;
+}
+
+static int ss_resolve(json_t *spec, lub_error *err)
+{
+    ss_params p;
+    return ss_read(spec, &p, err);
+}
+
+/* ------------------------------------------------------------------------------------------ */
+
+/* Scalar series kept in memory for the statistics (sampled every sample_strain). */
+enum {
+    S_PHI,
+    S_P,
+    S_MU,
+    S_ETA,
+    S_IV,
+    S_SXY,
+    S_ETA11,
+    S_ETA22,
+    S_ETA33,
+    S_L1,
+    S_L3,
+    S_Z,
+    S_ZC,
+    S_XY_NC,
+    S_XY_SC,
+    S_XY_NL,
+    S_XY_SL,
+    S_XY_KIN,
+    S_YY_NC,
+    S_YY_SC,
+    S_YY_NL,
+    S_YY_SL,
+    S_YY_KIN,
+    S_CRUSHED,
+    S_COUNT
+};
+static const char *s_names[S_COUNT] = {"phi",
+                                       "pressure",
+                                       "mu",
+                                       "eta_r",
+                                       "Iv",
+                                       "sigma_xy",
+                                       "eta_11",
+                                       "eta_22",
+                                       "eta_33",
+                                       "sigma11_over_sigma22",
+                                       "sigma33_over_sigma22",
+                                       "Z",
+                                       "Z_contact",
+                                       "sigma_xy_normal_contact",
+                                       "sigma_xy_tangential_contact",
+                                       "sigma_xy_normal_lubrication",
+                                       "sigma_xy_tangential_lubrication",
+                                       "sigma_xy_kinetic",
+                                       "sigma_yy_normal_contact",
+                                       "sigma_yy_tangential_contact",
+                                       "sigma_yy_normal_lubrication",
+                                       "sigma_yy_tangential_lubrication",
+                                       "sigma_yy_kinetic",
+                                       "crushed_contact_fraction"};
+
+typedef struct {
+    double *v[S_COUNT];
+    double *strain;
+    size_t n, cap;
+} ss_series;
+
+/* Servo (imposed pressure). P_f is an exponential low-pass of the instantaneous pressure
+ * -sigma_yy with time constant filter_strain/gd; the gradient-direction dilation rate is
+ *   L_yy = gain * gd * clamp((P_f - P)/P, -1, 1):
+ * the cell expands when the filtered pressure is too high and contracts when it is too low.
+ * The change of L_yy is applied as a homogeneous velocity change (lub_shear_set_gradient),
+ * so the particles follow the cell without a pressure wave. */
+static void servo_step(lub_shear_system *s, double p_inst, double *p_f, double dt, double gd,
+                       const ss_params *p)
+{
+    double tau = p->servo_filter_strain / gd;
+    double w = dt / tau;
+    if (w > 1.0)
+        w = 1.0;
+    *p_f += w * (p_inst - *p_f);
+    double err = (*p_f - 1.0);
+    if (err > 1.0)
+        err = 1.0;
+    if (err < -1.0)
+        err = -1.0;
+    double L[3][3];
+    memcpy(L, s->cell.L, sizeof L);
+    L[1][1] = p->servo_gain * gd * err;
+    lub_shear_set_gradient(s, L);
+}
+
+static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
+{
+    double edges[9];
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+            edges[3 * r + c] = s->cell.h[c][r]; /* rows = edge vectors */
+    return lub_h5_particles_snapshot(ctx->out, s->step, s->time, edges, (const double *)s->x,
+                                     (const double *)s->v, (const double *)s->w);
+}
+
+static double ref_phi_m(double mu_m) { return 0.6301 - 0.0794 * (1.0 - exp(-mu_m / 0.4032)); }
+static double ref_mu(double Iv, double phi_m)
+{
+    double mu1 = 0.36, mu2 = 0.7, I0 = 0.0133;
+    double phi = phi_m / (1.0 + sqrt(Iv));
+    return mu1 + (mu2 - mu1) / (1.0 + I0 / Iv) + Iv * pow(1.0 - phi, -2.5);
+}
+static double ref_eta_r(double phi, double phi_m)
+{
+    double mu1 = 0.36, mu2 = 0.7, I0 = 0.0133;
+    if (phi >= phi_m)
+        return INFINITY;
+    double q = phi_m / phi - 1.0;
+    return mu1 / (q * q) + (mu2 - mu1) / (q * q + I0) + pow(1.0 - phi, -2.5);
+}
+
+static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
+{
+    ss_params p;
+    lub_error err;
+    json_t *copy = json_deep_copy(resolved);
+    int rc = ss_read(copy, &p, &err);
+    json_decref(copy);
+    if (rc) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s: %s", err.pointer, err.message);
+        return LUB_EXIT_INTERNAL;
+    }
+    const int n = (int)p.n;
+    const double gd = p.pressure ? p.Iv : 1.0; /* shear rate in the scene units */
+    const double s0 = p.pressure ? 1.0 : gd;   /* stress unit: P or eta gd (eta = 1) */
+    const double rho = p.St / gd;              /* St = rho gd a^2 / eta */
+    lub_law_spec_scale(&p.law, 1.0, p.stiffness * s0);
+
+    /* ---- packing ---- */
+    double *radius = malloc((size_t)n * sizeof *radius);
+    vec3 *pos = malloc((size_t)n * sizeof *pos);
+    ss_series ser;
+    memset(&ser, 0, sizeof ser);
+    lub_shear_system sys;
+    memset(&sys, 0, sizeof sys);
+    double *scratch = NULL;
+    int exit_code = LUB_EXIT_OK;
+    if (!radius || !pos) {
+        free(radius);
+        free(pos);
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (packing)");
+        return LUB_EXIT_INTERNAL;
+    }
+    lub_cell cell;
+    lub_packing_params pp = {.n = n,
+                             .phi = p.phi,
+                             .radius_std = p.radius_std,
+                             .seed = (uint64_t)p.seed,
+                             .margin = 0.01,
+                             .max_sweeps = 2000000};
+    lub_packing_info pinfo;
+    int prc = lub_packing_generate(&pp, radius, pos, &cell, &pinfo);
+    if (prc) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "packing generation failed (%s) for n=%d phi=%g",
+                 prc == -1 ? "no memory" : "target fraction not reached without overlaps", n,
+                 p.phi);
+        free(radius);
+        free(pos);
+        return LUB_EXIT_INTERNAL;
+    }
+    cell.L[0][1] = gd;
+
+    /* ---- system ---- */
+    int pdf_nt = p.pdf_on ? (int)p.pdf_nt : 0, pdf_np = p.pdf_on ? (int)p.pdf_np : 0;
+    int src = lub_shear_init(&sys, n, radius, pos, &cell, &p.law.params, rho, p.cutoff, p.skin, 1.0,
+                             ctx->threads, pdf_nt, pdf_np);
+    free(pos);
+    if (src) {
+        free(radius);
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (system)");
+        return LUB_EXIT_INTERNAL;
+    }
+    const double dt_el = lub_shear_elastic_dt(&sys);
+    const double dt = p.dt > 0 ? p.dt : p.dt_safety * dt_el;
+    sys.dt = dt;
+    const double t_end = p.strain / gd;
+    const int64_t nsteps = (int64_t)ceil(t_end / dt - 1e-9);
+    const int64_t sample_every = (int64_t)fmax(1.0, floor(p.sample_strain / (gd * dt) + 0.5));
+    const int64_t pdf_every = (int64_t)fmax(1.0, floor(p.pdf_interval / (gd * dt) + 0.5));
+    const int64_t snap_every = p.snapshots > 0 ? (nsteps + p.snapshots - 1) / p.snapshots : 0;
+
+    ser.cap = (size_t)(nsteps / sample_every) + 4;
+    ser.strain = malloc(ser.cap * sizeof(double));
+    scratch = malloc(ser.cap * sizeof(double));
+    int mem_ok = ser.strain && scratch;
+    for (int k = 0; k < S_COUNT && mem_ok; ++k)
+        mem_ok = (ser.v[k] = malloc(ser.cap * sizeof(double))) != NULL;
+    if (!mem_ok) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
+        exit_code = LUB_EXIT_INTERNAL;
+        goto cleanup;
+    }
+
+    /* ---- output tables ---- */
+    const char *su = p.pressure ? "P" : "eta*gd";
+    const char *tnames[] = {"strain",
+                            "phi",
+                            "pressure",
+                            "mu",
+                            "eta_r",
+                            "Iv",
+                            "Z",
+                            "Z_contact",
+                            "cell_ly",
+                            "servo_rate",
+                            "stress/total",
+                            "stress/normal_contact",
+                            "stress/tangential_contact",
+                            "stress/normal_lubrication",
+                            "stress/tangential_lubrication",
+                            "stress/kinetic"};
+    const int tnc[] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 9, 9, 9, 9, 9, 9};
+    const char *tunits[] = {"1", "1",  su, "1", "1", "1", "1", "1",
+                            "a", "gd", su, su,  su,  su,  su,  su};
+    lub_h5_table *tab = lub_h5_table_create(ctx->out, 16, tnames, tnc, tunits);
+    if (!tab) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+        exit_code = LUB_EXIT_IO;
+        goto cleanup;
+    }
+    if (p.snapshots > 0) {
+        const char *bnd[3] = {"periodic", "periodic", "periodic"};
+        if (lub_h5_particles_define(ctx->out, n, radius, bnd) || ss_snapshot(ctx, &sys)) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+            exit_code = LUB_EXIT_IO;
+            goto cleanup;
+        }
+    }
+
+    /* ---- time loop ---- */
+    double strain = 0.0, p_f = 0.0;
+    int stopped_early = 0;
+    const int headline = p.pressure ? S_MU : S_ETA;
+    double next_check = fmax(p.transient_strain + 1.0, 1.0);
+    double row[10 + 6 * 9];
+    int64_t step;
+    for (step = 0; step < nsteps; ++step) {
+        if (ctx->stop_requested && *ctx->stop_requested) {
+            exit_code = LUB_EXIT_INTERRUPTED;
+            break;
+        }
+        const int sample = ((step + 1) % sample_every) == 0;
+        const double strain_here = strain; /* strain of the evaluated configuration */
+        const int pdf = p.pdf_on && strain_here >= p.pdf_start && (step % pdf_every) == 0;
+        unsigned flags = (sample ? LUB_SAMPLE_STRESS : 0u) | (p.pressure ? LUB_SAMPLE_SYY : 0u) |
+                         (pdf ? LUB_SAMPLE_PDF : 0u);
+        lub_shear_sample smp;
+        const double phi_here = lub_shear_phi(&sys);
+        const double ly = sys.cell.h[1][1];
+        const double rate = sys.cell.L[1][1];
+        int r = lub_shear_step(&sys, flags, &smp);
+        if (r) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (step %lld, strain %.4f)",
+                     sys.fail_msg[0] ? sys.fail_msg : "simulation failure", (long long)step,
+                     strain_here);
+            exit_code = (r == LUB_SHEAR_NOMEM) ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
+            break;
+        }
+        strain += gd * dt;
+        if (p.pressure) {
+            if (step == 0)
+                p_f = -smp.syy;
+            servo_step(&sys, -smp.syy, &p_f, dt, gd, &p);
+        }
+        if (sample) {
+            double tot[9];
+            lub_stress_total(&smp.stress, tot);
+            const double P = -tot[4];
+            const double sxy = tot[1];
+            const double vals[S_COUNT] = {
+                phi_here,
+                P / s0,
+                sxy / P,
+                sxy / gd,
+                gd / P,
+                sxy / s0,
+                -tot[0] / gd,
+                -tot[4] / gd,
+                -tot[8] / gd,
+                tot[0] / tot[4],
+                tot[8] / tot[4],
+                2.0 * (double)smp.n_active / n,
+                2.0 * (double)smp.n_contacts / n,
+                smp.stress.part[LUB_SP_NC][1] / s0,
+                smp.stress.part[LUB_SP_SC][1] / s0,
+                smp.stress.part[LUB_SP_NL][1] / s0,
+                smp.stress.part[LUB_SP_SL][1] / s0,
+                smp.stress.part[LUB_SP_KIN][1] / s0,
+                smp.stress.part[LUB_SP_NC][4] / s0,
+                smp.stress.part[LUB_SP_SC][4] / s0,
+                smp.stress.part[LUB_SP_NL][4] / s0,
+                smp.stress.part[LUB_SP_SL][4] / s0,
+                smp.stress.part[LUB_SP_KIN][4] / s0,
+                smp.n_contacts ? (double)smp.n_crushed / (double)smp.n_contacts : 0.0};
+            if (ser.n < ser.cap) {
+                for (int k = 0; k < S_COUNT; ++k)
+                    ser.v[k][ser.n] = vals[k];
+                ser.strain[ser.n] = strain_here;
+                ser.n++;
+            }
+            row[0] = strain_here;
+            row[1] = phi_here;
+            row[2] = P / s0;
+            row[3] = sxy / P;
+            row[4] = sxy / gd;
+            row[5] = gd / P;
+            row[6] = vals[S_Z];
+            row[7] = vals[S_ZC];
+            row[8] = ly;
+            row[9] = rate / gd;
+            for (int k = 0; k < 9; ++k)
+                row[10 + k] = tot[k] / s0;
+            for (int part = 0; part < LUB_SP_N; ++part)
+                for (int k = 0; k < 9; ++k)
+                    row[19 + 9 * part + k] = smp.stress.part[part][k] / s0;
+            if (lub_h5_table_append(tab, step, sys.time - dt, row)) {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
+                         lub_h5_last_error(ctx->out));
+                exit_code = LUB_EXIT_IO;
+                break;
+            }
+            if (!isfinite(P) || !isfinite(sxy)) {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                         "non-finite stress at step %lld (strain %.4f)", (long long)step,
+                         strain_here);
+                exit_code = LUB_EXIT_NUMERICAL;
+                break;
+            }
+            /* "run until the headline is known to target_rel_error" */
+            if (p.target_rel_error > 0 && strain >= next_check) {
+                next_check = strain + 1.0;
+                size_t min_start = 0;
+                while (min_start < ser.n && ser.strain[min_start] < p.transient_strain)
+                    ++min_start;
+                lub_stats_result sr;
+                lub_stats_analyse(ser.v[headline], ser.n, min_start, scratch, &sr);
+                if (sr.steady && isfinite(sr.sem) && sr.sem <= p.target_rel_error * fabs(sr.mean)) {
+                    stopped_early = 1;
+                    ++step;
+                    break;
+                }
+            }
+        }
+        if (snap_every > 0 && (step + 1) % snap_every == 0 && step + 1 < nsteps) {
+            if (ss_snapshot(ctx, &sys)) {
+                exit_code = LUB_EXIT_IO;
+                break;
+            }
+        }
+        lub_progress_update(ctx->progress, (double)(step + 1) / (double)nsteps, step + 1);
+    }
+    lub_progress_final(ctx->progress, step);
+    if (p.snapshots > 0 && exit_code != LUB_EXIT_IO)
+        ss_snapshot(ctx, &sys);
+
+    /* ---- statistics and summary (also for partial runs) ---- */
+    {
+        size_t min_start = 0;
+        while (min_start < ser.n && ser.strain[min_start] < p.transient_strain)
+            ++min_start;
+        /* end of transient: the latest MSER truncation of the control-relevant series */
+        int watch[3] = {S_P, S_ETA, -1};
+        if (p.pressure) {
+            watch[0] = S_PHI;
+            watch[1] = S_MU;
+        }
+        size_t start = min_start;
+        for (int w = 0; w < 3 && watch[w] >= 0; ++w) {
+            size_t d = lub_stats_mser(ser.v[watch[w]], ser.n, 5, NULL);
+            if (d > start)
+                start = d;
+        }
+        if (start > ser.n)
+            start = ser.n;
+        /* verdict: no significant drift of the watched series after the common start */
+        int steady = 1;
+        double worst_z = 0.0;
+        for (int w = 0; w < 3 && watch[w] >= 0; ++w) {
+            double z = lub_stats_drift_z(ser.v[watch[w]] + start, ser.n - start, scratch);
+            if (!isfinite(z) || fabs(z) > 3.0)
+                steady = 0;
+            if (isfinite(z) && fabs(z) > worst_z)
+                worst_z = fabs(z);
+        }
+        lub_summary_put(ctx, "steady_drift_z", worst_z, NAN, "1");
+        for (int k = 0; k < S_COUNT; ++k) {
+            lub_stats_result sr;
+            lub_stats_analyse(ser.v[k], ser.n, start, scratch, &sr);
+            const char *unit = "1";
+            if (k == S_P || k == S_SXY || k >= S_XY_NC)
+                unit = su;
+            if (k == S_ETA || k == S_ETA11 || k == S_ETA22 || k == S_ETA33)
+                unit = "1";
+            double ref = NAN;
+            const double phi_m = ref_phi_m(p.law.params.mu);
+            if (p.law.params.mu >= 0.36) {
+                if (k == S_MU && p.pressure)
+                    ref = ref_mu(p.Iv, phi_m);
+                if (k == S_PHI && p.pressure)
+                    ref = phi_m / (1.0 + sqrt(p.Iv));
+                if (k == S_ETA && !p.pressure)
+                    ref = ref_eta_r(p.phi, phi_m);
+            }
+            if (isfinite(ref)) {
+                lub_summary_put_ref(ctx, s_names[k], sr.mean, unit, ref);
+                json_t *e = json_object_get(ctx->summary_results, s_names[k]);
+                if (e && isfinite(sr.sem))
+                    json_object_set_new(e, "stderr", json_real(sr.sem));
+            } else {
+                lub_summary_put(ctx, s_names[k], sr.mean, sr.sem, unit);
+            }
+        }
+        lub_summary_put(ctx, "steady_from_strain", start < ser.n ? ser.strain[start] : NAN, NAN,
+                        "1");
+        lub_summary_put(ctx, "steady_samples", (double)(ser.n - start), NAN, "1");
+        lub_summary_put(ctx, "strain_reached", strain, NAN, "1");
+        lub_summary_put(ctx, "dt", dt, NAN, p.pressure ? "eta/P" : "1/gd");
+        lub_summary_put(ctx, "dt_elastic", dt_el, NAN, p.pressure ? "eta/P" : "1/gd");
+        lub_summary_put(ctx, "neighbor_rebuilds", (double)sys.rebuilds, NAN, "1");
+        lub_summary_put(ctx, "cell_flips", (double)sys.flips, NAN, "1");
+        lub_summary_put(ctx, "packing_min_gap", pinfo.min_gap, NAN, "a");
+        json_object_set_new(ctx->summary_extra, "steady_state_detected",
+                            json_boolean(steady && start < ser.n));
+        json_object_set_new(ctx->summary_extra, "stopped_on_target_error",
+                            json_boolean(stopped_early));
+        json_t *terms = json_array();
+        lub_law_terms_append(terms, p.law.params.terms);
+        json_object_set_new(ctx->summary_extra, "active_terms", terms);
+        json_object_set_new(ctx->summary_extra, "steps", json_integer(step));
+        json_object_set_new(ctx->summary_extra, "simulated_time", json_real(sys.time));
+        json_object_set_new(ctx->summary_extra, "units",
+                            json_pack("{s:s, s:s, s:s, s:s, s:s}", "length",
+                                      "a (mean particle radius)", "viscosity", "eta (fluid)",
+                                      "stress",
+                                      p.pressure ? "P (imposed particle pressure)" : "eta*gd",
+                                      "time", p.pressure ? "eta/P (shear rate gd = Iv)" : "1/gd",
+                                      "density", "rho = St*eta/(gd*a^2)"));
+    }
+    if (p.pdf_on && sys.pdf.snapshots > 0) {
+        lub_pdf_finish(&sys.pdf);
+        /* [n_theta][n_phi] maps; vectors and tensors as [n_theta * n_phi][3 or 9] rows
+         * (bin index = i_theta * n_phi + i_phi) */
+        size_t nb = (size_t)p.pdf_nt * (size_t)p.pdf_np;
+        int64_t dims[2] = {p.pdf_nt, p.pdf_np};
+        int64_t dims3[2] = {(int64_t)nb, 3};
+        int64_t dims9[2] = {(int64_t)nb, 9};
+        int io = lub_h5_write_array(ctx->out, "pdf_interaction_density", 2, dims, sys.pdf.density,
+                                    "1/sr") ||
+                 lub_h5_write_array(ctx->out, "pdf_contact_density", 2, dims,
+                                    sys.pdf.contact_density, "1/sr") ||
+                 lub_h5_write_array(ctx->out, "pdf_mean_gap", 2, dims, sys.pdf.gap_sum, "a") ||
+                 lub_h5_write_array(ctx->out, "pdf_mean_relative_velocity", 2, dims3,
+                                    sys.pdf.vel_sum, p.pressure ? "a*P/eta" : "a*gd");
+        const char *pn[4] = {"pdf_stress_normal_contact", "pdf_stress_tangential_contact",
+                             "pdf_stress_normal_lubrication", "pdf_stress_tangential_lubrication"};
+        for (int k = 0; k < 4 && !io; ++k)
+            io = lub_h5_write_array(ctx->out, pn[k], 2, dims9, sys.pdf.stress + k * nb * 9,
+                                    p.pressure ? "P/sr" : "eta*gd/sr");
+        if (io && exit_code == LUB_EXIT_OK) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+            exit_code = LUB_EXIT_IO;
+        }
+        lub_summary_put(ctx, "pdf_snapshots", (double)sys.pdf.snapshots, NAN, "1");
+    }
+
+cleanup:
+    for (int k = 0; k < S_COUNT; ++k)
+        free(ser.v[k]);
+    free(ser.strain);
+    free(scratch);
+    free(radius);
+    lub_shear_free(&sys);
+    return exit_code;
+}
+
+const lub_scene lub_scene_simple_shear = {
+    .name = "simple_shear",
+    .title = "Periodic simple-shear rheometer (imposed volume or imposed particle pressure)",
+    .description =
+        "Tri-periodic simple shear (deforming cell with flips) of N polydisperse rough, "
+        "frictional spheres with the lubricated contact law. Control 'volume' imposes phi and "
+        "measures the pressure (units: a, eta, gd = 1); control 'pressure' imposes the particle "
+        "pressure P = -sigma_yy through a servo on the gradient-direction cell size at the "
+        "viscous number Iv = eta gd/P (units: a, eta, P = 1). Reports phi, P, mu = sigma_xy/P, "
+        "eta_r, Iv, normal viscosities eta_ii, normal-stress ratios, coordination and contact "
+        "numbers and the stress split (normal/tangential contact/lubrication, kinetic) with "
+        "steady-state detection (MSER) and blocking error bars.",
+    .resolve = ss_resolve,
+    .run = ss_run,
+};

@@ -1,0 +1,436 @@
+/* shear_system.c — leap-frog dynamics of a sheared periodic suspension (see shear_system.h). */
+#include "shear_system.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+static const double PI = 3.14159265358979323846;
+
+static int thread_id(void)
+{
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
+#define mat_vec lub_mat_vec
+
+/* mean spin of the flow L: half the curl of L x */
+static vec3 mean_spin(const double L[3][3])
+{
+    return v3(0.5 * (L[2][1] - L[1][2]), 0.5 * (L[0][2] - L[2][0]), 0.5 * (L[1][0] - L[0][1]));
+}
+
+void lub_shear_free(lub_shear_system *s)
+{
+    free(s->x);
+    free(s->v);
+    free(s->w);
+    free(s->f);
+    free(s->t);
+    free(s->x_ref);
+    free(s->r);
+    free(s->m);
+    free(s->inv_m);
+    free(s->inv_i);
+    free(s->near_count);
+    free(s->tstress);
+    free(s->tsyy);
+    free(s->tcount);
+    free(s->tmax);
+    if (s->tpdf) {
+        for (int k = 0; k < s->threads; ++k)
+            lub_pdf_free(&s->tpdf[k]);
+        free(s->tpdf);
+    }
+    lub_pdf_free(&s->pdf);
+    lub_nlist_free(&s->nl);
+    lub_pairs_free(&s->pairs);
+    memset(s, 0, sizeof *s);
+}
+
+int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 *pos,
+                   const lub_cell *cell, const lub_law_params *law, double rho, double cutoff,
+                   double skin, double dt, int threads, int pdf_theta, int pdf_phi)
+{
+    memset(s, 0, sizeof *s);
+    if (threads < 1)
+        threads = 1;
+    s->n = n;
+    s->threads = threads;
+    size_t un = (size_t)n;
+    s->x = malloc(un * sizeof *s->x);
+    s->v = malloc(un * sizeof *s->v);
+    s->w = malloc(un * sizeof *s->w);
+    s->f = calloc(un, sizeof *s->f);
+    s->t = calloc(un, sizeof *s->t);
+    s->x_ref = malloc(un * sizeof *s->x_ref);
+    s->r = malloc(un * sizeof *s->r);
+    s->m = malloc(un * sizeof *s->m);
+    s->inv_m = malloc(un * sizeof *s->inv_m);
+    s->inv_i = malloc(un * sizeof *s->inv_i);
+    s->near_count = calloc(un, sizeof *s->near_count);
+    s->tstress = calloc((size_t)threads, sizeof *s->tstress);
+    s->tsyy = calloc((size_t)threads, sizeof *s->tsyy);
+    s->tcount = calloc(3 * (size_t)threads, sizeof *s->tcount);
+    s->tmax = calloc((size_t)threads, sizeof *s->tmax);
+    if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
+        !s->inv_i || !s->near_count || !s->tstress || !s->tsyy || !s->tcount || !s->tmax) {
+        lub_shear_free(s);
+        return LUB_SHEAR_NOMEM;
+    }
+    if (pdf_theta > 0 && pdf_phi > 0) {
+        s->tpdf = calloc((size_t)threads, sizeof *s->tpdf);
+        if (!s->tpdf || lub_pdf_init(&s->pdf, pdf_theta, pdf_phi)) {
+            lub_shear_free(s);
+            return LUB_SHEAR_NOMEM;
+        }
+        for (int k = 0; k < threads; ++k)
+            if (lub_pdf_init(&s->tpdf[k], pdf_theta, pdf_phi)) {
+                lub_shear_free(s);
+                return LUB_SHEAR_NOMEM;
+            }
+    }
+    s->cell = *cell;
+    vec3 spin = mean_spin(cell->L);
+    for (int i = 0; i < n; ++i) {
+        double r = radius[i];
+        s->r[i] = r;
+        s->x[i] = pos[i];
+        s->m[i] = 4.0 / 3.0 * PI * r * r * r * rho;
+        s->inv_m[i] = 1.0 / s->m[i];
+        s->inv_i[i] = 1.0 / (0.4 * s->m[i] * r * r);
+        s->v[i] = lub_cell_mean_velocity(cell, pos[i]);
+        s->w[i] = spin;
+    }
+    s->law = *law;
+    s->cutoff = cutoff;
+    s->dt = dt;
+    s->fail_pair = -1;
+    lub_nlist_init(&s->nl, cutoff, skin);
+    lub_pairs_init(&s->pairs);
+    s->need_rebuild = 1;
+    return LUB_SHEAR_OK;
+}
+
+void lub_shear_set_gradient(lub_shear_system *s, const double Lnew[3][3])
+{
+    double dL[3][3];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            dL[i][j] = Lnew[i][j] - s->cell.L[i][j];
+    vec3 dspin = mean_spin(dL);
+    for (int p = 0; p < s->n; ++p) {
+        s->v[p] = v3_add(s->v[p], mat_vec(dL, s->x[p]));
+        s->w[p] = v3_add(s->w[p], dspin);
+    }
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            s->cell.L[i][j] = Lnew[i][j];
+}
+
+double lub_shear_elastic_dt(const lub_shear_system *s)
+{
+    double best = INFINITY;
+    for (int i = 0; i < s->n; ++i) {
+        double t2 = s->m[i] / s->law.k_bulk;
+        if (s->law.k_t > 0) {
+            double tr = 1.0 / (s->inv_i[i] * s->law.k_t * s->r[i] * s->r[i]);
+            if (tr < t2)
+                t2 = tr;
+        }
+        if (t2 < best)
+            best = t2;
+    }
+    return sqrt(best);
+}
+
+double lub_shear_phi(const lub_shear_system *s)
+{
+    double v = 0.0;
+    for (int i = 0; i < s->n; ++i)
+        v += s->r[i] * s->r[i] * s->r[i];
+    return 4.0 / 3.0 * PI * v / s->cell.volume;
+}
+
+size_t lub_shear_memory_bytes(const lub_shear_system *s)
+{
+    size_t n = (size_t)s->n;
+    size_t b = n * (6 * sizeof(vec3) + 4 * sizeof(double) + sizeof(int));
+    const lub_nlist *nl = &s->nl;
+    b += nl->pair_cap * 5 * sizeof(int32_t) +
+         nl->part_cap * (sizeof(size_t) + 2 * sizeof(int) + sizeof(vec3)) +
+         nl->bin_cap * sizeof(int);
+    const lub_pairs *ps = &s->pairs;
+    size_t fcap = ps->fcap;
+    b += (ps->cap + ps->ocap) * (2 * sizeof(int32_t) + sizeof(lub_pair_state) + 1);
+    b += fcap * (3 * sizeof(int32_t) + 3 * sizeof(vec3) + sizeof(size_t) + 1);
+    b += ps->part_cap * 2 * sizeof(size_t);
+    b += (size_t)s->threads *
+         (sizeof(lub_stress) + sizeof(double) + 3 * sizeof(size_t) + sizeof(double));
+    return b;
+}
+
+static int rebuild(lub_shear_system *s)
+{
+    int m[3];
+    if (lub_cell_flip(&s->cell, m))
+        s->flips++;
+    for (int i = 0; i < s->n; ++i)
+        lub_cell_wrap(&s->cell, &s->x[i], &s->v[i], NULL);
+    int rc = lub_nlist_build(&s->nl, &s->cell, s->x, s->r, s->n);
+    if (rc == LUB_NLIST_CELL_TOO_SMALL) {
+        snprintf(s->fail_msg, sizeof s->fail_msg,
+                 "cell narrower than twice the neighbour listing distance %.3g (t=%.6g)",
+                 s->nl.max_dist, s->time);
+        return LUB_SHEAR_CELL_TOO_SMALL;
+    }
+    if (rc != LUB_NLIST_OK || lub_pairs_adopt(&s->pairs, &s->nl, s->n))
+        return LUB_SHEAR_NOMEM;
+    memcpy(s->x_ref, s->x, (size_t)s->n * sizeof *s->x);
+    memcpy(s->h_ref, s->cell.h, sizeof s->h_ref);
+    s->rebuilds++;
+    s->need_rebuild = 0;
+    return LUB_SHEAR_OK;
+}
+
+/* A = H H_ref^-1 */
+static void affine_map(const lub_shear_system *s, double A[3][3])
+{
+    lub_cell ref;
+    memcpy(ref.h, s->h_ref, sizeof ref.h);
+    lub_cell_refresh(&ref);
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+            double v = 0.0;
+            for (int k = 0; k < 3; ++k)
+                v += s->cell.h[i][k] * ref.hinv[k][j];
+            A[i][j] = v;
+        }
+}
+
+int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
+{
+    if (s->need_rebuild) {
+        int rc = rebuild(s);
+        if (rc)
+            return rc;
+    }
+    const int nt = s->threads;
+    const lub_cell *cell = &s->cell;
+    lub_pairs *ps = &s->pairs;
+    const double dt = s->dt;
+    const double cutoff = s->cutoff;
+    const lub_law_params *law = &s->law;
+    const int want_stress = (flags & LUB_SAMPLE_STRESS) != 0;
+    const int want_syy = (flags & (LUB_SAMPLE_SYY | LUB_SAMPLE_STRESS)) != 0;
+    const int want_pdf = (flags & LUB_SAMPLE_PDF) && s->tpdf;
+    const long npairs = (long)ps->n;
+    const int n = s->n;
+    const double volume = s->cell.volume; /* stresses use the volume of the force evaluation */
+    int failed = 0;
+
+    for (int k = 0; k < nt; ++k) {
+        if (want_stress)
+            lub_stress_zero(&s->tstress[k]);
+        s->tsyy[k] = 0.0;
+        s->tcount[3 * k] = s->tcount[3 * k + 1] = s->tcount[3 * k + 2] = 0;
+        s->tmax[k] = 0.0;
+        if (want_pdf)
+            lub_pdf_clear(&s->tpdf[k]);
+    }
+
+#pragma omp parallel num_threads(nt) reduction(| : failed)
+    {
+        const int tid = thread_id();
+        lub_stress *ts = &s->tstress[tid];
+        double syy = 0.0;
+        size_t nact = 0, ncon = 0, ncrush = 0;
+#pragma omp for schedule(static)
+        for (long k = 0; k < npairs; ++k) {
+            const int i = ps->i[k], j = ps->j[k];
+            const int *c = &ps->c[3 * k];
+            vec3 shift = lub_cell_shift(cell, c);
+            vec3 d = v3_sub(v3_add(s->x[j], shift), s->x[i]);
+            double dist = v3_norm(d);
+            double ri = s->r[i], rj = s->r[j];
+            double un = dist - ri - rj;
+            double a = 0.5 * (ri + rj);
+            if (un > cutoff * a) {
+                if (ps->active[k]) {
+                    ps->active[k] = 0;
+                    ps->near[k] = 0;
+                    ps->f1[k] = v3(0, 0, 0);
+                    ps->t1[k] = v3(0, 0, 0);
+                    ps->t2[k] = v3(0, 0, 0);
+                }
+                continue;
+            }
+            if (!ps->active[k]) {
+                memset(&ps->state[k], 0, sizeof ps->state[k]);
+                ps->state[k].is_new = 1;
+                ps->active[k] = 1;
+            }
+            lub_pair_input in;
+            in.branch = d;
+            in.v1 = s->v[i];
+            in.v2 = v3_add(s->v[j], mat_vec(cell->L, shift));
+            in.w1 = s->w[i];
+            in.w2 = s->w[j];
+            in.r1 = ri;
+            in.r2 = rj;
+            {
+                int di = s->near_count[i], dj = s->near_count[j];
+                in.inv_inertia1 = s->inv_i[i] * (di > 1 ? di : 1);
+                in.inv_inertia2 = s->inv_i[j] * (dj > 1 ? dj : 1);
+            }
+            in.dt = dt;
+            lub_pair_output o;
+            if (lub_pair_step(law, &in, &ps->state[k], &o) != 0 || !v3_isfinite(o.force1)) {
+                failed = 1;
+#pragma omp critical(lub_shear_fail)
+                {
+                    if (s->fail_pair < 0) {
+                        s->fail_pair = k;
+                        snprintf(s->fail_msg, sizeof s->fail_msg,
+                                 "pair law non-finite for pair %ld (particles %d, %d; u_n/a=%.6g) "
+                                 "at step %ld, t=%.6g",
+                                 k, i, j, un / a, s->step, s->time);
+                    }
+                }
+                continue;
+            }
+            ps->near[k] = o.delta < 0.0;
+            ps->f1[k] = o.force1;
+            ps->t1[k] = o.torque1;
+            ps->t2[k] = o.torque2;
+            if (want_syy)
+                syy += o.force1.y * d.y;
+            if (want_stress) {
+                lub_stress_add_pair(ts, &o, d);
+                nact++;
+                ncon += o.contact ? 1 : 0;
+                ncrush += (un < -law->alpha * law->eps * a) ? 1 : 0;
+            }
+            if (want_pdf) {
+                double h1 = ri + 0.5 * un, h2 = rj + 0.5 * un;
+                vec3 w = v3_sub(in.v2, in.v1);
+                w = v3_sub(w, v3_scale(v3_cross(in.w2, o.n), h2));
+                w = v3_sub(w, v3_scale(v3_cross(in.w1, o.n), h1));
+                lub_pdf_add_pair(&s->tpdf[tid], &o, d, w, a, n, cell->volume);
+            }
+        }
+        /* gather + kinetic stress + integrate: one pass per particle */
+        double kyy = 0.0;
+#pragma omp for schedule(static)
+        for (int p = 0; p < n; ++p) {
+            vec3 F = v3(0, 0, 0), T = v3(0, 0, 0);
+            int near = 0;
+            for (size_t k = ps->first1[p]; k < ps->first1[p + 1]; ++k) {
+                F = v3_add(F, ps->f1[k]);
+                T = v3_add(T, ps->t1[k]);
+                near += ps->near[k];
+            }
+            for (size_t q = ps->first2[p]; q < ps->first2[p + 1]; ++q) {
+                size_t k = ps->by2[q];
+                F = v3_sub(F, ps->f1[k]);
+                T = v3_add(T, ps->t2[k]);
+                near += ps->near[k];
+            }
+            s->near_count[p] = near;
+            s->f[p] = F;
+            s->t[p] = T;
+            vec3 v = s->v[p];
+            vec3 x = s->x[p];
+            if (want_syy || want_stress) {
+                vec3 vp = v3_sub(v, mat_vec(cell->L, x));
+                if (want_stress)
+                    lub_stress_add_kinetic(ts, s->m[p], vp);
+                kyy -= s->m[p] * vp.y * vp.y;
+            }
+            vec3 acc = v3_add(v3_scale(F, s->inv_m[p]), mat_vec(cell->L, v));
+            v = v3_axpy(v, dt, acc);
+            s->v[p] = v;
+            s->w[p] = v3_axpy(s->w[p], dt * s->inv_i[p], T);
+            s->x[p] = v3_axpy(x, dt, v);
+        }
+        s->tsyy[tid] = syy + kyy;
+        s->tcount[3 * tid] = nact;
+        s->tcount[3 * tid + 1] = ncon;
+        s->tcount[3 * tid + 2] = ncrush;
+    }
+    if (failed)
+        return LUB_SHEAR_NONFINITE;
+
+    if (lub_cell_update(&s->cell, dt)) {
+        snprintf(s->fail_msg, sizeof s->fail_msg, "cell degenerate at step %ld", s->step);
+        return LUB_SHEAR_DEGENERATE;
+    }
+    s->time += dt;
+    s->step++;
+
+    /* skin criterion for the next step */
+    {
+        double A[3][3];
+        affine_map(s, A);
+        double e2 = 0.0;
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) {
+                double d = A[i][j] - (i == j ? 1.0 : 0.0);
+                e2 += d * d;
+            }
+        double umax2 = 0.0;
+        int bad = 0;
+#pragma omp parallel for num_threads(nt) schedule(static) reduction(max : umax2) reduction(| : bad)
+        for (int p = 0; p < n; ++p) {
+            vec3 u = v3_sub(s->x[p], mat_vec(A, s->x_ref[p]));
+            double u2 = v3_norm2(u);
+            if (!(u2 < INFINITY))
+                bad = 1;
+            if (u2 > umax2)
+                umax2 = u2;
+        }
+        if (bad) {
+            snprintf(s->fail_msg, sizeof s->fail_msg,
+                     "non-finite particle position at step %ld, t=%.6g", s->step, s->time);
+            return LUB_SHEAR_NONFINITE;
+        }
+        if (2.0 * sqrt(umax2) + sqrt(e2) * s->nl.max_dist > s->nl.skin)
+            s->need_rebuild = 1;
+        double tilt = fabs(s->cell.h[0][1] / s->cell.h[0][0]);
+        if (tilt > 0.5)
+            s->need_rebuild = 1;
+    }
+
+    if (out) {
+        memset(out, 0, sizeof *out);
+        double iv = 1.0 / volume;
+        double syy = 0.0;
+        for (int k = 0; k < nt; ++k) {
+            syy += s->tsyy[k];
+            if (want_stress) {
+                lub_stress_accumulate(&out->stress, &s->tstress[k]);
+                out->n_active += s->tcount[3 * k];
+                out->n_contacts += s->tcount[3 * k + 1];
+                out->n_crushed += s->tcount[3 * k + 2];
+            }
+        }
+        out->syy = syy * iv;
+        if (want_stress)
+            lub_stress_scale(&out->stress, iv);
+    }
+    if (want_pdf) {
+        for (int k = 0; k < nt; ++k)
+            lub_pdf_accumulate(&s->pdf, &s->tpdf[k]);
+        s->pdf.snapshots++;
+    }
+    return LUB_SHEAR_OK;
+}

@@ -1,0 +1,126 @@
+/* shear_system.h — a tri-periodic, homogeneously sheared system of lubricated spheres.
+ *
+ * Owns the particle arrays (structure of arrays), the deforming cell (periodic_cell.h), the
+ * Verlet list (neighbor_list.h) and the persistent pair states (pair_store.h), and advances
+ * them with a leap-frog scheme:
+ *   1. if the Verlet skin may be exhausted (or at the first step): flip the cell if tilted
+ *      by more than 1/2, wrap particles into the cell (absolute velocities: v -= L H k), rebuild
+ *      the list and carry the pair states;
+ *   2. pair forces from x^n and the half-step velocities v^{n-1/2}, w^{n-1/2}
+ *      (lub_pair_step; pairs beyond cutoff*a are deactivated, pairs coming inside are created
+ *      new — always with a positive gap thanks to the skin);
+ *   3. gather per particle (race-free: each particle sums its own pairs in a fixed order, so
+ *      results do not depend on the number of threads);
+ *   4. v += dt (F/m + L v)   (convective term: the affine flow v = L x needs no force),
+ *      w += dt T/I, x += dt v;
+ *   5. H <- (I + dt L) H; t += dt.
+ * Spin-torque stabilisation: the law integrates each pair's roll/twist damping exactly for an
+ * isolated pair (contact_torque.h), but a sphere with d close neighbours (u < a) receives d
+ * such torques in the same explicit step, which overshoots (Jacobi-type instability, observed
+ * at phi = 0.55, St = 1e-2: blow-up within 300 steps). The system therefore passes each pair
+ * the inverse inertias multiplied by the number of close neighbours of each body (from the
+ * previous step), so that the summed damping of one step never exceeds the particle's own
+ * spin (Gershgorin bound). Where the explicit scheme is stable (k << 1) the torques are
+ * unchanged.
+ * Skin rule: with A = H H_ref^-1 (affine map since the last rebuild) and u_max the largest
+ * non-affine displacement |x - A x_ref|, the list stays valid while
+ *   2 u_max + ||A - I||_F * d_list <= skin   (d_list = largest listing distance).
+ *
+ * Units: whatever the caller uses (the scene uses a = 1, eta = 1, and gd = 1 or P = 1).
+ * Memory: lub_shear_init allocates all particle arrays; pair arrays grow only at rebuilds
+ * (step 1); lub_shear_step never allocates otherwise. Free with lub_shear_free.
+ * Threads: OpenMP over pairs and particles with `threads` threads (1 = serial).
+ */
+#ifndef LUBDEM_SHEAR_SYSTEM_H
+#define LUBDEM_SHEAR_SYSTEM_H
+
+#include <stddef.h>
+
+#include "contact_law.h"
+#include "microstructure.h"
+#include "neighbor_list.h"
+#include "pair_store.h"
+#include "periodic_cell.h"
+#include "stress.h"
+
+enum {
+    LUB_SHEAR_OK = 0,
+    LUB_SHEAR_NOMEM = -1,
+    LUB_SHEAR_CELL_TOO_SMALL = -2, /* the cell is narrower than twice the listing distance */
+    LUB_SHEAR_NONFINITE = -3,      /* a pair law or a particle became non-finite */
+    LUB_SHEAR_DEGENERATE = -4      /* det H <= 0 */
+};
+
+enum {
+    LUB_SAMPLE_STRESS = 1u << 0, /* full stress decomposition + pair counts */
+    LUB_SAMPLE_SYY = 1u << 1,    /* only sigma_yy (total), cheap, for the pressure servo */
+    LUB_SAMPLE_PDF = 1u << 2     /* microstructure snapshot into sys->pdf */
+};
+
+typedef struct {
+    lub_stress stress; /* divided by the volume */
+    double syy;        /* total sigma_yy (LUB_SAMPLE_SYY or LUB_SAMPLE_STRESS) */
+    size_t n_active;   /* pairs inside the cut-off */
+    size_t n_contacts; /* pairs in contact (u < eps a) */
+    size_t n_crushed;  /* pairs with u_n < -alpha eps a: asperities crushed, the bulk spring and a
+                          persistent lubrication force carry the load (notes §11 P5); a non-zero
+                          count means the stiffness is too low for the stress level */
+} lub_shear_sample;
+
+typedef struct {
+    int n;
+    vec3 *x, *v, *w, *f, *t, *x_ref;
+    double *r, *m, *inv_m, *inv_i;
+    int *near_count; /* close neighbours (u < a) of each particle at the last step */
+    lub_cell cell;
+    double h_ref[3][3];
+    lub_nlist nl;
+    lub_pairs pairs;
+    lub_law_params law;
+    double cutoff; /* lubrication cut-off, units of the pair mean radius */
+    double dt, time;
+    long step;
+    int threads;
+    int need_rebuild;
+    long rebuilds, flips;
+    /* per-thread scratch (allocated at init) */
+    lub_stress *tstress;
+    double *tsyy;
+    size_t *tcount; /* [3 * threads] active, contacts, crushed */
+    double *tmax;   /* [threads] */
+    lub_pdf pdf;    /* accumulated snapshots (if enabled) */
+    lub_pdf *tpdf;  /* [threads] or NULL */
+    /* failure report */
+    long fail_pair; /* pair index or -1 */
+    char fail_msg[256];
+} lub_shear_system;
+
+/* Copies n radii and positions; density rho gives m = 4/3 pi r^3 rho, I = 2/5 m r^2.
+ * Velocities are set to the affine flow L x of `cell` and spins to the mean vorticity.
+ * pdf_theta/pdf_phi > 0 enable the microstructure accumulators. Returns LUB_SHEAR_*. */
+int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 *pos,
+                   const lub_cell *cell, const lub_law_params *law, double rho, double cutoff,
+                   double skin, double dt, int threads, int pdf_theta, int pdf_phi);
+void lub_shear_free(lub_shear_system *s);
+
+/* Changes the velocity gradient to Lnew, adding (Lnew - L) x to every velocity (and the
+ * change of mean spin to every spin), as for a homogeneous change of the imposed flow. */
+void lub_shear_set_gradient(lub_shear_system *s, const double Lnew[3][3]);
+
+/* One step. `flags` selects the sampling (LUB_SAMPLE_*); out may be NULL when flags == 0. */
+int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out);
+
+/* Forces a rebuild (and flip/wrap) at the next step. */
+static inline void lub_shear_request_rebuild(lub_shear_system *s) { s->need_rebuild = 1; }
+
+/* Elastic time-step bound sqrt(min(m/g, I/(k_t r^2))) over the particles (viscosity-free,
+ * notes §7). */
+double lub_shear_elastic_dt(const lub_shear_system *s);
+
+/* Heap bytes held by the system (particle arrays, neighbour list, pair store, scratch). */
+size_t lub_shear_memory_bytes(const lub_shear_system *s);
+
+/* Solid fraction (sum of sphere volumes / cell volume). */
+double lub_shear_phi(const lub_shear_system *s);
+
+#endif

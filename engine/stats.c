@@ -1,0 +1,120 @@
+/* stats.c — MSER truncation and blocking error bars (see stats.h). */
+#include "stats.h"
+
+#include <math.h>
+#include <string.h>
+
+double lub_stats_mean(const double *x, size_t n)
+{
+    if (n == 0)
+        return NAN;
+    double s = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        s += x[i];
+    return s / (double)n;
+}
+
+double lub_stats_var(const double *x, size_t n)
+{
+    if (n < 2)
+        return NAN;
+    double m = lub_stats_mean(x, n), s = 0.0;
+    for (size_t i = 0; i < n; ++i)
+        s += (x[i] - m) * (x[i] - m);
+    return s / (double)(n - 1);
+}
+
+size_t lub_stats_mser(const double *x, size_t n, size_t batch, int *steady)
+{
+    if (batch < 1)
+        batch = 1;
+    size_t m = n / batch;
+    if (m < 4) {
+        if (steady)
+            *steady = 0;
+        return 0;
+    }
+    /* suffix sums of batch means, computed backwards: O(m) */
+    double best = INFINITY;
+    size_t best_d = 0;
+    double s1 = 0.0, s2 = 0.0;
+    /* MSER value for truncation d uses batches d..m-1; iterate d from m-1 down to 0 */
+    size_t limit = m / 2;
+    for (size_t dd = m; dd-- > 0;) {
+        double y = 0.0;
+        for (size_t k = 0; k < batch; ++k)
+            y += x[dd * batch + k];
+        y /= (double)batch;
+        s1 += y;
+        s2 += y * y;
+        size_t cnt = m - dd;
+        if (dd <= limit && cnt >= 2) {
+            double mean = s1 / (double)cnt;
+            double ss = s2 - (double)cnt * mean * mean;
+            if (ss < 0)
+                ss = 0;
+            double val = ss / ((double)cnt * (double)cnt);
+            if (val <= best) {
+                best = val;
+                best_d = dd;
+            }
+        }
+    }
+    if (steady)
+        *steady = (best_d + 1 < limit);
+    return best_d * batch;
+}
+
+double lub_stats_block_sem(const double *x, size_t n, double *scratch)
+{
+    if (n < 32)
+        return NAN;
+    memcpy(scratch, x, n * sizeof *x);
+    size_t m = n;
+    double best = 0.0;
+    while (m >= 16) {
+        double v = lub_stats_var(scratch, m);
+        double sem = sqrt(v / (double)m);
+        if (sem > best)
+            best = sem;
+        size_t h = m / 2;
+        for (size_t i = 0; i < h; ++i)
+            scratch[i] = 0.5 * (scratch[2 * i] + scratch[2 * i + 1]);
+        m = h;
+    }
+    return best;
+}
+
+double lub_stats_drift_z(const double *x, size_t n, double *scratch)
+{
+    size_t h = n / 2;
+    if (h < 32)
+        return NAN;
+    double m1 = lub_stats_mean(x, h), m2 = lub_stats_mean(x + (n - h), h);
+    double s1 = lub_stats_block_sem(x, h, scratch);
+    double s2 = lub_stats_block_sem(x + (n - h), h, scratch);
+    double den = sqrt(s1 * s1 + s2 * s2);
+    if (!(den > 0))
+        return (m1 == m2) ? 0.0 : INFINITY;
+    return (m2 - m1) / den;
+}
+
+void lub_stats_analyse(const double *x, size_t n, size_t min_start, double *scratch,
+                       lub_stats_result *r)
+{
+    int steady = 0;
+    size_t d = lub_stats_mser(x, n, 5, &steady);
+    if (d < min_start)
+        d = min_start;
+    if (d > n)
+        d = n;
+    r->start = d;
+    r->n = n - d;
+    (void)steady;
+    r->mean = lub_stats_mean(x + d, r->n);
+    r->sem = lub_stats_block_sem(x + d, r->n, scratch);
+    double v = lub_stats_var(x + d, r->n);
+    r->n_eff = (isfinite(r->sem) && r->sem > 0) ? v / (r->sem * r->sem) : NAN;
+    r->drift_z = lub_stats_drift_z(x + d, r->n, scratch);
+    r->steady = isfinite(r->drift_z) && fabs(r->drift_z) <= 3.0;
+}

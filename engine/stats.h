@@ -1,0 +1,56 @@
+/* stats.h — steady-state detection and error bars for sampled time series (generic; used by
+ * every scene that averages a fluctuating observable).
+ *
+ * Rules (also in the README):
+ *  - End of the transient: MSER-5 (White 1997; Marginal Standard Error Rule on batch means of
+ *    5 samples): the truncation d minimises  sum_{k>=d} (y_k - mean_{>=d})^2 / (m - d)^2  over
+ *    the batch means y, searched over the first half of the series only. A series whose
+ *    optimum falls in the search limit region (d > m/2 - 1) is flagged "not steady".
+ *    Callers may impose a minimum start (e.g. a minimum strain) and take the later of the two.
+ *  - Standard error of the mean of the retained samples: Flyvbjerg–Petersen blocking. The
+ *    series is repeatedly halved by averaging neighbours; the standard error at each level is
+ *    s_l / sqrt(m_l - 1); the estimate is the largest over levels that keep >= 16 blocks
+ *    (conservative plateau value). An effective number of independent samples is
+ *    n_eff = var / sem^2.
+ *  - Steady-state verdict (drift test): the retained samples are split in two halves; the run
+ *    is "steady" when |mean_1 - mean_2| <= 3 sqrt(sem_1^2 + sem_2^2) (blocking SEMs, each half
+ *    >= 32 samples). The MSER flag alone is not the verdict: on a stationary noisy series its
+ *    optimum often falls late by chance.
+ *  - "Known to x %": sem / |mean| <= x/100.
+ * All functions are pure: they read the arrays and write the outputs; no allocation except
+ * lub_stats_block_sem, which uses a caller-provided scratch array of n doubles.
+ */
+#ifndef LUBDEM_STATS_H
+#define LUBDEM_STATS_H
+
+#include <stddef.h>
+
+typedef struct {
+    size_t start; /* first sample of the steady part */
+    size_t n;     /* samples used */
+    double mean;
+    double sem;     /* standard error of the mean (blocking); NaN if n < 32 */
+    double n_eff;   /* effective number of independent samples */
+    int steady;     /* 1 if the drift test passes on the retained samples */
+    double drift_z; /* (mean_2 - mean_1) / sqrt(sem_1^2 + sem_2^2) of the two halves */
+} lub_stats_result;
+
+double lub_stats_mean(const double *x, size_t n);
+double lub_stats_var(const double *x, size_t n); /* unbiased sample variance */
+
+/* MSER with batch means of `batch` samples (5 recommended). Returns the truncation index in
+ * samples (a multiple of batch); *steady set as described above (may be NULL). */
+size_t lub_stats_mser(const double *x, size_t n, size_t batch, int *steady);
+
+/* Blocking standard error of the mean of x[0..n). scratch: n doubles. Returns NaN if n < 32. */
+double lub_stats_block_sem(const double *x, size_t n, double *scratch);
+
+/* Drift z-score of the two halves of x[0..n) (NaN if a half has < 32 samples). */
+double lub_stats_drift_z(const double *x, size_t n, double *scratch);
+
+/* Whole analysis: start = max(MSER truncation, min_start); mean and blocking SEM after it;
+ * drift test on the retained samples. */
+void lub_stats_analyse(const double *x, size_t n, size_t min_start, double *scratch,
+                       lub_stats_result *r);
+
+#endif

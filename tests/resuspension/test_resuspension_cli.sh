@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# CLI-level checks of the resuspension scene: a short complete run (summary schema, H5MD
+# structure, profiles and time series present and consistent), and SIGTERM during a long run
+# (exit code 5, status "partial", valid H5MD with the profiles averaged so far).
+# usage: test_resuspension_cli.sh LUBDEM PYTHON CHECK_H5MD SCHEMA_DIR
+set -u
+LUBDEM=$1 PY=$2 CHECK=$3 SCHEMA_DIR=$4
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*" >&2; }
+
+cat > "$work/short.json" <<'JEOF'
+{"scene": "resuspension", "n": 150, "width": 12, "strain": 0.6, "average_from": 0.2,
+ "sample_strain": 0.05, "inertial_number": 0.05, "density_ratio": 10,
+ "shear_drag_viscosity": 3, "snapshots": 3}
+JEOF
+"$LUBDEM" run "$work/short.json" --out "$work/run1" --threads 1 > /dev/null 2> "$work/run1.err"
+rc=$?
+[ $rc -eq 0 ] && ok || bad "short run exit code $rc: $(cat "$work/run1.err")"
+$PY "$CHECK" "$work/run1/result.h5" --status complete > /dev/null && ok || bad "H5MD structure"
+$PY - "$work/run1" "$SCHEMA_DIR/summary.schema.json" <<'PYEOF' && ok || bad "summary/profiles"
+import json, sys
+import h5py, jsonschema, numpy as np
+d = sys.argv[1]
+s = json.load(open(d + "/summary.json"))
+jsonschema.validate(s, json.load(open(sys.argv[2])))
+assert s["status"] == "complete" and "gravity" in s["active_terms"] and "shear_drag" in s["active_terms"]
+assert s["units"]["length"].startswith("a")
+with h5py.File(d + "/result.h5", "r") as f:
+    y = f["profiles/y"][:]; phi = f["profiles/phi"][:]; err = f["profiles/phi_err"][:]
+    eta = f["profiles/eta_normal"][:]; mask = f["profiles/bulk_mask"][:]
+    assert len(y) == len(phi) == len(err) == len(eta) == len(mask) > 10
+    assert np.all(np.isfinite(phi)) and phi.max() > 0.3 and np.all(phi >= 0)
+    dy = y[1] - y[0]
+    inv = phi.sum() * dy
+    assert abs(inv - s["results"]["inventory"]["value"]) < 1e-9 * inv
+    assert np.all(np.diff(eta) <= 1e-12)          # eta_ii(y) decreases with height
+    h = f["observables/suspension_height/value"][:]
+    assert len(h) >= 10 and np.all(np.isfinite(h))
+    assert f["particles/all/position/value"].shape[0] == 3
+PYEOF
+
+cat > "$work/long.json" <<'JEOF'
+{"scene": "resuspension", "n": 150, "width": 12, "strain": 500, "average_from": 0.05,
+ "sample_strain": 0.05, "inertial_number": 0.05, "density_ratio": 10}
+JEOF
+"$LUBDEM" run "$work/long.json" --out "$work/run2" --threads 1 > /dev/null 2> "$work/run2.err" &
+pid=$!
+sleep 4
+kill -TERM $pid
+for _ in $(seq 1 100); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+if kill -0 $pid 2>/dev/null; then bad "did not stop within 10 s of SIGTERM"; kill -9 $pid; fi
+wait $pid
+rc=$?
+[ $rc -eq 5 ] && ok || bad "SIGTERM exit code $rc (expected 5): $(cat "$work/run2.err")"
+$PY -c "import json; s=json.load(open('$work/run2/summary.json')); assert s['status']=='partial'" \
+  && ok || bad "partial summary status"
+$PY "$CHECK" "$work/run2/result.h5" --status partial > /dev/null && ok || bad "partial H5MD"
+$PY -c "
+import h5py, numpy as np
+f = h5py.File('$work/run2/result.h5', 'r')
+assert np.all(np.isfinite(f['profiles/phi'][:]))" && ok || bad "partial profiles"
+
+echo "resuspension_cli_checks=$((pass + fail))"
+echo "$pass passed, $fail failed"
+[ $fail -eq 0 ]

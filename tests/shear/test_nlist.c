@@ -1,0 +1,169 @@
+/* test_nlist.c — neighbour list against brute force in a sheared cell, and persistence of
+ * pair states across rebuilds (with wraps and flips in between). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "neighbor_list.h"
+#include "pair_store.h"
+#include "rng.h"
+#include "shear_test.h"
+
+/* brute force: all pairs within the listing distance, nearest image among -2..2 shifts
+ * (positions span at most 1.5 cells, so the nearest image is always among them) */
+static int brute_has(const lub_cell *c, const vec3 *x, const double *r, int i, int j, double range,
+                     double skin, int out_c[3])
+{
+    double lim = (r[i] + r[j]) * (1 + 0.5 * range) + skin;
+    double best = INFINITY;
+    for (int a = -2; a <= 2; ++a)
+        for (int b = -2; b <= 2; ++b)
+            for (int e = -2; e <= 2; ++e) {
+                int k[3] = {a, b, e};
+                vec3 d = v3_sub(v3_add(x[j], lub_cell_shift(c, k)), x[i]);
+                double l = v3_norm(d);
+                if (l < best) {
+                    best = l;
+                    memcpy(out_c, k, sizeof k);
+                }
+            }
+    return best < lim;
+}
+
+static int check_against_brute(const lub_nlist *nl, const lub_cell *c, const vec3 *x,
+                               const double *r, int n)
+{
+    int bad = 0;
+    size_t found = 0;
+    size_t k = 0;
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j) {
+            int cb[3];
+            int has = brute_has(c, x, r, i, j, nl->range, nl->skin, cb);
+            /* listed pairs are sorted: advance */
+            int listed = (k < nl->npairs && nl->pi[k] == i && nl->pj[k] == j);
+            if (has != listed)
+                bad++;
+            if (listed) {
+                if (memcmp(cb, &nl->pc[3 * k], sizeof cb) != 0)
+                    bad++;
+                ++k;
+                ++found;
+            }
+        }
+    if (k != nl->npairs)
+        bad++;
+    return bad;
+}
+
+int main(void)
+{
+    const int n = 600;
+    lub_rng rng;
+    lub_rng_seed(&rng, 42);
+    vec3 *x = malloc(n * sizeof *x);
+    double *r = malloc(n * sizeof *r);
+    lub_cell c;
+    lub_cell_init_box(&c, 22, 20, 21);
+    c.L[0][1] = 1.0;
+    for (int i = 0; i < n; ++i) {
+        r[i] = 0.85 + 0.3 * lub_rng_uniform(&rng);
+        /* positions deliberately outside the primary cell too */
+        x[i] = v3(-5 + 32 * lub_rng_uniform(&rng), 20 * lub_rng_uniform(&rng) - 3,
+                  21 * lub_rng_uniform(&rng));
+    }
+    lub_nlist nl;
+    lub_nlist_init(&nl, 2.0, 0.4);
+    lub_pairs ps;
+    lub_pairs_init(&ps);
+    const double tilts[4] = {0.0, 0.3, 0.49, -0.45};
+    for (int t = 0; t < 4; ++t) {
+        c.h[0][1] = tilts[t] * c.h[0][0];
+        lub_cell_refresh(&c);
+        int rc = lub_nlist_build(&nl, &c, x, r, n);
+        ST_CHECK(rc == LUB_NLIST_OK, "build rc %d", rc);
+        int bad = check_against_brute(&nl, &c, x, r, n);
+        ST_CHECK(bad == 0, "tilt %g: %d mismatches vs brute force (%zu pairs)", tilts[t], bad,
+                 nl.npairs);
+        printf("nlist tilt=%.2f pairs=%zu mismatches=%d\n", tilts[t], nl.npairs, bad);
+    }
+
+    /* persistence: mark each pair's state with a key, move, wrap, shear+flip, rebuild */
+    c.h[0][1] = 0.0;
+    lub_cell_refresh(&c);
+    lub_nlist_build(&nl, &c, x, r, n);
+    lub_pairs_adopt(&ps, &nl, n);
+    ST_CHECK(ps.carried == 0, "first adopt carried %zu", ps.carried);
+    vec3 *branch = malloc(nl.npairs * sizeof *branch);
+    for (size_t k = 0; k < ps.n; ++k) {
+        ps.state[k].delta = ps.i[k] * 10000.0 + ps.j[k];
+        ps.state[k].is_new = 0;
+        ps.active[k] = (k % 3) != 0;
+        branch[k] = v3_sub(v3_add(x[ps.j[k]], lub_cell_shift(&c, &ps.c[3 * k])), x[ps.i[k]]);
+    }
+    size_t n_old = ps.n;
+    int32_t *oi = malloc(n_old * sizeof *oi), *oj = malloc(n_old * sizeof *oj);
+    memcpy(oi, ps.i, n_old * sizeof *oi);
+    memcpy(oj, ps.j, n_old * sizeof *oj);
+    /* shear affinely by strain 0.7 (x += 0.7 y), flip, wrap everything, rebuild */
+    for (int i = 0; i < n; ++i)
+        x[i].x += 0.7 * x[i].y;
+    c.h[0][1] = 0.7 * c.h[1][1];
+    lub_cell_refresh(&c);
+    int m[3];
+    ST_CHECK(lub_cell_flip(&c, m) == 1, "flip expected");
+    for (int i = 0; i < n; ++i)
+        lub_cell_wrap(&c, &x[i], NULL, NULL);
+    lub_nlist_build(&nl, &c, x, r, n);
+    ST_CHECK(check_against_brute(&nl, &c, x, r, n) == 0, "after flip: brute force mismatch");
+    lub_pairs_adopt(&ps, &nl, n);
+    size_t carried = 0, fresh = 0, wrong = 0, branch_bad = 0;
+    size_t o = 0;
+    for (size_t k = 0; k < ps.n; ++k) {
+        while (o < n_old && (oi[o] < ps.i[k] || (oi[o] == ps.i[k] && oj[o] < ps.j[k])))
+            ++o;
+        int existed = o < n_old && oi[o] == ps.i[k] && oj[o] == ps.j[k];
+        if (existed) {
+            carried++;
+            if (ps.state[k].delta != ps.i[k] * 10000.0 + ps.j[k])
+                wrong++;
+            if (ps.active[k] != ((o % 3) != 0))
+                wrong++;
+            /* the branch vector of a persisting pair is the sheared old one */
+            vec3 b = v3_sub(v3_add(x[ps.j[k]], lub_cell_shift(&c, &ps.c[3 * k])), x[ps.i[k]]);
+            vec3 bo = branch[o];
+            vec3 bexp = v3(bo.x + 0.7 * bo.y, bo.y, bo.z);
+            if (v3_norm(v3_sub(b, bexp)) > 1e-9)
+                branch_bad++;
+        } else {
+            fresh++;
+            if (!ps.state[k].is_new || ps.active[k])
+                wrong++;
+        }
+    }
+    printf("persist carried=%zu new=%zu wrong=%zu branch_mismatch=%zu\n", carried, fresh, wrong,
+           branch_bad);
+    ST_CHECK(carried > 100, "too few carried pairs %zu", carried);
+    ST_CHECK(wrong == 0, "%zu pair states not carried correctly", wrong);
+    ST_CHECK(branch_bad == 0, "%zu branch vectors inconsistent after wrap+flip", branch_bad);
+    /* the transposed index covers every pair exactly once */
+    size_t tot = 0;
+    for (int p = 0; p < n; ++p)
+        for (size_t q = ps.first2[p]; q < ps.first2[p + 1]; ++q) {
+            ST_CHECK(ps.j[ps.by2[q]] == p, "by2 index");
+            tot++;
+        }
+    ST_CHECK(tot == ps.n, "by2 size %zu vs %zu", tot, ps.n);
+    /* too small cell is reported */
+    lub_cell small;
+    lub_cell_init_box(&small, 8, 8, 8);
+    ST_CHECK(lub_nlist_build(&nl, &small, x, r, 10) == LUB_NLIST_CELL_TOO_SMALL, "small cell");
+    free(branch);
+    free(oi);
+    free(oj);
+    free(x);
+    free(r);
+    lub_nlist_free(&nl);
+    lub_pairs_free(&ps);
+    ST_DONE();
+}

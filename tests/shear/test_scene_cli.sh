@@ -1,0 +1,100 @@
+#!/usr/bin/env bash
+# CLI-level checks of the simple_shear scene (fast suite):
+#  1. spec errors: Iv without pressure control, too few particles -> exit 2, nothing written;
+#  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
+#     numbers, H5MD observables present;
+#  3. imposed-pressure run -> measured pressure close to 1 after the transient;
+#  3b. target relative error stops the run early;
+#  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5.
+# usage: test_scene_cli.sh LUBDEM PYTHON
+set -u
+LUBDEM=$1
+PY=$2
+W=$(mktemp -d)
+trap 'rm -rf "$W"' EXIT
+fail=0
+check() { if ! eval "$1"; then echo "FAIL: $2" >&2; fail=1; fi; }
+
+# 1. spec errors
+echo '{"scene":"simple_shear","Iv":0.1}' | "$LUBDEM" run - --out "$W/bad1" --quiet 2>"$W/e1"; rc=$?
+check "[ $rc -eq 2 ] && [ ! -e $W/bad1 ] && grep -q '/Iv' $W/e1" "Iv with control volume: rc=$rc"
+echo '{"scene":"simple_shear","n_particles":50}' | "$LUBDEM" validate - 2>"$W/e2"; rc=$?
+check "[ $rc -eq 2 ] && grep -q '/n_particles' $W/e2" "too few particles: rc=$rc"
+
+# 2. robustness run
+echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
+  | "$LUBDEM" run - --out "$W/run" --quiet; rc=$?
+check "[ $rc -eq 0 ]" "robustness run exit $rc"
+"$PY" - "$W/run" <<'PYEOF' || fail=1
+import json, math, sys, h5py
+d = sys.argv[1]
+s = json.load(open(d + "/summary.json"))
+bad = []
+if s["status"] != "complete": bad.append("status " + s["status"])
+for k in ["phi", "pressure", "mu", "eta_r", "Iv", "eta_11", "eta_22", "eta_33", "Z", "Z_contact",
+          "crushed_contact_fraction"]:
+    v = s["results"][k]["value"]
+    if v is None or not math.isfinite(v): bad.append(f"{k} not finite")
+r = s["results"]
+if not (r["pressure"]["value"] > 0 and r["eta_r"]["value"] > 0): bad.append("no positive stress")
+if abs(r["phi"]["value"] - 0.55) > 1e-9: bad.append("phi not imposed")
+f = h5py.File(d + "/result.h5", "r")
+if f.attrs["status"] not in (b"complete", "complete"): bad.append("h5 status")
+for k in ["stress/total", "stress/normal_contact", "stress/kinetic", "mu", "pressure"]:
+    if f["observables/" + k + "/value"].shape[0] < 10: bad.append("few rows " + k)
+if f["observables/stress/total/value"].shape[1:] != (3, 3): bad.append("tensor shape")
+if "pdf_interaction_density" not in f["profiles"]: bad.append("microstructure missing")
+print(f"robust mu={r['mu']['value']:.3f} eta_r={r['eta_r']['value']:.2f} Zc={r['Z_contact']['value']:.2f}")
+for b in bad: print("FAIL:", b, file=sys.stderr)
+sys.exit(1 if bad else 0)
+PYEOF
+
+# 3. imposed pressure: the servo brings -sigma_yy to P = 1
+echo '{"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":1,"phi":0.3,"strain":2,"transient_strain":1,"snapshots":0}' \
+  | "$LUBDEM" run - --out "$W/pres" --quiet; rc=$?
+check "[ $rc -eq 0 ]" "pressure run exit $rc"
+"$PY" - "$W/pres" <<'PYEOF' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1] + "/summary.json"))
+p = s["results"]["pressure"]
+iv = s["results"]["Iv"]
+print(f"servo pressure={p['value']:.4f}+-{p['stderr']} Iv={iv['value']:.4f}")
+ok = abs(p["value"] - 1.0) < 0.05 and abs(iv["value"] / 1.0 - 1.0) < 0.05
+if not ok: print("FAIL: servo did not hold P = 1", file=sys.stderr)
+sys.exit(0 if ok else 1)
+PYEOF
+
+# 3b. "run until the headline is known to x %": stops long before the maximum strain
+echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"stiffness":1e4,"strain":50,"transient_strain":0.5,"sample_strain":0.01,"target_rel_error":0.1,"snapshots":0}' \
+  | "$LUBDEM" run - --out "$W/target" --quiet; rc=$?
+check "[ $rc -eq 0 ]" "target-error run exit $rc"
+"$PY" - "$W/target" <<'PYEOF' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1] + "/summary.json"))
+e = s["results"]["eta_r"]
+st = s["results"]["strain_reached"]["value"]
+print(f"target eta_r={e['value']:.3f}+-{e['stderr']:.3f} strain_reached={st:.2f} stopped={s['stopped_on_target_error']}")
+ok = s["stopped_on_target_error"] and st < 10 and e["stderr"] <= 0.1 * e["value"]
+if not ok: print("FAIL: did not stop on the target error", file=sys.stderr)
+sys.exit(0 if ok else 1)
+PYEOF
+
+# 4. SIGTERM: partial but valid result
+echo '{"scene":"simple_shear","n_particles":300,"strain":1000,"snapshots":1}' > "$W/long.json"
+"$LUBDEM" run "$W/long.json" --out "$W/long" --quiet & pid=$!
+sleep 3
+kill -TERM $pid
+wait $pid; rc=$?
+check "[ $rc -eq 5 ]" "SIGTERM exit $rc (expected 5)"
+"$PY" - "$W/long" <<'PYEOF' || fail=1
+import json, sys, h5py
+d = sys.argv[1]
+s = json.load(open(d + "/summary.json"))
+f = h5py.File(d + "/result.h5", "r")
+ok = s["status"] == "partial" and f.attrs["status"] in (b"partial", "partial")
+ok = ok and f["observables/mu/value"].shape[0] > 0 and s["results"]["strain_reached"]["value"] > 0
+print(f"sigterm status={s['status']} rows={f['observables/mu/value'].shape[0]} strain={s['results']['strain_reached']['value']:.3f}")
+if not ok: print("FAIL: partial result invalid", file=sys.stderr)
+sys.exit(0 if ok else 1)
+PYEOF
+exit $fail

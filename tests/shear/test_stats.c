@@ -1,0 +1,96 @@
+/* test_stats.c — blocking error bars on AR(1) series of known variance; MSER transient
+ * detection on a relaxing series. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "rng.h"
+#include "shear_test.h"
+#include "stats.h"
+
+int main(void)
+{
+    lub_rng rng;
+    lub_rng_seed(&rng, 2024);
+    const size_t n = 1u << 14;
+    double *x = malloc(n * sizeof *x), *scr = malloc(n * sizeof *scr);
+    const double rhos[3] = {0.0, 0.5, 0.9};
+    for (int t = 0; t < 3; ++t) {
+        const double rho = rhos[t], se = 1.0;
+        /* exact standard error of the mean for large n: sigma_x sqrt((1+rho)/((1-rho) n)) */
+        double sx = se / sqrt(1 - rho * rho);
+        double exact = sx * sqrt((1 + rho) / ((1 - rho) * (double)n));
+        const int reps = 200;
+        double mean_est = 0;
+        int covered = 0;
+        for (int r = 0; r < reps; ++r) {
+            double v = sx * lub_rng_gauss(&rng);
+            for (size_t i = 0; i < n; ++i) {
+                v = rho * v + se * lub_rng_gauss(&rng);
+                x[i] = v;
+            }
+            double sem = lub_stats_block_sem(x, n, scr);
+            double m = lub_stats_mean(x, n);
+            mean_est += sem / reps;
+            if (fabs(m) < 2 * sem)
+                covered++;
+        }
+        double ratio = mean_est / exact;
+        printf("ar1 rho=%.1f sem_ratio=%.3f coverage_2sigma=%.3f\n", rho, ratio,
+               (double)covered / reps);
+        ST_CHECK(ratio > 0.85 && ratio < 1.2, "rho %g: blocking SEM / exact = %g", rho, ratio);
+        ST_CHECK(covered >= 0.88 * reps, "rho %g: 2-sigma coverage %d/%d", rho, covered, reps);
+    }
+    /* naive SEM underestimates correlated data: check blocking is larger by ~sqrt(19) */
+    {
+        double v = 0;
+        for (size_t i = 0; i < n; ++i) {
+            v = 0.9 * v + lub_rng_gauss(&rng);
+            x[i] = v;
+        }
+        double naive = sqrt(lub_stats_var(x, n) / n);
+        double blk = lub_stats_block_sem(x, n, scr);
+        ST_CHECK(blk / naive > 3.0, "blocking/naive %g", blk / naive);
+    }
+    /* transient: x = 5 exp(-i/200) + noise, n = 4000; truncation should fall in [300, 1500] */
+    {
+        const size_t m = 4000;
+        int steady = 0;
+        double sum_d = 0;
+        for (int r = 0; r < 20; ++r) {
+            for (size_t i = 0; i < m; ++i)
+                x[i] = 5.0 * exp(-(double)i / 200.0) + 0.3 * lub_rng_gauss(&rng);
+            size_t d = lub_stats_mser(x, m, 5, &steady);
+            sum_d += (double)d;
+            ST_CHECK(d >= 300 && d <= 1500, "MSER truncation %zu", d);
+            ST_CHECK(steady == 1, "steady flag");
+        }
+        printf("mser mean_truncation=%.0f (transient time constant 200 samples)\n", sum_d / 20);
+        /* a steadily drifting series is not steady */
+        for (size_t i = 0; i < m; ++i)
+            x[i] = (double)i * 0.01 + 0.1 * lub_rng_gauss(&rng);
+        lub_stats_mser(x, m, 5, &steady);
+        ST_CHECK(steady == 0, "drifting series flagged steady");
+        /* drift test: white noise passes, a slow ramp fails */
+        for (size_t i = 0; i < m; ++i)
+            x[i] = 1.0 + 0.1 * lub_rng_gauss(&rng);
+        double z0 = lub_stats_drift_z(x, m, scr);
+        for (size_t i = 0; i < m; ++i)
+            x[i] += 0.05 * (double)i / (double)m;
+        double z1 = lub_stats_drift_z(x, m, scr);
+        printf("drift z_white=%.2f z_ramp=%.2f\n", z0, z1);
+        ST_CHECK(fabs(z0) <= 3.0, "white noise drift z %g", z0);
+        ST_CHECK(fabs(z1) > 3.0, "ramp not detected z %g", z1);
+        /* analyse respects min_start */
+        for (size_t i = 0; i < m; ++i)
+            x[i] = 1.0 + 0.1 * lub_rng_gauss(&rng);
+        lub_stats_result res;
+        lub_stats_analyse(x, m, 1000, scr, &res);
+        ST_CHECK(res.start >= 1000 && fabs(res.mean - 1.0) < 5 * res.sem && res.sem > 0,
+                 "analyse start %zu mean %g sem %g", res.start, res.mean, res.sem);
+        ST_CHECK(res.n_eff > 1000 && res.n_eff < 6000, "n_eff of white noise %g", res.n_eff);
+        ST_CHECK(res.steady == 1, "white noise not steady (z %g)", res.drift_z);
+    }
+    free(x);
+    free(scr);
+    ST_DONE();
+}

@@ -1,0 +1,186 @@
+/* test_system.c — the sheared system as a whole:
+ *  1. affine flow without interactions: the particle stress stays exactly zero (convective
+ *     term, wraps across the gradient boundary with the mean-flow velocity jump, flips);
+ *  2. a dense robustness run (phi = 0.55, all terms) finishes without NaN, with contacts,
+ *     compressive pressure and positive shear stress;
+ *  3. 1 and 2 threads give the same trajectory (forces gathered in a fixed order). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "packing.h"
+#include "shear_system.h"
+#include "shear_test.h"
+
+static lub_law_params full_law(double g)
+{
+    lub_law_params p = {.eta = 1.0,
+                        .k_bulk = g,
+                        .alpha = 1.0,
+                        .k_t = 0.5 * g,
+                        .eps = 0.02,
+                        .mu = 0.5,
+                        .terms = LUB_TERM_ALL};
+    return p;
+}
+
+static int make(lub_shear_system *s, int n, double phi, const lub_law_params *law, double cutoff,
+                int threads, unsigned seed, double st)
+{
+    double *r = malloc(n * sizeof *r);
+    vec3 *x = malloc(n * sizeof *x);
+    lub_cell c;
+    lub_packing_params pp = {.n = n,
+                             .phi = phi,
+                             .radius_std = 0.05,
+                             .seed = seed,
+                             .margin = 0.01,
+                             .max_sweeps = 2000000};
+    int rc = lub_packing_generate(&pp, r, x, &c, NULL);
+    if (rc == 0) {
+        c.L[0][1] = 1.0;
+        rc = lub_shear_init(s, n, r, x, &c, law, st, cutoff, 0.5, 1.0, threads, 0, 0);
+        if (rc == 0)
+            s->dt = 0.3 * lub_shear_elastic_dt(s);
+    }
+    free(r);
+    free(x);
+    return rc;
+}
+
+int main(void)
+{
+    /* 1. no interactions: spheres on a lattice with gradient-direction spacing 3 a: the affine
+     * flow (plus a uniform drift along y, so that spheres cross the gradient boundary and get
+     * the mean-flow velocity jump) never brings two spheres within the cut-off 0.2 a */
+    {
+        lub_law_params law = full_law(1e4);
+        const int nl = 4, n = nl * nl * nl;
+        double r[64];
+        vec3 x[64];
+        for (int i = 0; i < n; ++i) {
+            r[i] = 1.0;
+            x[i] =
+                v3(1.5 + 3.0 * (i % nl), 1.5 + 3.0 * ((i / nl) % nl), 1.5 + 3.0 * (i / (nl * nl)));
+        }
+        lub_cell c;
+        lub_cell_init_box(&c, 12, 12, 12);
+        c.L[0][1] = 1.0;
+        lub_shear_system s;
+        int rc = lub_shear_init(&s, n, r, x, &c, &law, 1e-2, 0.2, 0.5, 2e-3, 1, 0, 0);
+        ST_CHECK(rc == 0, "init %d", rc);
+        const double u = 2.0;
+        for (int i = 0; i < s.n; ++i)
+            s.v[i].y += u;
+        double max_xy = 0, max_dev_yy = 0, yy_exp = 0, max_pair = 0;
+        size_t max_active = 0;
+        for (int i = 0; i < s.n; ++i)
+            yy_exp -= s.m[i] * u * u;
+        yy_exp /= s.cell.volume;
+        for (int step = 0; step < 1500 && rc == 0; ++step) {
+            lub_shear_sample smp;
+            rc = lub_shear_step(&s, LUB_SAMPLE_STRESS, &smp);
+            double tot[9];
+            lub_stress_total(&smp.stress, tot);
+            for (int part = 0; part < LUB_SP_KIN; ++part)
+                for (int k = 0; k < 9; ++k)
+                    if (fabs(smp.stress.part[part][k]) > max_pair)
+                        max_pair = fabs(smp.stress.part[part][k]);
+            if (smp.n_active > max_active)
+                max_active = smp.n_active;
+            if (fabs(tot[1]) > max_xy)
+                max_xy = fabs(tot[1]);
+            if (fabs(tot[4] - yy_exp) > max_dev_yy)
+                max_dev_yy = fabs(tot[4] - yy_exp);
+        }
+        ST_CHECK(rc == 0, "step rc %d", rc);
+        printf(
+            "affine strain=%.2f flips=%ld rebuilds=%ld active_pairs_max=%zu max|pair stress|=%.3g "
+            "max|sigma_xy|=%.3g max|dsigma_yy|=%.3g (kinetic sigma_yy = %.4g)\n",
+            s.time, s.flips, s.rebuilds, max_active, max_pair, max_xy, max_dev_yy, yy_exp);
+        ST_CHECK(s.flips >= 2, "flips %ld", s.flips);
+        ST_CHECK(max_active == 0 && max_pair == 0.0, "interactions in the affine test");
+        ST_CHECK(max_xy < 1e-9 * fabs(yy_exp), "kinetic sigma_xy not zero: %g", max_xy);
+        ST_CHECK(max_dev_yy < 1e-9 * fabs(yy_exp), "kinetic sigma_yy drift %g", max_dev_yy);
+        lub_shear_free(&s);
+    }
+    /* 2. dense robustness run + 3. thread equivalence */
+    {
+        lub_law_params law = full_law(1e4);
+        lub_shear_system a, b;
+        int rc = make(&a, 400, 0.55, &law, 2.0, 1, 5, 1e-2);
+        rc |= make(&b, 400, 0.55, &law, 2.0, 2, 5, 1e-2);
+        ST_CHECK(rc == 0, "init");
+        const int nsteps = 1200;
+        double sxy = 0, P = 0, zc = 0, z = 0;
+        int ns = 0;
+        double maxdiff = 0, maxsdiff = 0;
+        int momentum_bad = 0;
+        for (int step = 0; step < nsteps && rc == 0; ++step) {
+            lub_shear_sample sa, sb;
+            unsigned fl = (step % 10 == 0) ? LUB_SAMPLE_STRESS : 0u;
+            rc = lub_shear_step(&a, fl, &sa);
+            if (rc) {
+                fprintf(stderr, "%s\n", a.fail_msg);
+                break;
+            }
+            if (step < 300) {
+                rc = lub_shear_step(&b, fl, &sb);
+                for (int i = 0; i < a.n; ++i) {
+                    double d = v3_norm(v3_sub(a.x[i], b.x[i]));
+                    if (d > maxdiff)
+                        maxdiff = d;
+                }
+                if (fl) {
+                    double ta[9], tb[9];
+                    lub_stress_total(&sa.stress, ta);
+                    lub_stress_total(&sb.stress, tb);
+                    for (int k = 0; k < 9; ++k) {
+                        double d = fabs(ta[k] - tb[k]) / (fabs(ta[k]) + 1e-300);
+                        if (fabs(ta[k]) > 1e-8 && d > maxsdiff)
+                            maxsdiff = d;
+                    }
+                }
+            }
+            {
+                /* pair forces are equal and opposite: the total force vanishes */
+                vec3 sum = v3(0, 0, 0);
+                double mag = 0;
+                for (int i = 0; i < a.n; ++i) {
+                    sum = v3_add(sum, a.f[i]);
+                    mag += v3_norm(a.f[i]);
+                }
+                if (v3_norm(sum) > 1e-9 * (mag + 1e-300))
+                    momentum_bad++;
+            }
+            if (fl && step * a.dt > 0.2) {
+                double t[9];
+                lub_stress_total(&sa.stress, t);
+                sxy += t[1];
+                P += -t[4];
+                z += 2.0 * sa.n_active / a.n;
+                zc += 2.0 * sa.n_contacts / a.n;
+                ns++;
+                ST_CHECK(isfinite(t[1]) && isfinite(t[4]), "non-finite stress");
+            }
+        }
+        ST_CHECK(rc == 0, "dense run failed rc=%d", rc);
+        ST_CHECK(ns > 10, "samples %d", ns);
+        ST_CHECK(momentum_bad == 0, "%d steps with a non-zero total force", momentum_bad);
+        sxy /= ns;
+        P /= ns;
+        z /= ns;
+        zc /= ns;
+        printf("dense n=400 phi=0.55 strain=%.2f dt=%.3g sigma_xy=%.4g P=%.4g mu=%.3f Z=%.2f "
+               "Zc=%.2f rebuilds=%ld flips=%ld\n",
+               a.time, a.dt, sxy, P, sxy / P, z, zc, a.rebuilds, a.flips);
+        printf("threads max_position_diff=%.3g max_stress_reldiff=%.3g\n", maxdiff, maxsdiff);
+        ST_CHECK(sxy > 0 && P > 0, "sheared suspension must resist: sxy %g P %g", sxy, P);
+        ST_CHECK(z > 2 && zc > 0.1, "coordination Z %g Zc %g", z, zc);
+        ST_CHECK(maxdiff == 0.0, "1 vs 2 threads: positions differ by %g", maxdiff);
+        ST_CHECK(maxsdiff < 1e-10, "1 vs 2 threads: stresses differ by %g", maxsdiff);
+        lub_shear_free(&a);
+        lub_shear_free(&b);
+    }
+    ST_DONE();
+}
