@@ -316,8 +316,7 @@ double lub_normal_solve_ex(double delta_prev, double s, double h, double e, doub
     return d;
 }
 
-double lub_normal_solve(double delta_prev, double s, double h, double e, double alpha,
-                        int *contact)
+double lub_normal_solve(double delta_prev, double s, double h, double e, double alpha, int *contact)
 {
     int c = 0;
     double x;

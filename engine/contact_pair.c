@@ -79,9 +79,8 @@ int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_st
     const vec3 dus = lub_shear_increment(in->v1, in->v2, in->w1, in->w2, r1, r2, un, n, dt);
     const double kt_dt = p->k_t * dt;
     const vec3 f_trial = v3_axpy(fr, p->k_t, dus);
-    const double nu_t = ((terms & LUB_TERM_SHEAR_LUB) && eta > 0.0)
-                            ? lub_shear_viscosity_x(eta, a, delta, x)
-                            : 0.0;
+    const double nu_t =
+        ((terms & LUB_TERM_SHEAR_LUB) && eta > 0.0) ? lub_shear_viscosity_x(eta, a, delta, x) : 0.0;
     const int friction = (terms & LUB_TERM_FRICTION) && contact;
     lub_shear_result sh;
     lub_shear_update(f_trial, nu_t, kt_dt, friction, mu * fabs(fn_c), &sh);

@@ -68,8 +68,8 @@ double lub_shear_viscosity_x(double eta, double a, double delta, double x)
     return 0.5 * LUB_PI * eta * a * br;
 }
 
-void lub_shear_update(vec3 f_trial, double nu_t, double kt_dt, int friction_active,
-                      double f_limit, lub_shear_result *out)
+void lub_shear_update(vec3 f_trial, double nu_t, double kt_dt, int friction_active, double f_limit,
+                      lub_shear_result *out)
 {
     const vec3 zero = v3(0.0, 0.0, 0.0);
     const double den = nu_t + kt_dt;

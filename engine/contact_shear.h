@@ -43,7 +43,7 @@ typedef struct {
  *  - slip (|Ft| > limit, strict): F_sl = limit Ft / |Ft|, lubrication part
  *    nu_t (Ft - F_sl) / (nu_t + k_t dt) (= F+ - F_sl, the consistent split of notes §3.2.5),
  *    F+ = F_sl + lubrication part (eq. 32). If nu_t + k_t dt = 0, F+ = F_sl. */
-void lub_shear_update(vec3 f_trial, double nu_t, double kt_dt, int friction_active,
-                      double f_limit, lub_shear_result *out);
+void lub_shear_update(vec3 f_trial, double nu_t, double kt_dt, int friction_active, double f_limit,
+                      lub_shear_result *out);
 
 #endif

@@ -28,10 +28,7 @@ int lub_normal_law_preset(const char *name, int direction, lub_normal_law *out)
     return 0;
 }
 
-double lub_dem_phi_m(double mu_m)
-{
-    return 0.6301 - 0.0794 * (1.0 - exp(-mu_m / 0.4032));
-}
+double lub_dem_phi_m(double mu_m) { return 0.6301 - 0.0794 * (1.0 - exp(-mu_m / 0.4032)); }
 
 double lub_dem_eta_r(double phi, double phi_m)
 {
@@ -59,8 +56,7 @@ double lub_normal_law_eta_s(const lub_normal_law *L, double s)
         return 0.0;
     double psi = s / (1.0 + s);
     switch (L->kind) {
-    case LUB_NLAW_POWER:
-        return L->lambda * pow(s, L->n);
+    case LUB_NLAW_POWER: return L->lambda * pow(s, L->n);
     case LUB_NLAW_DEM_SEED: {
         /* psi^9/(1-psi)^2 = psi^9 (1+s)^2 */
         double e22 = pow(psi, 9.0) * (1.0 + s) * (1.0 + s) + 150.0 * pow(psi, 10.0);
@@ -91,8 +87,8 @@ double lub_normal_law_eta(const lub_normal_law *L, double phi)
 
 lub_mm_params lub_mm_default(void)
 {
-    lub_mm_params m = {.K_s = 0.1, .K_n = 0.75, .lambda_grad = 0.8, .lambda_vort = 0.5,
-                       .phi_m = 0.68};
+    lub_mm_params m = {
+        .K_s = 0.1, .K_n = 0.75, .lambda_grad = 0.8, .lambda_vort = 0.5, .phi_m = 0.68};
     return m;
 }
 

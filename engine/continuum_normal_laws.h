@@ -20,9 +20,9 @@
  *
  * Also: the DEM-seed shear viscosity eta_r(phi) (§2) and the Miller & Morris (2006) SBM closure
  * (2.41f–i) of the thesis (Q-diagonal entries named lambda_grad / lambda_vort, erratum E10: the
- * thesis mixes lambda1/lambda2/lambda3 for the gradient and vorticity entries), whose constants are not in any seed (defaults K_s = 0.1, K_n = 0.75,
- * lambda_grad = 0.8, lambda_vort = 0.5, phi_m = 0.68 are the values usually quoted; note §2.4).
- * Pure functions; no state.
+ * thesis mixes lambda1/lambda2/lambda3 for the gradient and vorticity entries), whose constants are
+ * not in any seed (defaults K_s = 0.1, K_n = 0.75, lambda_grad = 0.8, lambda_vort = 0.5, phi_m =
+ * 0.68 are the values usually quoted; note §2.4). Pure functions; no state.
  */
 #ifndef LUBDEM_CONTINUUM_NORMAL_LAWS_H
 #define LUBDEM_CONTINUUM_NORMAL_LAWS_H
@@ -51,8 +51,8 @@ double lub_normal_law_eta(const lub_normal_law *L, double phi);
 
 /* DEM seed (physics-reference §2-3). */
 double lub_dem_phi_m(double mu_m);
-double lub_dem_eta_r(double phi, double phi_m);    /* sigma_xy/(eta0 gd), 0 < phi < phi_m */
-double lub_dem_eta22(double psi);                   /* 0 <= psi < 1 */
+double lub_dem_eta_r(double phi, double phi_m); /* sigma_xy/(eta0 gd), 0 < phi < phi_m */
+double lub_dem_eta22(double psi);               /* 0 <= psi < 1 */
 double lub_dem_lambda33(double phi, double phi_rcp);
 
 /* Miller & Morris (2006) SBM closure (2.41h,i). */

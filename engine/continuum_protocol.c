@@ -6,18 +6,15 @@
 #include <stdio.h>
 
 /* 5-point Gauss–Legendre nodes and weights on [-1, 1] */
-static const double GL_X[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
-                               0.5384693101056831, 0.9061798459386640};
+static const double GL_X[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                               0.9061798459386640};
 static const double GL_W[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
                                0.4786286704993665, 0.2369268850561891};
 
 /* Transient considered decayed beyond delta1 * gamma > DECAYED (e^-40 ~ 4e-18). */
 #define DECAYED 40.0
 
-static double sub_step(const lub_texture_params *p)
-{
-    return 0.1 / fmax(1.0, p->delta1);
-}
+static double sub_step(const lub_texture_params *p) { return 0.1 / fmax(1.0, p->delta1); }
 
 static double eta_at(const lub_texture_params *p, int s, lub_texture_state g0, double gamma)
 {
@@ -134,13 +131,15 @@ static int emit(const lub_texture_params *p, int seg, double time, double strain
     S.pp = fabs(gd) * st.pp;
     S.g = g;
     S.micro = lub_texture_micro_of(p, g);
-    const double chk[10] = {S.eta_app, S.sigma_xy, S.n1, S.n2, S.pp, g.xx, g.yy, g.xy, time, strain};
+    const double chk[10] = {S.eta_app, S.sigma_xy, S.n1, S.n2, S.pp,
+                            g.xx,      g.yy,       g.xy, time, strain};
     for (int i = 0; i < 10; ++i)
         if (!isfinite(chk[i])) {
             err->segment = seg;
             err->strain = strain;
             snprintf(err->message, sizeof err->message,
-                     "non-finite stress, state, time or strain at strain %.6g, time %.6g", strain, time);
+                     "non-finite stress, state, time or strain at strain %.6g, time %.6g", strain,
+                     time);
             return -1;
         }
     if (!(S.micro.b_min > 0.0)) {
@@ -158,9 +157,8 @@ static int emit(const lub_texture_params *p, int seg, double time, double strain
     return 0;
 }
 
-int lub_rheo_run(const lub_texture_params *p, lub_texture_state g0, int s0,
-                 const lub_segment *segs, int nseg, int samples, lub_rheo_sink sink, void *user,
-                 lub_rheo_error *err)
+int lub_rheo_run(const lub_texture_params *p, lub_texture_state g0, int s0, const lub_segment *segs,
+                 int nseg, int samples, lub_rheo_sink sink, void *user, lub_rheo_error *err)
 {
     lub_texture_state g = g0;
     int s_last = s0 >= 0 ? 1 : -1, stopped = 0, rc;
@@ -201,8 +199,8 @@ int lub_rheo_run(const lub_texture_params *p, lub_texture_state g0, int s0,
                 double tau = fmin(ti - hk * Th, Th);
                 gl = (A / om) * (1.0 - cos(om * tau));
                 gs = lub_texture_advance(p, s, gstart, gl);
-                rc = emit(p, k, t + ti, strain + hk * Gh + gl,
-                          A * sin(om * ti), s, gs, sink, user, err, &stopped);
+                rc = emit(p, k, t + ti, strain + hk * Gh + gl, A * sin(om * ti), s, gs, sink, user,
+                          err, &stopped);
                 if (rc)
                     return rc < 0 ? -1 : 1;
             }

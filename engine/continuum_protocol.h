@@ -12,8 +12,9 @@
  * imposed stress finds its strain by Newton iteration on that map. sigma = 0 freezes the state
  * (like a pause). OSCILLATION (LAOS at imposed rate): the sign changes at every half period
  * t = k/(2f) are located exactly; within half period k the strain is (A/omega)(1 - cos omega tau)
- * and the state is again the exact strain solution. If eta_app <= 0 is met under imposed stress (possible for strongly non-steady
- * gamma_e with negative beta3, delta2; note §5 N2) the run stops with an error.
+ * and the state is again the exact strain solution. If eta_app <= 0 is met under imposed stress
+ * (possible for strongly non-steady gamma_e with negative beta3, delta2; note §5 N2) the run stops
+ * with an error.
  *
  * Pure: no allocation; samples go to a caller-supplied sink.
  */
@@ -31,22 +32,22 @@ typedef enum {
 
 typedef struct {
     lub_seg_mode mode;
-    double value;    /* RATE: gd in 1/s (nonzero); STRESS: sigma_xy in Pa; PAUSE: unused;
-                        OSCILLATION: rate amplitude in 1/s (> 0) */
-    double strain;   /* > 0: the segment ends after this strain int|gd|dt; 0: use duration
-                        (PAUSE and OSCILLATION always use duration) */
-    double duration; /* s, > 0 when strain == 0 */
-    double frequency;/* OSCILLATION: Hz (> 0); unused otherwise */
+    double value;     /* RATE: gd in 1/s (nonzero); STRESS: sigma_xy in Pa; PAUSE: unused;
+                         OSCILLATION: rate amplitude in 1/s (> 0) */
+    double strain;    /* > 0: the segment ends after this strain int|gd|dt; 0: use duration
+                         (PAUSE and OSCILLATION always use duration) */
+    double duration;  /* s, > 0 when strain == 0 */
+    double frequency; /* OSCILLATION: Hz (> 0); unused otherwise */
 } lub_segment;
 
 typedef struct {
-    int segment;        /* index of the segment that produced the sample */
-    double time;        /* s since the start of the protocol */
-    double strain;      /* accumulated int |gd| dt */
-    double gd;          /* 1/s (0 in a pause) */
-    double sigma_xy;    /* Pa */
-    double n1, n2, pp;  /* Pa */
-    double eta_app;     /* Pa.s; in a pause: the value for the last direction of motion */
+    int segment;       /* index of the segment that produced the sample */
+    double time;       /* s since the start of the protocol */
+    double strain;     /* accumulated int |gd| dt */
+    double gd;         /* 1/s (0 in a pause) */
+    double sigma_xy;   /* Pa */
+    double n1, n2, pp; /* Pa */
+    double eta_app;    /* Pa.s; in a pause: the value for the last direction of motion */
     lub_texture_state g;
     lub_texture_micro micro;
 } lub_rheo_sample;
@@ -55,8 +56,8 @@ typedef struct {
 typedef int (*lub_rheo_sink)(void *user, const lub_rheo_sample *s);
 
 typedef struct {
-    int segment;      /* where it failed */
-    double strain;    /* total strain at failure */
+    int segment;   /* where it failed */
+    double strain; /* total strain at failure */
     char message[256];
 } lub_rheo_error;
 
@@ -65,9 +66,8 @@ typedef struct {
  * sample of a segment repeats the instant of the previous segment's last sample so that jumps
  * of the stress show). Returns 0 when done, 1 if the sink stopped it, -1 on a numerical failure
  * (err filled). Segments must be valid (checked by the caller's spec validation). */
-int lub_rheo_run(const lub_texture_params *p, lub_texture_state g0, int s0,
-                 const lub_segment *segs, int nseg, int samples, lub_rheo_sink sink, void *user,
-                 lub_rheo_error *err);
+int lub_rheo_run(const lub_texture_params *p, lub_texture_state g0, int s0, const lub_segment *segs,
+                 int nseg, int samples, lub_rheo_sink sink, void *user, lub_rheo_error *err);
 
 /* Imposed stress |sigma| > 0 at sign s from state g0: time needed to accumulate strain dgamma
  * (returns -1 with *gamma_bad = the strain where eta_app <= 0 was met). */

@@ -14,8 +14,7 @@ double lub_closure_phi_m(const lub_closure *c)
     return NAN;
 }
 
-void lub_closure_eval(const lub_closure *c, double psi, double *A_r, double *A_th,
-                      double *eta_rel)
+void lub_closure_eval(const lub_closure *c, double psi, double *A_r, double *A_th, double *eta_rel)
 {
     switch (c->kind) {
     case LUB_CLOSURE_M4: {
@@ -116,8 +115,7 @@ static double pipe_rhs(const lub_closure *c, double lnr, double lnQ, double ps, 
     return kappa(c, psi_of_A(c, exp(lnQ - 2.0 * lnr), ps, As));
 }
 
-static double rk4_step(const lub_closure *c, double x0, double y0, double x1, double ps,
-                       double As)
+static double rk4_step(const lub_closure *c, double x0, double y0, double x1, double ps, double As)
 {
     double h = x1 - x0;
     double k1 = pipe_rhs(c, x0, y0, ps, As);
@@ -209,9 +207,9 @@ static void flow(const lub_closure *c, const lub_channel_setup *S, const double 
     *flux = upsi / uw;
 }
 
-int lub_channel_solve(const lub_closure *c, const lub_channel_setup *S, double *x,
-                      double *psi, double *u, double *pc, double *eta_rel,
-                      lub_channel_result *res, const char **why)
+int lub_channel_solve(const lub_closure *c, const lub_channel_setup *S, double *x, double *psi,
+                      double *u, double *pc, double *eta_rel, lub_channel_result *res,
+                      const char **why)
 {
     const int n = S->n;
     if (n < 4) {

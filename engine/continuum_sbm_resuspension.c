@@ -4,8 +4,8 @@
 
 #include <math.h>
 
-static const double GL_X[5] = {-0.9061798459386640, -0.5384693101056831, 0.0,
-                               0.5384693101056831, 0.9061798459386640};
+static const double GL_X[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
+                               0.9061798459386640};
 static const double GL_W[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888888888889,
                                0.4786286704993665, 0.2369268850561891};
 
@@ -151,8 +151,7 @@ double lub_resusp_phi_at(const lub_normal_law *L, const lub_resusp *r, double y)
     return L->phi_m * s / (1.0 + s);
 }
 
-void lub_resusp_profile(const lub_normal_law *L, const lub_resusp *r, int n, double *y,
-                        double *phi)
+void lub_resusp_profile(const lub_normal_law *L, const lub_resusp *r, int n, double *y, double *phi)
 {
     if (n < 2)
         return;

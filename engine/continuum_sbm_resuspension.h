@@ -1,18 +1,18 @@
 /* continuum_sbm_resuspension.h — steady viscous resuspension by the suspension balance model
  * (the SBM "predictor" of the DEM resuspension scenes).
  *
- * Zero particle flux at steady state, (div tau_p + phi drho g).n = 0 with the sign of (2.40)/(2.41c)
- * (erratum E11: the printed (2.41e) has -div tau_p), gives d sigma^p_ii/dx_i = phi drho g, i.e. (seed 000
- * eqs (3), (6); physics-reference §4)
- *     eta_ii(phi(y)) = (1/Sh) Phi(y),   Phi(y) = int_y^inf phi dy',   Sh = eta0 gd/(drho g a),
- * lengths in units of the particle radius a, Phi(0) = the inventory int phi dy / a (= phi0 h0/a).
- * The profile is exact given the law: phi_b = eta_ii^{-1}(inventory/Sh) at the floor and, writing
- * the law in s = psi/(1-psi) (phi = phi_m s/(1+s)) and integrating by parts,
- *     y(s) = inventory/phi_b - Sh eta(s)/phi(s) + (Sh/phi_m) int_s^{s_b} eta(s')/s'^2 ds',
- * a derivative-free, monotone quadrature (adaptive Gauss–Legendre in v with s = s_b v^m, which
- * removes the s^{n-2} endpoint singularity; note §5 N12 — no ODE in phi, no Lipschitz issue at
- * the free surface). The resuspended height is y(0) (finite iff eta ~ s^n with n > 1).
- * Power law n = 2 has the closed form h = (2 lambda Sh/phi_m)(s0 + s0^2/2), s0 = sqrt(inventory
+ * Zero particle flux at steady state, (div tau_p + phi drho g).n = 0 with the sign of
+ * (2.40)/(2.41c) (erratum E11: the printed (2.41e) has -div tau_p), gives d sigma^p_ii/dx_i = phi
+ * drho g, i.e. (seed 000 eqs (3), (6); physics-reference §4) eta_ii(phi(y)) = (1/Sh) Phi(y), Phi(y)
+ * = int_y^inf phi dy',   Sh = eta0 gd/(drho g a), lengths in units of the particle radius a, Phi(0)
+ * = the inventory int phi dy / a (= phi0 h0/a). The profile is exact given the law: phi_b =
+ * eta_ii^{-1}(inventory/Sh) at the floor and, writing the law in s = psi/(1-psi) (phi = phi_m
+ * s/(1+s)) and integrating by parts, y(s) = inventory/phi_b - Sh eta(s)/phi(s) + (Sh/phi_m)
+ * int_s^{s_b} eta(s')/s'^2 ds', a derivative-free, monotone quadrature (adaptive Gauss–Legendre in
+ * v with s = s_b v^m, which removes the s^{n-2} endpoint singularity; note §5 N12 — no ODE in phi,
+ * no Lipschitz issue at the free surface). The resuspended height is y(0) (finite iff eta ~ s^n
+ * with n > 1). Power law n = 2 has the closed form h = (2 lambda Sh/phi_m)(s0 + s0^2/2), s0 =
+ * sqrt(inventory
  * /(Sh lambda)). Pure functions; no allocation.
  */
 #ifndef LUBDEM_CONTINUUM_SBM_RESUSPENSION_H

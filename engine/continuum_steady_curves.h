@@ -21,18 +21,18 @@
 
 typedef struct {
     double psi, phi;
-    double theta_e;  /* depletion angle, rad (texture models; NAN-free: 0 for MM/DEM) */
+    double theta_e; /* depletion angle, rad (texture models; NAN-free: 0 for MM/DEM) */
     double eta_rel;
     double alpha1, alpha2, pp_rel;
-    double eta_n2;   /* -N2/(eta0 gd) */
+    double eta_n2; /* -N2/(eta0 gd) */
 } lub_steady_row;
 
 typedef struct {
     double psi, phi;
     double eta_r, eta22, lambda33;
-    double alpha2;       /* -(1 - lambda_33) eta_22/eta_r */
-    double eta_n2;       /* (1 - lambda_33) eta_22 = -N2/(eta0 gd) */
-    double mu;           /* eta_r/eta_22 = sigma_xy/P with P = -sigma_22 */
+    double alpha2; /* -(1 - lambda_33) eta_22/eta_r */
+    double eta_n2; /* (1 - lambda_33) eta_22 = -N2/(eta0 gd) */
+    double mu;     /* eta_r/eta_22 = sigma_xy/P with P = -sigma_22 */
 } lub_steady_dem_row;
 
 /* psi in ]0,1[; return 0 or -1 with *why. */

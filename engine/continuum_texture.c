@@ -6,7 +6,8 @@
 
 const char *lub_texture_check(const lub_texture_params *p)
 {
-    const double v[8] = {p->a, p->delta1, p->delta2, p->beta1, p->beta2, p->beta3, p->eta, p->eta_e};
+    const double v[8] = {p->a,     p->delta1, p->delta2, p->beta1,
+                         p->beta2, p->beta3,  p->eta,    p->eta_e};
     for (int i = 0; i < 8; ++i)
         if (!isfinite(v[i]))
             return "every parameter must be finite";
@@ -24,8 +25,14 @@ const char *lub_texture_check(const lub_texture_params *p)
 
 lub_texture_params lub_texture_m3(double alpha, double beta, double eta_e, double eta)
 {
-    lub_texture_params p = {.a = 1.0, .delta1 = alpha, .delta2 = 0.0, .beta1 = beta,
-                            .beta2 = 0.0, .beta3 = 0.0, .eta = eta, .eta_e = eta_e};
+    lub_texture_params p = {.a = 1.0,
+                            .delta1 = alpha,
+                            .delta2 = 0.0,
+                            .beta1 = beta,
+                            .beta2 = 0.0,
+                            .beta3 = 0.0,
+                            .eta = eta,
+                            .eta_e = eta_e};
     return p;
 }
 
@@ -38,7 +45,8 @@ static double delta_of(const lub_texture_params *p)
 lub_texture_state lub_texture_steady_state(const lub_texture_params *p, int s)
 {
     double D = delta_of(p);
-    lub_texture_state g = {(1.0 + p->a) / D, -(1.0 - p->a) / D, (s >= 0 ? 1.0 : -1.0) * p->delta1 / D};
+    lub_texture_state g = {(1.0 + p->a) / D, -(1.0 - p->a) / D,
+                           (s >= 0 ? 1.0 : -1.0) * p->delta1 / D};
     return g;
 }
 
@@ -49,13 +57,15 @@ lub_texture_stress lub_texture_steady_stress(const lub_texture_params *p)
     const double b1 = p->beta1, b2 = p->beta2, b3 = p->beta3, ee = p->eta_e;
     const double D = delta_of(p);
     lub_texture_stress r;
-    r.eta_app = p->eta + ee / D *
-                             (d1 * d1 + a * d2 +
-                              (d1 * d1 * b1 + (1.0 + a * a + d1 * d1) * b2 + 2.0 * a * d1 * b3) / D);
+    r.eta_app =
+        p->eta + ee / D *
+                     (d1 * d1 + a * d2 +
+                      (d1 * d1 * b1 + (1.0 + a * a + d1 * d1) * b2 + 2.0 * a * d1 * b3) / D);
     r.n1 = 2.0 * ee / D * (d1 + (d1 * b1 + 2.0 * a * b3) / D);
-    r.n2 = ee / D *
-           (d1 * (-1.0 + a + d2) +
-            (-(1.0 - a) * d1 * b1 + 2.0 * a * d1 * b2 + ((1.0 - a) * (1.0 - a) + d1 * d1) * b3) / D);
+    r.n2 =
+        ee / D *
+        (d1 * (-1.0 + a + d2) +
+         (-(1.0 - a) * d1 * b1 + 2.0 * a * d1 * b2 + ((1.0 - a) * (1.0 - a) + d1 * d1) * b3) / D);
     r.pp = -2.0 * ee / (3.0 * D) *
            (d1 * (a + d2) + (a * d1 * (b1 + 2.0 * b2) + (1.0 + a * a + d1 * d1) * b3) / D);
     return r;
@@ -65,10 +75,10 @@ lub_texture_state lub_texture_rhs(const lub_texture_params *p, int s, lub_textur
 {
     const double a = p->a, d1 = p->delta1, sg = s >= 0 ? 1.0 : -1.0;
     lub_texture_state r;
-    r.xx = (1.0 + a) * sg * g.xy - d1 * g.xx;                      /* (4.4a) */
-    r.yy = -(1.0 - a) * sg * g.xy - d1 * g.yy;                     /* (4.4b) */
-    r.xy = sg - 0.5 * (1.0 - a) * sg * g.xx                        /* (4.4c), sign of the   */
-           + 0.5 * (1.0 + a) * sg * g.yy - d1 * g.xy;              /* g_xx term per E5      */
+    r.xx = (1.0 + a) * sg * g.xy - d1 * g.xx;         /* (4.4a) */
+    r.yy = -(1.0 - a) * sg * g.xy - d1 * g.yy;        /* (4.4b) */
+    r.xy = sg - 0.5 * (1.0 - a) * sg * g.xx           /* (4.4c), sign of the   */
+           + 0.5 * (1.0 + a) * sg * g.yy - d1 * g.xy; /* g_xx term per E5      */
     return r;
 }
 
@@ -119,8 +129,9 @@ lub_texture_stress lub_texture_stress_of(const lub_texture_params *p, int s, lub
     double tyy = ee * ((d1 + b1 * sg * xy) * yy + b2 * sg * (xx + yy) * xy +
                        b3 * (xy * xy + yy * yy) + d2 * sg * xy);
     /* (4.5c) divided by gd */
-    double exy = p->eta + ee * ((d1 * sg + b1 * xy) * xy + 0.5 * b2 * (xx * xx + yy * yy + 2.0 * xy * xy) +
-                                b3 * sg * (xx + yy) * xy + 0.5 * d2 * (xx + yy));
+    double exy =
+        p->eta + ee * ((d1 * sg + b1 * xy) * xy + 0.5 * b2 * (xx * xx + yy * yy + 2.0 * xy * xy) +
+                       b3 * sg * (xx + yy) * xy + 0.5 * d2 * (xx + yy));
     lub_texture_stress r = {exy, txx - tyy, tyy, -(txx + tyy) / 3.0};
     return r;
 }

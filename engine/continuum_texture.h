@@ -54,9 +54,9 @@ typedef struct {
 
 /* Microstructure descriptors of a state (no NaN for any finite state, including 0). */
 typedef struct {
-    double theta_e;   /* depletion angle, rad: principal direction of gamma_e (E2) */
-    double fabric_gap;/* mu+ - mu- of <n n> = b_e^{-1}/tr(b_e^{-1}) in the shear plane (E4) */
-    double b_min;     /* smallest eigenvalue of b_e = I/a + gamma_e (SPD monitor, must stay > 0) */
+    double theta_e;    /* depletion angle, rad: principal direction of gamma_e (E2) */
+    double fabric_gap; /* mu+ - mu- of <n n> = b_e^{-1}/tr(b_e^{-1}) in the shear plane (E4) */
+    double b_min;      /* smallest eigenvalue of b_e = I/a + gamma_e (SPD monitor, must stay > 0) */
 } lub_texture_micro;
 
 /* Returns NULL if p is inside the model's domain, else a static message naming the field

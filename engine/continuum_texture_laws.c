@@ -12,15 +12,22 @@ double lub_texture_table_phi(int i)
 
 lub_m3_laws lub_m3_laws_thesis(void)
 {
-    lub_m3_laws L = {.phi_m = 0.571, .delta_e = 0.661, .beta_bar = 0.152, .eta_e_bar = 0.0213,
-                     .omega = 0.652};
+    lub_m3_laws L = {
+        .phi_m = 0.571, .delta_e = 0.661, .beta_bar = 0.152, .eta_e_bar = 0.0213, .omega = 0.652};
     return L;
 }
 
 lub_m4_laws lub_m4_laws_thesis(void)
 {
-    lub_m4_laws L = {.a = 0.6, .b = 2.0, .omega = 0.28, .eta_e_bar = 0.21, .delta1_bar = 0.27,
-                     .delta2_bar = -0.8, .beta1_bar = 0.05, .beta2_bar = 0.45, .beta3_bar = -0.19};
+    lub_m4_laws L = {.a = 0.6,
+                     .b = 2.0,
+                     .omega = 0.28,
+                     .eta_e_bar = 0.21,
+                     .delta1_bar = 0.27,
+                     .delta2_bar = -0.8,
+                     .beta1_bar = 0.05,
+                     .beta2_bar = 0.45,
+                     .beta3_bar = -0.19};
     return L;
 }
 
@@ -43,11 +50,11 @@ int lub_m3_from_laws(const lub_m3_laws *L, double phi, double eta0, lub_texture_
         *why = "eta0 must be > 0";
         return -1;
     }
-    double x = 1.0 - phi / L->phi_m; /* > 0 */
-    double beta = L->beta_bar / (x * x);                          /* (3.16a) */
-    double eta_e = L->eta_e_bar / (x * x * x * x);                /* (3.16b) */
+    double x = 1.0 - phi / L->phi_m;               /* > 0 */
+    double beta = L->beta_bar / (x * x);           /* (3.16a) */
+    double eta_e = L->eta_e_bar / (x * x * x * x); /* (3.16b) */
     double eta = eta0 * (1.0 - L->omega + (2.5 - 2.0 * L->omega / L->phi_m) * phi) +
-                 eta0 * L->omega / (x * x);                       /* (3.16c) */
+                 eta0 * L->omega / (x * x); /* (3.16c) */
     *out = lub_texture_m3(lub_m3_alpha(L, phi), beta, eta_e, eta);
     return 0;
 }
@@ -63,13 +70,13 @@ int lub_m4_from_laws(const lub_m4_laws *L, double psi, double phi_m, double eta0
         *why = "phi_m must be in ]0,1[ and eta0 > 0";
         return -1;
     }
-    double q = psi / (1.0 - psi);          /* (1-psi)^{-1} - 1 */
-    double f = q + L->b * psi;             /* (1-psi)^{-1} - (1 - b psi) */
+    double q = psi / (1.0 - psi); /* (1-psi)^{-1} - 1 */
+    double f = q + L->b * psi;    /* (1-psi)^{-1} - (1 - b psi) */
     double om1 = 1.0 / ((1.0 - psi) * (1.0 - psi));
     out->a = L->a;
-    out->delta1 = L->delta1_bar * f;       /* (4.9a) */
-    out->delta2 = L->delta2_bar * f;       /* (4.9b) */
-    out->beta1 = L->beta1_bar * q * q;     /* (4.9c) */
+    out->delta1 = L->delta1_bar * f;   /* (4.9a) */
+    out->delta2 = L->delta2_bar * f;   /* (4.9b) */
+    out->beta1 = L->beta1_bar * q * q; /* (4.9c) */
     out->beta2 = L->beta2_bar * q * q;
     out->beta3 = L->beta3_bar * q * q;
     out->eta = eta0 * (1.0 - L->omega + psi * (2.5 * phi_m - 2.0 * L->omega) + L->omega * om1);

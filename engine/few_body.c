@@ -5,19 +5,11 @@
 #include <stdio.h>
 #include <string.h>
 
-vec3 lub_fb_flow_velocity(const lub_fb_env *e, vec3 x)
-{
-    return v3(e->L[0][0] * x.x + e->L[0][1] * x.y + e->L[0][2] * x.z,
-              e->L[1][0] * x.x + e->L[1][1] * x.y + e->L[1][2] * x.z,
-              e->L[2][0] * x.x + e->L[2][1] * x.y + e->L[2][2] * x.z);
-}
+#include "velocity_gradient.h"
 
-vec3 lub_fb_flow_spin(const lub_fb_env *e)
-{
-    /* curl(w)_i = eps_ijk d_j w_k = eps_ijk L_kj */
-    return v3(0.5 * (e->L[2][1] - e->L[1][2]), 0.5 * (e->L[0][2] - e->L[2][0]),
-              0.5 * (e->L[1][0] - e->L[0][1]));
-}
+vec3 lub_fb_flow_velocity(const lub_fb_env *e, vec3 x) { return lub_mat_vec(e->L, x); }
+
+vec3 lub_fb_flow_spin(const lub_fb_env *e) { return lub_flow_spin(e->L); }
 
 double lub_fb_critical_dt(const lub_fb_system *s)
 {
@@ -86,8 +78,13 @@ int lub_fb_step(lub_fb_system *s, double dt, char *diag, size_t diag_size)
             p->state.is_new = 1;
         }
         lub_pair_input in = {
-            .branch = d, .v1 = b1->v, .v2 = b2->v, .w1 = b1->w, .w2 = b2->w,
-            .r1 = b1->r, .r2 = b2->r,
+            .branch = d,
+            .v1 = b1->v,
+            .v2 = b2->v,
+            .w1 = b1->w,
+            .w2 = b2->w,
+            .r1 = b1->r,
+            .r2 = b2->r,
             .inv_inertia1 = s->env.rotation ? b1->inv_I : 0.0,
             .inv_inertia2 = s->env.rotation ? b2->inv_I : 0.0,
             .dt = dt,

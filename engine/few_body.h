@@ -26,29 +26,29 @@
 enum { LUB_FB_MAX_BODIES = 4, LUB_FB_MAX_PAIRS = 6 };
 
 typedef struct {
-    double r;      /* radius (> 0) */
-    double inv_m;  /* 1/mass; 0 = fixed body (never moves, never rotates) */
-    double inv_I;  /* 1/moment of inertia; 0 = no rotation */
-    vec3 x;        /* position at t_n */
-    vec3 v;        /* velocity at t_{n-1/2} */
-    vec3 w;        /* spin at t_{n-1/2} */
-    vec3 f, t;     /* non-drag force and torque accumulated at t_n (workspace) */
+    double r;     /* radius (> 0) */
+    double inv_m; /* 1/mass; 0 = fixed body (never moves, never rotates) */
+    double inv_I; /* 1/moment of inertia; 0 = no rotation */
+    vec3 x;       /* position at t_n */
+    vec3 v;       /* velocity at t_{n-1/2} */
+    vec3 w;       /* spin at t_{n-1/2} */
+    vec3 f, t;    /* non-drag force and torque accumulated at t_n (workspace) */
 } lub_fb_body;
 
 typedef struct {
-    int i, j;                 /* bodies: i = body 1 of the law, j = body 2 (n points i -> j) */
-    double cutoff;            /* pair lives while u_n <= cutoff * a (INFINITY: always) */
-    int active;               /* 1 while inside the cut-off */
-    lub_pair_state state;     /* law history (valid while active) */
-    lub_pair_output out;      /* last evaluation (valid while active) */
+    int i, j;             /* bodies: i = body 1 of the law, j = body 2 (n points i -> j) */
+    double cutoff;        /* pair lives while u_n <= cutoff * a (INFINITY: always) */
+    int active;           /* 1 while inside the cut-off */
+    lub_pair_state state; /* law history (valid while active) */
+    lub_pair_output out;  /* last evaluation (valid while active) */
 } lub_fb_pair;
 
 typedef struct {
-    vec3 gravity;     /* acceleration on every free body (0 = no gravity) */
-    double zeta_t;    /* translational Stokes drag coefficient 6 pi eta a (0 = no drag) */
-    double zeta_r;    /* rotational drag coefficient 8 pi eta a^3 (0 = no drag torque) */
-    double L[3][3];   /* background velocity gradient: w(x) = L x (used only with drag) */
-    int rotation;     /* 1: integrate spins; 0: spins stay at their initial value */
+    vec3 gravity;   /* acceleration on every free body (0 = no gravity) */
+    double zeta_t;  /* translational Stokes drag coefficient 6 pi eta a (0 = no drag) */
+    double zeta_r;  /* rotational drag coefficient 8 pi eta a^3 (0 = no drag torque) */
+    double L[3][3]; /* background velocity gradient: w(x) = L x (used only with drag) */
+    int rotation;   /* 1: integrate spins; 0: spins stay at their initial value */
 } lub_fb_env;
 
 typedef struct {

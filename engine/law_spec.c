@@ -73,8 +73,8 @@ int lub_law_spec_resolve(json_t *law, const char *ptr, const lub_law_spec_opts *
         if (!(o->allowed_terms & term_keys[i].bit))
             continue;
         int on = 0;
-        if (lub_spec_bool(terms, tp, term_keys[i].key, 1, (o->default_terms & term_keys[i].bit) != 0,
-                          &on, err))
+        if (lub_spec_bool(terms, tp, term_keys[i].key, 1,
+                          (o->default_terms & term_keys[i].bit) != 0, &on, err))
             return -1;
         if (on)
             p->terms |= term_keys[i].bit;

@@ -22,6 +22,7 @@
 #define LUBDEM_PERIODIC_CELL_H
 
 #include "vec3.h"
+#include "velocity_gradient.h"
 
 typedef struct {
     double h[3][3];    /* cell matrix, columns = cell vectors */
@@ -39,13 +40,6 @@ int lub_cell_update(lub_cell *c, double dt);
 
 vec3 lub_cell_to_frac(const lub_cell *c, vec3 x);
 vec3 lub_cell_to_cart(const lub_cell *c, vec3 s);
-/* m x for a 3x3 matrix (row-major m[i][j]). */
-static inline vec3 lub_mat_vec(const double m[3][3], vec3 x)
-{
-    return v3(m[0][0] * x.x + m[0][1] * x.y + m[0][2] * x.z,
-              m[1][0] * x.x + m[1][1] * x.y + m[1][2] * x.z,
-              m[2][0] * x.x + m[2][1] * x.y + m[2][2] * x.z);
-}
 /* H k for an integer shift k (inline: used per pair and per step). */
 static inline vec3 lub_cell_shift(const lub_cell *c, const int k[3])
 {

@@ -9,14 +9,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const double RS_PI = 3.14159265358979323846;
+#include "velocity_gradient.h"
 
-static vec3 mat_vec(const double m[3][3], vec3 x)
-{
-    return v3(m[0][0] * x.x + m[0][1] * x.y + m[0][2] * x.z,
-              m[1][0] * x.x + m[1][1] * x.y + m[1][2] * x.z,
-              m[2][0] * x.x + m[2][1] * x.y + m[2][2] * x.z);
-}
+static const double RS_PI = 3.14159265358979323846;
 
 static double frob(const double m[3][3])
 {
@@ -29,13 +24,7 @@ static double frob(const double m[3][3])
 
 vec3 lub_rs_mean_velocity(const lub_rs_system *s, vec3 x)
 {
-    return mat_vec(s->L_flow, v3(x.x, x.y - s->p.y_floor, x.z));
-}
-
-/* mean spin = half the vorticity of u */
-static vec3 mean_spin(const double L[3][3])
-{
-    return v3(0.5 * (L[2][1] - L[1][2]), 0.5 * (L[0][2] - L[2][0]), 0.5 * (L[1][0] - L[0][1]));
+    return lub_mat_vec(s->L_flow, v3(x.x, x.y - s->p.y_floor, x.z));
 }
 
 void lub_rs_free(lub_rs_system *s)
@@ -98,7 +87,7 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
     } else {
         s->L_flow[0][1] = p->shear_rate;
     }
-    const vec3 w0 = mean_spin(s->L_flow);
+    const vec3 w0 = lub_flow_spin(s->L_flow);
     for (int i = 0; i < n; ++i) {
         const int mob = i < n_mobile;
         const double r = mob ? radius[i] : floor_r[i - n_mobile];
@@ -194,7 +183,7 @@ int lub_rs_step(lub_rs_system *s)
         lub_pair_input in;
         in.branch = d;
         in.v1 = s->v[i];
-        in.v2 = v3_add(s->v[j], mat_vec(cell->L, shift));
+        in.v2 = v3_add(s->v[j], lub_mat_vec(cell->L, shift));
         in.w1 = s->w[i];
         in.w2 = s->w[j];
         in.r1 = ri;
@@ -264,8 +253,8 @@ int lub_rs_step(lub_rs_system *s)
         const vec3 u = lub_rs_mean_velocity(s, s->x[p]);
         const double c = 6.0 * RS_PI * s->r[p] * (g_eta_s + (count <= ndil ? eta_d : 0.0));
         const double cm = dt * c * s->inv_m[p];
-        vec3 v = v3_add(s->v[p],
-                        v3_scale(v3_add(v3_scale(F, s->inv_m[p]), mat_vec(cell->L, s->v[p])), dt));
+        vec3 v = v3_add(
+            s->v[p], v3_scale(v3_add(v3_scale(F, s->inv_m[p]), lub_mat_vec(cell->L, s->v[p])), dt));
         v = v3_scale(v3_axpy(v, cm, u), 1.0 / (1.0 + cm));
         s->w[p] = v3_axpy(s->w[p], dt * s->inv_i[p], T);
         vec3 x = v3_axpy(s->x[p], dt, v);
@@ -279,7 +268,8 @@ int lub_rs_step(lub_rs_system *s)
             vmax2 = v3_norm2(dv);
         /* non-affine displacement since the last rebuild */
         const vec3 xr = s->x_ref[p];
-        const vec3 aff = v3_axpy(xr, tau, mat_vec(s->L_flow, v3(xr.x, xr.y - s->p.y_floor, xr.z)));
+        const vec3 aff =
+            v3_axpy(xr, tau, lub_mat_vec(s->L_flow, v3(xr.x, xr.y - s->p.y_floor, xr.z)));
         const double u2 = v3_norm2(v3_sub(x, aff));
         if (u2 > umax2)
             umax2 = u2;
@@ -323,7 +313,7 @@ void lub_rs_unwrapped(const lub_rs_system *s, int i, vec3 *x, vec3 *v)
 {
     const vec3 shift = lub_cell_shift(&s->cell, &s->img[3 * i]);
     *x = v3_add(s->x[i], shift);
-    *v = v3_add(s->v[i], mat_vec(s->cell.L, shift));
+    *v = v3_add(s->v[i], lub_mat_vec(s->cell.L, shift));
 }
 
 double lub_rs_kinetic_energy(const lub_rs_system *s)

@@ -46,8 +46,10 @@ static int table_phi(json_t *obj, const char *ptr, double *phi, lub_error *err)
     for (int i = 0; i < 5; ++i)
         if (*phi == TABLE_PHIS[i])
             return 0;
-    return lub_fail(err, p, "must be one of the tabulated fractions 0.3, 0.4, 0.44, 0.47, 0.5 "
-                            "(got %.17g)", *phi);
+    return lub_fail(err, p,
+                    "must be one of the tabulated fractions 0.3, 0.4, 0.44, 0.47, 0.5 "
+                    "(got %.17g)",
+                    *phi);
 }
 
 /* Reads the "parameters" object into model parameters (also used by run on the resolved spec). */
@@ -57,7 +59,8 @@ static int read_params(json_t *spec, lub_texture_params *tp, const char **set_ou
     const char *P = "/parameters";
     json_t *o = json_object_get(spec, "parameters");
     if (!o) { /* default: the chapter-4 laws at psi = 0.8 */
-        json_object_set_new(spec, "parameters", json_pack("{s:s, s:f}", "set", "m4_laws", "psi", 0.8));
+        json_object_set_new(spec, "parameters",
+                            json_pack("{s:s, s:f}", "set", "m4_laws", "psi", 0.8));
         o = json_object_get(spec, "parameters");
     }
     if (!json_is_object(o))
@@ -98,8 +101,8 @@ static int read_params(json_t *spec, lub_texture_params *tp, const char **set_ou
         if (rc)
             return lub_fail(err, "/parameters/phi", "%s", why);
     } else if (strcmp(set, "m4") == 0) {
-        static const char *k[] = {"set", "a", "delta1", "delta2", "beta1", "beta2", "beta3",
-                                  "eta", "eta_e", NULL};
+        static const char *k[] = {"set",   "a",     "delta1", "delta2", "beta1",
+                                  "beta2", "beta3", "eta",    "eta_e",  NULL};
         if (lub_spec_only_keys(o, P, k, err) ||
             lub_spec_number(o, P, "a", (lub_range){0.0, 1.0, 1, 0}, 0, 0, &tp->a, err) ||
             lub_spec_number(o, P, "delta1", LUB_POSITIVE, 0, 0, &tp->delta1, err) ||
@@ -201,8 +204,8 @@ static int read_protocol(json_t *spec, lub_segment *segs, int *nseg, lub_error *
 
 static int rheo_resolve(json_t *spec, lub_error *err)
 {
-    static const char *keys[] = {"scene", "parameters", "initial_state", "protocol",
-                                 "samples_per_segment", NULL};
+    static const char *keys[] = {"scene",    "parameters",          "initial_state",
+                                 "protocol", "samples_per_segment", NULL};
     static const char *inits[] = {"rest", "steady_positive", "steady_negative", NULL};
     lub_segment tmp[RHEO_MAX_SEGMENTS]; /* 32 kB of scratch on the stack (thread-safe) */
     lub_texture_params tp;
@@ -229,9 +232,13 @@ typedef struct {
 static int rheo_sink(void *user, const lub_rheo_sample *s)
 {
     rheo_sink_state *st = user;
-    double row[14] = {s->strain,        s->gd,       s->sigma_xy, s->n1,        s->n2,
-                      s->pp,            s->eta_app,  s->micro.theta_e, s->g.xx, s->g.yy,
-                      s->g.xy,          s->micro.fabric_gap, s->micro.b_min, (double)s->segment};
+    double row[14] = {s->strain,      s->gd,
+                      s->sigma_xy,    s->n1,
+                      s->n2,          s->pp,
+                      s->eta_app,     s->micro.theta_e,
+                      s->g.xx,        s->g.yy,
+                      s->g.xy,        s->micro.fabric_gap,
+                      s->micro.b_min, (double)s->segment};
     if (lub_h5_table_append(st->tab, st->step++, s->time, row)) {
         st->io_error = 1;
         return 1;
@@ -278,20 +285,35 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
         g0 = lub_texture_steady_state(&tp, -1);
         s0 = -1;
     }
-    json_t *model = json_pack("{s:s, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f}", "set", set, "a", tp.a,
-                              "delta1", tp.delta1, "delta2", tp.delta2, "beta1", tp.beta1, "beta2",
-                              tp.beta2, "beta3", tp.beta3, "eta", tp.eta, "eta_e", tp.eta_e);
+    json_t *model =
+        json_pack("{s:s, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f}", "set", set, "a", tp.a, "delta1",
+                  tp.delta1, "delta2", tp.delta2, "beta1", tp.beta1, "beta2", tp.beta2, "beta3",
+                  tp.beta3, "eta", tp.eta, "eta_e", tp.eta_e);
     json_decref(spec);
 
-    static const char *names[14] = {"strain", "shear_rate", "shear_stress", "N1", "N2",
-                                    "particle_pressure", "apparent_viscosity", "depletion_angle",
-                                    "gamma_e_xx", "gamma_e_yy", "gamma_e_xy", "fabric_gap",
-                                    "b_e_min", "segment"};
-    static const char *units[14] = {"1", "1/s", "Pa", "Pa", "Pa", "Pa", "Pa.s", "rad", "1", "1",
-                                    "1", "1", "1", "1"};
+    static const char *names[14] = {"strain",
+                                    "shear_rate",
+                                    "shear_stress",
+                                    "N1",
+                                    "N2",
+                                    "particle_pressure",
+                                    "apparent_viscosity",
+                                    "depletion_angle",
+                                    "gamma_e_xx",
+                                    "gamma_e_yy",
+                                    "gamma_e_xy",
+                                    "fabric_gap",
+                                    "b_e_min",
+                                    "segment"};
+    static const char *units[14] = {"1",   "1/s", "Pa", "Pa", "Pa", "Pa", "Pa.s",
+                                    "rad", "1",   "1",  "1",  "1",  "1",  "1"};
     static const int ncomp[14] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
-    rheo_sink_state st = {.ctx = ctx, .nseg = nseg, .eta_min = INFINITY, .eta_max = -INFINITY,
-                          .strain_min = NAN, .strain_max = NAN};
+    rheo_sink_state st = {.ctx = ctx,
+                          .nseg = nseg,
+                          .eta_min = INFINITY,
+                          .eta_max = -INFINITY,
+                          .strain_min = NAN,
+                          .strain_max = NAN};
     st.tab = lub_h5_table_create(ctx->out, 14, names, ncomp, units);
     if (!st.tab) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
@@ -303,10 +325,11 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
     int rc = lub_rheo_run(&tp, g0, s0, segs, nseg, (int)ns, rheo_sink, &st, &rerr);
     lub_progress_final(ctx->progress, st.step);
     json_object_set_new(ctx->summary_extra, "model_parameters", model);
-    json_object_set_new(ctx->summary_extra, "active_terms",
-                        json_pack("[s, s]", tp.a == 1.0 ? "texture_upper_convected_M3"
-                                                        : "texture_gordon_schowalter_M4",
-                                  "exact_strain_solution"));
+    json_object_set_new(
+        ctx->summary_extra, "active_terms",
+        json_pack("[s, s]",
+                  tp.a == 1.0 ? "texture_upper_convected_M3" : "texture_gordon_schowalter_M4",
+                  "exact_strain_solution"));
     json_object_set_new(ctx->summary_extra, "units",
                         json_pack("{s:s, s:s, s:s, s:s}", "stress", "Pa", "viscosity", "Pa.s",
                                   "time", "s", "angle", "rad (summary: deg where named _deg)"));
@@ -344,14 +367,16 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
 
 const lub_scene lub_scene_continuum_rheometer = {
     .name = "continuum_rheometer",
-    .title = "Texture-tensor rheometer (Ozenda M3/M4): start-up, reversal, pause, imposed rate or stress",
+    .title = "Texture-tensor rheometer (Ozenda M3/M4): start-up, reversal, pause, imposed rate or "
+             "stress",
     .description =
         "0-D simple shear of the texture-tensor models of Ozenda's thesis (M3: chapter 3, "
         "upper-convected; M4: chapter 4, Gordon-Schowalter with all Hand stress terms), with the "
         "errata of the note applied (sign of (4.4c), (3.14), depletion angle). Parameters from "
         "the thesis laws (3.16)/(4.9), the per-phi Tables 3.2/4.2, or explicit. The protocol is "
         "a list of segments at imposed shear rate, imposed shear stress, pause or sinusoidal "
-        "rate (LAOS), each ending after a strain or a duration. Exact strain-space solution per segment; imposed stress "
+        "rate (LAOS), each ending after a strain or a duration. Exact strain-space solution per "
+        "segment; imposed stress "
         "through the exact time map t = int eta_app dgamma/|sigma|. SI units. Outputs vs time "
         "and strain: shear rate, shear stress, N1, N2, particle pressure, apparent viscosity, "
         "depletion angle, gamma_e, fabric gap, min eigenvalue of b_e.",

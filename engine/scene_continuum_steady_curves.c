@@ -32,8 +32,9 @@ static const lub_range OPEN01 = {0.0, 1.0, 1, 1};
 
 static int sc_read(json_t *spec, sc_params *p, lub_error *err)
 {
-    static const char *keys[] = {"scene", "psi_min", "psi_max", "points", "report_psi",
-                                 "m4_phi_m", "m3_eta0", "dem_mu_m", "dem_phi_rcp", "mm", NULL};
+    static const char *keys[] = {"scene",       "psi_min",  "psi_max", "points",
+                                 "report_psi",  "m4_phi_m", "m3_eta0", "dem_mu_m",
+                                 "dem_phi_rcp", "mm",       NULL};
     static const char *mk[] = {"K_s", "K_n", "lambda_grad", "lambda_vort", "phi_m", NULL};
     if (lub_spec_only_keys(spec, "", keys, err) ||
         lub_spec_number(spec, "", "psi_min", OPEN01, 1, 0.05, &p->psi_min, err) ||
@@ -49,8 +50,10 @@ static int sc_read(json_t *spec, sc_params *p, lub_error *err)
     if (!mm || lub_spec_only_keys(mm, "/mm", mk, err) ||
         lub_spec_number(mm, "/mm", "K_s", LUB_NONNEGATIVE, 1, 0.1, &p->mm.K_s, err) ||
         lub_spec_number(mm, "/mm", "K_n", LUB_NONNEGATIVE, 1, 0.75, &p->mm.K_n, err) ||
-        lub_spec_number(mm, "/mm", "lambda_grad", LUB_NONNEGATIVE, 1, 0.8, &p->mm.lambda_grad, err) ||
-        lub_spec_number(mm, "/mm", "lambda_vort", LUB_NONNEGATIVE, 1, 0.5, &p->mm.lambda_vort, err) ||
+        lub_spec_number(mm, "/mm", "lambda_grad", LUB_NONNEGATIVE, 1, 0.8, &p->mm.lambda_grad,
+                        err) ||
+        lub_spec_number(mm, "/mm", "lambda_vort", LUB_NONNEGATIVE, 1, 0.5, &p->mm.lambda_vort,
+                        err) ||
         lub_spec_number(mm, "/mm", "phi_m", OPEN01, 1, 0.68, &p->mm.phi_m, err))
         return -1;
     if (!(p->psi_max > p->psi_min))
@@ -81,12 +84,12 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
     }
     const int n = (int)p.points;
     static const char *qn[NQ] = {
-        "psi",          "m4_eta_rel",  "m4_alpha1",   "m4_alpha2",   "m4_pp_rel",  "m4_theta_e",
-        "m4_eta_n2",    "m3_eta_rel",  "m3_alpha1",   "m3_pp_rel",   "m3_theta_e", "mm_eta_rel",
-        "mm_alpha1",    "mm_alpha2",   "mm_pp_rel",   "dem_phi",     "dem_eta_r",  "dem_eta22",
-        "dem_lambda33", "dem_alpha2",  "dem_eta_n2",  "dem_mu"};
+        "psi",          "m4_eta_rel", "m4_alpha1",  "m4_alpha2", "m4_pp_rel",  "m4_theta_e",
+        "m4_eta_n2",    "m3_eta_rel", "m3_alpha1",  "m3_pp_rel", "m3_theta_e", "mm_eta_rel",
+        "mm_alpha1",    "mm_alpha2",  "mm_pp_rel",  "dem_phi",   "dem_eta_r",  "dem_eta22",
+        "dem_lambda33", "dem_alpha2", "dem_eta_n2", "dem_mu"};
     static const char *qu[NQ] = {"1", "1", "1", "1", "1", "rad", "1", "1", "1", "1", "rad",
-                                 "1", "1", "1", "1", "1", "1", "1", "1", "1", "1", "1"};
+                                 "1", "1", "1", "1", "1", "1",   "1", "1", "1", "1", "1"};
     double *buf = malloc(sizeof(double) * (size_t)n * NQ);
     if (!buf) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory");
@@ -100,16 +103,17 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_steady_row a, b, c;
         lub_steady_dem_row d;
         const char *why;
-        if (lub_steady_m4(&L4, psi, p.m4_phi_m, &a, &why) || lub_steady_m3(&L3, psi, p.m3_eta0, &b, &why) ||
-            lub_steady_mm(&p.mm, psi, &c, &why) || lub_steady_dem(psi, dem_phim, p.dem_phi_rcp, &d, &why)) {
+        if (lub_steady_m4(&L4, psi, p.m4_phi_m, &a, &why) ||
+            lub_steady_m3(&L3, psi, p.m3_eta0, &b, &why) || lub_steady_mm(&p.mm, psi, &c, &why) ||
+            lub_steady_dem(psi, dem_phim, p.dem_phi_rcp, &d, &why)) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "psi = %.17g: %s", psi, why);
             free(buf);
             return LUB_EXIT_NUMERICAL;
         }
-        double v[NQ] = {psi,       a.eta_rel, a.alpha1,  a.alpha2,  a.pp_rel, a.theta_e,
-                        a.eta_n2,  b.eta_rel, b.alpha1,  b.pp_rel,  b.theta_e, c.eta_rel,
-                        c.alpha1,  c.alpha2,  c.pp_rel,  d.phi,     d.eta_r,  d.eta22,
-                        d.lambda33, d.alpha2, d.eta_n2,  d.mu};
+        double v[NQ] = {psi,        a.eta_rel, a.alpha1, a.alpha2, a.pp_rel,  a.theta_e,
+                        a.eta_n2,   b.eta_rel, b.alpha1, b.pp_rel, b.theta_e, c.eta_rel,
+                        c.alpha1,   c.alpha2,  c.pp_rel, d.phi,    d.eta_r,   d.eta22,
+                        d.lambda33, d.alpha2,  d.eta_n2, d.mu};
         for (int q = 0; q < NQ; ++q) {
             if (!isfinite(v[q])) {
                 snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s not finite at psi = %.17g",
@@ -188,7 +192,8 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
                         json_pack("[s, s, s, s]", "texture_M4_laws_4.9", "texture_M3_laws_3.16",
                                   "sbm_miller_morris", "dem_seed_laws"));
     json_object_set_new(ctx->summary_extra, "units",
-                        json_pack("{s:s, s:s}", "reduced", "eta_rel = sigma_xy/(eta0 gd); "
+                        json_pack("{s:s, s:s}", "reduced",
+                                  "eta_rel = sigma_xy/(eta0 gd); "
                                   "alpha_i = N_i/sigma_xy; pp_rel = p_p/sigma_xy",
                                   "tables", "Pa.s per unit |gd| (thesis eta0)"));
     json_object_set_new(ctx->summary_extra, "steps", json_integer(n));
@@ -199,7 +204,8 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
 
 const lub_scene lub_scene_continuum_steady_curves = {
     .name = "continuum_steady_curves",
-    .title = "Steady rheology vs psi = phi/phi_m: Ozenda M4/M3 laws, Miller-Morris SBM, DEM-seed laws",
+    .title =
+        "Steady rheology vs psi = phi/phi_m: Ozenda M4/M3 laws, Miller-Morris SBM, DEM-seed laws",
     .description =
         "Closed-form steady simple-shear predictions against the reduced fraction psi: apparent "
         "viscosity, N1/sigma, N2/sigma, particle pressure and depletion angle of Ozenda's "

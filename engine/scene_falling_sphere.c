@@ -45,8 +45,9 @@ static const lub_law_spec_opts fs_law_opts = {
 
 static int fs_read(json_t *spec, fs_params *p, lub_error *err)
 {
-    static const char *keys[] = {"scene", "St", "stiffness", "K", "u0", "duration", "dt",
-                                 "dt_safety", "samples", "sample_spacing", "law", NULL};
+    static const char *keys[] = {"scene",    "St", "stiffness", "K",       "u0",
+                                 "duration", "dt", "dt_safety", "samples", "sample_spacing",
+                                 "law",      NULL};
     static const char *spacing[] = {"linear", "log", NULL};
     if (lub_spec_only_keys(spec, "", keys, err))
         return -1;
@@ -76,8 +77,9 @@ static int fs_read(json_t *spec, fs_params *p, lub_error *err)
         if (lub_spec_number(spec, "", "K", LUB_POSITIVE, 0, 0.0, &p->K, err))
             return -1;
         if (!(eps > 0.0))
-            return lub_fail(err, "/K", "the contact number K = k_n eps/((4/3) pi a^2 rho g) "
-                                       "needs /law/eps > 0; give /stiffness instead");
+            return lub_fail(err, "/K",
+                            "the contact number K = k_n eps/((4/3) pi a^2 rho g) "
+                            "needs /law/eps > 0; give /stiffness instead");
         double G = p->K / (alpha * eps);
         if (jG) {
             if (lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 0, 0.0, &p->G, err))
@@ -85,7 +87,8 @@ static int fs_read(json_t *spec, fs_params *p, lub_error *err)
             if (fabs(p->G - G) > 1e-9 * G)
                 return lub_fail(err, "/stiffness",
                                 "inconsistent with /K: K = alpha*stiffness*eps requires "
-                                "stiffness = %.17g (got %.17g)", G, p->G);
+                                "stiffness = %.17g (got %.17g)",
+                                G, p->G);
         } else {
             json_object_set_new(spec, "stiffness", json_real(G));
             p->G = G;
@@ -148,10 +151,14 @@ static void rebound_update(rebound_tracker *r, double vy, double gap, double un,
         r->gmin = r->gmax = gap;
         r->unmin = r->unmax = un;
     }
-    if (gap < r->gmin) r->gmin = gap;
-    if (gap > r->gmax) r->gmax = gap;
-    if (un < r->unmin) r->unmin = un;
-    if (un > r->unmax) r->unmax = un;
+    if (gap < r->gmin)
+        r->gmin = gap;
+    if (gap > r->gmax)
+        r->gmax = gap;
+    if (un < r->unmin)
+        r->unmin = un;
+    if (un > r->unmax)
+        r->unmax = un;
 }
 
 static const char *regime_name(int code)
@@ -197,8 +204,8 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
     /* at rest at t = 0: the half-step velocity v(-dt/2) = +g dt/2 */
     s.b[1].v = v3(0.0, 0.5 * grav * dt, 0.0);
 
-    const char *names[] = {"gap", "log_gap", "center_gap", "velocity", "force_contact",
-                           "force_lubrication"};
+    const char *names[] = {"gap",      "log_gap",       "center_gap",
+                           "velocity", "force_contact", "force_lubrication"};
     const int ncomp[] = {1, 1, 1, 1, 1, 1};
     const char *units[] = {"a", "1", "a", "a/tau_c", "m g", "m g"};
     lub_h5_table *tab = lub_h5_table_create(ctx->out, 6, names, ncomp, units);
@@ -219,8 +226,12 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
     double max_dev = 0.0, window_end = 0.0;
     int in_window = 1;
     double min_delta = ln_u0, min_un = p.u0;
-    rebound_tracker rb = {.gmin = p.u0, .gmax = p.u0, .unmin = p.u0, .unmax = p.u0,
-                          .gmin_prev = -1.0, .unmin_prev = NAN};
+    rebound_tracker rb = {.gmin = p.u0,
+                          .gmax = p.u0,
+                          .unmin = p.u0,
+                          .unmax = p.u0,
+                          .gmin_prev = -1.0,
+                          .unmin_prev = NAN};
     const double osc_threshold = 1e-2 * W / p.law.params.k_bulk;
     int late_bounces = -1;
     double late_unmin = INFINITY, late_unmax = -INFINITY;
@@ -245,8 +256,10 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
             rc = LUB_EXIT_NUMERICAL;
             break;
         }
-        if (o->delta < min_delta) min_delta = o->delta;
-        if (o->un < min_un) min_un = o->un;
+        if (o->delta < min_delta)
+            min_delta = o->delta;
+        if (o->un < min_un)
+            min_un = o->un;
         rebound_update(&rb, vy, o->gap, o->un, eps * a, osc_threshold);
         /* deep in contact (u < 1e-3 eps a): apparent weight m g - k_n eps a (K < 1) */
         if (eps > 0.0 && o->gap < 1e-3 * eps * a)
@@ -254,13 +267,16 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
         if (t >= 0.75 * p.duration) { /* late window: persistent oscillation or still bouncing */
             if (late_bounces < 0)
                 late_bounces = rb.bounces;
-            if (o->un < late_unmin) late_unmin = o->un;
-            if (o->un > late_unmax) late_unmax = o->un;
+            if (o->un < late_unmin)
+                late_unmin = o->un;
+            if (o->un > late_unmax)
+                late_unmax = o->un;
         }
         /* exponential window: from the start until contact or the first rebound */
         if (in_window && o->gap > contact_floor && rb.bounces + rb.oscillations == 0) {
             double dev = fabs(expm1(o->delta - ln_u0 + rate_ref * t));
-            if (dev > max_dev) max_dev = dev;
+            if (dev > max_dev)
+                max_dev = dev;
             window_end = t;
             if (o->gap <= 0.5 * p.u0)
                 lsq_add(&fit, t, o->delta);
@@ -311,7 +327,8 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "bounces", rb.bounces, NAN, "1");
     lub_summary_put(ctx, "oscillations", rb.oscillations, NAN, "1");
     lub_summary_put(ctx, "late_swing", late_swing, NAN, "m g/g_bulk");
-    lub_summary_put(ctx, "regime_code", regime, NAN, "0 damped, 1 oscillating, 2 bouncing, 3 mixed");
+    lub_summary_put(ctx, "regime_code", regime, NAN,
+                    "0 damped, 1 oscillating, 2 bouncing, 3 mixed");
     lub_summary_put(ctx, "St", p.St, NAN, "1");
     lub_summary_put(ctx, "K", p.K, NAN, "1");
     lub_summary_put(ctx, "stiffness", p.G, NAN, "m g/a");

@@ -14,15 +14,9 @@ extern const lub_scene lub_scene_sbm_channel;
 /* further scenes: declare here and list below */
 
 static const lub_scene *const scene_table[] = {
-    &lub_scene_falling_sphere,
-    &lub_scene_two_spheres_shear,
-    &lub_scene_simple_shear,
-    &lub_scene_resuspension,
-    &lub_scene_continuum_rheometer,
-    &lub_scene_continuum_steady_curves,
-    &lub_scene_sbm_resuspension,
-    &lub_scene_sbm_channel,
-    NULL,
+    &lub_scene_falling_sphere,   &lub_scene_two_spheres_shear,   &lub_scene_simple_shear,
+    &lub_scene_resuspension,     &lub_scene_continuum_rheometer, &lub_scene_continuum_steady_curves,
+    &lub_scene_sbm_resuspension, &lub_scene_sbm_channel,         NULL,
 };
 
 const lub_scene *const *lub_scene_list(void) { return scene_table; }

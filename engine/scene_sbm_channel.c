@@ -33,8 +33,8 @@ static const lub_range OPEN01 = {0.0, 1.0, 1, 1};
 
 static int ch_read(json_t *spec, ch_params *p, lub_error *err)
 {
-    static const char *keys[] = {"scene", "geometry", "closure", "psi_star", "psi_mean",
-                                 "inventory", "cells", NULL};
+    static const char *keys[] = {"scene",    "geometry",  "closure", "psi_star",
+                                 "psi_mean", "inventory", "cells",   NULL};
     static const char *geoms[] = {"pipe", "channel", NULL};
     static const char *kinds[] = {"m4", "morris_miller", "dem_seed", NULL};
     static const char *invs[] = {"area", "flux", NULL};
@@ -55,14 +55,17 @@ static int ch_read(json_t *spec, ch_params *p, lub_error *err)
             lub_spec_number(c, "/closure", "phi_m", OPEN01, 1, 0.58, &p->cl.m4_phi_m, err))
             return -1;
     } else if (strcmp(p->kind, "morris_miller") == 0) {
-        static const char *k[] = {"kind", "K_s", "K_n", "lambda_grad", "lambda_vort", "phi_m", NULL};
+        static const char *k[] = {"kind",        "K_s",   "K_n", "lambda_grad",
+                                  "lambda_vort", "phi_m", NULL};
         lub_mm_params *m = &p->cl.mm;
         p->cl.kind = LUB_CLOSURE_MM;
         if (lub_spec_only_keys(c, "/closure", k, err) ||
             lub_spec_number(c, "/closure", "K_s", LUB_NONNEGATIVE, 1, 0.1, &m->K_s, err) ||
             lub_spec_number(c, "/closure", "K_n", LUB_POSITIVE, 1, 0.75, &m->K_n, err) ||
-            lub_spec_number(c, "/closure", "lambda_grad", LUB_POSITIVE, 1, 0.8, &m->lambda_grad, err) ||
-            lub_spec_number(c, "/closure", "lambda_vort", LUB_NONNEGATIVE, 1, 0.5, &m->lambda_vort, err) ||
+            lub_spec_number(c, "/closure", "lambda_grad", LUB_POSITIVE, 1, 0.8, &m->lambda_grad,
+                            err) ||
+            lub_spec_number(c, "/closure", "lambda_vort", LUB_NONNEGATIVE, 1, 0.5, &m->lambda_vort,
+                            err) ||
             lub_spec_number(c, "/closure", "phi_m", OPEN01, 1, 0.68, &m->phi_m, err))
             return -1;
         if (!(m->lambda_vort < 2.0 * m->lambda_grad))
@@ -157,8 +160,9 @@ static int ch_run(const json_t *resolved, lub_run_ctx *ctx)
     json_object_set_new(ctx->summary_extra, "active_terms",
                         json_pack("[s, s, s]", "sbm_steady_migration", kind, geom));
     json_object_set_new(ctx->summary_extra, "units",
-                        json_pack("{s:s, s:s, s:s}", "length", "R (pipe radius or channel half-width)",
-                                  "velocity", "U (mean velocity)", "pressure", "eta0 U/R"));
+                        json_pack("{s:s, s:s, s:s}", "length",
+                                  "R (pipe radius or channel half-width)", "velocity",
+                                  "U (mean velocity)", "pressure", "eta0 U/R"));
     json_object_set_new(ctx->summary_extra, "steps", json_integer(n));
     json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
     lub_progress_final(ctx->progress, n);

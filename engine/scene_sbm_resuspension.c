@@ -9,9 +9,9 @@
  *      | {"kind": "power_law", "lambda", "n" (> 1), "phi_m"}         (user eta = lambda s^n)
  *      | {"kind": "ozenda_m4", "phi_m" = 0.58}                       (-N2/(eta0 gd) of M4)
  *   direction: "gradient" (eta_22, default) | "vorticity" (eta_33)
- *   shields (> 0, default 0.1), inventory (int phi dy / a, > 0, default 20), phi0 = 0.55 (settled fraction, for h0 and
- *   the Acrivos number), points = 401.
- * Outputs: /profiles/y, phi, Phi (= int_y phi), eta_law (eta_ii(phi(y))), eta_from_profile
+ *   shields (> 0, default 0.1), inventory (int phi dy / a, > 0, default 20), phi0 = 0.55 (settled
+ * fraction, for h0 and the Acrivos number), points = 401. Outputs: /profiles/y, phi, Phi (= int_y
+ * phi), eta_law (eta_ii(phi(y))), eta_from_profile
  * ((1/Sh) int_y phi by the trapezoidal rule on the output grid: the DEM seed's estimator);
  * /profiles/y_uniform, phi_uniform (linear interpolation of an 8x finer exact grid).
  * Summary: height, phi_bottom, expansion h/h0, Acrivos number, closed form for power laws.
@@ -36,10 +36,10 @@ static const lub_range OPEN01 = {0.0, 1.0, 1, 1};
 
 static int rs_read(json_t *spec, rs_params *p, lub_error *err)
 {
-    static const char *keys[] = {"scene", "law", "direction", "shields", "inventory", "phi0",
-                                 "points", NULL};
-    static const char *kinds[] = {"dem_seed", "boyer", "zarraga", "morris_boulay", "power_law",
-                                  "ozenda_m4", NULL};
+    static const char *keys[] = {"scene",     "law",  "direction", "shields",
+                                 "inventory", "phi0", "points",    NULL};
+    static const char *kinds[] = {"dem_seed",  "boyer",     "zarraga", "morris_boulay",
+                                  "power_law", "ozenda_m4", NULL};
     static const char *dirs[] = {"gradient", "vorticity", NULL};
     const char *dir;
     if (lub_spec_only_keys(spec, "", keys, err))
@@ -66,7 +66,8 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
         p->law.kind = LUB_NLAW_POWER;
         if (lub_spec_only_keys(law, "/law", lk, err) ||
             lub_spec_number(law, "/law", "lambda", LUB_POSITIVE, 0, 0, &p->law.lambda, err) ||
-            lub_spec_number(law, "/law", "n", (lub_range){1.0, 100.0, 1, 0}, 0, 0, &p->law.n, err) ||
+            lub_spec_number(law, "/law", "n", (lub_range){1.0, 100.0, 1, 0}, 0, 0, &p->law.n,
+                            err) ||
             lub_spec_number(law, "/law", "phi_m", OPEN01, 0, 0, &p->law.phi_m, err))
             return -1;
     } else if (strcmp(k, "ozenda_m4") == 0) {
@@ -86,8 +87,10 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
             return -1;
         lub_normal_law_preset(k, direction, &p->law);
     }
-    if (lub_spec_number(spec, "", "shields", (lub_range){0.0, 1e12, 1, 0}, 1, 0.1, &p->shields, err) ||
-        lub_spec_number(spec, "", "inventory", (lub_range){0.0, 1e12, 1, 0}, 1, 20.0, &p->inventory, err) ||
+    if (lub_spec_number(spec, "", "shields", (lub_range){0.0, 1e12, 1, 0}, 1, 0.1, &p->shields,
+                        err) ||
+        lub_spec_number(spec, "", "inventory", (lub_range){0.0, 1e12, 1, 0}, 1, 20.0, &p->inventory,
+                        err) ||
         lub_spec_number(spec, "", "phi0", OPEN01, 1, 0.55, &p->phi0, err) ||
         lub_spec_integer(spec, "", "points", 2, 1000000, 1, 401, &p->points, err))
         return -1;
@@ -154,8 +157,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         uy[i] = yi;
         uphi[i] = (1.0 - w) * fphi[j] + w * fphi[j + 1];
     }
-    const char *names[7] = {"y", "phi", "Phi", "eta_law", "eta_from_profile", "y_uniform",
-                            "phi_uniform"};
+    const char *names[7] = {"y",         "phi",        "Phi", "eta_law", "eta_from_profile",
+                            "y_uniform", "phi_uniform"};
     const double *data[7] = {y, phi, Phi, eta_law, eta_prof, uy, uphi};
     const char *units[7] = {"a", "1", "a", "1", "1", "a", "1"};
     int64_t dims[1] = {n};
@@ -185,8 +188,10 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "eta_bottom_from_profile_rel_error",
                     eta_prof0 / (p.inventory / p.shields) - 1.0, NAN, "1");
     if (p.law.kind == LUB_NLAW_POWER) {
-        double nn = p.law.n, lam = p.law.lambda, s0 = pow(p.inventory / (p.shields * lam), 1.0 / nn);
-        double hc = nn * p.shields * lam / p.law.phi_m * (pow(s0, nn - 1) / (nn - 1) + pow(s0, nn) / nn);
+        double nn = p.law.n, lam = p.law.lambda,
+               s0 = pow(p.inventory / (p.shields * lam), 1.0 / nn);
+        double hc =
+            nn * p.shields * lam / p.law.phi_m * (pow(s0, nn - 1) / (nn - 1) + pow(s0, nn) / nn);
         lub_summary_put(ctx, "height_closed_form", hc, NAN, "a");
         lub_summary_put(ctx, "lambda", lam, NAN, "1");
         lub_summary_put(ctx, "n", nn, NAN, "1");

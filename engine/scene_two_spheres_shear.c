@@ -30,8 +30,7 @@
 #define LUB_PI 3.14159265358979323846
 
 typedef struct {
-    double St, Ca, d0, theta_deg, x0, cutoff, duration, dt, dt_safety, dt_free,
-        sample_interval;
+    double St, Ca, d0, theta_deg, x0, cutoff, duration, dt, dt_safety, dt_free, sample_interval;
     int rotation, stop_at_separation;
     lub_law_spec law;
 } ts_params;
@@ -48,9 +47,22 @@ static const lub_law_spec_opts ts_law_opts = {
 
 static int ts_read(json_t *spec, ts_params *p, lub_error *err)
 {
-    static const char *keys[] = {"scene", "St", "Ca", "d0", "theta_deg", "x0", "cutoff",
-                                 "duration", "stop_at_separation", "dt", "dt_safety",
-                                 "dt_free", "sample_interval", "rotation", "law", NULL};
+    static const char *keys[] = {"scene",
+                                 "St",
+                                 "Ca",
+                                 "d0",
+                                 "theta_deg",
+                                 "x0",
+                                 "cutoff",
+                                 "duration",
+                                 "stop_at_separation",
+                                 "dt",
+                                 "dt_safety",
+                                 "dt_free",
+                                 "sample_interval",
+                                 "rotation",
+                                 "law",
+                                 NULL};
     if (lub_spec_only_keys(spec, "", keys, err))
         return -1;
     const lub_range unit_interval = {0.0, 1.0, 1, 0};
@@ -111,8 +123,7 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
     const double th = p.theta_deg * LUB_PI / 180.0;
     const vec3 x2 = v3(-p.x0 * a, p.d0 * a * sin(th), p.d0 * a * cos(th));
     const vec3 spin = lub_fb_flow_spin(&s.env);
-    s.b[0] = (lub_fb_body){.r = a, .inv_m = 1.0 / m, .inv_I = 1.0 / I, .x = v3(0, 0, 0),
-                           .w = spin};
+    s.b[0] = (lub_fb_body){.r = a, .inv_m = 1.0 / m, .inv_I = 1.0 / I, .x = v3(0, 0, 0), .w = spin};
     s.b[1] = (lub_fb_body){.r = a, .inv_m = 1.0 / m, .inv_I = 1.0 / I, .x = x2, .w = spin};
     s.b[0].v = lub_fb_flow_velocity(&s.env, s.b[0].x);
     s.b[1].v = lub_fb_flow_velocity(&s.env, s.b[1].x);
@@ -145,8 +156,8 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
         /* step length: elastic limit while the pair is (or may become) active */
         rel = v3_sub(s.b[1].x, s.b[0].x);
         double un_now = v3_norm(rel) - 2.0 * a;
-        double dt = (un_now <= p.cutoff * a + 4.0 * dt_away * (fabs(rel.y) + 1.0) * gd)
-                        ? dt_pair : dt_away;
+        double dt =
+            (un_now <= p.cutoff * a + 4.0 * dt_away * (fabs(rel.y) + 1.0) * gd) ? dt_pair : dt_away;
         double t_eval = s.t;
         if (lub_fb_step(&s, dt, ctx->diagnostic, sizeof ctx->diagnostic)) {
             rc = LUB_EXIT_NUMERICAL;
@@ -161,18 +172,28 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
                 rc = LUB_EXIT_NUMERICAL;
                 break;
             }
-            if (pr->out.delta < min_gap_delta) min_gap_delta = pr->out.delta;
-            if (pr->out.un < min_un) min_un = pr->out.un;
-            if (pr->out.contact) contacted = 1;
+            if (pr->out.delta < min_gap_delta)
+                min_gap_delta = pr->out.delta;
+            if (pr->out.un < min_un)
+                min_un = pr->out.un;
+            if (pr->out.contact)
+                contacted = 1;
         }
-        if (rel.y > max_y) max_y = rel.y;
+        if (rel.y > max_y)
+            max_y = rel.y;
         if (t_eval >= next_sample) {
             next_sample = t_eval + p.sample_interval;
-            row[0] = rel.x; row[1] = rel.y; row[2] = rel.z;
+            row[0] = rel.x;
+            row[1] = rel.y;
+            row[2] = rel.z;
             row[3] = pr->active ? pr->out.gap : un_now;
             row[4] = un_now;
-            row[5] = s.b[0].w.x; row[6] = s.b[0].w.y; row[7] = s.b[0].w.z;
-            row[8] = s.b[1].w.x; row[9] = s.b[1].w.y; row[10] = s.b[1].w.z;
+            row[5] = s.b[0].w.x;
+            row[6] = s.b[0].w.y;
+            row[7] = s.b[0].w.z;
+            row[8] = s.b[1].w.x;
+            row[9] = s.b[1].w.y;
+            row[10] = s.b[1].w.z;
             if (lub_h5_table_append(tab, s.step - 1, t_eval, row)) {
                 snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
                          lub_h5_last_error(ctx->out));
@@ -193,11 +214,17 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
     rel = v3_sub(s.b[1].x, s.b[0].x);
     {
         double un_end = v3_norm(rel) - 2.0 * a;
-        row[0] = rel.x; row[1] = rel.y; row[2] = rel.z;
+        row[0] = rel.x;
+        row[1] = rel.y;
+        row[2] = rel.z;
         row[3] = s.p[0].active ? s.p[0].out.gap : un_end;
         row[4] = un_end;
-        row[5] = s.b[0].w.x; row[6] = s.b[0].w.y; row[7] = s.b[0].w.z;
-        row[8] = s.b[1].w.x; row[9] = s.b[1].w.y; row[10] = s.b[1].w.z;
+        row[5] = s.b[0].w.x;
+        row[6] = s.b[0].w.y;
+        row[7] = s.b[0].w.z;
+        row[8] = s.b[1].w.x;
+        row[9] = s.b[1].w.y;
+        row[10] = s.b[1].w.z;
         if (rc == LUB_EXIT_OK && lub_h5_table_append(tab, s.step, s.t, row))
             rc = LUB_EXIT_IO;
     }
@@ -221,7 +248,8 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "dt_critical", dt_crit, NAN, "1/gd");
     /* normal-law step h = dt g a/nu_n: the backward-Euler gap update is stable for any h but
      * resolves the gap dynamics only where h |u_n/a| <~ 1 (high St, soft spheres) */
-    lub_summary_put(ctx, "normal_h", dt_pair * p.law.params.k_bulk / (1.5 * LUB_PI * eta * a), NAN, "1");
+    lub_summary_put(ctx, "normal_h", dt_pair * p.law.params.k_bulk / (1.5 * LUB_PI * eta * a), NAN,
+                    "1");
 
     json_t *terms = json_array();
     json_array_append_new(terms, json_string("stokes_drag"));

@@ -23,12 +23,6 @@ static int thread_id(void)
 
 #define mat_vec lub_mat_vec
 
-/* mean spin of the flow L: half the curl of L x */
-static vec3 mean_spin(const double L[3][3])
-{
-    return v3(0.5 * (L[2][1] - L[1][2]), 0.5 * (L[0][2] - L[2][0]), 0.5 * (L[1][0] - L[0][1]));
-}
-
 void lub_shear_free(lub_shear_system *s)
 {
     free(s->x);
@@ -100,7 +94,7 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
             }
     }
     s->cell = *cell;
-    vec3 spin = mean_spin(cell->L);
+    vec3 spin = lub_flow_spin(cell->L);
     for (int i = 0; i < n; ++i) {
         double r = radius[i];
         s->r[i] = r;
@@ -127,7 +121,7 @@ void lub_shear_set_gradient(lub_shear_system *s, const double Lnew[3][3])
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
             dL[i][j] = Lnew[i][j] - s->cell.L[i][j];
-    vec3 dspin = mean_spin(dL);
+    vec3 dspin = lub_flow_spin(dL);
     for (int p = 0; p < s->n; ++p) {
         s->v[p] = v3_add(s->v[p], mat_vec(dL, s->x[p]));
         s->w[p] = v3_add(s->w[p], dspin);

@@ -23,8 +23,8 @@ enum MHD_Result lubd_api_results(lubd_request *r, const char *id);
 /* Authenticates, loads job `id` and checks that the caller may see it (owner or admin;
  * others get 404, as for an unknown id). Purged jobs give 410 unless allow_purged.
  * Returns 0, or -1 with *f set. Defined in api_jobs.c. */
-int lubd_load_visible_job(lubd_request *r, const char *id, void *job /* lubd_job */,
-                          lubd_fault *f, int allow_purged);
+int lubd_load_visible_job(lubd_request *r, const char *id, void *job /* lubd_job */, lubd_fault *f,
+                          int allow_purged);
 /* api_files.c */
 enum MHD_Result lubd_api_result_file(lubd_request *r, const char *id, const char *name);
 enum MHD_Result lubd_api_log(lubd_request *r, const char *id);

@@ -24,15 +24,13 @@ int lubd_load_visible_job(lubd_request *r, const char *id, void *out, lubd_fault
         lubd_db_release(&r->srv->pool, db);
     }
     if (found < 0)
-        return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,
-                         "database error");
+        return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
     if (found == 0 || (j->user_id != r->user.id && !r->user.is_admin))
         return lubd_fail(f, 404, LUBD_OGC_EXC "no-such-job", "No such job", NULL,
                          "job \"%.64s\" does not exist (or belongs to another user)", id);
     if (j->purged && !allow_purged)
         return lubd_fail(f, 410, LUBD_PT_BASE "job-purged", "Job purged", NULL,
-                         "job %s was dismissed after it finished; its results were deleted",
-                         id);
+                         "job %s was dismissed after it finished; its results were deleted", id);
     return 0;
 }
 
@@ -94,7 +92,8 @@ enum MHD_Result lubd_api_jobs(lubd_request *r)
     if (acc.bad) {
         lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
                   "status: unknown value \"%.60s\" (accepted, running, successful, failed, "
-                  "dismissed)", acc.bad_value);
+                  "dismissed)",
+                  acc.bad_value);
         return lubd_reply_fault(r, &f);
     }
     q.state_mask = acc.mask;
@@ -107,8 +106,8 @@ enum MHD_Result lubd_api_jobs(lubd_request *r)
         char *end;
         long v = strtol(lim, &end, 10);
         if (*end || end == lim || v < 1 || v > 1000) {
-            lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter",
-                      NULL, "limit: must be an integer in [1, 1000]");
+            lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
+                      "limit: must be an integer in [1, 1000]");
             return lubd_reply_fault(r, &f);
         }
         q.limit = (int)v;
@@ -118,8 +117,8 @@ enum MHD_Result lubd_api_jobs(lubd_request *r)
         char *end;
         long long v = cur[0] == 's' ? strtoll(cur + 1, &end, 10) : -1;
         if (v <= 0 || *end) {
-            lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter",
-                      NULL, "cursor: not a cursor from a 'next' link");
+            lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
+                      "cursor: not a cursor from a 'next' link");
             return lubd_reply_fault(r, &f);
         }
         q.before_seq = v;
@@ -139,14 +138,13 @@ enum MHD_Result lubd_api_jobs(lubd_request *r)
     /* Filters are re-encoded from validated values only. */
     char filters[400] = "";
     size_t fl = 0;
-    static const char *const names[] = {"accepted", "running", "successful", "failed",
-                                        "dismissed"};
+    static const char *const names[] = {"accepted", "running", "successful", "failed", "dismissed"};
     for (int b = 0; b < 5; ++b)
         if (q.state_mask & (1 << b))
             fl += (size_t)snprintf(filters + fl, sizeof filters - fl, "&status=%s", names[b]);
-    int proc_ok = proc && strlen(proc) < 64 && strspn(proc, "abcdefghijklmnopqrstuvwxyz"
-                                                             "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") ==
-                                                   strlen(proc);
+    int proc_ok = proc && strlen(proc) < 64 &&
+                  strspn(proc, "abcdefghijklmnopqrstuvwxyz"
+                               "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") == strlen(proc);
     if (proc_ok && fl < sizeof filters)
         snprintf(filters + fl, sizeof filters - fl, "&processID=%s", proc);
     json_t *links = json_array();
@@ -161,9 +159,8 @@ enum MHD_Result lubd_api_jobs(lubd_request *r)
                                                "type", "application/json"));
     }
     free(jobs);
-    return lubd_reply_json(r, 200,
-                           json_pack("{s:o, s:i, s:o}", "jobs", arr, "numberReturned", n,
-                                     "links", links));
+    return lubd_reply_json(
+        r, 200, json_pack("{s:o, s:i, s:o}", "jobs", arr, "numberReturned", n, "links", links));
 }
 
 enum MHD_Result lubd_api_dismiss(lubd_request *r, const char *id)
@@ -244,9 +241,9 @@ enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
     free(files);
     char self[1200];
     snprintf(self, sizeof self, "%s/jobs/%s/results", r->base, id);
-    json_t *o = json_pack("{s:s, s:s, s:o, s:o, s:[{s:s, s:s, s:s}]}", "jobID", id, "processID",
-                          j.process_id, "summary", summary ? summary : json_null(), "outputs",
-                          outputs, "links", "href", self, "rel", "self", "type",
-                          "application/json");
+    json_t *o =
+        json_pack("{s:s, s:s, s:o, s:o, s:[{s:s, s:s, s:s}]}", "jobID", id, "processID",
+                  j.process_id, "summary", summary ? summary : json_null(), "outputs", outputs,
+                  "links", "href", self, "rel", "self", "type", "application/json");
     return lubd_reply_json(r, 200, o);
 }

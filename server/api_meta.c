@@ -6,7 +6,7 @@
 #include "queue.h"
 
 static json_t *mklink(const char *base, const char *path, const char *rel, const char *type,
-                    const char *title)
+                      const char *title)
 {
     char href[600];
     snprintf(href, sizeof href, "%s%s", base, path);
@@ -18,24 +18,21 @@ enum MHD_Result lubd_api_landing(lubd_request *r)
 {
     json_t *links = json_array();
     json_array_append_new(links, mklink(r->base, "/", "self", "application/json", "this page"));
-    json_array_append_new(links, mklink(r->base, "/openapi.json", "service-desc",
-                                      "application/vnd.oai.openapi+json;version=3.0",
-                                      "API definition"));
     json_array_append_new(links,
-                          mklink(r->base, "/conformance",
-                               "http://www.opengis.net/def/rel/ogc/1.0/conformance",
-                               "application/json", "conformance classes"));
-    json_array_append_new(links,
-                          mklink(r->base, "/processes",
-                               "http://www.opengis.net/def/rel/ogc/1.0/processes",
-                               "application/json", "processes (engine scenes)"));
+                          mklink(r->base, "/openapi.json", "service-desc",
+                                 "application/vnd.oai.openapi+json;version=3.0", "API definition"));
+    json_array_append_new(links, mklink(r->base, "/conformance",
+                                        "http://www.opengis.net/def/rel/ogc/1.0/conformance",
+                                        "application/json", "conformance classes"));
+    json_array_append_new(links, mklink(r->base, "/processes",
+                                        "http://www.opengis.net/def/rel/ogc/1.0/processes",
+                                        "application/json", "processes (engine scenes)"));
     json_array_append_new(links, mklink(r->base, "/jobs",
-                                      "http://www.opengis.net/def/rel/ogc/1.0/job-list",
-                                      "application/json", "jobs"));
+                                        "http://www.opengis.net/def/rel/ogc/1.0/job-list",
+                                        "application/json", "jobs"));
     json_array_append_new(links, mklink(r->base, "/health", "status", "application/json",
-                                      "liveness and queue depth"));
-    json_t *o = json_pack("{s:s, s:s, s:o}", "title", "lubdem simulation service",
-                          "description",
+                                        "liveness and queue depth"));
+    json_t *o = json_pack("{s:s, s:s, s:o}", "title", "lubdem simulation service", "description",
                           "Runs lubdem discrete-element and continuum simulations of dense "
                           "non-Brownian suspensions as asynchronous jobs (OGC API - Processes).",
                           "links", links);
@@ -44,13 +41,12 @@ enum MHD_Result lubd_api_landing(lubd_request *r)
 
 enum MHD_Result lubd_api_conformance(lubd_request *r)
 {
-    json_t *o = json_pack(
-        "{s:[s,s,s,s,s]}", "conformsTo",
-        "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/core",
-        "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/json",
-        "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/oas30",
-        "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/job-list",
-        "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/dismiss");
+    json_t *o = json_pack("{s:[s,s,s,s,s]}", "conformsTo",
+                          "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/core",
+                          "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/json",
+                          "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/oas30",
+                          "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/job-list",
+                          "http://www.opengis.net/spec/ogcapi-processes-1/1.0/conf/dismiss");
     return lubd_reply_json(r, 200, o);
 }
 
@@ -62,8 +58,8 @@ enum MHD_Result lubd_api_openapi(lubd_request *r)
     json_t *doc = json_load_file(path, JSON_PRESERVE_ORDER, &err);
     if (!doc) {
         lubd_fault f;
-        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,
-                  "cannot read %s: %s", path, err.text);
+        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "cannot read %s: %s",
+                  path, err.text);
         return lubd_reply_fault(r, &f);
     }
     return lubd_queue(r, 200,
@@ -77,9 +73,9 @@ enum MHD_Result lubd_api_health(lubd_request *r)
     int rc = lubd_queue_counts(db, &accepted, &running);
     lubd_db_release(&r->srv->pool, db);
     int alive = atomic_load(&r->srv->workers_alive);
-    json_t *o = json_pack("{s:s, s:{s:i, s:i}, s:{s:i, s:i}}", "status",
-                          rc == 0 ? "ok" : "database unavailable", "queue", "accepted",
-                          accepted, "running", running, "workers", "configured",
-                          r->srv->cfg->workers, "alive", alive);
+    json_t *o =
+        json_pack("{s:s, s:{s:i, s:i}, s:{s:i, s:i}}", "status",
+                  rc == 0 ? "ok" : "database unavailable", "queue", "accepted", accepted, "running",
+                  running, "workers", "configured", r->srv->cfg->workers, "alive", alive);
     return lubd_reply_json(r, rc == 0 ? 200 : 503, o);
 }

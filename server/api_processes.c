@@ -16,11 +16,10 @@ static json_t *summary_of(const lub_scene *s, const char *base)
     char exec[640];
     snprintf(exec, sizeof exec, "%s/execution", href);
     return json_pack("{s:s, s:s, s:s, s:s, s:[s,s], s:[s], s:[{s:s, s:s, s:s}, {s:s, s:s, s:s}]}",
-                     "id", s->name, "title", s->title, "description", s->description,
-                     "version", "1.0.0", "jobControlOptions", "async-execute", "dismiss",
-                     "outputTransmission", "reference", "links", "href", href, "rel", "self",
-                     "type", "application/json", "href", exec, "rel",
-                     "http://www.opengis.net/def/rel/ogc/1.0/execute", "type",
+                     "id", s->name, "title", s->title, "description", s->description, "version",
+                     "1.0.0", "jobControlOptions", "async-execute", "dismiss", "outputTransmission",
+                     "reference", "links", "href", href, "rel", "self", "type", "application/json",
+                     "href", exec, "rel", "http://www.opengis.net/def/rel/ogc/1.0/execute", "type",
                      "application/json");
 }
 
@@ -55,19 +54,20 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
     json_t *required = json_object_get(schema, "required");
     const char *key;
     json_t *prop;
-    json_object_foreach(props, key, prop) {
+    json_object_foreach (props, key, prop) {
         if (strcmp(key, "scene") == 0)
             continue; /* selected by the process id, not an input */
         int req = 0;
         size_t i;
         json_t *v;
-        json_array_foreach(required, i, v) if (json_is_string(v) &&
-                                               strcmp(json_string_value(v), key) == 0) req = 1;
+        json_array_foreach (required, i, v)
+            if (json_is_string(v) && strcmp(json_string_value(v), key) == 0)
+                req = 1;
         json_t *title = json_object_get(prop, "title");
         json_t *desc = json_object_get(prop, "description");
         json_t *in = json_pack("{s:s, s:i, s:i, s:O}", "title",
-                               json_is_string(title) ? json_string_value(title) : key,
-                               "minOccurs", req, "maxOccurs", 1, "schema", prop);
+                               json_is_string(title) ? json_string_value(title) : key, "minOccurs",
+                               req, "maxOccurs", 1, "schema", prop);
         if (json_is_string(desc))
             json_object_set(in, "description", desc);
         json_object_set_new(inputs, key, in);
@@ -79,14 +79,14 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
         json_object_set_new(o, "inputsSchemaError", json_string(err.text));
     json_object_set_new(
         o, "outputs",
-        json_pack("{s:{s:s, s:s, s:{s:s, s:s}}, s:{s:s, s:s, s:{s:s, s:s, s:s}}}",
-                  "summary.json", "title", "summary", "description",
-                  "headline results (see schema/summary.schema.json)", "schema", "type",
-                  "object", "contentMediaType", "application/json", "result.h5", "title",
-                  "H5MD result file", "description",
-                  "observables, snapshots, verbatim and resolved spec, build provenance",
-                  "schema", "type", "string", "contentEncoding", "binary",
-                  "contentMediaType", "application/x-hdf5"));
+        json_pack("{s:{s:s, s:s, s:{s:s, s:s}}, s:{s:s, s:s, s:{s:s, s:s, s:s}}}", "summary.json",
+                  "title", "summary", "description",
+                  "headline results (see schema/summary.schema.json)", "schema", "type", "object",
+                  "contentMediaType", "application/json", "result.h5", "title", "H5MD result file",
+                  "description",
+                  "observables, snapshots, verbatim and resolved spec, build provenance", "schema",
+                  "type", "string", "contentEncoding", "binary", "contentMediaType",
+                  "application/x-hdf5"));
     return lubd_reply_json(r, 200, o);
 }
 
@@ -149,8 +149,8 @@ enum MHD_Result lubd_api_execute(lubd_request *r, const char *id)
     lubd_exec_free(&req);
     if (rc != 0)
         return lubd_reply_fault(r, &f);
-    struct MHD_Response *resp = lubd_json_response(lubd_status_json(&job, r->base, 0),
-                                                   "application/json");
+    struct MHD_Response *resp =
+        lubd_json_response(lubd_status_json(&job, r->base, 0), "application/json");
     if (!resp)
         return MHD_NO;
     char loc[600];

@@ -109,23 +109,23 @@ int lubd_config_parse(lubd_config *c, int argc, char **argv, int first)
         const char *o = argv[i];
         const char *v = i + 1 < argc ? argv[i + 1] : NULL;
         long x;
-#define STR_OPT(name, field)                                                                 \
-    if (strcmp(o, name) == 0) {                                                             \
-        if (!v) {                                                                           \
-            fprintf(stderr, "lubdemd: %s needs a value\n", o);                              \
-            return -1;                                                                      \
-        }                                                                                   \
-        snprintf(field, sizeof field, "%s", v);                                             \
-        ++i;                                                                                \
-        continue;                                                                           \
+#define STR_OPT(name, field)                                                                       \
+    if (strcmp(o, name) == 0) {                                                                    \
+        if (!v) {                                                                                  \
+            fprintf(stderr, "lubdemd: %s needs a value\n", o);                                     \
+            return -1;                                                                             \
+        }                                                                                          \
+        snprintf(field, sizeof field, "%s", v);                                                    \
+        ++i;                                                                                       \
+        continue;                                                                                  \
     }
-#define INT_OPT(name, field, min, max)                                                       \
-    if (strcmp(o, name) == 0) {                                                             \
-        if (want_int(o, v, min, max, &x) != 0)                                              \
-            return -1;                                                                      \
-        field = x;                                                                          \
-        ++i;                                                                                \
-        continue;                                                                           \
+#define INT_OPT(name, field, min, max)                                                             \
+    if (strcmp(o, name) == 0) {                                                                    \
+        if (want_int(o, v, min, max, &x) != 0)                                                     \
+            return -1;                                                                             \
+        field = x;                                                                                 \
+        ++i;                                                                                       \
+        continue;                                                                                  \
     }
         STR_OPT("--run-dir", c->run_dir)
         STR_OPT("--db", c->db_path)

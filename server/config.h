@@ -7,25 +7,25 @@
 #define LUBD_CONFIG_H
 
 typedef struct {
-    char run_dir[1024];     /* ./run */
-    char db_path[1100];     /* <run_dir>/queue.db */
-    char jobs_dir[1100];    /* <run_dir>/jobs */
-    char engine[1024];      /* lubdem binary */
-    char schema_dir[1024];  /* schema/ (openapi.json, <scene>.schema.json) */
-    char self_exe[1024];    /* this binary, to start workers */
-    char listen_host[64];   /* 127.0.0.1 */
-    int port;               /* 8080; 0 = any free port */
-    const char *port_file;  /* write the bound port here (tests) */
-    int workers;            /* worker processes; default = online cores */
-    int http_threads;       /* MHD thread pool */
-    int lease_s;            /* lease duration; heartbeat every lease/3 (at most 1 s) */
-    int max_attempts;       /* attempts before a job whose worker keeps dying fails */
-    int user_cap;           /* default max accepted+running jobs per user */
-    long max_body;          /* request body cap in bytes */
+    char run_dir[1024];           /* ./run */
+    char db_path[1100];           /* <run_dir>/queue.db */
+    char jobs_dir[1100];          /* <run_dir>/jobs */
+    char engine[1024];            /* lubdem binary */
+    char schema_dir[1024];        /* schema/ (openapi.json, <scene>.schema.json) */
+    char self_exe[1024];          /* this binary, to start workers */
+    char listen_host[64];         /* 127.0.0.1 */
+    int port;                     /* 8080; 0 = any free port */
+    const char *port_file;        /* write the bound port here (tests) */
+    int workers;                  /* worker processes; default = online cores */
+    int http_threads;             /* MHD thread pool */
+    int lease_s;                  /* lease duration; heartbeat every lease/3 (at most 1 s) */
+    int max_attempts;             /* attempts before a job whose worker keeps dying fails */
+    int user_cap;                 /* default max accepted+running jobs per user */
+    long max_body;                /* request body cap in bytes */
     long cpu_s, mem_mb, fsize_mb; /* engine rlimits (0 = unlimited) */
-    int grace_s;            /* SIGTERM -> SIGKILL delay when cancelling */
-    int engine_threads;     /* --threads for the engine (0 = engine default) */
-    int init_defaults;      /* create ./run and a local admin token if none exists */
+    int grace_s;                  /* SIGTERM -> SIGKILL delay when cancelling */
+    int engine_threads;           /* --threads for the engine (0 = engine default) */
+    int init_defaults;            /* create ./run and a local admin token if none exists */
     int quiet;
 } lubd_config;
 

@@ -8,14 +8,14 @@
 #include "scene.h"
 #include "sha256.h"
 
-static const char *const allowed_members[] = {"inputs", "priority", "outputs", "response",
-                                              "subscriber", NULL};
+static const char *const allowed_members[] = {"inputs",   "priority",   "outputs",
+                                              "response", "subscriber", NULL};
 
 static int check_members(const json_t *body, lubd_fault *f)
 {
     const char *key;
     json_t *v;
-    json_object_foreach((json_t *)body, key, v) {
+    json_object_foreach ((json_t *)body, key, v) {
         int ok = 0;
         for (const char *const *a = allowed_members; *a; ++a)
             if (strcmp(*a, key) == 0)
@@ -25,7 +25,8 @@ static int check_members(const json_t *body, lubd_fault *f)
             lub_pointer_join(ptr, sizeof ptr, "", key);
             return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", ptr,
                              "unknown member \"%.100s\" (allowed: inputs, priority, outputs, "
-                             "response, subscriber)", key);
+                             "response, subscriber)",
+                             key);
         }
     }
     json_t *o = json_object_get(body, "outputs");
@@ -34,8 +35,8 @@ static int check_members(const json_t *body, lubd_fault *f)
                          "must be an object");
     json_t *s = json_object_get(body, "subscriber");
     if (s && !json_is_object(s))
-        return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request",
-                         "/subscriber", "must be an object");
+        return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/subscriber",
+                         "must be an object");
     json_t *resp = json_object_get(body, "response");
     if (resp && !(json_is_string(resp) && strcmp(json_string_value(resp), "document") == 0))
         return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/response",

@@ -27,8 +27,7 @@ struct MHD_Response *lubd_json_response(json_t *body, const char *content_type)
         return NULL;
     size_t n = strlen(text);
     text[n] = '\n'; /* replace the NUL: bodies end with a newline */
-    struct MHD_Response *resp =
-        MHD_create_response_from_buffer(n + 1, text, MHD_RESPMEM_MUST_FREE);
+    struct MHD_Response *resp = MHD_create_response_from_buffer(n + 1, text, MHD_RESPMEM_MUST_FREE);
     if (!resp) {
         free(text);
         return NULL;
@@ -59,8 +58,7 @@ enum MHD_Result lubd_reply_fault(lubd_request *r, const lubd_fault *f)
     if (!resp)
         return MHD_NO;
     if (f->status == 401)
-        MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE,
-                                "Bearer realm=\"lubdem\"");
+        MHD_add_response_header(resp, MHD_HTTP_HEADER_WWW_AUTHENTICATE, "Bearer realm=\"lubdem\"");
     if (f->retry_after > 0) {
         char v[16];
         snprintf(v, sizeof v, "%d", f->retry_after);
@@ -141,8 +139,7 @@ static enum MHD_Result method_not_allowed(lubd_request *r, const char *allow)
 static enum MHD_Result not_found(lubd_request *r)
 {
     lubd_fault f;
-    lubd_fail(&f, 404, LUBD_PT_BASE "not-found", "Not found", NULL, "no resource at %s",
-              r->url);
+    lubd_fail(&f, 404, LUBD_PT_BASE "not-found", "Not found", NULL, "no resource at %s", r->url);
     return lubd_reply_fault(r, &f);
 }
 
@@ -166,8 +163,7 @@ static enum MHD_Result route(lubd_request *r)
         if (r->nseg == 2)
             return get ? lubd_api_process(r, r->seg[1]) : method_not_allowed(r, "GET, HEAD");
         if (r->nseg == 3 && strcmp(r->seg[2], "execution") == 0)
-            return is(r, "POST") ? lubd_api_execute(r, r->seg[1])
-                                 : method_not_allowed(r, "POST");
+            return is(r, "POST") ? lubd_api_execute(r, r->seg[1]) : method_not_allowed(r, "POST");
         return not_found(r);
     }
     if (strcmp(s0, "jobs") == 0) {
@@ -205,8 +201,8 @@ static int json_content_type(const char *ct)
 }
 
 static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const char *url,
-                                  const char *method, const char *version,
-                                  const char *upload_data, size_t *upload_size, void **con_cls)
+                                  const char *method, const char *version, const char *upload_data,
+                                  size_t *upload_size, void **con_cls)
 {
     (void)version;
     lubd_server *srv = cls;
@@ -229,8 +225,8 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
             make_base(&r);
             const char *cl = lubd_header(&r, MHD_HTTP_HEADER_CONTENT_LENGTH);
             if (cl && strtoull(cl, NULL, 10) > (unsigned long long)srv->cfg->max_body) {
-                lubd_fail(&f, 413, LUBD_PT_BASE "body-too-large", "Request body too large",
-                          NULL, "request body of %s bytes exceeds the limit of %ld bytes", cl,
+                lubd_fail(&f, 413, LUBD_PT_BASE "body-too-large", "Request body too large", NULL,
+                          "request body of %s bytes exceeds the limit of %ld bytes", cl,
                           srv->cfg->max_body);
                 return lubd_reply_fault(&r, &f);
             }
@@ -240,9 +236,8 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
             cs->user = r.user;
             const char *ct = lubd_header(&r, MHD_HTTP_HEADER_CONTENT_TYPE);
             if (!json_content_type(ct)) {
-                lubd_fail(&f, 415, LUBD_PT_BASE "unsupported-media-type",
-                          "Unsupported media type", NULL,
-                          "Content-Type must be application/json (got %.100s)",
+                lubd_fail(&f, 415, LUBD_PT_BASE "unsupported-media-type", "Unsupported media type",
+                          NULL, "Content-Type must be application/json (got %.100s)",
                           ct ? ct : "none");
                 return lubd_reply_fault(&r, &f);
             }
@@ -336,12 +331,12 @@ int lubd_http_start(lubd_server *s, const lubd_config *cfg)
     }
     s->daemon = MHD_start_daemon(
         MHD_USE_AUTO_INTERNAL_THREAD | MHD_USE_ERROR_LOG, (uint16_t)cfg->port, NULL, NULL,
-        on_request, s, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr,
-        MHD_OPTION_THREAD_POOL_SIZE, (unsigned)cfg->http_threads, MHD_OPTION_CONNECTION_LIMIT,
-        (unsigned)512, MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned)128,
-        MHD_OPTION_CONNECTION_TIMEOUT, (unsigned)60, MHD_OPTION_CONNECTION_MEMORY_LIMIT,
-        (size_t)(64 * 1024), MHD_OPTION_LISTEN_BACKLOG_SIZE, (unsigned)256,
-        MHD_OPTION_NOTIFY_COMPLETED, on_completed, s, MHD_OPTION_END);
+        on_request, s, MHD_OPTION_SOCK_ADDR, (struct sockaddr *)&addr, MHD_OPTION_THREAD_POOL_SIZE,
+        (unsigned)cfg->http_threads, MHD_OPTION_CONNECTION_LIMIT, (unsigned)512,
+        MHD_OPTION_PER_IP_CONNECTION_LIMIT, (unsigned)128, MHD_OPTION_CONNECTION_TIMEOUT,
+        (unsigned)60, MHD_OPTION_CONNECTION_MEMORY_LIMIT, (size_t)(64 * 1024),
+        MHD_OPTION_LISTEN_BACKLOG_SIZE, (unsigned)256, MHD_OPTION_NOTIFY_COMPLETED, on_completed, s,
+        MHD_OPTION_END);
     if (!s->daemon) {
         fprintf(stderr, "lubdemd: cannot listen on %s:%d (port in use?)\n", cfg->listen_host,
                 cfg->port);

@@ -32,12 +32,12 @@ typedef struct {
     struct MHD_Connection *conn;
     const char *method;
     const char *url;
-    char *seg[8];      /* path segments (point into path_buf) */
+    char *seg[8]; /* path segments (point into path_buf) */
     int nseg;
     char path_buf[1024];
-    const char *body;  /* POST body (NUL-terminated), may be NULL */
+    const char *body; /* POST body (NUL-terminated), may be NULL */
     size_t body_len;
-    char base[300];    /* "http://host:port" for absolute links */
+    char base[300]; /* "http://host:port" for absolute links */
     int have_user;
     lubd_user user;
 } lubd_request;

@@ -91,8 +91,9 @@ int lubd_lease_heartbeat(sqlite3 *db, const lubd_claim *c, int lease_s, int prog
     sqlite3_stmt *st;
     /* A single UPDATE is atomic; no explicit transaction needed (no read-then-write). */
     if (lubd_db_prepare(db,
-                        "UPDATE jobs SET lease_until = " LUBD_SQL_NOW " + ?3, heartbeat = "
-                        LUBD_SQL_NOW ", progress = CASE WHEN ?4 < 0 THEN progress ELSE ?4 END, "
+                        "UPDATE jobs SET lease_until = " LUBD_SQL_NOW
+                        " + ?3, heartbeat = " LUBD_SQL_NOW
+                        ", progress = CASE WHEN ?4 < 0 THEN progress ELSE ?4 END, "
                         "message = coalesce(?5, message), engine_pid = CASE WHEN ?6 > 0 THEN "
                         "?6 ELSE engine_pid END, updated = CASE WHEN ?4 >= 0 OR ?5 IS NOT NULL "
                         "THEN " LUBD_SQL_NOW " ELSE updated END "
@@ -270,9 +271,10 @@ int lubd_lease_release(sqlite3 *db, const lubd_claim *c)
                        "updated = " LUBD_SQL_NOW
                        " WHERE id = ?1 AND lease_token = ?2 AND state = 'running'");
     if (n > 0)
-        n = exec_claim(db, c,
-                       "INSERT INTO job_events(job_id, at, event, attempt, token) SELECT ?1, "
-                       LUBD_SQL_NOW ", 'released', attempt, ?2 FROM jobs WHERE id = ?1");
+        n = exec_claim(
+            db, c,
+            "INSERT INTO job_events(job_id, at, event, attempt, token) SELECT ?1, " LUBD_SQL_NOW
+            ", 'released', attempt, ?2 FROM jobs WHERE id = ?1");
     if (n < 0 || lubd_db_commit(db) != 0) {
         lubd_db_rollback(db);
         return -1;

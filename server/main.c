@@ -84,8 +84,9 @@ static int cmd_token(lubd_config *cfg, int argc, char **argv)
             rc = 1;
         } else {
             printf("%s\n", token);
-            fprintf(stderr, "lubdemd: token for user %s%s created; it is shown only once "
-                            "(only its SHA-256 is stored in %s)\n",
+            fprintf(stderr,
+                    "lubdemd: token for user %s%s created; it is shown only once "
+                    "(only its SHA-256 is stored in %s)\n",
                     user, admin ? " (admin)" : "", cfg->db_path);
         }
     } else if (strcmp(sub, "revoke") == 0 && target) {
@@ -126,8 +127,7 @@ static int init_default_token(lubd_config *cfg, sqlite3 *db, char *token_file, s
 
 static void banner(const lubd_config *cfg, int port, const char *token_file, int have_file)
 {
-    fprintf(stderr,
-            "lubdemd: listening on http://%s:%d  (workers %d, engine %s, state %s/)\n",
+    fprintf(stderr, "lubdemd: listening on http://%s:%d  (workers %d, engine %s, state %s/)\n",
             cfg->listen_host, port, cfg->workers, cfg->engine, cfg->run_dir);
     if (cfg->quiet)
         return;
@@ -135,8 +135,8 @@ static void banner(const lubd_config *cfg, int port, const char *token_file, int
     if (have_file)
         fprintf(stderr, "  TOKEN=$(cat %s)\n", token_file);
     else
-        fprintf(stderr, "  TOKEN=$(%s token create --user $USER --run-dir %s)\n",
-                cfg->self_exe, cfg->run_dir);
+        fprintf(stderr, "  TOKEN=$(%s token create --user $USER --run-dir %s)\n", cfg->self_exe,
+                cfg->run_dir);
     fprintf(stderr,
             "  curl -s -H \"Authorization: Bearer $TOKEN\" -H 'Content-Type: application/json' "
             "\\\n       -d '{\"inputs\": {}}' http://%s:%d/processes/falling_sphere/execution\n"

@@ -4,8 +4,8 @@
 #include <stdarg.h>
 #include <stdio.h>
 
-int lubd_fail(lubd_fault *f, int status, const char *type, const char *title,
-              const char *pointer, const char *fmt, ...)
+int lubd_fail(lubd_fault *f, int status, const char *type, const char *title, const char *pointer,
+              const char *fmt, ...)
 {
     f->status = status;
     f->type = type;

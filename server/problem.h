@@ -10,21 +10,21 @@
 #include <jansson.h>
 
 typedef struct {
-    int status;          /* HTTP status */
-    const char *type;    /* URI (static string) */
-    const char *title;   /* short summary (static string) */
+    int status;        /* HTTP status */
+    const char *type;  /* URI (static string) */
+    const char *title; /* short summary (static string) */
     int has_pointer;
     char pointer[300];
     char detail[700];
-    int retry_after;     /* seconds, 0 = no Retry-After header */
+    int retry_after; /* seconds, 0 = no Retry-After header */
 } lubd_fault;
 
 #define LUBD_PT_BASE "https://lubdem.example/problems/"
 #define LUBD_OGC_EXC "http://www.opengis.net/def/exceptions/ogcapi-processes-1/1.0/"
 
 /* Fills *f; pointer NULL = not about a single field. Returns -1 (for "return lubd_fail(...)").*/
-int lubd_fail(lubd_fault *f, int status, const char *type, const char *title,
-              const char *pointer, const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+int lubd_fail(lubd_fault *f, int status, const char *type, const char *title, const char *pointer,
+              const char *fmt, ...) __attribute__((format(printf, 6, 7)));
 /* New JSON object {type,title,status,detail[,instance][,errors:[{pointer,detail}]]}. */
 json_t *lubd_fault_json(const lubd_fault *f, const char *instance);
 

@@ -5,8 +5,8 @@
 #define LUBD_PROGRESS_LINE_H
 
 typedef struct {
-    double fraction; /* clamped to [0,1] */
-    long long step;  /* -1 if absent */
+    double fraction;           /* clamped to [0,1] */
+    long long step;            /* -1 if absent */
     double steps_per_s, eta_s; /* -1 if absent */
 } lubd_progress;
 

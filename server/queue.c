@@ -22,14 +22,14 @@ int lubd_state_bit(const char *name)
 static int db_fault(sqlite3 *db, lubd_fault *f)
 {
     fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
-    return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,
-                     "database error: %s", sqlite3_errmsg(db));
+    return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error: %s",
+                     sqlite3_errmsg(db));
 }
 
-#define JOB_COLUMNS                                                                         \
-    "j.seq, j.id, j.user_id, u.name, j.process_id, j.state, j.priority, j.created, "        \
-    "coalesce(j.started, -1), coalesce(j.finished, -1), j.updated, j.progress, "             \
-    "coalesce(j.message, ''), coalesce(j.failure_kind, ''), j.attempt, j.max_attempts, "      \
+#define JOB_COLUMNS                                                                                \
+    "j.seq, j.id, j.user_id, u.name, j.process_id, j.state, j.priority, j.created, "               \
+    "coalesce(j.started, -1), coalesce(j.finished, -1), j.updated, j.progress, "                   \
+    "coalesce(j.message, ''), coalesce(j.failure_kind, ''), j.attempt, j.max_attempts, "           \
     "j.purged"
 
 static void copy_text(char *dst, size_t n, sqlite3_stmt *st, int col)
@@ -118,8 +118,8 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
     if (active >= in->user_cap) {
         lubd_db_rollback(db);
         lubd_fail(f, 429, LUBD_PT_BASE "quota-exceeded", "Too many active jobs", NULL,
-                  "you have %lld queued or running jobs (limit %d); retry when some finish",
-                  active, in->user_cap);
+                  "you have %lld queued or running jobs (limit %d); retry when some finish", active,
+                  in->user_cap);
         f->retry_after = 10;
         return -1;
     }
@@ -128,12 +128,13 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
         return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,
                          "no randomness for the job id");
     }
-    if (lubd_db_prepare(db,
-                        "INSERT INTO jobs(id, user_id, process_id, state, priority, "
-                        "request_json, spec_json, request_sha256, created, updated, "
-                        "max_attempts, message) VALUES (?1, ?2, ?3, 'accepted', ?4, ?5, ?6, ?7, "
-                        LUBD_SQL_NOW ", " LUBD_SQL_NOW ", ?8, 'queued')",
-                        &st) != 0)
+    if (lubd_db_prepare(
+            db,
+            "INSERT INTO jobs(id, user_id, process_id, state, priority, "
+            "request_json, spec_json, request_sha256, created, updated, "
+            "max_attempts, message) VALUES (?1, ?2, ?3, 'accepted', ?4, ?5, ?6, ?7, " LUBD_SQL_NOW
+            ", " LUBD_SQL_NOW ", ?8, 'queued')",
+            &st) != 0)
         goto dberr;
     sqlite3_bind_text(st, 1, job_id, -1, SQLITE_STATIC);
     sqlite3_bind_int64(st, 2, in->user_id);
@@ -147,10 +148,11 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
         goto dberr;
     sqlite3_finalize(st);
     st = NULL;
-    if (lubd_db_prepare(db,
-                        "INSERT INTO job_events(job_id, at, event, attempt) VALUES (?1, "
-                        LUBD_SQL_NOW ", 'submitted', 0)",
-                        &st) != 0)
+    if (lubd_db_prepare(
+            db,
+            "INSERT INTO job_events(job_id, at, event, attempt) VALUES (?1, " LUBD_SQL_NOW
+            ", 'submitted', 0)",
+            &st) != 0)
         goto dberr;
     sqlite3_bind_text(st, 1, job_id, -1, SQLITE_STATIC);
     if (sqlite3_step(st) != SQLITE_DONE)
@@ -298,16 +300,17 @@ int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_
                             id);
     } else {
         rc = exec_bound(db,
-                        "UPDATE jobs SET purged = 1, state = 'dismissed', updated = "
-                        LUBD_SQL_NOW " WHERE id = ?1",
+                        "UPDATE jobs SET purged = 1, state = 'dismissed', updated = " LUBD_SQL_NOW
+                        " WHERE id = ?1",
                         id);
         if (rc == 0)
             rc = exec_bound(db, "DELETE FROM results WHERE job_id = ?1", id);
         if (rc == 0)
-            rc = exec_bound(db,
-                            "INSERT INTO job_events(job_id, at, event, attempt) SELECT id, "
-                            LUBD_SQL_NOW ", 'purged', attempt FROM jobs WHERE id = ?1",
-                            id);
+            rc = exec_bound(
+                db,
+                "INSERT INTO job_events(job_id, at, event, attempt) SELECT id, " LUBD_SQL_NOW
+                ", 'purged', attempt FROM jobs WHERE id = ?1",
+                id);
         *purge_files = 1;
     }
     if (rc != 0 || lubd_queue_get(db, id, after) != 1 || lubd_db_commit(db) != 0) {
@@ -324,8 +327,8 @@ int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
     if (lubd_db_begin(db) != 0)
         return -1;
     const char *ev =
-        "INSERT INTO job_events(job_id, at, event, attempt, worker, token) SELECT id, "
-        LUBD_SQL_NOW ", ?1, attempt, worker, lease_token FROM jobs WHERE state = 'running' AND "
+        "INSERT INTO job_events(job_id, at, event, attempt, worker, token) SELECT id, " LUBD_SQL_NOW
+        ", ?1, attempt, worker, lease_token FROM jobs WHERE state = 'running' AND "
         "lease_until < " LUBD_SQL_NOW " AND (attempt < max_attempts) = ?2";
     sqlite3_stmt *st;
     for (int retry = 1; retry >= 0; --retry) {
@@ -338,11 +341,13 @@ int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
         if (rc != SQLITE_DONE)
             goto fail;
     }
-    if (lubd_db_exec(db, "UPDATE jobs SET state = 'accepted', worker = NULL, lease_token = "
-                         "NULL, lease_until = NULL, engine_pid = NULL, progress = 0, message = "
-                         "'requeued: the worker stopped heartbeating (lease expired)', updated = "
-                         LUBD_SQL_NOW " WHERE state = 'running' AND lease_until < " LUBD_SQL_NOW
-                         " AND attempt < max_attempts") != 0)
+    if (lubd_db_exec(
+            db,
+            "UPDATE jobs SET state = 'accepted', worker = NULL, lease_token = "
+            "NULL, lease_until = NULL, engine_pid = NULL, progress = 0, message = "
+            "'requeued: the worker stopped heartbeating (lease expired)', updated = " LUBD_SQL_NOW
+            " WHERE state = 'running' AND lease_until < " LUBD_SQL_NOW
+            " AND attempt < max_attempts") != 0)
         goto fail;
     *requeued = sqlite3_changes(db);
     if (lubd_db_exec(db, "UPDATE jobs SET state = 'failed', failure_kind = 'system', "

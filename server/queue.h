@@ -10,8 +10,13 @@
 
 #include "problem.h"
 
-enum { LUBD_ST_ACCEPTED = 1, LUBD_ST_RUNNING = 2, LUBD_ST_SUCCESSFUL = 4, LUBD_ST_FAILED = 8,
-       LUBD_ST_DISMISSED = 16 };
+enum {
+    LUBD_ST_ACCEPTED = 1,
+    LUBD_ST_RUNNING = 2,
+    LUBD_ST_SUCCESSFUL = 4,
+    LUBD_ST_FAILED = 8,
+    LUBD_ST_DISMISSED = 16
+};
 /* Bit of a state name, 0 if unknown. */
 int lubd_state_bit(const char *name);
 
@@ -33,7 +38,7 @@ typedef struct {
 
 typedef struct {
     long long user_id;
-    int user_cap;              /* max accepted+running jobs for this user */
+    int user_cap; /* max accepted+running jobs for this user */
     const char *process_id;
     const char *request_json;
     const char *spec_json;
@@ -53,8 +58,8 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
 int lubd_queue_get(sqlite3 *db, const char *id, lubd_job *j);
 
 typedef struct {
-    long long user_id;   /* -1 = every user (admin) */
-    int state_mask;      /* 0 = every state */
+    long long user_id;      /* -1 = every user (admin) */
+    int state_mask;         /* 0 = every state */
     const char *process_id; /* NULL = any */
     int limit;
     long long before_seq; /* cursor: only jobs with seq < before_seq; 0 = from the newest */

@@ -9,9 +9,9 @@
 
 typedef struct {
     uint32_t h[8];
-    uint64_t length;   /* bytes hashed so far */
+    uint64_t length; /* bytes hashed so far */
     uint8_t block[64];
-    size_t fill;       /* bytes waiting in block */
+    size_t fill; /* bytes waiting in block */
 } lubd_sha256;
 
 void lubd_sha256_init(lubd_sha256 *c);

@@ -70,7 +70,7 @@ json_t *lubd_status_json(const lubd_job *j, const char *base, int with_user)
     if (strcmp(j->state, "successful") == 0) {
         snprintf(href, sizeof href, "%s/jobs/%s/results", base, j->id);
         json_array_append_new(links, mklink(href, "http://www.opengis.net/def/rel/ogc/1.0/results",
-                                          "application/json", "results"));
+                                            "application/json", "results"));
     }
     snprintf(href, sizeof href, "%s/jobs/%s/log", base, j->id);
     json_array_append_new(links, mklink(href, "log", "text/plain", "engine log"));

@@ -15,9 +15,9 @@
 #include "queue.h"
 
 typedef struct {
-    pid_t pid;           /* 0 = not running */
-    double restart_at;   /* monotonic time of the next start attempt */
-    int failures;        /* consecutive quick deaths, for the back-off */
+    pid_t pid;         /* 0 = not running */
+    double restart_at; /* monotonic time of the next start attempt */
+    int failures;      /* consecutive quick deaths, for the back-off */
     double started;
 } worker_slot;
 
@@ -60,9 +60,9 @@ static void build_argv(const lubd_config *c, int index, worker_argv *w)
     w->argv[a++] = c->jobs_dir;
     w->argv[a++] = "--engine";
     w->argv[a++] = c->engine;
-#define NUM(opt, v)                                                                          \
-    snprintf(w->num[k], sizeof w->num[k], "%ld", (long)(v));                                \
-    w->argv[a++] = opt;                                                                      \
+#define NUM(opt, v)                                                                                \
+    snprintf(w->num[k], sizeof w->num[k], "%ld", (long)(v));                                       \
+    w->argv[a++] = opt;                                                                            \
     w->argv[a++] = w->num[k++];
     NUM("--lease-s", c->lease_s)
     NUM("--cpu-s", c->cpu_s)
@@ -152,8 +152,8 @@ int lubd_supervise(const lubd_config *cfg, lubd_server *srv)
                 double delay = slots[i].failures > 5 ? 5.0 : 0.2 * slots[i].failures;
                 slots[i].restart_at = now + delay;
                 if (!stopping)
-                    fprintf(stderr, "lubdemd: worker w%d (pid %ld) died (%s %d); restarting\n",
-                            i, (long)pid, WIFSIGNALED(status) ? "signal" : "exit",
+                    fprintf(stderr, "lubdemd: worker w%d (pid %ld) died (%s %d); restarting\n", i,
+                            (long)pid, WIFSIGNALED(status) ? "signal" : "exit",
                             WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
             }
         }

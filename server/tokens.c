@@ -76,10 +76,9 @@ int lubd_token_revoke(sqlite3 *db, const char *token_or_id)
         return 0;
     memcpy(id, p, 16);
     sqlite3_stmt *st;
-    if (lubd_db_prepare(db,
-                        "UPDATE tokens SET revoked = " LUBD_SQL_NOW
-                        " WHERE id = ?1 AND revoked IS NULL",
-                        &st) != 0)
+    if (lubd_db_prepare(
+            db, "UPDATE tokens SET revoked = " LUBD_SQL_NOW " WHERE id = ?1 AND revoked IS NULL",
+            &st) != 0)
         return -1;
     sqlite3_bind_text(st, 1, id, -1, SQLITE_STATIC);
     int rc = sqlite3_step(st);

@@ -109,8 +109,7 @@ static void summary_diagnostic(const char *out_dir, char *out, size_t n)
 }
 
 /* Enumerates the output files and checksums them. Returns count or -1. */
-static int collect_outputs(const char *out_dir, lubd_output_file *files, char names[][64],
-                           int max)
+static int collect_outputs(const char *out_dir, lubd_output_file *files, char names[][64], int max)
 {
     DIR *d = opendir(out_dir);
     if (!d)
@@ -172,7 +171,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         return;
     }
     dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s\n", c->id, c->attempt, w->name);
-    lubd_engine_opts eo = {cfg->engine, spec_path, out_dir,        log_fd,
+    lubd_engine_opts eo = {cfg->engine, spec_path,   out_dir,       log_fd,
                            cfg->cpu_s,  cfg->mem_mb, cfg->fsize_mb, cfg->engine_threads};
     lubd_engine_proc ep;
     if (lubd_engine_spawn(&eo, &ep) != 0) {
@@ -293,8 +292,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         }
         int done = lubd_lease_succeed(w->db, c, out_dir, result_dir, files, n, "completed");
         if (done < 0)
-            fprintf(stderr, "lubdemd worker %s: could not record success of %s\n", w->name,
-                    c->id);
+            fprintf(stderr, "lubdemd worker %s: could not record success of %s\n", w->name, c->id);
         else if (done == 0) /* dismissed (or lease lost) while finishing: keep nothing */
             lubd_lease_drop(w->db, c);
         return;
@@ -332,8 +330,7 @@ int lubd_worker_main(const lubd_config *cfg, const char *name)
     if (!w.db)
         return 1;
     sqlite3_stmt *peek;
-    if (lubd_db_prepare(w.db, "SELECT 1 FROM jobs WHERE state = 'accepted' LIMIT 1", &peek) !=
-        0)
+    if (lubd_db_prepare(w.db, "SELECT 1 FROM jobs WHERE state = 'accepted' LIMIT 1", &peek) != 0)
         return 1;
     while (!worker_stop_flag) {
         /* Cheap read first: only take the write lock when there is something to claim. */

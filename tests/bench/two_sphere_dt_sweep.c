@@ -21,11 +21,13 @@ int main(void)
         scene_outcome a, b;
         snprintf(spec, sizeof spec,
                  "{\"scene\":\"falling_sphere\",\"St\":0.01,\"stiffness\":1e4,\"duration\":6,"
-                 "\"samples\":2,\"dt_safety\":%g}", sf[i]);
+                 "\"samples\":2,\"dt_safety\":%g}",
+                 sf[i]);
         scene_run_text(spec, NULL, &a);
         snprintf(spec, sizeof spec,
                  "{\"scene\":\"falling_sphere\",\"St\":0.01,\"K\":100,\"duration\":8,"
-                 "\"samples\":2,\"dt_safety\":%g,\"law\":{\"eps\":0.01}}", sf[i]);
+                 "\"samples\":2,\"dt_safety\":%g,\"law\":{\"eps\":0.01}}",
+                 sf[i]);
         scene_run_text(spec, NULL, &b);
         printf("bench=falling_sphere dt_safety=%g dt=%.6g rate_rel_error=%.6g "
                "exp_max_rel_dev=%.6g eq_gap_rel_error=%.6g wall_s=%.4f rc=%d\n",
@@ -41,7 +43,8 @@ int main(void)
         scene_outcome a;
         snprintf(spec, sizeof spec,
                  "{\"scene\":\"two_spheres_shear\",\"St\":1e-3,\"Ca\":1e-6,\"d0\":0.5,"
-                 "\"dt_safety\":%g}", sf[i]);
+                 "\"dt_safety\":%g}",
+                 sf[i]);
         scene_run_text(spec, NULL, &a);
         printf("bench=two_spheres_shear dt_safety=%g dt=%.6g offset_rel_error=%.6g "
                "min_gap=%.10g wall_s=%.4f rc=%d\n",

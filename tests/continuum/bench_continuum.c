@@ -47,8 +47,8 @@ int main(void)
         bad |= lub_rheo_run(&p, g0, -1, seg, 2, 1000, sink, NULL, &err) != 0;
     t1 = now();
     printf("bench.rheometer_rate_plus_stress_2x1000_samples_ms=%.3f\n", 1e3 * (t1 - t0) / 20);
-    lub_normal_law D = {.kind = LUB_NLAW_DEM_SEED, .direction = 3, .phi_m = lub_dem_phi_m(0.5),
-                        .phi_rcp = 0.64};
+    lub_normal_law D = {
+        .kind = LUB_NLAW_DEM_SEED, .direction = 3, .phi_m = lub_dem_phi_m(0.5), .phi_rcp = 0.64};
     lub_resusp rr;
     static double y[401], phi[401];
     t0 = now();

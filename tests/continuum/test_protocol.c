@@ -38,22 +38,28 @@ static int run(const lub_texture_params *p, lub_texture_state g0, int s0, const 
 static void pauses_and_reversal(void)
 {
     lub_texture_params p = lub_texture_m3(sqrt(3.0), 5.0, 10.0, 10.0);
-    lub_segment seg[5] = {{LUB_SEG_RATE, 2.0, 10.0, 0, 0}, {LUB_SEG_PAUSE, 0, 0, 3.0, 0},
-                          {LUB_SEG_RATE, 2.0, 1.0, 0, 0}, {LUB_SEG_RATE, -0.5, 0, 4.0, 0},
+    lub_segment seg[5] = {{LUB_SEG_RATE, 2.0, 10.0, 0, 0},
+                          {LUB_SEG_PAUSE, 0, 0, 3.0, 0},
+                          {LUB_SEG_RATE, 2.0, 1.0, 0, 0},
+                          {LUB_SEG_RATE, -0.5, 0, 4.0, 0},
                           {LUB_SEG_STRESS, 0.0, 0, 2.0, 0}};
     lub_rheo_error err;
     int samples = 101;
     check_true("pause.run", run(&p, (lub_texture_state){0, 0, 0}, 1, seg, 5, samples, &err) == 0);
     check_true("pause.count", nbuf == 5 * samples);
-    const lub_rheo_sample *end1 = &buf[samples - 1], *pz = &buf[samples], *pz_end = &buf[2 * samples - 1];
+    const lub_rheo_sample *end1 = &buf[samples - 1], *pz = &buf[samples],
+                          *pz_end = &buf[2 * samples - 1];
     const lub_rheo_sample *re = &buf[2 * samples], *rv = &buf[3 * samples], *fz = &buf[4 * samples];
-    check_near("pause.sigma_zero", fabs(pz->sigma_xy) + fabs(pz_end->n1) + fabs(pz_end->pp), 0.0, 0.0);
-    check_near("pause.state_frozen", fabs(pz_end->g.xy - end1->g.xy) + fabs(pz_end->g.xx - end1->g.xx), 0.0, 0.0);
+    check_near("pause.sigma_zero", fabs(pz->sigma_xy) + fabs(pz_end->n1) + fabs(pz_end->pp), 0.0,
+               0.0);
+    check_near("pause.state_frozen",
+               fabs(pz_end->g.xy - end1->g.xy) + fabs(pz_end->g.xx - end1->g.xx), 0.0, 0.0);
     check_near("pause.time_advances", pz_end->time - end1->time, 3.0, 1e-12);
     check_near("pause.strain_constant", pz_end->strain, 10.0, 1e-12);
     check_near("pause.restart_same_direction_jumps_back", re->sigma_xy, end1->sigma_xy, 1e-12);
     check_near("pause.theta_e_conserved", pz_end->micro.theta_e, end1->micro.theta_e, 0.0);
-    /* reversal at -0.5/s: eta_app(0+) = eta - eta_e (1 - beta/alpha^2) = 16.6667 (steady reached) */
+    /* reversal at -0.5/s: eta_app(0+) = eta - eta_e (1 - beta/alpha^2) = 16.6667 (steady reached)
+     */
     check_near("reversal.eta_0plus", rv->eta_app, 16.6667, 5e-5);
     check_near("reversal.sigma_sign", rv->sigma_xy < 0 ? 1.0 : 0.0, 1.0, 0);
     check_near("reversal.strain_end", buf[4 * samples - 1].strain, 11.0 + 2.0, 1e-12);
@@ -62,7 +68,8 @@ static void pauses_and_reversal(void)
     check_near("zero_stress.gd", buf[5 * samples - 1].gd, 0.0, 0.0);
     int ns = 0;
     check_true("sink_stop", lub_rheo_run(&p, (lub_texture_state){0, 0, 0}, 1, seg, 5, samples,
-                                         stop_after_10, &ns, &err) == 1 && ns == 10);
+                                         stop_after_10, &ns, &err) == 1 &&
+                                ns == 10);
 }
 
 /* direct time integration (RK4 in t) of (4.4) with gd = sigma/eta_app(state) */
@@ -119,10 +126,12 @@ static void imposed_stress(void)
     check_near("stress.curve_equals_rate_curve_in_strain", worst, 0.0, 1e-12);
     double t_direct = time_to_strain_direct(&p, g0, sigma, 8.0, 1e-4);
     check_near("stress.time_map_vs_direct_rk4_rel", buf[nbuf - 1].time / t_direct - 1.0, 0.0, 1e-6);
-    printf("stress.phi0.40.sigma3.time_to_strain8=%.9f direct=%.9f\n", buf[nbuf - 1].time, t_direct);
+    printf("stress.phi0.40.sigma3.time_to_strain8=%.9f direct=%.9f\n", buf[nbuf - 1].time,
+           t_direct);
     /* duration-ended segment: round trip */
     double dg, t, bad;
-    check_true("stress.strain_for_time", lub_rheo_strain_for_time(&p, +1, g0, sigma, 7.5, &dg, &bad) == 0);
+    check_true("stress.strain_for_time",
+               lub_rheo_strain_for_time(&p, +1, g0, sigma, 7.5, &dg, &bad) == 0);
     lub_rheo_time_for_strain(&p, +1, g0, sigma, dg, &t, &bad);
     check_near("stress.roundtrip_time", t, 7.5, 1e-10);
     /* long duration: decayed transient handled by the linear map */
@@ -131,7 +140,8 @@ static void imposed_stress(void)
     lub_rheo_time_for_strain(&p, +1, g0, sigma, 20.0, &t, &bad);
     check_near("stress.long_duration_rate", (dg - 20.0) / (1e6 - t), sigma / ss, 1e-9 * sigma / ss);
     /* stress near zero: tiny strain, finite, no NaN */
-    lub_segment tiny[2] = {{LUB_SEG_STRESS, 1e-12, 0, 10.0, 0}, {LUB_SEG_STRESS, -1e-300, 0, 10.0, 0}};
+    lub_segment tiny[2] = {{LUB_SEG_STRESS, 1e-12, 0, 10.0, 0},
+                           {LUB_SEG_STRESS, -1e-300, 0, 10.0, 0}};
     check_true("stress.near_zero.run", run(&p, g0, -1, tiny, 2, 11, &err) == 0);
     int fin = 1;
     for (int i = 0; i < nbuf; ++i)
@@ -169,7 +179,8 @@ static void rate_independence_and_signs(void)
     /* 200 alternating sign changes with tiny strains: SPD kept, finite */
     static lub_segment alt[200];
     for (int k = 0; k < 200; ++k)
-        alt[k] = (lub_segment){LUB_SEG_RATE, (k % 2 ? -1.0 : 1.0) * (1 + k), 1e-3 * (1 + k % 7), 0, 0};
+        alt[k] =
+            (lub_segment){LUB_SEG_RATE, (k % 2 ? -1.0 : 1.0) * (1 + k), 1e-3 * (1 + k % 7), 0, 0};
     check_true("signs.run", run(&p, (lub_texture_state){0, 0, 0}, 1, alt, 200, 3, &err) == 0);
     int ok = 1;
     for (int i = 0; i < nbuf; ++i)
@@ -216,7 +227,8 @@ static void oscillation(void)
     double d = fabs(e->g.xx - g.xx) + fabs(e->g.yy - g.yy) + fabs(e->g.xy - g.xy);
     check_near("laos.final_state_vs_rk4_in_time", d, 0.0, 1e-9);
     /* strain: 4 half periods of 2A/omega + (A/omega)(1 - cos(0.6 pi)) */
-    check_near("laos.total_strain", e->strain, A / om * (8.0 + 1.0 - cos(0.6 * 3.14159265358979323846)), 1e-12);
+    check_near("laos.total_strain", e->strain,
+               A / om * (8.0 + 1.0 - cos(0.6 * 3.14159265358979323846)), 1e-12);
     check_near("laos.final_time", e->time, dur, 1e-12);
     int ok = 1;
     for (int i = 0; i < nbuf; ++i)
@@ -229,12 +241,19 @@ static void oscillation(void)
 static void negative_viscosity(void)
 {
     /* delta2 very negative: eta_app < 0 at steady state -> imposed stress must fail cleanly */
-    lub_texture_params p = {.a = 0.6, .delta1 = 1.0, .delta2 = -50.0, .beta1 = 0, .beta2 = 0,
-                            .beta3 = 0, .eta = 0.1, .eta_e = 1.0};
+    lub_texture_params p = {.a = 0.6,
+                            .delta1 = 1.0,
+                            .delta2 = -50.0,
+                            .beta1 = 0,
+                            .beta2 = 0,
+                            .beta3 = 0,
+                            .eta = 0.1,
+                            .eta_e = 1.0};
     lub_segment seg[1] = {{LUB_SEG_STRESS, 1.0, 5.0, 0, 0}};
     lub_rheo_error err;
     memset(&err, 0, sizeof err);
-    check_true("eta_negative.error", run(&p, (lub_texture_state){0, 0, 0}, 1, seg, 1, 51, &err) == -1);
+    check_true("eta_negative.error",
+               run(&p, (lub_texture_state){0, 0, 0}, 1, seg, 1, 51, &err) == -1);
     printf("eta_negative.message=%s\n", err.message);
     check_true("eta_negative.strain_reported", err.strain > 0 && err.strain < 5.0);
 }

@@ -34,10 +34,11 @@ static void resuspension(void)
      * physics-reference definition Sh = eta0 gd/(drho g a); the same case is Sh = 100 here. */
     lub_normal_law_preset("boyer", 3, &L);
     check_true("I.solve", lub_resusp_solve(&L, 100.0, 20.0, &r, &why) == 0);
-    check_near("I.height_analytic_formula", lub_resusp_height_n2(0.6, 0.585, 100.0, 20.0), 152.619, 5e-4);
+    check_near("I.height_analytic_formula", lub_resusp_height_n2(0.6, 0.585, 100.0, 20.0), 152.619,
+               5e-4);
     check_near("I.height_numeric", r.height, 152.619, 5e-4);
-    check_near("I.height_numeric_minus_closed_form", r.height - lub_resusp_height_n2(0.6, 0.585, 100.0, 20.0),
-               0.0, 1e-9 * r.height);
+    check_near("I.height_numeric_minus_closed_form",
+               r.height - lub_resusp_height_n2(0.6, 0.585, 100.0, 20.0), 0.0, 1e-9 * r.height);
     check_near("I.bottom_phi", r.phi_bottom, 0.2141, 5e-5);
     check_near("I.mass_conservation", mass(&L, &r, 20001), 20.0, 1e-4);
     printf("I.script_euler_height_(not_a_target)=152.613\n");
@@ -46,7 +47,8 @@ static void resuspension(void)
     check_near("I.physref_Sh0.01_height", r.height, h_power(0.6, 2, 0.585, 0.01, 20.0), 1e-9);
     printf("I.physref_Sh0.01_height=%.4f phi_bottom=%.4f\n", r.height, r.phi_bottom);
     /* user power law == preset */
-    lub_normal_law P = {.kind = LUB_NLAW_POWER, .direction = 3, .phi_m = 0.585, .lambda = 0.6, .n = 2};
+    lub_normal_law P = {
+        .kind = LUB_NLAW_POWER, .direction = 3, .phi_m = 0.585, .lambda = 0.6, .n = 2};
     lub_resusp rp;
     lub_resusp_solve(&P, 100.0, 20.0, &rp, &why);
     check_near("I.power_law_equals_boyer_preset", rp.height, 152.619, 5e-4);
@@ -67,8 +69,8 @@ static void resuspension(void)
     lub_resusp_solve(&L, 0.5, 30.0, &r, &why);
     check_near("zarraga.grad.height", r.height, h_power(1.36, 3, 0.62, 0.5, 30.0), 1e-9 * r.height);
     /* DEM-seed laws (mu_m = 0.5): gradient and vorticity, mass, slope dy/dPhi = -1/phi */
-    lub_normal_law D = {.kind = LUB_NLAW_DEM_SEED, .direction = 2, .phi_m = lub_dem_phi_m(0.5),
-                        .phi_rcp = 0.64};
+    lub_normal_law D = {
+        .kind = LUB_NLAW_DEM_SEED, .direction = 2, .phi_m = lub_dem_phi_m(0.5), .phi_rcp = 0.64};
     for (int dir = 2; dir <= 3; ++dir) {
         D.direction = dir;
         check_true("dem.solve", lub_resusp_solve(&D, 0.05, 20.0, &r, &why) == 0);
@@ -90,8 +92,8 @@ static void resuspension(void)
         check_near(name, lub_resusp_y_of_s(&D, &r, sh), yh, 1e-8 * r.height);
     }
     /* Ozenda M4 closure: gradient works, vorticity is an error (eta_33 = 0) */
-    lub_normal_law M = {.kind = LUB_NLAW_OZENDA_M4, .direction = 2, .phi_m = 0.58,
-                        .m4 = lub_m4_laws_thesis()};
+    lub_normal_law M = {
+        .kind = LUB_NLAW_OZENDA_M4, .direction = 2, .phi_m = 0.58, .m4 = lub_m4_laws_thesis()};
     check_true("m4.grad.solve", lub_resusp_solve(&M, 0.05, 20.0, &r, &why) == 0);
     printf("m4.grad.Sh0.05.inv20.height=%.6f phi_bottom=%.6f\n", r.height, r.phi_bottom);
     M.direction = 3;
@@ -172,7 +174,8 @@ static void other_closures(void)
     check_near("MM.pipe.Ar_r^(2-k)_const", worst, 0.0, 1e-9);
     printf("MM.pipe.psi_mean0.5.plug=%.4f psi_wall=%.4f\n", R.x_plug, R.psi_wall);
     /* DEM closure: variable lambda_33, RK4; check with the exact ODE residual d ln|Q|/d ln r */
-    lub_closure dem = {.kind = LUB_CLOSURE_DEM, .dem_phi_m = lub_dem_phi_m(0.5), .dem_phi_rcp = 0.64};
+    lub_closure dem = {
+        .kind = LUB_CLOSURE_DEM, .dem_phi_m = lub_dem_phi_m(0.5), .dem_phi_rcp = 0.64};
     check_true("DEM.pipe.solve", lub_channel_solve(&dem, &S, x, psi, u, pc, er, &R, &why) == 0);
     check_near("DEM.pipe.area_mean", R.psi_area, 0.5, 1e-10);
     double res = 0;
@@ -181,7 +184,8 @@ static void other_closures(void)
         lub_closure_eval(&dem, psi[i], &a1, &t1, &e1);
         lub_closure_eval(&dem, psi[i + 2], &a2, &t2, &e2);
         lub_closure_eval(&dem, psi[i + 1], &a0, &t0, &e0);
-        double d = (log(-a2 * x[i + 2] * x[i + 2]) - log(-a1 * x[i] * x[i])) / (log(x[i + 2]) - log(x[i]));
+        double d =
+            (log(-a2 * x[i + 2] * x[i + 2]) - log(-a1 * x[i] * x[i])) / (log(x[i + 2]) - log(x[i]));
         res = fmax(res, fabs(d - t0 / a0));
     }
     check_near("DEM.pipe.ode_residual", res, 0.0, 1e-3);
@@ -202,19 +206,22 @@ static void other_closures(void)
     printf("M4.channel.psi_mean0.5.plug=%.4f psi_wall=%.4f\n", R.x_plug, R.psi_wall);
     /* flux-weighted inventory */
     S.flux_weighted = 1;
-    check_true("M4.channel.flux.solve", lub_channel_solve(&m4, &S, x, psi, u, pc, er, &R, &why) == 0);
+    check_true("M4.channel.flux.solve",
+               lub_channel_solve(&m4, &S, x, psi, u, pc, er, &R, &why) == 0);
     check_near("M4.channel.flux_mean", R.psi_flux, 0.5, 1e-10);
     /* Newtonian check of the velocity normalisation: dilute limit -> G ~ G_newtonian */
     S.geom = LUB_GEOM_PIPE;
     S.flux_weighted = 0;
     S.psi_mean = 1e-6;
-    check_true("M4.pipe.dilute.solve", lub_channel_solve(&m4, &S, x, psi, u, pc, er, &R, &why) == 0);
+    check_true("M4.pipe.dilute.solve",
+               lub_channel_solve(&m4, &S, x, psi, u, pc, er, &R, &why) == 0);
     check_near("M4.pipe.dilute.G", R.G, 8.0, 1e-3);
     snprintf(name, sizeof name, "M4.pipe.dilute.u_axis");
     check_near(name, u[0], 2.0, 1e-3);
     /* errors */
     S.psi_mean = 0.96;
-    check_true("error.psi_mean_ge_psi_star", lub_channel_solve(&m4, &S, x, psi, u, pc, er, &R, &why) == -1);
+    check_true("error.psi_mean_ge_psi_star",
+               lub_channel_solve(&m4, &S, x, psi, u, pc, er, &R, &why) == -1);
     S.psi_mean = 0.5;
     S.psi_star = 1.0;
     check_true("error.psi_star_1", lub_channel_solve(&m4, &S, x, psi, u, pc, er, &R, &why) == -1);

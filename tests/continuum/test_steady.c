@@ -35,10 +35,10 @@ static void section_C(void)
         lub_steady_row r;
         const char *why;
         lub_steady_m4(&L, R[i][0], 0.58, &r, &why);
-        const double got[8] = {r.psi, r.theta_e * 180 / PI, r.eta_rel, r.alpha1, r.alpha2,
+        const double got[8] = {r.psi,    r.theta_e * 180 / PI, r.eta_rel, r.alpha1, r.alpha2,
                                r.pp_rel, -r.alpha2 / r.alpha1, r.eta_n2};
-        const char *nm[8] = {"", "theta_e_deg", "eta_rel", "alpha1", "alpha2", "pp_rel",
-                             "minus_N2_over_N1", "minus_N2_over_eta0_gd"};
+        const char *nm[8] = {"",       "theta_e_deg", "eta_rel",          "alpha1",
+                             "alpha2", "pp_rel",      "minus_N2_over_N1", "minus_N2_over_eta0_gd"};
         for (int j = 1; j < 8; ++j) {
             snprintf(name, sizeof name, "C.psi%.2f.%s", R[i][0], nm[j]);
             check_near(name, got[j], R[i][j], tol[j] + 1e-12);
@@ -59,7 +59,8 @@ static void section_E(void)
     for (int i = 0; i < 3; ++i) {
         lub_steady_m4(&L, psis[i], 0.58, &r, &why);
         snprintf(name, sizeof name, "E.c2_numerical_psi%g", psis[i]);
-        check_near(name, (r.eta_rel - 1 - 2.5 * 0.58 * psis[i]) / (psis[i] * psis[i]), ref[i], 5e-5);
+        check_near(name, (r.eta_rel - 1 - 2.5 * 0.58 * psis[i]) / (psis[i] * psis[i]), ref[i],
+                   5e-5);
     }
     check_near("E.c2_corrected_3omega", lub_steady_m4_c2(&L), 0.3675, 5e-5);
     double printed = 1.5 * L.omega + L.a * (1 + L.b) * L.delta2_bar * L.eta_e_bar / (1 - L.a * L.a);
@@ -101,10 +102,10 @@ static void section_G(void)
         const char *why;
         lub_steady_dem(R[i][0], phim, 0.64, &d, &why);
         lub_steady_m4(&L, R[i][0], phim, &m, &why);
-        const double got[10] = {0, d.eta_r, d.eta22, d.lambda33, d.alpha2, d.mu,
-                                m.eta_rel, m.alpha2, m.alpha1, m.eta_n2};
-        const char *nm[10] = {"", "dem_eta_r", "dem_eta22", "dem_lambda33", "dem_alpha2", "dem_mu",
-                              "m4_eta_rel", "m4_alpha2", "m4_alpha1", "m4_eta_n2"};
+        const double got[10] = {0,    d.eta_r,   d.eta22,  d.lambda33, d.alpha2,
+                                d.mu, m.eta_rel, m.alpha2, m.alpha1,   m.eta_n2};
+        const char *nm[10] = {"",       "dem_eta_r",  "dem_eta22", "dem_lambda33", "dem_alpha2",
+                              "dem_mu", "m4_eta_rel", "m4_alpha2", "m4_alpha1",    "m4_eta_n2"};
         for (int j = 1; j < 10; ++j) {
             snprintf(name, sizeof name, "G.psi%.2f.%s", R[i][0], nm[j]);
             check_near(name, got[j], R[i][j], tol[j] + 1e-12);

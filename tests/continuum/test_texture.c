@@ -26,15 +26,17 @@ static lub_texture_state rhs_printed(const lub_texture_params *p, int s, lub_tex
     return r;
 }
 
-static lub_texture_state rk4(const lub_texture_params *p, int s, lub_texture_state g,
-                             double gamma, int n)
+static lub_texture_state rk4(const lub_texture_params *p, int s, lub_texture_state g, double gamma,
+                             int n)
 {
     double h = gamma / n;
     for (int i = 0; i < n; ++i) {
         lub_texture_state k1 = lub_texture_rhs(p, s, g), t, k2, k3, k4;
-        t = (lub_texture_state){g.xx + 0.5 * h * k1.xx, g.yy + 0.5 * h * k1.yy, g.xy + 0.5 * h * k1.xy};
+        t = (lub_texture_state){g.xx + 0.5 * h * k1.xx, g.yy + 0.5 * h * k1.yy,
+                                g.xy + 0.5 * h * k1.xy};
         k2 = lub_texture_rhs(p, s, t);
-        t = (lub_texture_state){g.xx + 0.5 * h * k2.xx, g.yy + 0.5 * h * k2.yy, g.xy + 0.5 * h * k2.xy};
+        t = (lub_texture_state){g.xx + 0.5 * h * k2.xx, g.yy + 0.5 * h * k2.yy,
+                                g.xy + 0.5 * h * k2.xy};
         k3 = lub_texture_rhs(p, s, t);
         t = (lub_texture_state){g.xx + h * k3.xx, g.yy + h * k3.yy, g.xy + h * k3.xy};
         k4 = lub_texture_rhs(p, s, t);
@@ -91,10 +93,14 @@ static void section_A(void)
             seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
             u[j] = (double)(seed >> 11) / 9007199254740992.0;
         }
-        lub_texture_params p = {.a = 0.05 + 0.9 * u[0], .delta1 = 0.1 + 4.9 * u[1],
-                                .delta2 = -5 + 10 * u[2], .beta1 = -2 + 7 * u[3],
-                                .beta2 = -2 + 7 * u[4], .beta3 = -3 + 6 * u[5],
-                                .eta = 0.5 + 4.5 * u[6], .eta_e = 0.1 + 4.9 * u[7]};
+        lub_texture_params p = {.a = 0.05 + 0.9 * u[0],
+                                .delta1 = 0.1 + 4.9 * u[1],
+                                .delta2 = -5 + 10 * u[2],
+                                .beta1 = -2 + 7 * u[3],
+                                .beta2 = -2 + 7 * u[4],
+                                .beta3 = -3 + 6 * u[5],
+                                .eta = 0.5 + 4.5 * u[6],
+                                .eta_e = 0.1 + 4.9 * u[7]};
         int s = u[8] < 0.5 ? -1 : 1;
         lub_texture_state g = lub_texture_steady_state(&p, s);
         lub_texture_state rc = lub_texture_rhs(&p, s, g), rp = rhs_printed(&p, s, g);
@@ -170,8 +176,10 @@ static void section_E1(void)
 static void section_D3_B(void)
 {
     /* Table 3.2 reversal closed forms (continuum-check D3 / note §7.2) */
-    const double ref[5][4] = {{4.391, 3.691, 3.443, 0.577},  {11.959, 6.159, 5.745, 0.173},
-                              {30.567, 10.767, 8.827, 0.145}, {57.815, 15.815, 11.436, 0.113},
+    const double ref[5][4] = {{4.391, 3.691, 3.443, 0.577},
+                              {11.959, 6.159, 5.745, 0.173},
+                              {30.567, 10.767, 8.827, 0.145},
+                              {57.815, 15.815, 11.436, 0.113},
                               {254.963, 60.963, 49.211, 0.063}};
     const double sig_ref[5] = {1.033, 1.476, 3.690, 7.380, 29.521};
     const double gd_ref[5] = {0.2353, 0.1234, 0.1207, 0.1277, 0.1158};
@@ -224,8 +232,8 @@ static void section_D3_B(void)
         check_near(name, q.eta, et_law[i], tol3(et_law[i]));
     }
     check_near("E3.coef_linear", 2 * L.delta_e, 1.3220, 5e-5);
-    check_near("E3.coef_quadratic", 2 * (PI / 4 - L.delta_e * L.phi_m) / (L.phi_m * L.phi_m), 2.5026,
-               5e-5);
+    check_near("E3.coef_quadratic", 2 * (PI / 4 - L.delta_e * L.phi_m) / (L.phi_m * L.phi_m),
+               2.5026, 5e-5);
     /* a = 1 of the general solution equals the chapter-3 closed form (3.15) */
     double al = 1.33, be = 1.5, ee = 2.9, et = 6.6, worst = 0;
     lub_texture_params p = lub_texture_m3(al, be, ee, et);
@@ -332,7 +340,8 @@ static void section_robust(void)
     check_true("robust.psi_gt1_rejected", lub_m4_from_laws(&L, 1.2, 0.58, 1.0, &p, &why) == -1);
     check_true("robust.psi_0_rejected", lub_m4_from_laws(&L, 0.0, 0.58, 1.0, &p, &why) == -1);
     lub_m3_laws L3 = lub_m3_laws_thesis();
-    check_true("robust.m3_phi_ge_phim_rejected", lub_m3_from_laws(&L3, 0.571, 1.03, &p, &why) == -1);
+    check_true("robust.m3_phi_ge_phim_rejected",
+               lub_m3_from_laws(&L3, 0.571, 1.03, &p, &why) == -1);
     int finite = 1;
     for (double e = 1e-2; e >= 1e-12; e /= 10) {
         lub_m4_from_laws(&L, 1.0 - e, 0.58, 1.0, &p, &why);
@@ -340,8 +349,8 @@ static void section_robust(void)
         lub_texture_state g = lub_texture_advance(&p, +1, lub_texture_steady_state(&p, -1), 0.37);
         lub_texture_stress s2 = lub_texture_stress_of(&p, +1, g);
         lub_texture_micro m = lub_texture_micro_of(&p, g);
-        finite &= isfinite(st.eta_app) && isfinite(st.n1) && isfinite(st.n2) && isfinite(s2.eta_app) &&
-                  isfinite(m.theta_e) && m.b_min > 0;
+        finite &= isfinite(st.eta_app) && isfinite(st.n1) && isfinite(st.n2) &&
+                  isfinite(s2.eta_app) && isfinite(m.theta_e) && m.b_min > 0;
     }
     check_true("robust.psi_to_1_finite", finite);
     lub_texture_params bad = lub_texture_m3(1.0, 1.0, 1.0, 1.0);

@@ -28,21 +28,29 @@ int main(void)
     if (!in || !st || !out)
         return 2;
     law_rng r = {2024};
-    const lub_law_params p = {.eta = 1.0, .k_bulk = 1e4, .alpha = 1.0, .k_t = 5e3, .eps = 1e-3,
-                              .mu = 0.5, .terms = LUB_TERM_ALL};
+    const lub_law_params p = {.eta = 1.0,
+                              .k_bulk = 1e4,
+                              .alpha = 1.0,
+                              .k_t = 5e3,
+                              .eps = 1e-3,
+                              .mu = 0.5,
+                              .terms = LUB_TERM_ALL};
     for (int i = 0; i < NP; ++i) {
         double r1 = law_rng_range(&r, 0.95, 1.05), r2 = law_rng_range(&r, 0.95, 1.05);
         double a = 0.5 * (r1 + r2);
         vec3 n = v3(law_rng_range(&r, -1, 1), law_rng_range(&r, -1, 1), law_rng_range(&r, -1, 1));
         n = v3_scale(n, 1.0 / v3_norm(n));
         double un = (law_rng_uniform(&r) < 0.3) ? -a * law_rng_range(&r, 0.0, 1e-3)
-                                                 : a * law_rng_logrange(&r, 1e-6, 1.5);
+                                                : a * law_rng_logrange(&r, 1e-6, 1.5);
         in[i] = (lub_pair_input){.branch = v3_scale(n, r1 + r2 + un),
                                  .v1 = v3(law_rng_range(&r, -1, 1), 0.1, 0),
                                  .v2 = v3(0, law_rng_range(&r, -1, 1), 0.2),
                                  .w1 = v3(0.1, law_rng_range(&r, -1, 1), 0),
                                  .w2 = v3(0, 0, law_rng_range(&r, -1, 1)),
-                                 .r1 = r1, .r2 = r2, .inv_inertia1 = 6.0, .inv_inertia2 = 6.0,
+                                 .r1 = r1,
+                                 .r2 = r2,
+                                 .inv_inertia1 = 6.0,
+                                 .inv_inertia2 = 6.0,
                                  .dt = 1e-4};
         st[i].is_new = 1;
     }

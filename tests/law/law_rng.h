@@ -18,8 +18,14 @@ static inline uint64_t law_rng_u64(law_rng *r)
     return z ^ (z >> 31);
 }
 /* uniform in [0, 1) */
-static inline double law_rng_uniform(law_rng *r) { return (double)(law_rng_u64(r) >> 11) * 0x1.0p-53; }
-static inline double law_rng_range(law_rng *r, double lo, double hi) { return lo + (hi - lo) * law_rng_uniform(r); }
+static inline double law_rng_uniform(law_rng *r)
+{
+    return (double)(law_rng_u64(r) >> 11) * 0x1.0p-53;
+}
+static inline double law_rng_range(law_rng *r, double lo, double hi)
+{
+    return lo + (hi - lo) * law_rng_uniform(r);
+}
 /* log-uniform in [lo, hi], lo > 0 */
 static inline double law_rng_logrange(law_rng *r, double lo, double hi)
 {

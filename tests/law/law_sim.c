@@ -59,8 +59,12 @@ int law_sim_step(law_sim *s)
             const double shi = s->share_torque_budget ? npairs[i] : 1.0;
             const double shj = s->share_torque_budget ? npairs[j] : 1.0;
             lub_pair_input in = {.branch = v3_sub(s->x[j], s->x[i]),
-                                 .v1 = s->v[i], .v2 = s->v[j], .w1 = s->w[i], .w2 = s->w[j],
-                                 .r1 = s->r[i], .r2 = s->r[j],
+                                 .v1 = s->v[i],
+                                 .v2 = s->v[j],
+                                 .w1 = s->w[i],
+                                 .w2 = s->w[j],
+                                 .r1 = s->r[i],
+                                 .r2 = s->r[j],
                                  .inv_inertia1 = s->fixed[i] ? 0.0 : shi / s->I[i],
                                  .inv_inertia2 = s->fixed[j] ? 0.0 : shj / s->I[j],
                                  .dt = s->dt};

@@ -17,17 +17,17 @@ typedef struct {
     vec3 fext[LAW_SIM_MAX]; /* constant external forces */
     lub_law_params p;
     double dt;
-    double create, cutoff;   /* in units of a */
-    int share_torque_budget; /* pass N_i/I_i (1) or 1/I_i (0) as inv_inertia */
+    double create, cutoff;                       /* in units of a */
+    int share_torque_budget;                     /* pass N_i/I_i (1) or 1/I_i (0) as inv_inertia */
     vec3 v_old[LAW_SIM_MAX], w_old[LAW_SIM_MAX]; /* half-step values before the last kick */
     int exists[LAW_SIM_MAX][LAW_SIM_MAX];
     lub_pair_state st[LAW_SIM_MAX][LAW_SIM_MAX];
     lub_pair_output out[LAW_SIM_MAX][LAW_SIM_MAX];
     /* diagnostics, accumulated by law_sim_step */
     long steps;
-    double work_ext;       /* work of the external forces so far */
-    double work_abs;       /* sum of |work| increments (energy throughput of the forcing) */
-    int bad;               /* non-zero return of lub_pair_step seen */
+    double work_ext; /* work of the external forces so far */
+    double work_abs; /* sum of |work| increments (energy throughput of the forcing) */
+    int bad;         /* non-zero return of lub_pair_step seen */
     double min_delta, max_delta;
     long contact_steps, slip_steps, enter_events, leave_events, create_events, erase_events;
     long skip_band_events; /* pair went from x >= e to x < e/2 (or back) in one step */

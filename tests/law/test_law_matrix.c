@@ -47,8 +47,13 @@ typedef struct {
 static void base_sim(law_sim *s, double st, double alpha, double eps, unsigned terms)
 {
     memset(s, 0, sizeof *s);
-    s->p = (lub_law_params){.eta = eta_of_st(st), .k_bulk = G, .alpha = alpha, .k_t = 0.5 * G,
-                            .eps = eps, .mu = 0.5, .terms = terms};
+    s->p = (lub_law_params){.eta = eta_of_st(st),
+                            .k_bulk = G,
+                            .alpha = alpha,
+                            .k_t = 0.5 * G,
+                            .eps = eps,
+                            .mu = 0.5,
+                            .terms = terms};
     s->dt = 0.1 * sqrt(M / G);
     s->share_torque_budget = 1;
     for (int i = 0; i < LAW_SIM_MAX; ++i) {
@@ -148,9 +153,10 @@ static void table_row(FILE *md, const char *name, double st, double alpha, doubl
            name, st, alpha, eps, r->ok ? "pass" : "FAIL", r->ke_ratio, r->excess, r->min_delta,
            r->contact_steps, r->enter, r->leave, r->skip_band, r->erase);
     if (md)
-        fprintf(md, "| %s | %.0e | %.0e | %g | %s | %.3f | %.1e | %.1f | %ld | %ld/%ld | %ld | %ld |\n",
-                name, st, alpha, eps, r->ok ? "pass" : "**FAIL**", r->ke_ratio, r->excess, r->min_delta,
-                r->contact_steps, r->enter, r->leave, r->skip_band, r->erase);
+        fprintf(md,
+                "| %s | %.0e | %.0e | %g | %s | %.3f | %.1e | %.1f | %ld | %ld/%ld | %ld | %ld |\n",
+                name, st, alpha, eps, r->ok ? "pass" : "**FAIL**", r->ke_ratio, r->excess,
+                r->min_delta, r->contact_steps, r->enter, r->leave, r->skip_band, r->erase);
 }
 
 /* Central sphere spinning among 12 neighbours (icosahedron directions) at gap 1e-6 a. */
@@ -205,8 +211,9 @@ int main(int argc, char **argv)
 {
     FILE *md = (argc > 1) ? fopen(argv[1], "w") : NULL;
     if (md) {
-        fprintf(md, "| scenario | St | k_n/g | eps | result | max KE/(E0+|W|) | max energy excess | "
-                    "min delta | contact steps | enter/leave | band skips | cut-off erasures |\n");
+        fprintf(md,
+                "| scenario | St | k_n/g | eps | result | max KE/(E0+|W|) | max energy excess | "
+                "min delta | contact steps | enter/leave | band skips | cut-off erasures |\n");
         fprintf(md, "|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     }
     const double sts[] = {1e-10, 1e-6, 1e-2, 1.0, 1e2};
@@ -268,9 +275,11 @@ int main(int argc, char **argv)
                "naive_max_rot_energy_ratio=%.3e naive_finite=%d\n",
                sts[i], ok ? "pass" : "FAIL", rot_shared, r.ke_ratio, rot_naive, rn.ok);
         if (md)
-            fprintf(md, "| neighbours12 (shared N_i/I_i) | %.0e | 1 | 0 | %s | %.3f | - | %.1f | - | - | "
-                        "- | centre spin energy max/initial %.3g (naive 1/I: %.3g) |\n",
-                    sts[i], ok ? "pass" : "**FAIL**", r.ke_ratio, r.min_delta, rot_shared, rot_naive);
+            fprintf(
+                md,
+                "| neighbours12 (shared N_i/I_i) | %.0e | 1 | 0 | %s | %.3f | - | %.1f | - | - | "
+                "- | centre spin energy max/initial %.3g (naive 1/I: %.3g) |\n",
+                sts[i], ok ? "pass" : "**FAIL**", r.ke_ratio, r.min_delta, rot_shared, rot_naive);
         ++n_runs;
         n_fail += !ok;
     }
@@ -284,9 +293,12 @@ int main(int argc, char **argv)
            ctrl.ok ? "NOT-DETECTED" : "detected", ctrl.ke_ratio, ctrl.excess);
     if (ctrl.ok)
         ++n_fail;
-    printf("matrix_runs=%d\nmatrix_failures=%d\nmatrix_worst_ke_ratio=%.4f\n", n_runs, n_fail, worst);
-    printf("matrix_min_delta=%.1f\nmatrix_contact_entries=%ld\nmatrix_band_crossed_in_one_step=%ld\n"
-           "matrix_cutoff_erasures=%ld\n", min_delta, total_enter, total_skips, total_erase);
+    printf("matrix_runs=%d\nmatrix_failures=%d\nmatrix_worst_ke_ratio=%.4f\n", n_runs, n_fail,
+           worst);
+    printf(
+        "matrix_min_delta=%.1f\nmatrix_contact_entries=%ld\nmatrix_band_crossed_in_one_step=%ld\n"
+        "matrix_cutoff_erasures=%ld\n",
+        min_delta, total_enter, total_skips, total_erase);
     if (md)
         fclose(md);
     return n_fail ? 1 : 0;

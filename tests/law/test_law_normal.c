@@ -21,16 +21,16 @@
 #include <stdio.h>
 
 static int failures = 0;
-#define CHECK(cond, ...)                                                                       \
-    do {                                                                                       \
-        if (!(cond)) {                                                                         \
-            ++failures;                                                                        \
-            if (failures < 20) {                                                               \
-                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                           \
-                fprintf(stderr, __VA_ARGS__);                                                  \
-                fputc('\n', stderr);                                                           \
-            }                                                                                  \
-        }                                                                                      \
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            ++failures;                                                                            \
+            if (failures < 20) {                                                                   \
+                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                               \
+                fprintf(stderr, __VA_ARGS__);                                                      \
+                fputc('\n', stderr);                                                               \
+            }                                                                                      \
+        }                                                                                          \
     } while (0)
 
 static void random_inputs(law_rng *r, int i, double *dprev, double *s, double *h, double *e,
@@ -93,8 +93,10 @@ static void test_closed_vs_bracketed(void)
             ++n_illcond_used;
         if (err / base > max_err_rel)
             max_err_rel = err / base;
-        CHECK(err <= tol, "closed %.17g vs bracketed %.17g (dprev=%g s=%.17g h=%.17g e=%.17g "
-                            "alpha=%.17g)", dc, db, dprev, s, h, e, alpha);
+        CHECK(err <= tol,
+              "closed %.17g vs bracketed %.17g (dprev=%g s=%.17g h=%.17g e=%.17g "
+              "alpha=%.17g)",
+              dc, db, dprev, s, h, e, alpha);
         CHECK(dc >= LUB_DELTA_MIN && dc <= LUB_DELTA_MAX, "delta out of range %g", dc);
         n_contact += c;
         n_floor += (dc == LUB_DELTA_MIN);
@@ -115,15 +117,17 @@ static void test_closed_vs_bracketed(void)
     for (int i = 0; i < 20000; ++i) {
         double dprev = -law_rng_logrange(&r, 800.0, 1.0e5);
         double h = ldexp(1.0, (int)law_rng_range(&r, -10.0, 10.999));
-        double j = (i % 4 == 0) ? 0.0
-                                : ((i & 1) ? 1.0 : -1.0) * floor(law_rng_logrange(&r, 1.0, 1e9));
+        double j =
+            (i % 4 == 0) ? 0.0 : ((i & 1) ? 1.0 : -1.0) * floor(law_rng_logrange(&r, 1.0, 1e9));
         double s = (1.0 + ldexp(j, -40)) / h;
         double dc = lub_normal_solve(dprev, s, h, 0.0, 1.0, NULL);
         double db = lub_normal_solve_bracketed(dprev, s, h, 0.0, 1.0);
         double err = fabs(dc - db);
         double tol = 1e-12 + 8.0 * DBL_EPSILON * fabs(db);
-        CHECK(isfinite(dc) && err <= tol, "critical: closed %.17g vs bracketed %.17g "
-              "(dprev=%.17g s=%.17g h=%.17g)", dc, db, dprev, s, h);
+        CHECK(isfinite(dc) && err <= tol,
+              "critical: closed %.17g vs bracketed %.17g "
+              "(dprev=%.17g s=%.17g h=%.17g)",
+              dc, db, dprev, s, h);
         if (err > max_crit)
             max_crit = err;
         if (1.0 - h * s == 0.0) { /* b = 0 exactly: x = sqrt(x_prev / h) */
@@ -165,7 +169,8 @@ static double f_ref(double d, double dprev, double s, double h, double e, double
     long double E = expl((long double)dprev - (long double)d);
     long double hinv = 1.0L / (long double)h;
     if (E > 0.5L)
-        return (double)(base - (1.0L + ac) * x + hinv * expm1l((long double)dprev - (long double)d));
+        return (double)(base - (1.0L + ac) * x +
+                        hinv * expm1l((long double)dprev - (long double)d));
     return (double)((base - hinv) + hinv * E - (1.0L + ac) * x);
 }
 
@@ -215,8 +220,7 @@ static void test_stiffness_bound(void)
         if (sl < min_slope)
             min_slope = sl;
     }
-    CHECK(max_slope <= 1.0 + 1e-6 && min_slope >= -1e-6, "dx/ds in [%g, %g]", min_slope,
-          max_slope);
+    CHECK(max_slope <= 1.0 + 1e-6 && min_slope >= -1e-6, "dx/ds in [%g, %g]", min_slope, max_slope);
     printf("normal_dx_ds_min=%.3e\nnormal_dx_ds_max=%.6f\n", min_slope, max_slope);
 }
 
@@ -243,8 +247,8 @@ static void test_quasi_static_and_limits(void)
     /* eps = 0 with lubrication: never contact, even deeply compressed with x_prev = e^-1000;
      * no floor: delta+ = delta- - ln(1 - h s) exactly (x+ = 0 in double) */
     d = lub_normal_solve(-1000.0, -0.5, 1e6, 0.0, 1.0, &c);
-    CHECK(c == 0 && fabs(d - (-1000.0 - log(500001.0))) < 1e-12, "eps0 compressed d=%.17g c=%d",
-          d, c);
+    CHECK(c == 0 && fabs(d - (-1000.0 - log(500001.0))) < 1e-12, "eps0 compressed d=%.17g c=%d", d,
+          c);
     d = lub_normal_solve(-1.0e5, -0.5, 1e6, 0.0, 1.0, &c);
     CHECK(c == 0 && fabs(d - (-1.0e5 - log(500001.0))) < 1e-10, "eps0 compressed -1e5 d=%.17g", d);
     /* compressed smooth pair decays exponentially in delta: delta+ - delta- = -ln(1 - h s)
@@ -296,7 +300,8 @@ static void test_compressed_decay(void)
     const struct {
         double s, e, alpha, h;
         int steps;
-    } cases[] = {{-0.05, 0.01, 1.0, 2.0, 200000}, {-0.01, 0.0, 1.0, 50.0, 100000},
+    } cases[] = {{-0.05, 0.01, 1.0, 2.0, 200000},
+                 {-0.01, 0.0, 1.0, 50.0, 100000},
                  {-0.3, 0.02, 10.0, 0.1, 300000}};
     for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         const double s = cases[k].s, e = cases[k].e, al = cases[k].alpha, h = cases[k].h;

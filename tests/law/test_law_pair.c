@@ -10,16 +10,16 @@
 #include <string.h>
 
 static int failures = 0;
-#define CHECK(cond, ...)                                                                       \
-    do {                                                                                       \
-        if (!(cond)) {                                                                         \
-            ++failures;                                                                        \
-            if (failures < 30) {                                                               \
-                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                           \
-                fprintf(stderr, __VA_ARGS__);                                                  \
-                fputc('\n', stderr);                                                           \
-            }                                                                                  \
-        }                                                                                      \
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            ++failures;                                                                            \
+            if (failures < 30) {                                                                   \
+                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                               \
+                fprintf(stderr, __VA_ARGS__);                                                      \
+                fputc('\n', stderr);                                                               \
+            }                                                                                      \
+        }                                                                                          \
     } while (0)
 
 static vec3 rand_vec(law_rng *r, double scale)
@@ -31,8 +31,13 @@ static vec3 unit(vec3 a) { return v3_scale(a, 1.0 / v3_norm(a)); }
 
 static lub_law_params base_params(void)
 {
-    lub_law_params p = {.eta = 1.0, .k_bulk = 1e4, .alpha = 1.0, .k_t = 5e3, .eps = 0.01,
-                        .mu = 0.5, .terms = LUB_TERM_ALL};
+    lub_law_params p = {.eta = 1.0,
+                        .k_bulk = 1e4,
+                        .alpha = 1.0,
+                        .k_t = 5e3,
+                        .eps = 0.01,
+                        .mu = 0.5,
+                        .terms = LUB_TERM_ALL};
     return p;
 }
 
@@ -125,13 +130,14 @@ static void test_random_conservation_and_split(void)
     CHECK(max_L < 1e-12, "angular momentum %g", max_L);
     CHECK(max_split < 1e-12, "split %g", max_split);
     CHECK(max_tan < 1e-12, "shear not tangential %g", max_tan);
-    CHECK(n_slip > 1000 && n_stick > 1000 && n_torque > 1000, "coverage slip %ld stick %ld torque %ld",
-          n_slip, n_stick, n_torque);
+    CHECK(n_slip > 1000 && n_stick > 1000 && n_torque > 1000,
+          "coverage slip %ld stick %ld torque %ld", n_slip, n_stick, n_torque);
     printf("pair_random_cases=%d\n", N);
     printf("pair_max_rel_angular_momentum_defect=%.3e\n", max_L);
     printf("pair_max_rel_split_defect=%.3e\n", max_split);
     printf("pair_max_shear_normal_component=%.3e\n", max_tan);
-    printf("pair_cases_contact=%ld\npair_cases_slip=%ld\npair_cases_stick=%ld\npair_cases_torque=%ld\n",
+    printf("pair_cases_contact=%ld\npair_cases_slip=%ld\npair_cases_stick=%ld\npair_cases_torque=%"
+           "ld\n",
            n_contact, n_slip, n_stick, n_torque);
 }
 
@@ -153,13 +159,18 @@ static void test_rigid_motion(void)
     const vec3 Omega = v3_scale(k, Om), V = v3(0.2, 0.1, -0.3);
     struct {
         const char *name;
-        double s;     /* u_n / a */
-        double fs0;   /* initial |F_s| */
+        double s;   /* u_n / a */
+        double fs0; /* initial |F_s| */
         int stick;
     } cases[] = {{"free", 0.3, 0.0, 0}, {"stick", -0.005, 0.002, 1}, {"maxwell", 0.3, 0.002, 0}};
     for (int c = 0; c < 3; ++c) {
-        lub_law_params p = {.eta = 0.01, .k_bulk = 1.0, .alpha = 1.0, .k_t = 0.5, .eps = 0.01,
-                            .mu = 0.5, .terms = LUB_TERM_ALL};
+        lub_law_params p = {.eta = 0.01,
+                            .k_bulk = 1.0,
+                            .alpha = 1.0,
+                            .k_t = 0.5,
+                            .eps = 0.01,
+                            .mu = 0.5,
+                            .terms = LUB_TERM_ALL};
         const double r1 = 1.0, r2 = 1.0, a = 1.0;
         vec3 x1_0 = v3(0.1, 0.2, 0.3), n0 = unit(v3(1.0, 0.2, -0.1));
         vec3 x2_0 = v3_axpy(x1_0, r1 + r2 + cases[c].s * a, n0);
@@ -178,8 +189,13 @@ static void test_rigid_motion(void)
             lub_pair_input in = {.branch = v3_sub(x2, x1),
                                  .v1 = v3_add(V, v3_cross(Omega, v3_sub(x1, v3_scale(V, t)))),
                                  .v2 = v3_add(V, v3_cross(Omega, v3_sub(x2, v3_scale(V, t)))),
-                                 .w1 = Omega, .w2 = Omega, .r1 = r1, .r2 = r2,
-                                 .inv_inertia1 = 2.5, .inv_inertia2 = 2.5, .dt = dt};
+                                 .w1 = Omega,
+                                 .w2 = Omega,
+                                 .r1 = r1,
+                                 .r2 = r2,
+                                 .inv_inertia1 = 2.5,
+                                 .inv_inertia2 = 2.5,
+                                 .dt = dt};
             if (it == 1 && cases[c].fs0 > 0.0) {
                 /* inject a tangential force once the pair is at its (static) state */
                 vec3 tdir = unit(v3_cross(st.n_prev, v3(0, 0, 1)));
@@ -224,9 +240,16 @@ static void test_rigid_motion(void)
 
 static lub_pair_input simple_input(double un, vec3 w1, vec3 w2)
 {
-    lub_pair_input in = {.branch = v3(2.0 + un, 0, 0), .v1 = v3(0, 0.1, 0), .v2 = v3(0, -0.1, 0.05),
-                         .w1 = w1, .w2 = w2, .r1 = 1, .r2 = 1, .inv_inertia1 = 2.5,
-                         .inv_inertia2 = 2.5, .dt = 1e-3};
+    lub_pair_input in = {.branch = v3(2.0 + un, 0, 0),
+                         .v1 = v3(0, 0.1, 0),
+                         .v2 = v3(0, -0.1, 0.05),
+                         .w1 = w1,
+                         .w2 = w2,
+                         .r1 = 1,
+                         .r2 = 1,
+                         .inv_inertia1 = 2.5,
+                         .inv_inertia2 = 2.5,
+                         .dt = 1e-3};
     return in;
 }
 
@@ -245,7 +268,8 @@ static void test_switches_and_torques(void)
     st.n_prev = v3(1, 0, 0);
     lub_pair_input in = simple_input(0.2, w1, w2);
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
-    CHECK(v3_norm(v3_axpy(o.force1, -v3_dot(o.force1, o.n), o.n)) == 0.0, "shear w/o lub, no contact");
+    CHECK(v3_norm(v3_axpy(o.force1, -v3_dot(o.force1, o.n), o.n)) == 0.0,
+          "shear w/o lub, no contact");
 
     /* friction off, in contact: no tangential contact force, no slip */
     p.terms = LUB_TERM_ALL & ~LUB_TERM_FRICTION;
@@ -283,8 +307,8 @@ static void test_switches_and_torques(void)
     st.is_new = 1;
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
     CHECK(o.contact && o.delta == LUB_DELTA_STATIC_FLOOR &&
-              fabs(o.fn_contact - p.k_bulk * (-0.01)) < 1e-9 * p.k_bulk, "hard-core floor fn=%g",
-          o.fn_contact);
+              fabs(o.fn_contact - p.k_bulk * (-0.01)) < 1e-9 * p.k_bulk,
+          "hard-core floor fn=%g", o.fn_contact);
     p = base_params();
 
     /* roll / twist: present for u < a, zero beyond, zero when switched off, and the exact
@@ -330,10 +354,12 @@ static void test_switches_and_torques(void)
         CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
         vec3 T = v3_add(o.torque_roll1, o.torque_twist1);
         vec3 Om = v3_sub(w2, w1);
-        vec3 Om_new = v3_sub(v3_axpy(w2, -in.dt * in.inv_inertia2, T), v3_axpy(w1, in.dt * in.inv_inertia1, T));
+        vec3 Om_new = v3_sub(v3_axpy(w2, -in.dt * in.inv_inertia2, T),
+                             v3_axpy(w1, in.dt * in.inv_inertia1, T));
         /* per component along n and transverse: ratio in [0, 1] */
         double r_t = v3_dot(Om_new, o.n) / v3_dot(Om, o.n);
-        vec3 Omr = v3_axpy(Om, -v3_dot(Om, o.n), o.n), Omr_new = v3_axpy(Om_new, -v3_dot(Om_new, o.n), o.n);
+        vec3 Omr = v3_axpy(Om, -v3_dot(Om, o.n), o.n),
+             Omr_new = v3_axpy(Om_new, -v3_dot(Om_new, o.n), o.n);
         double r_r = v3_dot(Omr_new, Omr) / v3_norm2(Omr);
         CHECK(r_t >= -1e-12 && r_t <= 1 + 1e-12 && r_r >= -1e-12 && r_r <= 1 + 1e-12,
               "spin reversal eta=%g r_t=%g r_r=%g", p.eta, r_t, r_r);
@@ -355,7 +381,8 @@ static void test_new_pairs_and_errors(void)
     in.v1 = in.v2 = v3(0, 0, 0);
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
     CHECK(o.contact && fabs(exp(o.delta) - (-0.004 + 0.01) / 2.0) < 1e-12 &&
-              fabs(o.fn_lub) < 1e-9 * fabs(o.fn_contact), "overlap creation x=%g fl=%g", exp(o.delta), o.fn_lub);
+              fabs(o.fn_lub) < 1e-9 * fabs(o.fn_contact),
+          "overlap creation x=%g fl=%g", exp(o.delta), o.fn_lub);
     /* created overlapping (smooth, lubricated): starts at the static floor, then the first
      * step already decays below it (no floor with lubrication); finite, all lubrication */
     p.eps = 0.0;
@@ -385,13 +412,15 @@ static void test_new_pairs_and_errors(void)
     const char *names[8];
     CHECK(lub_terms_names(LUB_TERM_ALL, names, 8) == 5, "names all");
     CHECK(lub_terms_names(LUB_TERM_ROLL | LUB_TERM_FRICTION, names, 8) == 2 &&
-              strcmp(names[1], "friction") == 0, "names subset");
+              strcmp(names[1], "friction") == 0,
+          "names subset");
 }
 
 static void test_shear_viscosity(void)
 {
     const double eta = 2.0, a = 1.5;
-    double xs[] = {1e-300, 1e-12, 1e-3, 0.1, 0.999999, 1.0, 1.000001, 3.0, 50.0, 99999.0, 100001.0, 1e8};
+    double xs[] = {1e-300,   1e-12, 1e-3, 0.1,     0.999999, 1.0,
+                   1.000001, 3.0,   50.0, 99999.0, 100001.0, 1e8};
     double max_err = 0.0;
     for (unsigned i = 0; i < sizeof xs / sizeof xs[0]; ++i) {
         double x = xs[i], d = log(x);
@@ -482,8 +511,8 @@ static void test_compressed_decay(void)
         CHECK(flags, "compressed case %u: contact flag", k);
         CHECK(o.delta < -5000.0 && o.delta > LUB_DELTA_MIN, "compressed case %u: delta %g", k,
               o.delta);
-        CHECK(nsub > 0 && nzero > 0, "compressed case %u: subnormal %ld / zero %ld steps", k,
-              nsub, nzero);
+        CHECK(nsub > 0 && nzero > 0, "compressed case %u: subnormal %ld / zero %ld steps", k, nsub,
+              nzero);
         CHECK(max_dev <= 1.0, "compressed case %u: decrement off by %g (units of tol)", k, max_dev);
         CHECK(max_flub < 1e-12, "compressed case %u: F_l vs g a (s + alpha e): %g", k, max_flub);
         CHECK(p.eps == 0.0 || fabs(o.fn_contact + p.alpha * ga * p.eps) < 1e-12 * ga,
@@ -495,7 +524,8 @@ static void test_compressed_decay(void)
               v3_norm(o.torque_twist1));
         printf("pair_compressed_case%u_final_delta=%.6g\n", k, o.delta);
         printf("pair_compressed_case%u_subnormal_steps=%ld_zero_gap_steps=%ld\n", k, nsub, nzero);
-        printf("pair_compressed_case%u_final_nu_t=%.6g\n", k, lub_shear_viscosity(p.eta, a, o.delta));
+        printf("pair_compressed_case%u_final_nu_t=%.6g\n", k,
+               lub_shear_viscosity(p.eta, a, o.delta));
         printf("pair_compressed_case%u_final_roll_torque=%.6g\n", k, troll_prev);
     }
 }

@@ -31,8 +31,13 @@ static void setup(law_sim *s, double eps)
     s->x[0] = v3(0, 0, 0);
     s->x[1] = v3(0, 3.0 * a, 0); /* u_n = a */
     s->fext[1] = v3(0, -s->m[1] * grav, 0);
-    s->p = (lub_law_params){.eta = eta, .k_bulk = E * a, .alpha = 1.0, .k_t = 0.3 * E * a,
-                            .eps = eps, .mu = 0.5, .terms = LUB_TERM_ALL};
+    s->p = (lub_law_params){.eta = eta,
+                            .k_bulk = E * a,
+                            .alpha = 1.0,
+                            .k_t = 0.3 * E * a,
+                            .eps = eps,
+                            .mu = 0.5,
+                            .terms = LUB_TERM_ALL};
     s->dt = 1e-4;
     s->create = 50.0;
     s->cutoff = 50.0;

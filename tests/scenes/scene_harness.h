@@ -6,11 +6,11 @@
 #include <jansson.h>
 
 typedef struct {
-    int rc;              /* LUB_EXIT_* returned by run(), or 2 if the spec was rejected */
-    json_t *results;     /* summary "results" (owned; NULL if rejected) */
-    json_t *extra;       /* summary extras: active_terms, units, ... (owned) */
-    double wall_s;       /* wall time of run() */
-    char message[1024];  /* spec error "pointer: message" or run diagnostic */
+    int rc;             /* LUB_EXIT_* returned by run(), or 2 if the spec was rejected */
+    json_t *results;    /* summary "results" (owned; NULL if rejected) */
+    json_t *extra;      /* summary extras: active_terms, units, ... (owned) */
+    double wall_s;      /* wall time of run() */
+    char message[1024]; /* spec error "pointer: message" or run diagnostic */
 } scene_outcome;
 
 /* Runs spec_text; returns o->rc. keep_h5 != NULL: keep the result file under that path. */

@@ -30,7 +30,7 @@ int main(int argc, char **argv)
     const char *key;
     json_t *e;
     if (o.results)
-        json_object_foreach(o.results, key, e) {
+        json_object_foreach (o.results, key, e) {
             json_t *v = json_object_get(e, "value");
             if (json_is_number(v))
                 printf("%s=%.12g\n", key, json_number_value(v));

@@ -44,38 +44,40 @@ int main(void)
 
     /* 2. rough spheres settle at u_eq = eps a - m g/k_n (K = 100) within 1e-6 */
     run("rough eps=0.01 K=100",
-        "{\"scene\":\"falling_sphere\",\"St\":0.01,\"K\":100,\"duration\":8,\"law\":{\"eps\":0.01}}",
+        "{\"scene\":\"falling_sphere\",\"St\":0.01,\"K\":100,\"duration\":8,\"law\":{\"eps\":0.01}"
+        "}",
         &o);
     fails += scene_check(scene_value(&o, "equilibrium_gap_rel_error") < 1e-6,
                          "|u_end/u_eq - 1| (u_eq = 0.0099)",
                          scene_value(&o, "equilibrium_gap_rel_error"), 1e-6);
-    fails += scene_check(scene_value(&o, "exp_max_rel_dev") < 1e-3,
-                         "exponential before contact", scene_value(&o, "exp_max_rel_dev"), 1e-3);
+    fails += scene_check(scene_value(&o, "exp_max_rel_dev") < 1e-3, "exponential before contact",
+                         scene_value(&o, "exp_max_rel_dev"), 1e-3);
     scene_outcome_free(&o);
     /* alpha != 1: u_eq = eps - 1/(alpha G) = 0.01 - 1/(2 * 2500) = 0.0098 */
     run("rough eps=0.01 alpha=2 stiffness=2500",
         "{\"scene\":\"falling_sphere\",\"St\":0.01,\"stiffness\":2500,\"duration\":8,"
-        "\"law\":{\"eps\":0.01,\"alpha\":2}}", &o);
-    fails += scene_check(fabs(scene_value(&o, "final_gap") / 0.0098 - 1) < 1e-6,
-                         "|u_end/0.0098 - 1|", fabs(scene_value(&o, "final_gap") / 0.0098 - 1),
-                         1e-6);
+        "\"law\":{\"eps\":0.01,\"alpha\":2}}",
+        &o);
+    fails +=
+        scene_check(fabs(scene_value(&o, "final_gap") / 0.0098 - 1) < 1e-6, "|u_end/0.0098 - 1|",
+                    fabs(scene_value(&o, "final_gap") / 0.0098 - 1), 1e-6);
     scene_outcome_free(&o);
 
     /* K < 1: no static equilibrium; in contact the gap decays with the apparent weight
      * m g - k_n eps a, i.e. at the rate (8/9)(1 - K) */
     run("rough eps=0.01 K=0.5 (no equilibrium)",
         "{\"scene\":\"falling_sphere\",\"St\":0.01,\"K\":0.5,\"duration\":30,"
-        "\"law\":{\"eps\":0.01}}", &o);
+        "\"law\":{\"eps\":0.01}}",
+        &o);
     {
         double r = scene_value(&o, "contact_rate"), want = 8.0 / 9.0 * 0.5;
-        fails += scene_check(fabs(r / want - 1) < 1e-3, "contact rate vs (8/9)(1-K) = 0.4444", r,
-                             want);
+        fails +=
+            scene_check(fabs(r / want - 1) < 1e-3, "contact rate vs (8/9)(1-K) = 0.4444", r, want);
     }
     scene_outcome_free(&o);
 
     /* 3. smooth spheres to gaps < 1e-12 a: no NaN (rc 0), gap > 0, rate kept */
-    run("smooth, 33 tau_c",
-        "{\"scene\":\"falling_sphere\",\"St\":0.01,\"duration\":33}", &o);
+    run("smooth, 33 tau_c", "{\"scene\":\"falling_sphere\",\"St\":0.01,\"duration\":33}", &o);
     fails += scene_check(scene_value(&o, "min_gap") < 1e-12 && scene_value(&o, "min_gap") > 0,
                          "min gap in (0, 1e-12)", scene_value(&o, "min_gap"), 1e-12);
     fails += scene_check(scene_value(&o, "exp_window_end") > 32.9, "exponential until the end",
@@ -89,7 +91,8 @@ int main(void)
     /* 4. negative test: without normal lubrication the sphere falls freely, no exponential */
     run("no lubrication (negative)",
         "{\"scene\":\"falling_sphere\",\"St\":0.01,\"duration\":2,"
-        "\"law\":{\"terms\":{\"normal_lubrication\":false}}}", &o);
+        "\"law\":{\"terms\":{\"normal_lubrication\":false}}}",
+        &o);
     fails += scene_check(!(scene_value(&o, "exp_window_end") >= 1.0),
                          "leaves the exponential before 1 tau_c", scene_value(&o, "exp_window_end"),
                          1.0);
@@ -97,15 +100,20 @@ int main(void)
 
     /* 5. regimes (seed fig. 4-5): low St damped; stiff + high St bouncing; soft oscillating */
     regime_is("{\"scene\":\"falling_sphere\",\"St\":0.01,\"K\":100,\"duration\":10,"
-              "\"law\":{\"eps\":0.01}}", 0, "St=0.01 K=100: damped (0)");
+              "\"law\":{\"eps\":0.01}}",
+              0, "St=0.01 K=100: damped (0)");
     regime_is("{\"scene\":\"falling_sphere\",\"St\":0.01,\"K\":10,\"duration\":10,"
-              "\"law\":{\"eps\":0.01}}", 0, "St=0.01 K=10: damped (0)");
+              "\"law\":{\"eps\":0.01}}",
+              0, "St=0.01 K=10: damped (0)");
     regime_is("{\"scene\":\"falling_sphere\",\"St\":1,\"K\":0.1,\"duration\":20,"
-              "\"law\":{\"eps\":0.01}}", 1, "St=1 K=0.1: oscillating (1)");
+              "\"law\":{\"eps\":0.01}}",
+              1, "St=1 K=0.1: oscillating (1)");
     regime_is("{\"scene\":\"falling_sphere\",\"St\":10,\"K\":10,\"duration\":200,"
-              "\"law\":{\"eps\":0.01}}", 2, "St=10 K=10: bouncing (2)");
+              "\"law\":{\"eps\":0.01}}",
+              2, "St=10 K=10: bouncing (2)");
     regime_is("{\"scene\":\"falling_sphere\",\"St\":1000,\"K\":100,\"duration\":20000,"
-              "\"law\":{\"eps\":0.01}}", 2, "St=1000 K=100: bouncing (2)");
+              "\"law\":{\"eps\":0.01}}",
+              2, "St=1000 K=100: bouncing (2)");
     printf("%d failure(s)\n", fails);
     return fails != 0;
 }

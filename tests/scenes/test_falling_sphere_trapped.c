@@ -36,8 +36,8 @@ int main(void)
            scene_value(&o, "normal_h"));
     fails += scene_check(scene_value(&o, "regime_code") == 1, "regime oscillating (1)",
                          scene_value(&o, "regime_code"), 1);
-    fails += scene_check(scene_value(&o, "bounces") == 0, "no bounce", scene_value(&o, "bounces"),
-                         0);
+    fails +=
+        scene_check(scene_value(&o, "bounces") == 0, "no bounce", scene_value(&o, "bounces"), 0);
     fails += scene_check(scene_value(&o, "oscillations") >= 3, "oscillations >= 3",
                          scene_value(&o, "oscillations"), 3);
     /* the trapped film goes far below the former floor e^-700 = 1e-304 a */

@@ -75,7 +75,8 @@ int main(void)
     json_decref(r);
 
     /* K sets stiffness = K/(alpha eps); the resolved spec resolves again to itself */
-    r = resolve("{\"scene\":\"falling_sphere\",\"K\":2,\"law\":{\"eps\":0.01,\"alpha\":0.5}}", &err);
+    r = resolve("{\"scene\":\"falling_sphere\",\"K\":2,\"law\":{\"eps\":0.01,\"alpha\":0.5}}",
+                &err);
     expect_num(r, "stiffness", 400.0);
     char *again = json_dumps(r, 0);
     json_t *r2 = resolve(again, &err);

@@ -18,7 +18,8 @@ int main(void)
             char spec[256];
             snprintf(spec, sizeof spec,
                      "{\"scene\":\"two_spheres_shear\",\"St\":1e-3,\"Ca\":1e-6,\"d0\":%g,"
-                     "\"cutoff\":%g}", d0[j], cut[i]);
+                     "\"cutoff\":%g}",
+                     d0[j], cut[i]);
             scene_outcome o;
             scene_run_text(spec, NULL, &o);
             g[i][j] = scene_value(&o, "min_gap");

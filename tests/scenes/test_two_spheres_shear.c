@@ -33,7 +33,8 @@ int main(void)
         run("smooth rigid", spec, &o);
         double rel = fabs(scene_value(&o, "offset_rel_change"));
         fails += scene_check(rel < 0.01, "reversible: |y_end/d0 - 1|", rel, 0.01);
-        fails += scene_check(scene_value(&o, "contact") == 0, "no contact", scene_value(&o, "contact"), 0);
+        fails += scene_check(scene_value(&o, "contact") == 0, "no contact",
+                             scene_value(&o, "contact"), 0);
         scene_outcome_free(&o);
     }
 
@@ -47,8 +48,9 @@ int main(void)
     fails += scene_check(scene_value(&o, "contact") == 1, "contact", scene_value(&o, "contact"), 1);
     fails += scene_check(fabs(scene_value(&o, "min_gap") / 0.1 - 1) < 0.05, "min gap ~ eps a",
                          scene_value(&o, "min_gap"), 0.1);
-    fails += scene_check(scene_value(&o, "offset_rel_change") > 0.5,
-                         "irreversible: y_end/d0 - 1 > 0.5", scene_value(&o, "offset_rel_change"), 0.5);
+    fails +=
+        scene_check(scene_value(&o, "offset_rel_change") > 0.5, "irreversible: y_end/d0 - 1 > 0.5",
+                    scene_value(&o, "offset_rel_change"), 0.5);
     scene_outcome_free(&o);
     /* eps below the smooth minimum gap: nothing changes (seed: eps < min gap is harmless) */
     run("rough eps=0.02 (< smooth min gap)",
@@ -59,7 +61,9 @@ int main(void)
 
     /* 3. negative tests: dropping shear lubrication or rotation changes the trajectory */
     run("no shear lubrication",
-        "{\"scene\":\"two_spheres_shear\",\"d0\":0.1,\"law\":{\"terms\":{\"shear_lubrication\":false}}}", &o);
+        "{\"scene\":\"two_spheres_shear\",\"d0\":0.1,\"law\":{\"terms\":{\"shear_lubrication\":"
+        "false}}}",
+        &o);
     double r = scene_value(&o, "min_gap") / g_ref;
     fails += scene_check(r < 0.1, "min gap / reference < 0.1", r, 0.1);
     scene_outcome_free(&o);

@@ -18,12 +18,12 @@
 #include "tokens.h"
 
 static int failures = 0;
-#define CHECK(c)                                                                             \
-    do {                                                                                     \
-        if (!(c)) {                                                                          \
-            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #c);            \
-            ++failures;                                                                      \
-        }                                                                                    \
+#define CHECK(c)                                                                                   \
+    do {                                                                                           \
+        if (!(c)) {                                                                                \
+            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #c);                  \
+            ++failures;                                                                            \
+        }                                                                                          \
     } while (0)
 
 static void test_sha256(void)
@@ -131,8 +131,9 @@ static void test_queue(const char *dir)
     const char *ids_prio[3] = {"0", "5", "0"};
     char ids[3][33];
     for (int i = 0; i < 3; ++i) {
-        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{\"scene\":\"falling_sphere\"}",
-                         ids_prio[i], NULL, atoi(ids_prio[i]), 2};
+        lubd_submit s = {
+            u.id,        10,   "falling_sphere",  "{}", "{\"scene\":\"falling_sphere\"}",
+            ids_prio[i], NULL, atoi(ids_prio[i]), 2};
         int replayed;
         lubd_fault f;
         CHECK(lubd_queue_submit(db, &s, ids[i], &replayed, &f) == 0 && !replayed);
@@ -157,8 +158,7 @@ static void test_queue(const char *dir)
           j.attempt == 1);
     /* Second attempt also dies (lease 0 s): max_attempts = 2 is reached -> failed/system. */
     lubd_claim c3;
-    CHECK(lubd_lease_claim(db, "t3", 0, &c3) == 1 && strcmp(c3.id, ids[0]) == 0 &&
-          c3.attempt == 2);
+    CHECK(lubd_lease_claim(db, "t3", 0, &c3) == 1 && strcmp(c3.id, ids[0]) == 0 && c3.attempt == 2);
     nanosleep(&ts, NULL);
     CHECK(lubd_queue_reap(db, &rq, &fl) == 0 && rq == 0 && fl == 1);
     CHECK(lubd_queue_get(db, ids[0], &j) == 1 && strcmp(j.state, "failed") == 0 &&
