@@ -23,6 +23,7 @@
 #define LUBDEM_PAIR_STORE_H
 
 #include <stddef.h>
+#include <string.h>
 #include <stdint.h>
 
 #include "contact_law.h"
@@ -55,6 +56,27 @@ void lub_pairs_free(lub_pairs *ps);
 /* Adopts the pairs of nl for n_particles particles, carrying states. Returns 0 or -1 (no memory).
  */
 int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles);
+
+/* Pair k is inside the cut-off this step: an inactive pair becomes active with a fresh law
+ * state (is_new = 1, notes §5 life cycle); an active pair keeps its history. */
+static inline void lub_pairs_enter(lub_pairs *ps, size_t k)
+{
+    if (!ps->active[k]) {
+        memset(&ps->state[k], 0, sizeof ps->state[k]);
+        ps->state[k].is_new = 1;
+        ps->active[k] = 1;
+    }
+}
+
+/* Pair k is beyond the cut-off: it loses its state and contributes nothing. */
+static inline void lub_pairs_leave(lub_pairs *ps, size_t k)
+{
+    if (ps->active[k]) {
+        ps->active[k] = 0;
+        ps->near[k] = 0;
+        ps->f1[k] = ps->t1[k] = ps->t2[k] = v3(0, 0, 0);
+    }
+}
 
 /* Number of active pairs. */
 size_t lub_pairs_count_active(const lub_pairs *ps);

@@ -169,17 +169,10 @@ int lub_rs_step(lub_rs_system *s)
         const double un = v3_norm(d) - ri - rj;
         const double a = 0.5 * (ri + rj);
         if (un > cutoff * a) {
-            if (ps->active[k]) {
-                ps->active[k] = 0;
-                ps->f1[k] = ps->t1[k] = ps->t2[k] = v3(0, 0, 0);
-            }
+            lub_pairs_leave(ps, k);
             continue;
         }
-        if (!ps->active[k]) {
-            memset(&ps->state[k], 0, sizeof ps->state[k]);
-            ps->state[k].is_new = 1;
-            ps->active[k] = 1;
-        }
+        lub_pairs_enter(ps, k);
         lub_pair_input in;
         in.branch = d;
         in.v1 = s->v[i];

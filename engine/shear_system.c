@@ -259,20 +259,10 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             double un = dist - ri - rj;
             double a = 0.5 * (ri + rj);
             if (un > cutoff * a) {
-                if (ps->active[k]) {
-                    ps->active[k] = 0;
-                    ps->near[k] = 0;
-                    ps->f1[k] = v3(0, 0, 0);
-                    ps->t1[k] = v3(0, 0, 0);
-                    ps->t2[k] = v3(0, 0, 0);
-                }
+                lub_pairs_leave(ps, k);
                 continue;
             }
-            if (!ps->active[k]) {
-                memset(&ps->state[k], 0, sizeof ps->state[k]);
-                ps->state[k].is_new = 1;
-                ps->active[k] = 1;
-            }
+            lub_pairs_enter(ps, k);
             lub_pair_input in;
             in.branch = d;
             in.v1 = s->v[i];
