@@ -233,7 +233,7 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
                           .gmin_prev = -1.0,
                           .unmin_prev = NAN};
     const double osc_threshold = 1e-2 * W / p.law.params.k_bulk;
-    int late_bounces = -1;
+    int late_bounces = -1, late_oscillations = -1;
     double late_unmin = INFINITY, late_unmax = -INFINITY;
     const int64_t nsteps = (int64_t)ceil(p.duration / dt - 1e-9);
 
@@ -265,15 +265,19 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
         if (eps > 0.0 && o->gap < 1e-3 * eps * a)
             lsq_add(&fit_contact, t, o->delta);
         if (t >= 0.75 * p.duration) { /* late window: persistent oscillation or still bouncing */
-            if (late_bounces < 0)
+            if (late_bounces < 0) {
                 late_bounces = rb.bounces;
+                late_oscillations = rb.oscillations;
+            }
             if (o->un < late_unmin)
                 late_unmin = o->un;
             if (o->un > late_unmax)
                 late_unmax = o->un;
         }
-        /* exponential window: from the start until contact or the first rebound */
-        if (in_window && o->gap > contact_floor && rb.bounces + rb.oscillations == 0) {
+        /* exponential window: from the start until contact or the first bounce (the law is
+         * about the film gap u; elastic ringing of the centre gap u_n after the release does
+         * not open the film and does not end the window) */
+        if (in_window && o->gap > contact_floor && rb.bounces == 0) {
             double dev = fabs(expm1(o->delta - ln_u0 + rate_ref * t));
             if (dev > max_dev)
                 max_dev = dev;
@@ -304,10 +308,13 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
     const lub_pair_output *o = &s.p[0].out;
     const double rate = -lsq_slope(&fit);
     /* regime: bounced at least once (the film opened by > 2x beyond the roughness) and/or
-     * still oscillating over the last quarter of the run (centre-gap swing > 10% of the
-     * static deflection m g/g_bulk, without a bounce in that window) */
+     * still oscillating over the last quarter of the run: at least two centre-gap swings
+     * (apex after a minimum, each > 1% of the static deflection m g/g_bulk) counted in that
+     * window, without a bounce, and a total swing > 10% of m g/g_bulk. A monotone approach
+     * (the viscous exponential) has no swing and is not an oscillation. */
     const double late_swing = (late_unmax - late_unmin) / (W / p.law.params.k_bulk);
-    const int late_osc = late_bounces >= 0 && rb.bounces == late_bounces && late_swing > 0.1;
+    const int late_osc = late_bounces >= 0 && rb.bounces == late_bounces &&
+                         rb.oscillations - late_oscillations >= 2 && late_swing > 0.1;
     int regime = rb.bounces > 0 ? (late_osc ? 3 : 2) : (late_osc ? 1 : 0);
     lub_summary_put_ref(ctx, "exp_rate", rate, "1/tau_c", rate_ref);
     lub_summary_put(ctx, "exp_rate_rel_error", fabs(rate / rate_ref - 1.0), NAN, "1");
