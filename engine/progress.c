@@ -16,6 +16,8 @@ void lub_progress_init(lub_progress *p, FILE *stream, double interval_s)
     p->interval_s = interval_s;
     p->t_start = lub_wall_seconds();
     p->t_last = p->t_start;
+    p->fraction = 0.0;
+    p->stop_requested = NULL;
 }
 
 static void emit(lub_progress *p, double fraction, int64_t step, double now)
@@ -33,6 +35,7 @@ void lub_progress_update(lub_progress *p, double fraction, int64_t step)
 {
     if (!p || !p->stream)
         return;
+    p->fraction = fraction;
     /* reading the clock every call costs ~20 ns; callers may call every step */
     double now = lub_wall_seconds();
     if (now - p->t_last < p->interval_s)
@@ -48,5 +51,7 @@ void lub_progress_final(lub_progress *p, int64_t step)
 {
     if (!p || !p->stream)
         return;
-    emit(p, 1.0, step, lub_wall_seconds());
+    int stopped = p->stop_requested && *p->stop_requested;
+    double f = stopped ? (p->fraction < 0 ? 0 : p->fraction > 1 ? 1 : p->fraction) : 1.0;
+    emit(p, f, step, lub_wall_seconds());
 }

@@ -132,6 +132,7 @@ int lub_run_spec(const lub_run_request *req)
 
     lub_progress progress;
     lub_progress_init(&progress, req->progress, 0.5);
+    progress.stop_requested = req->stop_requested;
     lub_run_ctx ctx;
     memset(&ctx, 0, sizeof ctx);
     ctx.out = h5;

@@ -83,7 +83,7 @@ PYEOF
 $PY "$CHECK" "$work/run1/result.h5" --status complete > /dev/null && ok || bad "H5MD structure"
 
 # SIGTERM: stops within seconds with a valid partial result and exit code 5
-"$LUBDEM" run "$work/long.json" --out "$work/run2" > /dev/null 2> "$work/run2.err" &
+"$LUBDEM" run "$work/long.json" --out "$work/run2" > "$work/run2.out" 2> "$work/run2.err" &
 pid=$!
 sleep 1.5
 kill -TERM $pid
@@ -95,6 +95,9 @@ rc=$?
 $PY -c "import json; s=json.load(open('$work/run2/summary.json')); assert s['status']=='partial'" \
   && ok || bad "partial summary status"
 $PY "$CHECK" "$work/run2/result.h5" --status partial > /dev/null && ok || bad "partial H5MD structure"
+# the last progress line of a stopped run reports the fraction reached, not 1
+last=$(grep '^progress ' "$work/run2.out" | tail -1)
+echo "$last" | grep -Eq 'fraction=0\.[0-9]{4} ' && ok || bad "final progress line of a stopped run: $last"
 
 echo "cli_contract_checks=$((pass + fail))"
 echo "$pass passed, $fail failed"
