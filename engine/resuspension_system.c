@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "pair_eval.h"
 #include "velocity_gradient.h"
 
 static const double RS_PI = 3.14159265358979323846;
@@ -155,6 +156,10 @@ int lub_rs_step(lub_rs_system *s)
     int failed = 0;
     (void)nt;
 
+    /* N_i / I_i (contact_law.h recommendation), N_i = active pairs of body i; 1/I = 0 for floor
+     * spheres */
+    const lub_pair_bodies bodies = {
+        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->nint};
 #pragma omp parallel for num_threads(nt) schedule(static) reduction(| : failed)
     for (long k = 0; k < npairs; ++k) {
         const int i = ps->i[k], j = ps->j[k];
@@ -163,31 +168,15 @@ int lub_rs_step(lub_rs_system *s)
             ps->f1[k] = ps->t1[k] = ps->t2[k] = v3(0, 0, 0);
             continue;
         }
-        const vec3 shift = lub_cell_shift(cell, &ps->c[3 * k]);
-        const vec3 d = v3_sub(v3_add(s->x[j], shift), s->x[i]);
-        const double ri = s->r[i], rj = s->r[j];
-        const double un = v3_norm(d) - ri - rj;
-        const double a = 0.5 * (ri + rj);
-        if (un > cutoff * a) {
-            lub_pairs_leave(ps, k);
-            continue;
-        }
-        lub_pairs_enter(ps, k);
-        lub_pair_input in;
-        in.branch = d;
-        in.v1 = s->v[i];
-        in.v2 = v3_add(s->v[j], lub_mat_vec(cell->L, shift));
-        in.w1 = s->w[i];
-        in.w2 = s->w[j];
-        in.r1 = ri;
-        in.r2 = rj;
-        /* N_i / I_i (contact_law.h recommendation); 0 for floor spheres */
-        in.inv_inertia1 = s->inv_i[i] * (s->nint[i] > 1 ? s->nint[i] : 1);
-        in.inv_inertia2 = s->inv_i[j] * (s->nint[j] > 1 ? s->nint[j] : 1);
-        in.dt = dt;
         lub_pair_output o;
-        if (lub_pair_step(&s->law, &in, &ps->state[k], &o) != 0 || !v3_isfinite(o.force1) ||
-            !v3_isfinite(o.torque1) || !v3_isfinite(o.torque2)) {
+        vec3 d;
+        double un;
+        const int rc =
+            lub_pair_eval(ps, (size_t)k, cell, &bodies, &s->law, cutoff, dt, &o, &d, &un);
+        if (rc == LUB_PAIR_OUT)
+            continue;
+        if (rc == LUB_PAIR_NONFINITE) {
+            const double a = 0.5 * (s->r[i] + s->r[j]);
             failed = 1;
 #pragma omp critical(lub_rs_fail)
             {
@@ -199,11 +188,7 @@ int lub_rs_step(lub_rs_system *s)
                              k, i, j, un / a, s->step, s->time);
                 }
             }
-            continue;
         }
-        ps->f1[k] = o.force1;
-        ps->t1[k] = o.torque1;
-        ps->t2[k] = o.torque2;
     }
     if (failed)
         return LUB_RS_NONFINITE;
@@ -220,19 +205,10 @@ int lub_rs_step(lub_rs_system *s)
 #pragma omp parallel for num_threads(nt) schedule(static) reduction(max : umax2, vmax2) \
     reduction(+ : hits) reduction(| : bad)
     for (int p = 0; p < s->n; ++p) {
-        vec3 F = v3(0, 0, 0), T = v3(0, 0, 0);
-        int count = 0;
-        for (size_t k = ps->first1[p]; k < ps->first1[p + 1]; ++k) {
-            F = v3_add(F, ps->f1[k]);
-            T = v3_add(T, ps->t1[k]);
-            count += ps->active[k];
-        }
-        for (size_t q = ps->first2[p]; q < ps->first2[p + 1]; ++q) {
-            const size_t k = ps->by2[q];
-            F = v3_sub(F, ps->f1[k]);
-            T = v3_add(T, ps->t2[k]);
-            count += ps->active[k];
-        }
+        vec3 F, T;
+        int count, n_near;
+        lub_pair_gather(ps, p, &F, &T, &count, &n_near);
+        (void)n_near;
         s->nint[p] = count;
         if (p >= nmob) { /* floor sphere: prescribed velocity */
             s->f[p] = F;

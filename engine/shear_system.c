@@ -1,6 +1,8 @@
 /* shear_system.c — leap-frog dynamics of a sheared periodic suspension (see shear_system.h). */
 #include "shear_system.h"
 
+#include "pair_eval.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -242,6 +244,8 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             lub_pdf_clear(&s->tpdf[k]);
     }
 
+    const lub_pair_bodies bodies = {
+        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->near_count};
 #pragma omp parallel num_threads(nt) reduction(| : failed)
     {
         const int tid = thread_id();
@@ -251,34 +255,16 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
 #pragma omp for schedule(static)
         for (long k = 0; k < npairs; ++k) {
             const int i = ps->i[k], j = ps->j[k];
-            const int *c = &ps->c[3 * k];
-            vec3 shift = lub_cell_shift(cell, c);
-            vec3 d = v3_sub(v3_add(s->x[j], shift), s->x[i]);
-            double dist = v3_norm(d);
-            double ri = s->r[i], rj = s->r[j];
-            double un = dist - ri - rj;
-            double a = 0.5 * (ri + rj);
-            if (un > cutoff * a) {
-                lub_pairs_leave(ps, k);
-                continue;
-            }
-            lub_pairs_enter(ps, k);
-            lub_pair_input in;
-            in.branch = d;
-            in.v1 = s->v[i];
-            in.v2 = v3_add(s->v[j], mat_vec(cell->L, shift));
-            in.w1 = s->w[i];
-            in.w2 = s->w[j];
-            in.r1 = ri;
-            in.r2 = rj;
-            {
-                int di = s->near_count[i], dj = s->near_count[j];
-                in.inv_inertia1 = s->inv_i[i] * (di > 1 ? di : 1);
-                in.inv_inertia2 = s->inv_i[j] * (dj > 1 ? dj : 1);
-            }
-            in.dt = dt;
             lub_pair_output o;
-            if (lub_pair_step(law, &in, &ps->state[k], &o) != 0 || !v3_isfinite(o.force1)) {
+            vec3 d;
+            double un;
+            const int rc =
+                lub_pair_eval(ps, (size_t)k, cell, &bodies, law, cutoff, dt, &o, &d, &un);
+            if (rc == LUB_PAIR_OUT)
+                continue;
+            const double ri = s->r[i], rj = s->r[j];
+            const double a = 0.5 * (ri + rj);
+            if (rc == LUB_PAIR_NONFINITE) {
                 failed = 1;
 #pragma omp critical(lub_shear_fail)
                 {
@@ -292,10 +278,6 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
                 }
                 continue;
             }
-            ps->near[k] = o.delta < 0.0;
-            ps->f1[k] = o.force1;
-            ps->t1[k] = o.torque1;
-            ps->t2[k] = o.torque2;
             if (want_syy)
                 syy += o.force1.y * d.y;
             if (want_stress) {
@@ -306,9 +288,10 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             }
             if (want_pdf) {
                 double h1 = ri + 0.5 * un, h2 = rj + 0.5 * un;
-                vec3 w = v3_sub(in.v2, in.v1);
-                w = v3_sub(w, v3_scale(v3_cross(in.w2, o.n), h2));
-                w = v3_sub(w, v3_scale(v3_cross(in.w1, o.n), h1));
+                vec3 v2 = v3_add(s->v[j], mat_vec(cell->L, lub_cell_shift(cell, &ps->c[3 * k])));
+                vec3 w = v3_sub(v2, s->v[i]);
+                w = v3_sub(w, v3_scale(v3_cross(s->w[j], o.n), h2));
+                w = v3_sub(w, v3_scale(v3_cross(s->w[i], o.n), h1));
                 lub_pdf_add_pair(&s->tpdf[tid], &o, d, w, a, n, cell->volume);
             }
         }
@@ -316,19 +299,10 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
         double kyy = 0.0;
 #pragma omp for schedule(static)
         for (int p = 0; p < n; ++p) {
-            vec3 F = v3(0, 0, 0), T = v3(0, 0, 0);
-            int near = 0;
-            for (size_t k = ps->first1[p]; k < ps->first1[p + 1]; ++k) {
-                F = v3_add(F, ps->f1[k]);
-                T = v3_add(T, ps->t1[k]);
-                near += ps->near[k];
-            }
-            for (size_t q = ps->first2[p]; q < ps->first2[p + 1]; ++q) {
-                size_t k = ps->by2[q];
-                F = v3_sub(F, ps->f1[k]);
-                T = v3_add(T, ps->t2[k]);
-                near += ps->near[k];
-            }
+            vec3 F, T;
+            int n_active, near;
+            lub_pair_gather(ps, p, &F, &T, &n_active, &near);
+            (void)n_active;
             s->near_count[p] = near;
             s->f[p] = F;
             s->t[p] = T;
