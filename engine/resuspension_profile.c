@@ -3,6 +3,7 @@
 #include "resuspension_profile.h"
 
 #include <math.h>
+#include <stddef.h>
 
 #define RP_PI 3.14159265358979323846
 
@@ -24,18 +25,6 @@ double lub_sphere_slab_volume(double yc, double r, double y1, double y2)
     return cap_below(y2 - bottom, r) - cap_below(y1 - bottom, r);
 }
 
-void lub_profile_add_sphere(double *vol, int n, double y0, double dy, double yc, double r)
-{
-    int lo = (int)floor((yc - r - y0) / dy);
-    int hi = (int)floor((yc + r - y0) / dy);
-    if (lo < 0)
-        lo = 0;
-    if (hi > n - 1)
-        hi = n - 1;
-    for (int i = lo; i <= hi; ++i)
-        vol[i] += lub_sphere_slab_volume(yc, r, y0 + i * dy, y0 + (i + 1) * dy);
-}
-
 void lub_profile_add_sphere_weighted(double *vol, double *wsum, int n, double y0, double dy,
                                      double yc, double r, double value)
 {
@@ -48,8 +37,14 @@ void lub_profile_add_sphere_weighted(double *vol, double *wsum, int n, double y0
     for (int i = lo; i <= hi; ++i) {
         const double v = lub_sphere_slab_volume(yc, r, y0 + i * dy, y0 + (i + 1) * dy);
         vol[i] += v;
-        wsum[i] += v * value;
+        if (wsum)
+            wsum[i] += v * value;
     }
+}
+
+void lub_profile_add_sphere(double *vol, int n, double y0, double dy, double yc, double r)
+{
+    lub_profile_add_sphere_weighted(vol, NULL, n, y0, dy, yc, r, 0.0);
 }
 
 void lub_profile_normalise(const double *vol, int n, double dy, double area, double *phi)

@@ -20,7 +20,7 @@ double lub_sphere_slab_volume(double yc, double r, double y1, double y2);
 void lub_profile_add_sphere(double *vol, int n, double y0, double dy, double yc, double r);
 
 /* Same, and also adds value * (slab volume) into wsum[0..n) (for volume-weighted averages of
- * a particle property, e.g. the velocity profile wsum/vol). */
+ * a particle property, e.g. the velocity profile wsum/vol). wsum may be NULL. */
 void lub_profile_add_sphere_weighted(double *vol, double *wsum, int n, double y0, double dy,
                                      double yc, double r, double value);
 

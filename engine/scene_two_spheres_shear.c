@@ -95,6 +95,22 @@ static int ts_resolve(json_t *spec, lub_error *err)
     return ts_read(spec, &p, err);
 }
 
+/* One row of the trajectory table: relative position, gap, centre gap, both spins. */
+static void fill_row(double row[11], vec3 rel, double gap, double un, const lub_fb_system *s)
+{
+    row[0] = rel.x;
+    row[1] = rel.y;
+    row[2] = rel.z;
+    row[3] = gap;
+    row[4] = un;
+    row[5] = s->b[0].w.x;
+    row[6] = s->b[0].w.y;
+    row[7] = s->b[0].w.z;
+    row[8] = s->b[1].w.x;
+    row[9] = s->b[1].w.y;
+    row[10] = s->b[1].w.z;
+}
+
 static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
 {
     ts_params p;
@@ -183,17 +199,7 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
             max_y = rel.y;
         if (t_eval >= next_sample) {
             next_sample = t_eval + p.sample_interval;
-            row[0] = rel.x;
-            row[1] = rel.y;
-            row[2] = rel.z;
-            row[3] = pr->active ? pr->out.gap : un_now;
-            row[4] = un_now;
-            row[5] = s.b[0].w.x;
-            row[6] = s.b[0].w.y;
-            row[7] = s.b[0].w.z;
-            row[8] = s.b[1].w.x;
-            row[9] = s.b[1].w.y;
-            row[10] = s.b[1].w.z;
+            fill_row(row, rel, pr->active ? pr->out.gap : un_now, un_now, &s);
             if (lub_h5_table_append(tab, s.step - 1, t_eval, row)) {
                 snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
                          lub_h5_last_error(ctx->out));
@@ -214,17 +220,7 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
     rel = v3_sub(s.b[1].x, s.b[0].x);
     {
         double un_end = v3_norm(rel) - 2.0 * a;
-        row[0] = rel.x;
-        row[1] = rel.y;
-        row[2] = rel.z;
-        row[3] = s.p[0].active ? s.p[0].out.gap : un_end;
-        row[4] = un_end;
-        row[5] = s.b[0].w.x;
-        row[6] = s.b[0].w.y;
-        row[7] = s.b[0].w.z;
-        row[8] = s.b[1].w.x;
-        row[9] = s.b[1].w.y;
-        row[10] = s.b[1].w.z;
+        fill_row(row, rel, s.p[0].active ? s.p[0].out.gap : un_end, un_end, &s);
         if (rc == LUB_EXIT_OK && lub_h5_table_append(tab, s.step, s.t, row))
             rc = LUB_EXIT_IO;
     }
