@@ -160,7 +160,10 @@ int lub_rs_step(lub_rs_system *s)
      * spheres */
     const lub_pair_bodies bodies = {
         .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->nint};
-#pragma omp parallel for num_threads(nt) schedule(static) reduction(| : failed)
+    const double crush_depth = s->law.alpha * s->law.eps; /* crushed: u_n < -alpha eps a */
+    long ncon = 0, ncrush = 0;
+#pragma omp parallel for num_threads(nt) schedule(static) reduction(| : failed) \
+    reduction(+ : ncon, ncrush)
     for (long k = 0; k < npairs; ++k) {
         const int i = ps->i[k], j = ps->j[k];
         if (i >= nmob && j >= nmob) { /* floor-floor: never interacts */
@@ -175,6 +178,10 @@ int lub_rs_step(lub_rs_system *s)
             lub_pair_eval(ps, (size_t)k, cell, &bodies, &s->law, cutoff, dt, &o, &d, &un);
         if (rc == LUB_PAIR_OUT)
             continue;
+        if (rc == LUB_PAIR_OK) {
+            ncon += o.contact ? 1 : 0;
+            ncrush += (un < -crush_depth * 0.5 * (s->r[i] + s->r[j])) ? 1 : 0;
+        }
         if (rc == LUB_PAIR_NONFINITE) {
             const double a = 0.5 * (s->r[i] + s->r[j]);
             failed = 1;
@@ -192,6 +199,8 @@ int lub_rs_step(lub_rs_system *s)
     }
     if (failed)
         return LUB_RS_NONFINITE;
+    s->n_contacts = ncon;
+    s->n_crushed = ncrush;
 
     /* gather and integrate the free particles */
     const double g_eta_s = s->p.orientation == LUB_RS_GRADIENT ? s->p.eta_shear : 0.0;

@@ -86,6 +86,10 @@ typedef struct {
     long step, rebuilds, flips, lid_hits;
     int need_rebuild;
     double max_speed; /* largest |v - u| of a free particle at the last step */
+    long n_contacts;  /* pairs in contact (u < eps a) at the last step */
+    long n_crushed;   /* of which asperities crushed, u_n < -alpha eps a (notes §11 P5): the bulk
+                         spring and a persistent lubrication force carry the load; keep ~0 by
+                         raising the stiffness */
     long fail_pair;
     char fail_msg[256];
 } lub_rs_system;

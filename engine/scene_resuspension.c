@@ -418,6 +418,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     int64_t nh = 0, navg = 0;
     double max_ke = 0.0, min_lowest = INFINITY;
     int below_floor_max = 0;
+    double contacts_sum = 0.0, crushed_sum = 0.0; /* over the averaged samples */
     for (int64_t step = 0; step <= nsteps; ++step) {
         const double t = S.time;
         const int sample = (step % sample_every == 0) || step == nsteps;
@@ -445,6 +446,10 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 ysum += S.m[i] * (S.x[i].y - y_floor);
                 msum += S.m[i];
                 dilute += step > 0 && S.nint[i] <= (int)p.dilute_max;
+            }
+            if (in_avg) {
+                contacts_sum += (double)S.n_contacts;
+                crushed_sum += (double)S.n_crushed;
             }
             if (in_avg)
                 for (int i = 0; i < nb; ++i) {
@@ -616,6 +621,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "min_clearance_above_floor", min_lowest, NAN, "a");
     lub_summary_put(ctx, "particles_below_floor", below_floor_max, NAN, "1");
     lub_summary_put(ctx, "lid_reflections", (double)S.lid_hits, NAN, "1");
+    const double crushed_fraction = contacts_sum > 0 ? crushed_sum / contacts_sum : 0.0;
+    lub_summary_put(ctx, "crushed_contact_fraction", crushed_fraction, NAN, "1");
     lub_summary_put(ctx, "max_kinetic_energy", max_ke, NAN, "eta gd a^3");
     lub_summary_put(ctx, "cell_width", L, NAN, "a");
     lub_summary_put(ctx, "floor_radius", rf, NAN, "a");
@@ -662,6 +669,12 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                                 "/shear_drag_viscosity"));
     if (S.lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
+    if (crushed_fraction > 0.01)
+        json_array_append_new(warn,
+                              json_string("asperities crushed in more than 1 % of the contacts "
+                                          "(crushed_contact_fraction; u_n < -alpha eps a): "
+                                          "contact forces exceed alpha stiffness eps, the "
+                                          "results depend on /stiffness: raise it"));
     json_object_set_new(ctx->summary_extra, "warnings", warn);
     json_object_set_new(
         ctx->summary_extra, "units",
