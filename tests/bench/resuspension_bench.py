@@ -7,19 +7,30 @@ gradient orientation also slows the settling transient; N = 300) for several tot
 the same start of averaging; for each prints one line of name=value figures:
   strain=..  averaged_strain=..  wall_s=..  steps=..  steps_per_s=..  particle_steps_per_s=..
   mean_phi_err=.. (mean blocking SEM of phi over the bulk bins)  max_phi_err=..
-  height=.. height_err=..
+  height=.. height_err=..  cpu_s=.. (CPU seconds of the engine: not inflated by other load)
+  eta_at_<phi>=.. eta_err_at_<phi>=.. for the two --eta-phi values (eta_22 in the gradient
+  orientation, eta_33 in the vorticity one; local ln-linear fit of the bulk bins of
+  /profiles/eta_vs_phi, helper eta_at of tests/resuspension/resuspension_consistency.py)
 and finally the fitted exponent of mean_phi_err ~ averaged_strain^p (p = -1/2 expected once
-the averaging window is longer than the correlation strain).
+the averaging window is longer than the correlation strain). The runs share the seed, so each
+is a prefix of the longest trajectory. With --table DIR it writes DIR/resuspension_error.md and
+DIR/resuspension_error.png.
 usage: resuspension_bench.py --lubdem PATH --out DIR [--strains 6 12 24] [--n 300]
+                             [--orientation gradient|vorticity] [--eta-phi 0.40 0.45] [--reuse]
 """
 import argparse
 import json
 import os
+import resource
 import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..",
+                                "resuspension"))
+from resuspension_consistency import eta_at  # noqa: E402  (ln-linear local fit of eta(phi))
 
 
 def main():
@@ -31,8 +42,12 @@ def main():
     ap.add_argument("--n", type=int, default=300)
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--orientation", default="vorticity")
+    ap.add_argument("--eta-phi", type=float, nargs=2, default=[0.40, 0.45])
+    ap.add_argument("--table", default="", help="folder for the md table and the png plot")
+    ap.add_argument("--reuse", action="store_true", help="analyse finished runs found in --out")
     args = ap.parse_args()
     xs, ys = [], []
+    rows = []
     print(f"config_n={args.n} config_orientation={args.orientation} "
           f"config_average_from={args.average_from}")
     for strain in args.strains:
@@ -45,16 +60,26 @@ def main():
                 "snapshots": 0}
         with open(os.path.join(d, "spec.json"), "w") as fh:
             json.dump(spec, fh)
-        p = subprocess.run([args.lubdem, "run", os.path.join(d, "spec.json"), "--out",
-                            os.path.join(d, "run"), "--threads", str(args.threads), "--quiet"],
-                           capture_output=True, text=True)
-        if p.returncode != 0:
-            print(f"run failed: {p.stderr}", file=sys.stderr)
-            return 1
+        cpu_file = os.path.join(d, "cpu_seconds.txt")
+        if args.reuse and os.path.exists(os.path.join(d, "run", "summary.json")):
+            cpu = float(open(cpu_file).read()) if os.path.exists(cpu_file) else float("nan")
+        else:
+            r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            p = subprocess.run([args.lubdem, "run", os.path.join(d, "spec.json"), "--out",
+                                os.path.join(d, "run"), "--threads", str(args.threads),
+                                "--quiet"], capture_output=True, text=True)
+            r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+            cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+            if p.returncode != 0:
+                print(f"run failed: {p.stderr}", file=sys.stderr)
+                return 1
+            with open(cpu_file, "w") as fh:
+                fh.write(f"{cpu:.3f}\n")
         s = json.load(open(os.path.join(d, "run", "summary.json")))
         with h5py.File(os.path.join(d, "run", "result.h5"), "r") as f:
             err = f["profiles/phi_err"][:]
             keep = f["profiles/bulk_mask"][:] > 0.5
+            evp = f["profiles/eta_vs_phi"][:] if "profiles/eta_vs_phi" in f else np.zeros((0, 4))
         r = s["results"]
         wall = s["wall_time_s"]
         steps = s["steps"]
@@ -66,7 +91,17 @@ def main():
               f"mean_phi_err={me:.5f} max_phi_err={mx:.5f} "
               f"height={r['suspension_height']['value']:.3f} "
               f"height_err={r['suspension_height']['stderr']} "
-              f"phi_err_method=\"{s['phi_err_method']}\"")
+              f"phi_err_method=\"{s['phi_err_method']}\" cpu_s={cpu:.1f}", end="")
+        row = {"strain": strain, "avg": avg, "cpu_s": cpu, "mean_phi_err": me,
+               "height": r["suspension_height"]["value"],
+               "height_err": r["suspension_height"]["stderr"]}
+        for ph in args.eta_phi:
+            eta, eerr, nb = eta_at(evp, ph)
+            row[f"eta_{ph:g}"], row[f"eta_err_{ph:g}"], row[f"bins_{ph:g}"] = eta, eerr, nb
+            print(f" eta_at_{ph:g}={eta:.4g} eta_err_at_{ph:g}={eerr:.3g} bins_at_{ph:g}={nb}",
+                  end="")
+        print()
+        rows.append(row)
         sys.stdout.flush()
         if np.isfinite(me) and me > 0:
             xs.append(avg)
@@ -74,7 +109,51 @@ def main():
     if len(xs) >= 2:
         slope = np.polyfit(np.log(xs), np.log(ys), 1)[0]
         print(f"phi_err_strain_exponent={slope:.3f}")
+    if args.table and rows:
+        write_table(args, rows)
     return 0
+
+
+def write_table(args, rows):
+    os.makedirs(args.table, exist_ok=True)
+    comp = "eta_22" if args.orientation == "gradient" else "eta_33"
+    e1, e2 = args.eta_phi
+    with open(os.path.join(args.table, "resuspension_error.md"), "w") as fh:
+        fh.write(f"resuspension, {args.orientation} orientation, N = {args.n}, Sh = 0.5, "
+                 f"averaging from strain {args.average_from:g}, 1 thread; errors: blocking SEM "
+                 f"of the bins (phi), SEM of the height series, local fit for {comp}\n\n")
+        fh.write(f"| strain | averaged strain | CPU s | mean SEM(phi) bulk bins | height (a) | "
+                 f"{comp}({e1:g}) | {comp}({e2:g}) |\n|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            fh.write(f"| {r['strain']:g} | {r['avg']:g} | {r['cpu_s']:.0f} | "
+                     f"{r['mean_phi_err']:.4f} | {r['height']:.2f} ± {r['height_err'] or 0:.2f} | "
+                     f"{r[f'eta_{e1:g}']:.3g} ± {r[f'eta_err_{e1:g}']:.2g} | "
+                     f"{r[f'eta_{e2:g}']:.3g} ± {r[f'eta_err_{e2:g}']:.2g} |\n")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return
+    fig, ax = plt.subplots(1, 2, figsize=(11, 4))
+    avg = [r["avg"] for r in rows]
+    cpu = [r["cpu_s"] for r in rows]
+    ax[0].loglog(avg, [r["mean_phi_err"] for r in rows], "o-", label="mean SEM(phi), bulk bins")
+    a0, y0 = avg[0], rows[0]["mean_phi_err"]
+    ax[0].loglog(avg, [y0 * (a / a0) ** -0.5 for a in avg], "k--", lw=0.8, label="strain^-1/2")
+    ax[0].set_xlabel("averaged strain")
+    ax[0].set_ylabel("SEM(phi)")
+    ax[0].legend(fontsize=8)
+    for ph in args.eta_phi:
+        rel = [r[f"eta_err_{ph:g}"] / r[f"eta_{ph:g}"] for r in rows]
+        ax[1].loglog(cpu, rel, "o-", label=f"rel. error of {comp}({ph:g})")
+    ax[1].set_xlabel("run time [CPU s, 1 thread]")
+    ax[1].set_ylabel("relative error")
+    ax[1].legend(fontsize=8)
+    fig.suptitle(f"resuspension error vs strain and run time ({args.orientation}, N = {args.n})")
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.table, "resuspension_error.png"), dpi=110)
+    print(f"plot={os.path.join(args.table, 'resuspension_error.png')}")
 
 
 if __name__ == "__main__":
