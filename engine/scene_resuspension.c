@@ -450,12 +450,11 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             if (in_avg) {
                 contacts_sum += (double)S.n_contacts;
                 crushed_sum += (double)S.n_crushed;
-            }
-            if (in_avg)
                 for (int i = 0; i < nb; ++i) {
                     B.vx_vol[i] += B.vol[i];
                     B.vx_sum[i] += B.vx_inst[i];
                 }
+            }
             lub_profile_normalise(B.vol, nb, dy, area, B.phi_inst);
             double pmax = 0.0;
             for (int i = 0; i < nb; ++i)
