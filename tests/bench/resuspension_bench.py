@@ -46,7 +46,6 @@ def main():
     ap.add_argument("--table", default="", help="folder for the md table and the png plot")
     ap.add_argument("--reuse", action="store_true", help="analyse finished runs found in --out")
     args = ap.parse_args()
-    xs, ys = [], []
     rows = []
     print(f"config_n={args.n} config_orientation={args.orientation} "
           f"config_average_from={args.average_from}")
@@ -103,10 +102,10 @@ def main():
         print()
         rows.append(row)
         sys.stdout.flush()
-        if np.isfinite(me) and me > 0:
-            xs.append(avg)
-            ys.append(me)
-    if len(xs) >= 2:
+    fit = [(r["avg"], r["mean_phi_err"]) for r in rows
+           if np.isfinite(r["mean_phi_err"]) and r["mean_phi_err"] > 0]
+    if len(fit) >= 2:
+        xs, ys = zip(*fit)
         slope = np.polyfit(np.log(xs), np.log(ys), 1)[0]
         print(f"phi_err_strain_exponent={slope:.3f}")
     if args.table and rows:
