@@ -9,6 +9,7 @@
 #ifndef LUBDEM_PAIR_EVAL_H
 #define LUBDEM_PAIR_EVAL_H
 
+#include "contact_batch.h"
 #include "contact_law.h"
 #include "pair_store.h"
 #include "periodic_cell.h"
@@ -67,6 +68,28 @@ static inline int lub_pair_eval(lub_pairs *ps, size_t k, const lub_cell *cell,
     ps->t2[k] = o->torque2;
     return LUB_PAIR_OK;
 }
+
+/* Sums over the pairs of a range evaluated by lub_pair_eval_range. */
+typedef struct {
+    double syy;    /* sum of f1.y d.y (contact-law part of sigma_yy times the volume) */
+    long contacts; /* pairs in contact (u < eps a) */
+    long crushed;  /* pairs with u_n < -alpha eps a (asperities fully crushed) */
+} lub_pair_range_sums;
+
+/* Evaluates the pairs k0 <= k < k1 for a step that needs only forces and torques (no stress
+ * sample): the cut-off life cycle and the image velocity per pair as in lub_pair_eval, the law
+ * for the active pairs in batches of LUB_BATCH through lub_pair_step_batch (contact_batch.h),
+ * and the lanes it declines through lub_pair_eval. Same stored outputs as calling
+ * lub_pair_eval for every pair, to round-off. Pairs of two bodies both >= n_mobile (fixed
+ * floor spheres) never interact: inactive, zero outputs. batches[2] is scratch space owned by
+ * the caller (pairs are split by their last near flag so that most groups of four are
+ * uniform). *sums (zeroed by the caller) receives the range's sums.
+ * Returns -1, or the index of the first pair whose law failed (LUB_PAIR_NONFINITE; later pairs
+ * of the range are still evaluated), with its centre gap in *fail_un. No allocation. */
+long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
+                         const lub_pair_bodies *b, const lub_law_params *law, double cutoff,
+                         double dt, int n_mobile, lub_pair_batch batches[2],
+                         lub_pair_range_sums *sums, double *fail_un);
 
 /* Sums over particle p's pairs: force and torque on p, and the numbers of its active pairs
  * and of its pairs with u < a (roll/twist torques on). */

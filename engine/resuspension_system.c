@@ -12,6 +12,10 @@
 #include "pair_eval.h"
 #include "velocity_gradient.h"
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 static const double RS_PI = 3.14159265358979323846;
 
 static double frob(const double m[3][3])
@@ -160,39 +164,36 @@ int lub_rs_step(lub_rs_system *s)
      * spheres */
     const lub_pair_bodies bodies = {
         .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->nint};
-    const double crush_depth = s->law.alpha * s->law.eps; /* crushed: u_n < -alpha eps a */
     long ncon = 0, ncrush = 0;
-#pragma omp parallel for num_threads(nt) schedule(static) reduction(| : failed) \
-    reduction(+ : ncon, ncrush)
-    for (long k = 0; k < npairs; ++k) {
-        const int i = ps->i[k], j = ps->j[k];
-        if (i >= nmob && j >= nmob) { /* floor-floor: never interacts */
-            ps->active[k] = 0;
-            ps->f1[k] = ps->t1[k] = ps->t2[k] = v3(0, 0, 0);
-            continue;
-        }
-        lub_pair_output o;
-        vec3 d;
-        double un;
-        const int rc =
-            lub_pair_eval(ps, (size_t)k, cell, &bodies, &s->law, cutoff, dt, &o, &d, &un);
-        if (rc == LUB_PAIR_OUT)
-            continue;
-        if (rc == LUB_PAIR_OK) {
-            ncon += o.contact ? 1 : 0;
-            ncrush += (un < -crush_depth * 0.5 * (s->r[i] + s->r[j])) ? 1 : 0;
-        }
-        if (rc == LUB_PAIR_NONFINITE) {
+    /* every step needs only forces, contact and crushed counts: the batched law
+     * (lub_pair_eval_range) on a contiguous static partition of the pairs */
+#pragma omp parallel num_threads(nt) reduction(| : failed) reduction(+ : ncon, ncrush)
+    {
+#ifdef _OPENMP
+        const long tid = omp_get_thread_num(), nteam = omp_get_num_threads();
+#else
+        const long tid = 0, nteam = 1;
+#endif
+        const long k0 = npairs * tid / nteam, k1 = npairs * (tid + 1) / nteam;
+        lub_pair_batch batch[2];
+        lub_pair_range_sums sums = {0.0, 0, 0};
+        double un = 0.0;
+        const long kf = lub_pair_eval_range(ps, k0, k1, cell, &bodies, &s->law, cutoff, dt, nmob,
+                                            batch, &sums, &un);
+        ncon += sums.contacts;
+        ncrush += sums.crushed;
+        if (kf >= 0) {
+            const int i = ps->i[kf], j = ps->j[kf];
             const double a = 0.5 * (s->r[i] + s->r[j]);
             failed = 1;
 #pragma omp critical(lub_rs_fail)
             {
                 if (s->fail_pair < 0) {
-                    s->fail_pair = k;
+                    s->fail_pair = kf;
                     snprintf(s->fail_msg, sizeof s->fail_msg,
                              "pair law non-finite for pair %ld (bodies %d, %d; u_n/a=%.6g) at "
                              "step %ld, t=%.6g",
-                             k, i, j, un / a, s->step, s->time);
+                             kf, i, j, un / a, s->step, s->time);
                 }
             }
         }

@@ -23,6 +23,16 @@ static int thread_id(void)
 #endif
 }
 
+/* size of the current team (1 outside a parallel region or without OpenMP) */
+static int team_size(void)
+{
+#ifdef _OPENMP
+    return omp_get_num_threads();
+#else
+    return 1;
+#endif
+}
+
 #define mat_vec lub_mat_vec
 
 void lub_shear_free(lub_shear_system *s)
@@ -62,6 +72,7 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
         threads = 1;
     s->n = n;
     s->threads = threads;
+    s->batch_law = 1;
     size_t un = (size_t)n;
     s->x = malloc(un * sizeof *s->x);
     s->v = malloc(un * sizeof *s->v);
@@ -246,14 +257,42 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
 
     const lub_pair_bodies bodies = {
         .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->near_count};
+    const int batched = s->batch_law && !want_stress && !want_pdf;
 #pragma omp parallel num_threads(nt) reduction(| : failed)
     {
         const int tid = thread_id();
         lub_stress *ts = &s->tstress[tid];
         double syy = 0.0;
         size_t nact = 0, ncon = 0, ncrush = 0;
+        if (batched) {
+            /* contiguous static partition of the pairs over the team */
+            const long nteam = team_size();
+            const long k0 = npairs * tid / nteam, k1 = npairs * (tid + 1) / nteam;
+            lub_pair_batch batch[2];
+            lub_pair_range_sums sums = {0.0, 0, 0};
+            double un = 0.0;
+            const long kf = lub_pair_eval_range(ps, k0, k1, cell, &bodies, law, cutoff, dt, n,
+                                                batch, &sums, &un);
+            syy += want_syy ? sums.syy : 0.0;
+            if (kf >= 0) {
+                failed = 1;
+#pragma omp critical(lub_shear_fail)
+                {
+                    if (s->fail_pair < 0) {
+                        const int i = ps->i[kf], j = ps->j[kf];
+                        s->fail_pair = kf;
+                        snprintf(s->fail_msg, sizeof s->fail_msg,
+                                 "pair law non-finite for pair %ld (particles %d, %d; u_n/a=%.6g) "
+                                 "at step %ld, t=%.6g",
+                                 kf, i, j, un / (0.5 * (s->r[i] + s->r[j])), s->step, s->time);
+                    }
+                }
+            }
+        }
+        /* scalar path (stress or PDF samples); when batched this loop is empty and its
+         * implicit barrier orders the pair evaluation before the gather below */
 #pragma omp for schedule(static)
-        for (long k = 0; k < npairs; ++k) {
+        for (long k = 0; k < (batched ? 0 : npairs); ++k) {
             const int i = ps->i[k], j = ps->j[k];
             lub_pair_output o;
             vec3 d;

@@ -8,7 +8,8 @@
  *      the list and carry the pair states;
  *   2. pair forces from x^n and the half-step velocities v^{n-1/2}, w^{n-1/2}
  *      (lub_pair_step; pairs beyond cutoff*a are deactivated, pairs coming inside are created
- *      new — always with a positive gap thanks to the skin);
+ *      new — always with a positive gap thanks to the skin). Steps that sample no stress use
+ *      the batched law (contact_batch.h), which gives the same forces to round-off;
  *   3. gather per particle (race-free: each particle sums its own pairs in a fixed order, so
  *      results do not depend on the number of threads);
  *   4. v += dt (F/m + L v)   (convective term: the affine flow v = L x needs no force),
@@ -81,6 +82,9 @@ typedef struct {
     double dt, time;
     long step;
     int threads;
+    int batch_law; /* 1 (default): steps without a stress/PDF sample evaluate the law four pairs
+                      per vector operation (lub_pair_eval_range, contact_batch.h); 0: the scalar
+                      lub_pair_step for every pair. Results agree to round-off. */
     int need_rebuild;
     long rebuilds, flips;
     /* per-thread scratch (allocated at init) */

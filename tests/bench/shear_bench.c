@@ -5,11 +5,14 @@
  *   shear_particle_steps_per_s (wall), shear_particle_steps_per_cpu_s (CPU time: meaningful
  *   on a loaded machine), shear_ns_per_active_pair, shear_ns_per_candidate_pair,
  *   shear_active_pairs_per_particle, shear_bytes_per_particle, shear_rebuild_every_steps
- * usage: shear_bench N THREADS STEPS */
+ *   shear_law_isa (instruction set of the batched law), shear_batch_law (1 batched, 0 scalar)
+ * usage: shear_bench N THREADS STEPS [scalar]   ("scalar": every step with lub_pair_step) */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <sys/resource.h>
 
+#include "contact_batch.h"
 #include "packing.h"
 #include "progress.h"
 #include "shear_system.h"
@@ -27,6 +30,7 @@ int main(int argc, char **argv)
     int n = argc > 1 ? atoi(argv[1]) : 1000;
     int threads = argc > 2 ? atoi(argv[2]) : 1;
     int steps = argc > 3 ? atoi(argv[3]) : 500;
+    const int batch_law = !(argc > 4 && strcmp(argv[4], "scalar") == 0);
     double *r = malloc((size_t)n * sizeof *r);
     vec3 *x = malloc((size_t)n * sizeof *x);
     lub_cell c;
@@ -50,6 +54,7 @@ int main(int argc, char **argv)
         return 1;
     }
     s.dt = 0.3 * lub_shear_elastic_dt(&s);
+    s.batch_law = batch_law;
     for (int k = 0; k < 200; ++k)
         if (lub_shear_step(&s, 0, NULL)) {
             fprintf(stderr, "%s\n", s.fail_msg);
@@ -76,6 +81,7 @@ int main(int argc, char **argv)
     double ps = (double)n * steps / wall;
     printf("shear_n=%d\nshear_threads=%d\nshear_steps=%d\nshear_wall_s=%.3f\n", n, threads, steps,
            wall);
+    printf("shear_batch_law=%d\nshear_law_isa=%s\n", batch_law, lub_pair_batch_isa());
     printf("shear_particle_steps_per_s=%.4g\n", ps);
     printf("shear_cpu_s=%.3f\n", cpu);
     printf("shear_particle_steps_per_cpu_s=%.4g\n", (double)n * steps / cpu);

@@ -1,0 +1,64 @@
+/* contact_batch.h — the lubricated contact law (contact_law.h) evaluated for a batch of pairs
+ * at once, four pairs per SIMD operation, for the common regime of a many-particle time step.
+ *
+ * What it computes: exactly the step of lub_pair_step() (same equations, same branches, taken
+ * lane by lane with masks) for the lanes it accepts, and only the outputs a time step needs
+ * (force on body 1, torques on both bodies, contact and u < a flags) plus the state update.
+ * Results agree with lub_pair_step to round-off (the transcendental functions are those of
+ * simd_math.h, within 2 ulp of libm; tests/law/test_contact_batch.c checks every output and
+ * the state against the scalar law over all regimes).
+ *
+ * Lanes it declines (done[l] = 0; their state is NOT touched) must be evaluated by the
+ * caller with lub_pair_step, which handles them exactly:
+ *  - a new pair (state->is_new), coincident centres, non-finite input;
+ *  - a deep gap: stored delta outside [-700, 700] or a result x+ = u/a not a normal double
+ *    (permanently compressed contacts, notes §11 P5), or either closed-form term underflowing
+ *    (the cases contact_normal.c sends to its bracketed solve);
+ *  - u/a > 8 without shear-lubrication log form (only with cut-offs beyond 8a);
+ *  - the antiparallel-normal corner of the shear-force rotation, a non-finite result.
+ * The whole batch is declined when normal lubrication is off or eta <= 0 (the quasi-static
+ * branch of the law).
+ *
+ * Units: those of contact_law.h. No allocation, no global state; the batch is owned by the
+ * caller (typically on its stack, about 10 kB). Safe to call concurrently on distinct batches
+ * whose states are distinct.
+ */
+#ifndef LUBDEM_CONTACT_BATCH_H
+#define LUBDEM_CONTACT_BATCH_H
+
+#include "contact_law.h"
+
+#define LUB_BATCH 32 /* lanes per call; a multiple of 4 */
+
+typedef struct {
+    int n; /* lanes in use, 0..LUB_BATCH */
+    /* inputs, lane l < n (same meaning as lub_pair_input; v2 includes the image shift) */
+    double bx[LUB_BATCH], by[LUB_BATCH], bz[LUB_BATCH];
+    double v1x[LUB_BATCH], v1y[LUB_BATCH], v1z[LUB_BATCH];
+    double v2x[LUB_BATCH], v2y[LUB_BATCH], v2z[LUB_BATCH];
+    double w1x[LUB_BATCH], w1y[LUB_BATCH], w1z[LUB_BATCH];
+    double w2x[LUB_BATCH], w2y[LUB_BATCH], w2z[LUB_BATCH];
+    double r1[LUB_BATCH], r2[LUB_BATCH];
+    double inv_i1[LUB_BATCH], inv_i2[LUB_BATCH]; /* as lub_pair_input.inv_inertia1/2 */
+    lub_pair_state *state[LUB_BATCH];            /* borrowed; updated for accepted lanes */
+    /* outputs, valid where done[l] = 1 */
+    double f1x[LUB_BATCH], f1y[LUB_BATCH], f1z[LUB_BATCH]; /* force on body 1 */
+    double t1x[LUB_BATCH], t1y[LUB_BATCH], t1z[LUB_BATCH]; /* torque on body 1 */
+    double t2x[LUB_BATCH], t2y[LUB_BATCH], t2z[LUB_BATCH]; /* torque on body 2 */
+    unsigned char contact[LUB_BATCH];                      /* u < eps a after the step */
+    unsigned char near[LUB_BATCH];                         /* u < a (delta < 0) after the step */
+    unsigned char done[LUB_BATCH]; /* 1: evaluated here; 0: caller must use lub_pair_step */
+} lub_pair_batch;
+
+/* Steps lanes 0..b->n-1 with time step dt. Returns the number of accepted lanes. */
+int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b);
+
+/* The vector exp and log of simd_math.h as compiled into this kernel, four values from x[0..3]
+ * into y[0..3] (for tests: simd_math.h types cannot cross into files built without AVX). */
+void lub_pair_batch_exp4(const double *x, double *y);
+void lub_pair_batch_log4(const double *x, double *y);
+
+/* Name of the instruction set the batch kernel was compiled for ("avx2+fma" or "sse2"). */
+const char *lub_pair_batch_isa(void);
+
+#endif

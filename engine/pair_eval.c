@@ -1,0 +1,107 @@
+/* pair_eval.c — batched evaluation of a range of stored pairs (see pair_eval.h). */
+#include "pair_eval.h"
+
+#include <math.h>
+
+#include "velocity_gradient.h"
+
+/* Stores the accepted lanes of the batch, evaluates the declined ones with the scalar law. */
+static void flush_batch(lub_pairs *ps, const size_t *kk, const lub_cell *cell,
+                        const lub_pair_bodies *b, const lub_law_params *law, double cutoff,
+                        double dt, lub_pair_batch *bt, lub_pair_range_sums *sums, long *fail_k,
+                        double *fail_un)
+{
+    lub_pair_step_batch(law, dt, bt);
+    const double crush = law->alpha * law->eps; /* crushed: u_n < -alpha eps a */
+    double sy = 0.0;
+    long nc = 0, ncr = 0;
+    for (int l = 0; l < bt->n; ++l) {
+        const size_t k = kk[l];
+        if (bt->done[l]) {
+            ps->f1[k] = v3(bt->f1x[l], bt->f1y[l], bt->f1z[l]);
+            ps->t1[k] = v3(bt->t1x[l], bt->t1y[l], bt->t1z[l]);
+            ps->t2[k] = v3(bt->t2x[l], bt->t2y[l], bt->t2z[l]);
+            ps->near[k] = bt->near[l];
+            sy += bt->f1y[l] * bt->by[l];
+            if (bt->contact[l]) {
+                nc++;
+                const double dist =
+                    sqrt(bt->bx[l] * bt->bx[l] + bt->by[l] * bt->by[l] + bt->bz[l] * bt->bz[l]);
+                ncr += dist - bt->r1[l] - bt->r2[l] < -crush * 0.5 * (bt->r1[l] + bt->r2[l]);
+            }
+            continue;
+        }
+        lub_pair_output o;
+        vec3 d;
+        double un;
+        const int rc = lub_pair_eval(ps, k, cell, b, law, cutoff, dt, &o, &d, &un);
+        if (rc == LUB_PAIR_OK) {
+            sy += o.force1.y * d.y;
+            nc += o.contact;
+            ncr += un < -crush * 0.5 * (b->r[ps->i[k]] + b->r[ps->j[k]]);
+        } else if (rc == LUB_PAIR_NONFINITE && *fail_k < 0) {
+            *fail_k = (long)k;
+            *fail_un = un;
+        }
+    }
+    sums->syy += sy;
+    sums->contacts += nc;
+    sums->crushed += ncr;
+    bt->n = 0;
+}
+
+long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
+                         const lub_pair_bodies *b, const lub_law_params *law, double cutoff,
+                         double dt, int n_mobile, lub_pair_batch batches[2],
+                         lub_pair_range_sums *sums, double *fail_un)
+{
+    long fail_k = -1;
+    /* two batches: pairs with u < a at their last evaluation (spin torques on) and the others,
+     * so that most groups of four are uniform and the kernel can skip the torque block */
+    size_t kk[2][LUB_BATCH];
+    batches[0].n = batches[1].n = 0;
+    for (long kl = k0; kl < k1; ++kl) {
+        const size_t k = (size_t)kl;
+        const int i = ps->i[k], j = ps->j[k];
+        if (i >= n_mobile && j >= n_mobile) { /* two fixed bodies: never interact */
+            lub_pairs_leave(ps, k);
+            continue;
+        }
+        const vec3 shift = lub_cell_shift(cell, &ps->c[3 * k]);
+        const vec3 d = v3_sub(v3_add(b->x[j], shift), b->x[i]);
+        const double ri = b->r[i], rj = b->r[j];
+        /* u_n <= cutoff a  <=>  |d|^2 <= (r_i + r_j + cutoff a)^2 (no square root here).
+         * About a third of the candidates are outside: the lane is written either way and
+         * kept only if inside, so that no branch depends on this unpredictable test; only
+         * the rare crossings of the cut-off (state created or dropped) branch. */
+        const double reach = ri + rj + cutoff * 0.5 * (ri + rj);
+        const int inside = v3_norm2(d) <= reach * reach;
+        if (inside != ps->active[k]) {
+            if (inside)
+                lub_pairs_enter(ps, k);
+            else
+                lub_pairs_leave(ps, k);
+        }
+        const int which = ps->near[k] != 0;
+        lub_pair_batch *bt = &batches[which];
+        const int l = bt->n;
+        bt->n += inside;
+        const int si = b->share[i] > 1 ? b->share[i] : 1, sj = b->share[j] > 1 ? b->share[j] : 1;
+        const vec3 v2 = v3_add(b->v[j], lub_mat_vec(cell->L, shift));
+        kk[which][l] = k;
+        bt->bx[l] = d.x, bt->by[l] = d.y, bt->bz[l] = d.z;
+        bt->v1x[l] = b->v[i].x, bt->v1y[l] = b->v[i].y, bt->v1z[l] = b->v[i].z;
+        bt->v2x[l] = v2.x, bt->v2y[l] = v2.y, bt->v2z[l] = v2.z;
+        bt->w1x[l] = b->w[i].x, bt->w1y[l] = b->w[i].y, bt->w1z[l] = b->w[i].z;
+        bt->w2x[l] = b->w[j].x, bt->w2y[l] = b->w[j].y, bt->w2z[l] = b->w[j].z;
+        bt->r1[l] = ri, bt->r2[l] = rj;
+        bt->inv_i1[l] = b->inv_i[i] * si, bt->inv_i2[l] = b->inv_i[j] * sj;
+        bt->state[l] = &ps->state[k];
+        if (bt->n == LUB_BATCH)
+            flush_batch(ps, kk[which], cell, b, law, cutoff, dt, bt, sums, &fail_k, fail_un);
+    }
+    for (int w = 0; w < 2; ++w)
+        if (batches[w].n > 0)
+            flush_batch(ps, kk[w], cell, b, law, cutoff, dt, &batches[w], sums, &fail_k, fail_un);
+    return fail_k;
+}

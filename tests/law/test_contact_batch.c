@@ -1,0 +1,290 @@
+/* test_contact_batch.c — the four-lane law (contact_batch.h) against the scalar law
+ * (lub_pair_step) and the vector exp/log (simd_math.h) against libm.
+ *
+ * 1. exp/log: relative error over their domains (log: 2e5 points log-uniform over the normal
+ *    doubles plus points next to 1; exp: uniform on [-707, 707]); bound 4e-16 (2 ulp).
+ * 2. Batched law: random pairs over every regime the time step meets (far pairs u > a, near
+ *    pairs with roll/twist torques, contacts in stick and in slip, smooth and rough spheres,
+ *    h from 1e-4 to 1e4, rotated normals, fixed bodies) for several term masks. Each accepted
+ *    lane is compared with lub_pair_step on a copy of the same state: forces, torques, the new
+ *    state and the flags. Tolerances: torques and shear force 1e-11 of their size; the gap
+ *    delta 1e-12; the force 1e-10 of g a (|s| + x), the scale of the round-off of
+ *    F_n = g a (s - x). The closed form b = 1 - h (s + a_c e) loses digits when h s ~ 1, in
+ *    both implementations alike (they differ by FMA contraction and 2-ulp exp/log), so x+ can
+ *    differ by ~1e-13 relative; the largest differences seen are 2e-11 (force) and 1.3e-13
+ *    (delta). A wrong branch or a missing term gives O(1) errors.
+ * 3. Declined lanes (new pairs, delta outside [-700, 700], u/a > 8, quasi-static law) are
+ *    reported as not done and their state is bit-for-bit untouched; a regular far pair is
+ *    accepted.
+ * Prints name=value lines; exits non-zero on failure. */
+#include "contact_batch.h"
+#include "contact_law.h"
+#include "law_rng.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static int failures = 0;
+#define CHECK(cond, ...)                                                                           \
+    do {                                                                                           \
+        if (!(cond)) {                                                                             \
+            ++failures;                                                                            \
+            if (failures < 30) {                                                                   \
+                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                               \
+                fprintf(stderr, __VA_ARGS__);                                                      \
+                fputc('\n', stderr);                                                               \
+            }                                                                                      \
+        }                                                                                          \
+    } while (0)
+
+static vec3 rand_vec(law_rng *r, double scale)
+{
+    return v3(law_rng_range(r, -scale, scale), law_rng_range(r, -scale, scale),
+              law_rng_range(r, -scale, scale));
+}
+static vec3 unit(vec3 a) { return v3_scale(a, 1.0 / v3_norm(a)); }
+
+static void test_math(void)
+{
+    law_rng r = {12345};
+    double max_log = 0.0, max_exp = 0.0;
+    for (int k = 0; k < 200000; ++k) {
+        double x[4], y[4];
+        for (int l = 0; l < 4; ++l) {
+            if (k % 4 == 0)
+                x[l] = 1.0 + law_rng_range(&r, -1e-3, 1e-3) * pow(10.0, -(double)(k % 13));
+            else
+                x[l] = law_rng_logrange(&r, DBL_MIN, 1e307);
+        }
+        lub_pair_batch_log4(x, y);
+        for (int l = 0; l < 4; ++l) {
+            const double ref = log(x[l]);
+            const double err = fabs(y[l] - ref) / fmax(fabs(ref), DBL_MIN);
+            if (err > max_log)
+                max_log = err;
+        }
+        for (int l = 0; l < 4; ++l)
+            x[l] = law_rng_range(&r, -707.0, 707.0);
+        lub_pair_batch_exp4(x, y);
+        for (int l = 0; l < 4; ++l) {
+            const double err = fabs(y[l] - exp(x[l])) / exp(x[l]);
+            if (err > max_exp)
+                max_exp = err;
+        }
+    }
+    printf("simd_log_max_rel_err=%.3g\nsimd_exp_max_rel_err=%.3g\n", max_log, max_exp);
+    CHECK(max_log < 4e-16, "log relative error %.3g", max_log);
+    CHECK(max_exp < 4e-16, "exp relative error %.3g", max_exp);
+    /* exact points */
+    double one[4] = {1.0, 2.0, 0.5, 1024.0}, out[4];
+    lub_pair_batch_log4(one, out);
+    CHECK(out[0] == 0.0, "log(1) = %.17g", out[0]);
+    CHECK(fabs(out[1] - log(2.0)) <= DBL_EPSILON * log(2.0), "log 2 = %.17g", out[1]);
+    double z[4] = {0.0, 0.0, 0.0, 0.0};
+    lub_pair_batch_exp4(z, out);
+    CHECK(out[0] == 1.0, "exp(0) = %.17g", out[0]);
+}
+
+typedef struct {
+    lub_pair_input in;
+    lub_pair_state st;
+} pair_case;
+
+/* A pair in one of the regimes of a dense sheared suspension. */
+static pair_case random_case(law_rng *r, int regime)
+{
+    pair_case c;
+    memset(&c, 0, sizeof c);
+    const double r1 = law_rng_range(r, 0.85, 1.15), r2 = law_rng_range(r, 0.85, 1.15);
+    const double a = 0.5 * (r1 + r2);
+    double s; /* u_n / a */
+    switch (regime) {
+    case 0: s = law_rng_range(r, 1.0, 2.2); break;      /* far: u > a */
+    case 1: s = law_rng_logrange(r, 0.03, 1.0); break;  /* near, out of contact */
+    case 2: s = law_rng_logrange(r, 1e-5, 0.03); break; /* around the roughness */
+    default: s = law_rng_range(r, -0.03, 0.005); break; /* compressed contact */
+    }
+    const vec3 n = unit(rand_vec(r, 1.0));
+    c.in.branch = v3_scale(n, (r1 + r2) + s * a);
+    c.in.r1 = r1, c.in.r2 = r2;
+    c.in.v1 = rand_vec(r, 1.0);
+    c.in.v2 = rand_vec(r, 1.0);
+    c.in.w1 = rand_vec(r, 1.0);
+    c.in.w2 = rand_vec(r, 1.0);
+    const int fixed = law_rng_uniform(r) < 0.1;
+    c.in.inv_inertia1 = fixed ? 0.0 : law_rng_logrange(r, 0.1, 1e4);
+    c.in.inv_inertia2 = law_rng_logrange(r, 0.1, 1e4);
+    c.in.dt = law_rng_logrange(r, 1e-6, 1e-2);
+    /* history: a gap near the current one (or a deep one for compressed contacts), a stored
+     * shear force of any size, a slightly different previous normal */
+    double dprev;
+    if (regime == 3)
+        dprev = law_rng_range(r, -30.0, log(0.02));
+    else
+        dprev = log(fabs(s) + 1e-12) + law_rng_range(r, -0.3, 0.3);
+    c.st.delta = dprev;
+    c.st.fs = law_rng_uniform(r) < 0.1 ? v3(0, 0, 0) : rand_vec(r, law_rng_logrange(r, 1e-3, 1e3));
+    c.st.n_prev = unit(v3_axpy(n, law_rng_range(r, 0.0, 0.2), rand_vec(r, 1.0)));
+    c.st.is_new = 0;
+    return c;
+}
+
+static double vdiff(vec3 a, vec3 b) { return v3_norm(v3_sub(a, b)); }
+
+static void fill_lane(lub_pair_batch *b, int l, const pair_case *c, lub_pair_state *st)
+{
+    b->bx[l] = c->in.branch.x, b->by[l] = c->in.branch.y, b->bz[l] = c->in.branch.z;
+    b->v1x[l] = c->in.v1.x, b->v1y[l] = c->in.v1.y, b->v1z[l] = c->in.v1.z;
+    b->v2x[l] = c->in.v2.x, b->v2y[l] = c->in.v2.y, b->v2z[l] = c->in.v2.z;
+    b->w1x[l] = c->in.w1.x, b->w1y[l] = c->in.w1.y, b->w1z[l] = c->in.w1.z;
+    b->w2x[l] = c->in.w2.x, b->w2y[l] = c->in.w2.y, b->w2z[l] = c->in.w2.z;
+    b->r1[l] = c->in.r1, b->r2[l] = c->in.r2;
+    b->inv_i1[l] = c->in.inv_inertia1, b->inv_i2[l] = c->in.inv_inertia2;
+    b->state[l] = st;
+}
+
+static void test_batch_against_scalar(void)
+{
+    const unsigned masks[] = {LUB_TERM_ALL, LUB_TERM_ALL & ~(LUB_TERM_ROLL | LUB_TERM_TWIST),
+                              LUB_TERM_NORMAL_LUB | LUB_TERM_FRICTION | LUB_TERM_ROLL,
+                              LUB_TERM_ALL & ~LUB_TERM_FRICTION};
+    const double eps_values[] = {0.02, 0.0, 0.002};
+    law_rng r = {777};
+    double max_f = 0.0, max_t = 0.0, max_d = 0.0, max_fs = 0.0;
+    long compared = 0, offered = 0, contacts = 0, slips = 0, nears = 0;
+    for (int m = 0; m < 4; ++m)
+        for (int ie = 0; ie < 3; ++ie)
+            for (int rep = 0; rep < 300; ++rep) {
+                lub_law_params p = {.eta = 1.0,
+                                    .k_bulk = law_rng_logrange(&r, 1e2, 1e6),
+                                    .alpha = 1.0,
+                                    .k_t = 0.0,
+                                    .eps = eps_values[ie],
+                                    .mu = 0.5,
+                                    .terms = masks[m]};
+                p.k_t = 0.5 * p.k_bulk;
+                /* one dt per batch (the batch takes a single dt) */
+                pair_case cs[LUB_BATCH];
+                lub_pair_state sb[LUB_BATCH];
+                lub_pair_batch b;
+                b.n = 1 + (int)(law_rng_uniform(&r) * LUB_BATCH) % LUB_BATCH;
+                const double dt = law_rng_logrange(&r, 1e-6, 1e-2);
+                for (int l = 0; l < b.n; ++l) {
+                    cs[l] = random_case(&r, (int)(law_rng_uniform(&r) * 4.0));
+                    cs[l].in.dt = dt;
+                    sb[l] = cs[l].st;
+                    fill_lane(&b, l, &cs[l], &sb[l]);
+                }
+                const int acc = lub_pair_step_batch(&p, dt, &b);
+                int nd = 0;
+                offered += b.n;
+                for (int l = 0; l < b.n; ++l) {
+                    lub_pair_state ss = cs[l].st;
+                    lub_pair_output o;
+                    const int rc = lub_pair_step(&p, &cs[l].in, &ss, &o);
+                    if (!b.done[l]) {
+                        CHECK(memcmp(&sb[l], &cs[l].st, sizeof sb[l]) == 0,
+                              "declined lane %d state modified", l);
+                        continue;
+                    }
+                    nd++;
+                    CHECK(rc == 0, "scalar law failed (rc %d) on an accepted lane", rc);
+                    /* the normal force g a (s - x) is computed from two nearly equal numbers
+                     * near equilibrium: its round-off scale is g a (|s| + x), not |F| */
+                    const double a = 0.5 * (cs[l].in.r1 + cs[l].in.r2);
+                    const double fscale =
+                        v3_norm(o.force1) + p.k_bulk * a * (fabs(o.un) / a + exp(o.delta));
+                    const double tscale =
+                        fmax(fmax(v3_norm(o.torque1), v3_norm(o.torque2)), 1e-300);
+                    const double ef = vdiff(v3(b.f1x[l], b.f1y[l], b.f1z[l]), o.force1) / fscale;
+                    const double et1 = vdiff(v3(b.t1x[l], b.t1y[l], b.t1z[l]), o.torque1) / tscale;
+                    const double et2 = vdiff(v3(b.t2x[l], b.t2y[l], b.t2z[l]), o.torque2) / tscale;
+                    const double ed = fabs(sb[l].delta - ss.delta) / fmax(1.0, fabs(ss.delta));
+                    const double efs =
+                        vdiff(sb[l].fs, ss.fs) / fmax(v3_norm(ss.fs), fmax(fscale, 1e-300));
+                    const double en = vdiff(sb[l].n_prev, ss.n_prev);
+                    max_f = fmax(max_f, ef);
+                    max_t = fmax(max_t, fmax(et1, et2));
+                    max_d = fmax(max_d, ed);
+                    max_fs = fmax(max_fs, efs);
+                    CHECK(ef < 1e-10 && et1 < 1e-11 && et2 < 1e-11,
+                          "mask %u eps %g s %.3g: force err %.3g torque err %.3g/%.3g", masks[m],
+                          p.eps, o.un / (0.5 * (cs[l].in.r1 + cs[l].in.r2)), ef, et1, et2);
+                    CHECK(ed < 1e-12 && efs < 1e-11 && en < 1e-14,
+                          "state: delta err %.3g fs err %.3g n err %.3g", ed, efs, en);
+                    /* flags: identical unless the gap sits on the roughness to round-off */
+                    const double x = exp(ss.delta);
+                    if (fabs(x - p.eps) > 1e-9 * p.eps)
+                        CHECK(b.contact[l] == o.contact, "contact flag %d vs %d (x %.17g)",
+                              b.contact[l], o.contact, x);
+                    if (fabs(ss.delta) > 1e-12)
+                        CHECK(b.near[l] == (o.delta < 0.0), "near flag");
+                    CHECK(ss.is_new == 0 && sb[l].is_new == 0, "is_new after the step");
+                    contacts += o.contact;
+                    slips += o.slip;
+                    nears += o.delta < 0.0;
+                    compared++;
+                }
+                CHECK(acc == nd, "returned %d accepted, flags say %d", acc, nd);
+            }
+    printf("batch_lanes_offered=%ld\nbatch_lanes_compared=%ld\nbatch_contacts=%ld\n"
+           "batch_slips=%ld\nbatch_near=%ld\n",
+           offered, compared, contacts, slips, nears);
+    printf("batch_max_force_rel_err=%.3g\nbatch_max_torque_rel_err=%.3g\n"
+           "batch_max_delta_err=%.3g\nbatch_max_fs_rel_err=%.3g\n",
+           max_f, max_t, max_d, max_fs);
+    /* the random regimes must exercise every branch and most lanes must be accepted */
+    CHECK(compared > offered * 9 / 10, "only %ld of %ld lanes accepted", compared, offered);
+    CHECK(contacts > 100 && slips > 50 && nears > 1000, "regimes not all exercised");
+}
+
+static void test_declined(void)
+{
+    law_rng r = {99};
+    lub_law_params p = {.eta = 1.0,
+                        .k_bulk = 1e4,
+                        .alpha = 1.0,
+                        .k_t = 5e3,
+                        .eps = 0.02,
+                        .mu = 0.5,
+                        .terms = LUB_TERM_ALL};
+    pair_case cs[5];
+    lub_pair_state sb[5];
+    lub_pair_batch b;
+    b.n = 5;
+    for (int l = 0; l < 5; ++l)
+        cs[l] = random_case(&r, 0);
+    cs[0].st.is_new = 1;     /* new pair: created by the scalar law */
+    cs[1].st.delta = -800.0; /* deep gap */
+    cs[2].st.delta = 701.0;  /* beyond the guard */
+    cs[3].in.branch = v3_scale(unit(cs[3].in.branch), cs[3].in.r1 + cs[3].in.r2 + 9.0); /* u/a>8 */
+    cs[3].st.delta = log(9.0 / (0.5 * (cs[3].in.r1 + cs[3].in.r2)));
+    for (int l = 0; l < 5; ++l) {
+        sb[l] = cs[l].st;
+        fill_lane(&b, l, &cs[l], &sb[l]);
+    }
+    int acc = lub_pair_step_batch(&p, 1e-4, &b);
+    CHECK(acc == 1 && b.done[4] == 1, "regular lane accepted (%d accepted)", acc);
+    for (int l = 0; l < 4; ++l) {
+        CHECK(b.done[l] == 0, "lane %d should be declined", l);
+        CHECK(memcmp(&sb[l], &cs[l].st, sizeof sb[l]) == 0, "declined lane %d modified", l);
+    }
+    /* quasi-static law (no normal lubrication): the whole batch is declined */
+    p.terms = LUB_TERM_ALL & ~LUB_TERM_NORMAL_LUB;
+    for (int l = 0; l < 5; ++l)
+        sb[l] = cs[l].st;
+    acc = lub_pair_step_batch(&p, 1e-4, &b);
+    CHECK(acc == 0, "quasi-static batch accepted %d lanes", acc);
+    printf("batch_isa=%s\n", lub_pair_batch_isa());
+}
+
+int main(void)
+{
+    test_math();
+    test_batch_against_scalar();
+    test_declined();
+    printf("failures=%d\n", failures);
+    return failures ? 1 : 0;
+}
