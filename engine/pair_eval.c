@@ -3,6 +3,8 @@
 
 #include <math.h>
 
+#define LUB_PREFETCH_AHEAD 16 /* pairs */
+
 #include "velocity_gradient.h"
 
 /* Stores the accepted lanes of the batch, evaluates the declined ones with the scalar law. */
@@ -63,6 +65,13 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
     for (long kl = k0; kl < k1; ++kl) {
         const size_t k = (size_t)kl;
         const int i = ps->i[k], j = ps->j[k];
+        if (kl + LUB_PREFETCH_AHEAD < k1) { /* large systems: hide the latency of the streams */
+            const size_t kp = k + LUB_PREFETCH_AHEAD;
+            __builtin_prefetch(&ps->state[kp], 1);
+            __builtin_prefetch(&b->x[ps->j[kp]], 0);
+            __builtin_prefetch(&b->v[ps->j[kp]], 0);
+            __builtin_prefetch(&b->w[ps->j[kp]], 0);
+        }
         if (i >= n_mobile && j >= n_mobile) { /* two fixed bodies: never interact */
             lub_pairs_leave(ps, k);
             continue;
