@@ -7,8 +7,8 @@
  *  - nu_t for u > a uses ln((2 + x)/x) instead of log1p(2/x) (same value, x <= 8 here);
  *  - the stable damping factor (1 - e^-k)/k uses its Taylor series up to k = 0.35 (truncation
  *    3e-19) and 1 - e^-k above, instead of the 4-term series up to k = 1e-3 and expm1.
- * Compiled with -mavx2 -mfma when the build machine has them (CMake LUBDEM_SIMD), with
- * floating-point contraction allowed in this file only. */
+ * Compiled for AVX-512 (8 lanes) or AVX2+FMA (4 lanes) when the build machine has them (CMake
+ * LUBDEM_SIMD), with floating-point contraction allowed in this file only. */
 #include "contact_batch.h"
 
 #include "simd_math.h"
@@ -16,42 +16,42 @@
 #include <float.h>
 
 typedef struct {
-    lub_v4d x, y, z;
-} v4v3;
+    lub_vd x, y, z;
+} vvec3;
 
-static inline v4v3 w_add(v4v3 a, v4v3 b) { return (v4v3){a.x + b.x, a.y + b.y, a.z + b.z}; }
-static inline v4v3 w_sub(v4v3 a, v4v3 b) { return (v4v3){a.x - b.x, a.y - b.y, a.z - b.z}; }
-static inline v4v3 w_scale(v4v3 a, lub_v4d s) { return (v4v3){a.x * s, a.y * s, a.z * s}; }
-static inline v4v3 w_axpy(v4v3 a, lub_v4d s, v4v3 b)
+static inline vvec3 w_add(vvec3 a, vvec3 b) { return (vvec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
+static inline vvec3 w_sub(vvec3 a, vvec3 b) { return (vvec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static inline vvec3 w_scale(vvec3 a, lub_vd s) { return (vvec3){a.x * s, a.y * s, a.z * s}; }
+static inline vvec3 w_axpy(vvec3 a, lub_vd s, vvec3 b)
 {
-    return (v4v3){a.x + s * b.x, a.y + s * b.y, a.z + s * b.z};
+    return (vvec3){a.x + s * b.x, a.y + s * b.y, a.z + s * b.z};
 }
-static inline lub_v4d w_dot(v4v3 a, v4v3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
-static inline v4v3 w_cross(v4v3 a, v4v3 b)
+static inline lub_vd w_dot(vvec3 a, vvec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline vvec3 w_cross(vvec3 a, vvec3 b)
 {
-    return (v4v3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+    return (vvec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-static inline v4v3 w_sel(lub_v4i m, v4v3 a, v4v3 b)
+static inline vvec3 w_sel(lub_vi m, vvec3 a, vvec3 b)
 {
-    return (v4v3){lub_v4_sel(m, a.x, b.x), lub_v4_sel(m, a.y, b.y), lub_v4_sel(m, a.z, b.z)};
+    return (vvec3){lub_v_sel(m, a.x, b.x), lub_v_sel(m, a.y, b.y), lub_v_sel(m, a.z, b.z)};
 }
-static inline lub_v4i w_isfinite(v4v3 a)
+static inline lub_vi w_isfinite(vvec3 a)
 {
-    return lub_v4_isfinite(a.x) & lub_v4_isfinite(a.y) & lub_v4_isfinite(a.z);
+    return lub_v_isfinite(a.x) & lub_v_isfinite(a.y) & lub_v_isfinite(a.z);
 }
-static inline v4v3 w_load(const double *x, const double *y, const double *z, int g)
+static inline vvec3 w_load(const double *x, const double *y, const double *z, int g)
 {
-    return (v4v3){lub_v4_load(x + g), lub_v4_load(y + g), lub_v4_load(z + g)};
+    return (vvec3){lub_v_load(x + g), lub_v_load(y + g), lub_v_load(z + g)};
 }
 
 /* The stable damping coefficient of contact_torque.c (lub_stable_damping):
  * D = c (1 - e^-k)/k, k = c dt inv_sum (D = c for k = 0). */
-__attribute__((always_inline)) static inline lub_v4d stable_damping(lub_v4d c, double dt,
-                                                                    lub_v4d inv_sum)
+__attribute__((always_inline)) static inline lub_vd stable_damping(lub_vd c, double dt,
+                                                                   lub_vd inv_sum)
 {
-    const lub_v4d k = c * dt * inv_sum;
+    const lub_vd k = c * dt * inv_sum;
     /* (1 - e^-k)/k = sum_n (-k)^n/(n+1)!, n <= 14: truncation k^15/16! < 3e-19 at k = 0.35 */
-    lub_v4d ps = lub_v4_set1(1.0 / 1307674368000.0); /* 1/15! */
+    lub_vd ps = lub_v_set1(1.0 / 1307674368000.0); /* 1/15! */
     ps = ps * (-k) + 1.0 / 87178291200.0;
     ps = ps * (-k) + 1.0 / 6227020800.0;
     ps = ps * (-k) + 1.0 / 479001600.0;
@@ -66,26 +66,32 @@ __attribute__((always_inline)) static inline lub_v4d stable_damping(lub_v4d c, d
     ps = ps * (-k) + 1.0 / 6.0;
     ps = ps * (-k) + 0.5;
     ps = ps * (-k) + 1.0;
-    const lub_v4i small = k <= 0.35;
+    const lub_vi small = k <= 0.35;
     /* large k: (1 - e^-k)/(dt inv_sum), inv_sum > 0 there; the denominator of unused lanes is
      * made 1 so that nothing divides by 0 */
-    const lub_v4d den = lub_v4_sel(small, lub_v4_set1(1.0), inv_sum * dt);
-    const lub_v4d big = (1.0 - lub_v4_exp(-lub_v4_min(k, lub_v4_set1(700.0)))) / den;
-    return lub_v4_sel(small, c * ps, big);
+    const lub_vd den = lub_v_sel(small, lub_v_set1(1.0), inv_sum * dt);
+    const lub_vd big = (1.0 - lub_v_exp(-lub_v_min(k, lub_v_set1(700.0)))) / den;
+    return lub_v_sel(small, c * ps, big);
 }
 
-void lub_pair_batch_exp4(const double *x, double *y)
+int lub_pair_batch_width(void) { return LUB_VW; }
+
+int lub_pair_batch_accelerated(void)
 {
-    lub_v4_store(y, lub_v4_exp(lub_v4_load(x)));
+#if defined(__AVX2__) && defined(__FMA__)
+    return 1;
+#else
+    return 0; /* SSE2 pairs: measured slower than the scalar law (README "Batched evaluation") */
+#endif
 }
-void lub_pair_batch_log4(const double *x, double *y)
-{
-    lub_v4_store(y, lub_v4_log(lub_v4_load(x)));
-}
+void lub_pair_batch_exp(const double *x, double *y) { lub_v_store(y, lub_v_exp(lub_v_load(x))); }
+void lub_pair_batch_log(const double *x, double *y) { lub_v_store(y, lub_v_log(lub_v_load(x))); }
 
 const char *lub_pair_batch_isa(void)
 {
-#if defined(__AVX2__) && defined(__FMA__)
+#if defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+    return "avx512";
+#elif defined(__AVX2__) && defined(__FMA__)
     return "avx2+fma";
 #elif defined(__AVX__)
     return "avx";
@@ -113,11 +119,11 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
     const int shear_lub = (terms & LUB_TERM_SHEAR_LUB) != 0;
     const int with_friction = (terms & LUB_TERM_FRICTION) != 0;
     const int with_roll = (terms & LUB_TERM_ROLL) != 0, with_twist = (terms & LUB_TERM_TWIST) != 0;
-    const lub_v4d zero = lub_v4_set1(0.0), one = lub_v4_set1(1.0);
-    const lub_v4i all = (lub_v4i){-1, -1, -1, -1}, none = (lub_v4i){0, 0, 0, 0};
+    const lub_vd zero = lub_v_set1(0.0), one = lub_v_set1(1.0);
+    const lub_vi none = {0}, all = ~none;
 
     /* pad the last group with copies of lane 0 (read only, never stored) */
-    const int ng = (n + 3) & ~3;
+    const int ng = (n + LUB_VW - 1) / LUB_VW * LUB_VW;
     for (int l = n; l < ng; ++l) {
         b->bx[l] = b->bx[0], b->by[l] = b->by[0], b->bz[l] = b->bz[0];
         b->v1x[l] = b->v1x[0], b->v1y[l] = b->v1y[0], b->v1z[l] = b->v1z[0];
@@ -130,172 +136,185 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
     }
 
     int accepted = 0;
-    for (int g0 = 0; g0 < ng; g0 += 4) {
+    for (int g0 = 0; g0 < ng; g0 += LUB_VW) {
         /* ---- state (gathered from the per-pair structs straight into registers: a vector
-         * load of four just-written scalars would stall on store forwarding) ---- */
-        const lub_pair_state *s0 = b->state[g0], *s1 = b->state[g0 + 1], *s2 = b->state[g0 + 2],
-                             *s3 = b->state[g0 + 3];
-        const lub_v4d delta_prev = {s0->delta, s1->delta, s2->delta, s3->delta};
-        const v4v3 fs_prev = {{s0->fs.x, s1->fs.x, s2->fs.x, s3->fs.x},
-                              {s0->fs.y, s1->fs.y, s2->fs.y, s3->fs.y},
-                              {s0->fs.z, s1->fs.z, s2->fs.z, s3->fs.z}};
-        const v4v3 n_prev = {{s0->n_prev.x, s1->n_prev.x, s2->n_prev.x, s3->n_prev.x},
-                             {s0->n_prev.y, s1->n_prev.y, s2->n_prev.y, s3->n_prev.y},
-                             {s0->n_prev.z, s1->n_prev.z, s2->n_prev.z, s3->n_prev.z}};
-        const lub_v4i is_new = {s0->is_new, s1->is_new, s2->is_new, s3->is_new};
-        lub_v4i ok = (is_new == 0) & (delta_prev >= -700.0) & (delta_prev <= 700.0);
+         * load of just-written scalars would stall on store forwarding) ---- */
+        lub_pair_state *const *st = &b->state[g0];
+#define SD(l) st[l]->delta
+#define SFX(l) st[l]->fs.x
+#define SFY(l) st[l]->fs.y
+#define SFZ(l) st[l]->fs.z
+#define SNX(l) st[l]->n_prev.x
+#define SNY(l) st[l]->n_prev.y
+#define SNZ(l) st[l]->n_prev.z
+#define SNEW(l) (int64_t) st[l]->is_new
+        const lub_vd delta_prev = {LUB_LANES(SD)};
+        const vvec3 fs_prev = {{LUB_LANES(SFX)}, {LUB_LANES(SFY)}, {LUB_LANES(SFZ)}};
+        const vvec3 n_prev = {{LUB_LANES(SNX)}, {LUB_LANES(SNY)}, {LUB_LANES(SNZ)}};
+        const lub_vi is_new = {LUB_LANES(SNEW)};
+#undef SD
+#undef SFX
+#undef SFY
+#undef SFZ
+#undef SNX
+#undef SNY
+#undef SNZ
+#undef SNEW
+        lub_vi ok = (is_new == 0) & (delta_prev >= -700.0) & (delta_prev <= 700.0);
 
         /* ---- geometry (contact_pair.c) ---- */
-        const v4v3 br = w_load(b->bx, b->by, b->bz, g0);
-        const v4v3 v1 = w_load(b->v1x, b->v1y, b->v1z, g0);
-        const v4v3 v2 = w_load(b->v2x, b->v2y, b->v2z, g0);
-        const v4v3 w1 = w_load(b->w1x, b->w1y, b->w1z, g0);
-        const v4v3 w2 = w_load(b->w2x, b->w2y, b->w2z, g0);
-        const lub_v4d r1 = lub_v4_load(b->r1 + g0), r2 = lub_v4_load(b->r2 + g0);
-        const lub_v4d ii1 = lub_v4_load(b->inv_i1 + g0), ii2 = lub_v4_load(b->inv_i2 + g0);
-        const lub_v4d dist = lub_v4_sqrt(w_dot(br, br));
-        ok &= (dist > 0.0) & lub_v4_isfinite(dist);
-        const lub_v4d dist_safe = lub_v4_sel(ok, dist, one);
-        const v4v3 nrm = w_scale(br, 1.0 / dist_safe);
-        const lub_v4d un = dist - r1 - r2;
-        const lub_v4d a = 0.5 * (r1 + r2);
-        const lub_v4d s = un / a;
-        const lub_v4d h = dtg / (c_h * a);
+        const vvec3 br = w_load(b->bx, b->by, b->bz, g0);
+        const vvec3 v1 = w_load(b->v1x, b->v1y, b->v1z, g0);
+        const vvec3 v2 = w_load(b->v2x, b->v2y, b->v2z, g0);
+        const vvec3 w1 = w_load(b->w1x, b->w1y, b->w1z, g0);
+        const vvec3 w2 = w_load(b->w2x, b->w2y, b->w2z, g0);
+        const lub_vd r1 = lub_v_load(b->r1 + g0), r2 = lub_v_load(b->r2 + g0);
+        const lub_vd ii1 = lub_v_load(b->inv_i1 + g0), ii2 = lub_v_load(b->inv_i2 + g0);
+        const lub_vd dist = lub_v_sqrt(w_dot(br, br));
+        ok &= (dist > 0.0) & lub_v_isfinite(dist);
+        const lub_vd dist_safe = lub_v_sel(ok, dist, one);
+        const vvec3 nrm = w_scale(br, 1.0 / dist_safe);
+        const lub_vd un = dist - r1 - r2;
+        const lub_vd a = 0.5 * (r1 + r2);
+        const lub_vd s = un / a;
+        const lub_vd h = dtg / (c_h * a);
 
         /* ---- normal part (contact_normal.c, closed form) ---- */
-        const lub_v4d xp = lub_v4_exp(lub_v4_sel(ok, delta_prev, zero));
-        lub_v4i c = none;
+        const lub_vd xp = lub_v_exp(lub_v_sel(ok, delta_prev, zero));
+        lub_vi c = none;
         if (e > 0.0)
             c = (h * (s - e) - 1.0 + xp / e) < 0.0;
-        const lub_v4d ac = lub_v4_sel(c, lub_v4_set1(alpha), zero);
-        const lub_v4d A = 1.0 + ac;
-        const lub_v4d bq = 1.0 - h * (s + ac * e);
-        const lub_v4d q = 4.0 * A * h * xp;
-        ok &=
-            lub_v4_isfinite(bq) & lub_v4_isfinite(q) & ((lub_v4_abs(bq) >= 1e-140) | (q >= 1e-290));
-        const lub_v4d sq = lub_v4_sqrt(bq * bq + q);
-        const lub_v4i bpos = bq > 0.0;
-        const lub_v4d x_pos = 2.0 * xp / lub_v4_sel(bpos, bq + sq, one);
-        const lub_v4d x_neg = (sq - bq) / (2.0 * A * h);
-        lub_v4d x = lub_v4_sel(bpos, x_pos, x_neg);
+        const lub_vd ac = lub_v_sel(c, lub_v_set1(alpha), zero);
+        const lub_vd A = 1.0 + ac;
+        const lub_vd bq = 1.0 - h * (s + ac * e);
+        const lub_vd q = 4.0 * A * h * xp;
+        ok &= lub_v_isfinite(bq) & lub_v_isfinite(q) & ((lub_v_abs(bq) >= 1e-140) | (q >= 1e-290));
+        const lub_vd sq = lub_v_sqrt(bq * bq + q);
+        const lub_vi bpos = bq > 0.0;
+        const lub_vd x_pos = 2.0 * xp / lub_v_sel(bpos, bq + sq, one);
+        const lub_vd x_neg = (sq - bq) / (2.0 * A * h);
+        lub_vd x = lub_v_sel(bpos, x_pos, x_neg);
         ok &= (x >= DBL_MIN) & (x <= 1e304); /* normal, and ln x <= 700 (the guard) */
-        x = lub_v4_sel(ok, x, one);
-        const lub_v4d delta = lub_v4_log(x);
-        const lub_v4i contact = (e > 0.0) ? (x < e) : none;
+        x = lub_v_sel(ok, x, one);
+        const lub_vd delta = lub_v_log(x);
+        const lub_vi contact = (e > 0.0) ? (x < e) : none;
 
-        const lub_v4d ga = g * a;
-        const lub_v4d fn = ga * (s - x);
-        const lub_v4d fn_c = lub_v4_sel(contact, -(alpha * ga * (e - x)), zero);
+        const lub_vd ga = g * a;
+        const lub_vd fn = ga * (s - x);
+        const lub_vd fn_c = lub_v_sel(contact, -(alpha * ga * (e - x)), zero);
 
         /* ---- tangential part (contact_shear.c) ---- */
         /* rotation of the stored shear force: tilt n_prev -> n, then twist about n */
-        const lub_v4d m0 = w_dot(fs_prev, fs_prev);
-        const v4v3 wt = w_cross(n_prev, nrm);
-        const lub_v4d c1 = 1.0 + w_dot(n_prev, nrm);
+        const lub_vd m0 = w_dot(fs_prev, fs_prev);
+        const vvec3 wt = w_cross(n_prev, nrm);
+        const lub_vd c1 = 1.0 + w_dot(n_prev, nrm);
         ok &= (c1 > 1e-12) | (m0 == 0.0);
-        const v4v3 wf = w_cross(wt, fs_prev);
-        v4v3 f = w_add(fs_prev, w_axpy(wf, 1.0 / lub_v4_sel(ok, c1, one), w_cross(wt, wf)));
-        const lub_v4d tau = 0.5 * dt * w_dot(w_add(w1, w2), nrm);
-        const lub_v4d qt = 0.25 * tau * tau;
+        const vvec3 wf = w_cross(wt, fs_prev);
+        vvec3 f = w_add(fs_prev, w_axpy(wf, 1.0 / lub_v_sel(ok, c1, one), w_cross(wt, wf)));
+        const lub_vd tau = 0.5 * dt * w_dot(w_add(w1, w2), nrm);
+        const lub_vd qt = 0.25 * tau * tau;
         f = w_scale(w_axpy(w_scale(f, 1.0 - qt), tau, w_cross(nrm, f)), 1.0 / (1.0 + qt));
         f = w_axpy(f, -w_dot(f, nrm), nrm);
-        const lub_v4d m1 = w_dot(f, f);
-        const lub_v4d ratio = m1 / lub_v4_sel(m0 == 0.0, one, m0);
-        const lub_v4i near_one = lub_v4_abs(ratio - 1.0) < 1e-8;
-        const lub_v4d rsafe = lub_v4_sel(m1 > 0.0, ratio, one);
-        const lub_v4d fscale = lub_v4_sel(near_one, 1.5 - 0.5 * ratio, 1.0 / lub_v4_sqrt(rsafe));
-        v4v3 fr = w_scale(f, fscale);
-        fr = w_sel(m1 > 0.0, fr, (v4v3){zero, zero, zero});
+        const lub_vd m1 = w_dot(f, f);
+        const lub_vd ratio = m1 / lub_v_sel(m0 == 0.0, one, m0);
+        const lub_vi near_one = lub_v_abs(ratio - 1.0) < 1e-8;
+        const lub_vd rsafe = lub_v_sel(m1 > 0.0, ratio, one);
+        const lub_vd fscale = lub_v_sel(near_one, 1.5 - 0.5 * ratio, 1.0 / lub_v_sqrt(rsafe));
+        vvec3 fr = w_scale(f, fscale);
+        fr = w_sel(m1 > 0.0, fr, (vvec3){zero, zero, zero});
         fr = w_sel(m0 == 0.0, fs_prev, fr);
         /* increment of the tangential displacement */
-        const lub_v4d alpha_r = (r1 + r2) / (r1 + r2 + un);
-        v4v3 du = w_scale(w_sub(v2, v1), alpha_r);
+        const lub_vd alpha_r = (r1 + r2) / (r1 + r2 + un);
+        vvec3 du = w_scale(w_sub(v2, v1), alpha_r);
         du = w_sub(du, w_cross(w_axpy(w_scale(w1, r1), r2, w2), nrm));
         du = w_axpy(du, -w_dot(du, nrm), nrm);
-        du = w_scale(du, lub_v4_set1(dt));
-        const v4v3 f_trial = w_axpy(fr, lub_v4_set1(k_t), du);
+        du = w_scale(du, lub_v_set1(dt));
+        const vvec3 f_trial = w_axpy(fr, lub_v_set1(k_t), du);
         /* nu_t (lub_shear_viscosity_x) */
-        lub_v4d nu_t = zero;
-        const lub_v4i dneg = delta < 0.0;
+        lub_vd nu_t = zero;
+        const lub_vi dneg = delta < 0.0;
         if (shear_lub) {
-            const lub_v4i small = x < 1e-3;
+            const lub_vi small = x < 1e-3;
             ok &= dneg | (x <= 8.0);
-            const lub_v4d l2x = 0.69314718055994530942 + x * (0.5 - x * (0.125 - x / 24.0));
-            const lub_v4d arg = lub_v4_sel(dneg, 2.0 + x, (2.0 + x) / x);
-            const lub_v4d L = lub_v4_log(lub_v4_sel(small, one, arg));
-            const lub_v4d lg = lub_v4_sel(small, l2x - delta, lub_v4_sel(dneg, L - delta, L));
+            const lub_vd l2x = 0.69314718055994530942 + x * (0.5 - x * (0.125 - x / 24.0));
+            const lub_vd arg = lub_v_sel(dneg, 2.0 + x, (2.0 + x) / x);
+            const lub_vd L = lub_v_log(lub_v_sel(small, one, arg));
+            const lub_vd lg = lub_v_sel(small, l2x - delta, lub_v_sel(dneg, L - delta, L));
             nu_t = 0.5 * LUB_PI * eta * a * ((2.0 + x) * lg - 2.0);
         }
         /* Maxwell element / stick / slip (lub_shear_update), in one form:
          * fs = f_sl + (f_trial - f_sl) nu_t/den, f_sl = 0 (no friction), f_trial (stick),
          * f_trial lim/|f_trial| (slip) */
-        const lub_v4i friction = with_friction ? contact : none;
-        const lub_v4d lim = mu * lub_v4_abs(fn_c);
-        const lub_v4d den = nu_t + kt_dt;
-        const lub_v4d visc = lub_v4_sel(den > 0.0, nu_t / lub_v4_sel(den > 0.0, den, one), zero);
-        const lub_v4d ft2 = w_dot(f_trial, f_trial);
-        const lub_v4i slip = friction & (ft2 > lim * lim);
-        const lub_v4d csl = lub_v4_sel(
-            friction, lub_v4_sel(slip, lim / lub_v4_sqrt(lub_v4_sel(slip, ft2, one)), one), zero);
-        const v4v3 f_sl = w_scale(f_trial, csl);
-        const v4v3 fs = w_add(f_sl, w_scale(w_sub(f_trial, f_sl), visc));
+        const lub_vi friction = with_friction ? contact : none;
+        const lub_vd lim = mu * lub_v_abs(fn_c);
+        const lub_vd den = nu_t + kt_dt;
+        const lub_vd visc = lub_v_sel(den > 0.0, nu_t / lub_v_sel(den > 0.0, den, one), zero);
+        const lub_vd ft2 = w_dot(f_trial, f_trial);
+        const lub_vi slip = friction & (ft2 > lim * lim);
+        const lub_vd csl = lub_v_sel(
+            friction, lub_v_sel(slip, lim / lub_v_sqrt(lub_v_sel(slip, ft2, one)), one), zero);
+        const vvec3 f_sl = w_scale(f_trial, csl);
+        const vvec3 fs = w_add(f_sl, w_scale(w_sub(f_trial, f_sl), visc));
 
         /* ---- roll / twist torques (contact_torque.c), u < a only ---- */
-        v4v3 t_lub = {zero, zero, zero};
-        if ((with_roll || with_twist) && (dneg[0] | dneg[1] | dneg[2] | dneg[3])) {
-            const lub_v4d base = LUB_PI * eta * a * a * a * (-delta);
-            const lub_v4d inv_sum = ii1 + ii2;
-            const v4v3 om = w_sub(w2, w1);
-            const lub_v4d wn = w_dot(om, nrm);
+        vvec3 t_lub = {zero, zero, zero};
+        int64_t any_near = 0;
+        for (int l = 0; l < LUB_VW; ++l)
+            any_near |= dneg[l];
+        if ((with_roll || with_twist) && any_near) {
+            const lub_vd base = LUB_PI * eta * a * a * a * (-delta);
+            const lub_vd inv_sum = ii1 + ii2;
+            const vvec3 om = w_sub(w2, w1);
+            const lub_vd wn = w_dot(om, nrm);
             if (with_roll) {
-                const v4v3 om_r = w_axpy(om, -wn, nrm);
-                const lub_v4d cr = base * (1.5 + 0.126 * x);
+                const vvec3 om_r = w_axpy(om, -wn, nrm);
+                const lub_vd cr = base * (1.5 + 0.126 * x);
                 t_lub = w_add(t_lub, w_scale(om_r, stable_damping(cr, dt, inv_sum)));
             }
             if (with_twist) {
-                const lub_v4d ct = base * x;
+                const lub_vd ct = base * x;
                 t_lub = w_add(t_lub, w_scale(nrm, wn * stable_damping(ct, dt, inv_sum)));
             }
-            t_lub = w_sel(dneg, t_lub, (v4v3){zero, zero, zero});
+            t_lub = w_sel(dneg, t_lub, (vvec3){zero, zero, zero});
         }
 
         /* ---- assemble ---- */
-        const v4v3 nxf = w_cross(nrm, fs);
-        const v4v3 force1 = w_axpy(fs, fn, nrm);
-        const v4v3 torque1 = w_add(w_scale(nxf, r1 + 0.5 * un), t_lub);
-        const v4v3 torque2 = w_sub(w_scale(nxf, r2 + 0.5 * un), t_lub);
+        const vvec3 nxf = w_cross(nrm, fs);
+        const vvec3 force1 = w_axpy(fs, fn, nrm);
+        const vvec3 torque1 = w_add(w_scale(nxf, r1 + 0.5 * un), t_lub);
+        const vvec3 torque2 = w_sub(w_scale(nxf, r2 + 0.5 * un), t_lub);
         ok &= w_isfinite(force1) & w_isfinite(torque1) & w_isfinite(torque2) &
-              lub_v4_isfinite(delta) & w_isfinite(fs);
+              lub_v_isfinite(delta) & w_isfinite(fs);
 
         /* ---- store the accepted lanes ---- */
-        double o[20][4];
-        lub_v4_store(o[0], force1.x), lub_v4_store(o[1], force1.y), lub_v4_store(o[2], force1.z);
-        lub_v4_store(o[3], torque1.x), lub_v4_store(o[4], torque1.y), lub_v4_store(o[5], torque1.z);
-        lub_v4_store(o[6], torque2.x), lub_v4_store(o[7], torque2.y), lub_v4_store(o[8], torque2.z);
-        lub_v4_store(o[9], fs.x), lub_v4_store(o[10], fs.y), lub_v4_store(o[11], fs.z);
-        lub_v4_store(o[12], nrm.x), lub_v4_store(o[13], nrm.y), lub_v4_store(o[14], nrm.z);
-        lub_v4_store(o[15], delta);
-        int64_t okl[4], cl[4];
+        double o[16][LUB_VW];
+        lub_v_store(o[0], force1.x), lub_v_store(o[1], force1.y), lub_v_store(o[2], force1.z);
+        lub_v_store(o[3], torque1.x), lub_v_store(o[4], torque1.y), lub_v_store(o[5], torque1.z);
+        lub_v_store(o[6], torque2.x), lub_v_store(o[7], torque2.y), lub_v_store(o[8], torque2.z);
+        lub_v_store(o[9], fs.x), lub_v_store(o[10], fs.y), lub_v_store(o[11], fs.z);
+        lub_v_store(o[12], nrm.x), lub_v_store(o[13], nrm.y), lub_v_store(o[14], nrm.z);
+        lub_v_store(o[15], delta);
+        int64_t okl[LUB_VW], cl[LUB_VW];
         memcpy(okl, &ok, sizeof okl);
-        const lub_v4i cm = contact & all;
+        const lub_vi cm = contact & all;
         memcpy(cl, &cm, sizeof cl);
-        for (int l = 0; l < 4 && g0 + l < n; ++l) {
-            const int q4 = g0 + l;
+        for (int l = 0; l < LUB_VW && g0 + l < n; ++l) {
+            const int q = g0 + l;
             if (!okl[l]) {
-                b->done[q4] = 0;
+                b->done[q] = 0;
                 continue;
             }
-            b->f1x[q4] = o[0][l], b->f1y[q4] = o[1][l], b->f1z[q4] = o[2][l];
-            b->t1x[q4] = o[3][l], b->t1y[q4] = o[4][l], b->t1z[q4] = o[5][l];
-            b->t2x[q4] = o[6][l], b->t2y[q4] = o[7][l], b->t2z[q4] = o[8][l];
-            b->contact[q4] = cl[l] != 0;
-            b->near[q4] = o[15][l] < 0.0;
-            b->done[q4] = 1;
-            lub_pair_state *st = b->state[q4];
-            st->delta = o[15][l];
-            st->fs = v3(o[9][l], o[10][l], o[11][l]);
-            st->n_prev = v3(o[12][l], o[13][l], o[14][l]);
-            st->is_new = 0;
+            b->f1x[q] = o[0][l], b->f1y[q] = o[1][l], b->f1z[q] = o[2][l];
+            b->t1x[q] = o[3][l], b->t1y[q] = o[4][l], b->t1z[q] = o[5][l];
+            b->t2x[q] = o[6][l], b->t2y[q] = o[7][l], b->t2z[q] = o[8][l];
+            b->contact[q] = cl[l] != 0;
+            b->near[q] = o[15][l] < 0.0;
+            b->done[q] = 1;
+            lub_pair_state *out_state = b->state[q];
+            out_state->delta = o[15][l];
+            out_state->fs = v3(o[9][l], o[10][l], o[11][l]);
+            out_state->n_prev = v3(o[12][l], o[13][l], o[14][l]);
+            out_state->is_new = 0;
             accepted++;
         }
     }

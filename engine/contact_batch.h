@@ -1,5 +1,6 @@
 /* contact_batch.h — the lubricated contact law (contact_law.h) evaluated for a batch of pairs
- * at once, four pairs per SIMD operation, for the common regime of a many-particle time step.
+ * at once, 8 pairs per vector operation (simd_math.h), for the common regime of a
+ * many-particle time step.
  *
  * What it computes: exactly the step of lub_pair_step() (same equations, same branches, taken
  * lane by lane with masks) for the lanes it accepts, and only the outputs a time step needs
@@ -28,7 +29,7 @@
 
 #include "contact_law.h"
 
-#define LUB_BATCH 32 /* lanes per call; a multiple of 4 */
+#define LUB_BATCH 32 /* lanes per call; a multiple of the vector width (4 or 8) */
 
 typedef struct {
     int n; /* lanes in use, 0..LUB_BATCH */
@@ -53,10 +54,18 @@ typedef struct {
 /* Steps lanes 0..b->n-1 with time step dt. Returns the number of accepted lanes. */
 int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b);
 
-/* The vector exp and log of simd_math.h as compiled into this kernel, four values from x[0..3]
- * into y[0..3] (for tests: simd_math.h types cannot cross into files built without AVX). */
-void lub_pair_batch_exp4(const double *x, double *y);
-void lub_pair_batch_log4(const double *x, double *y);
+/* Lanes per vector operation of the kernel (LUB_VW of simd_math.h: 4 or 8). */
+int lub_pair_batch_width(void);
+
+/* 1 if the kernel was compiled for AVX2+FMA or AVX-512, where it is faster than the scalar law;
+ * 0 for the SSE2 build (correct, but slower than lub_pair_step: callers use the scalar law). */
+int lub_pair_batch_accelerated(void);
+
+/* The vector exp and log of simd_math.h as compiled into this kernel: lub_pair_batch_width()
+ * values from x into y (for tests: the vector types cannot cross into files compiled for
+ * another instruction set). */
+void lub_pair_batch_exp(const double *x, double *y);
+void lub_pair_batch_log(const double *x, double *y);
 
 /* Name of the instruction set the batch kernel was compiled for ("avx2+fma" or "sse2"). */
 const char *lub_pair_batch_isa(void);

@@ -1,11 +1,31 @@
 /* pair_eval.c — batched evaluation of a range of stored pairs (see pair_eval.h). */
 #include "pair_eval.h"
 
+#include "velocity_gradient.h"
+
 #include <math.h>
 
 #define LUB_PREFETCH_AHEAD 16 /* pairs */
 
-#include "velocity_gradient.h"
+/* Pair k through the scalar law (lub_pair_eval), its contributions added to *sums; the first
+ * failing pair is recorded in *fail_k, *fail_un. */
+static void eval_scalar(lub_pairs *ps, size_t k, const lub_cell *cell, const lub_pair_bodies *b,
+                        const lub_law_params *law, double cutoff, double dt,
+                        lub_pair_range_sums *sums, long *fail_k, double *fail_un)
+{
+    lub_pair_output o;
+    vec3 d;
+    double un;
+    const int rc = lub_pair_eval(ps, k, cell, b, law, cutoff, dt, &o, &d, &un);
+    if (rc == LUB_PAIR_OK) {
+        sums->syy += o.force1.y * d.y;
+        sums->contacts += o.contact;
+        sums->crushed += un < -law->alpha * law->eps * 0.5 * (b->r[ps->i[k]] + b->r[ps->j[k]]);
+    } else if (rc == LUB_PAIR_NONFINITE && *fail_k < 0) {
+        *fail_k = (long)k;
+        *fail_un = un;
+    }
+}
 
 /* Stores the accepted lanes of the batch, evaluates the declined ones with the scalar law. */
 static void flush_batch(lub_pairs *ps, const size_t *kk, const lub_cell *cell,
@@ -33,18 +53,7 @@ static void flush_batch(lub_pairs *ps, const size_t *kk, const lub_cell *cell,
             }
             continue;
         }
-        lub_pair_output o;
-        vec3 d;
-        double un;
-        const int rc = lub_pair_eval(ps, k, cell, b, law, cutoff, dt, &o, &d, &un);
-        if (rc == LUB_PAIR_OK) {
-            sy += o.force1.y * d.y;
-            nc += o.contact;
-            ncr += un < -crush * 0.5 * (b->r[ps->i[k]] + b->r[ps->j[k]]);
-        } else if (rc == LUB_PAIR_NONFINITE && *fail_k < 0) {
-            *fail_k = (long)k;
-            *fail_un = un;
-        }
+        eval_scalar(ps, k, cell, b, law, cutoff, dt, sums, fail_k, fail_un);
     }
     sums->syy += sy;
     sums->contacts += nc;
@@ -58,6 +67,16 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
                          lub_pair_range_sums *sums, double *fail_un)
 {
     long fail_k = -1;
+    if (!lub_pair_batch_accelerated()) {
+        /* kernel built without AVX2: the scalar law is faster */
+        for (long kl = k0; kl < k1; ++kl) {
+            if (ps->i[kl] >= n_mobile && ps->j[kl] >= n_mobile)
+                lub_pairs_leave(ps, (size_t)kl);
+            else
+                eval_scalar(ps, (size_t)kl, cell, b, law, cutoff, dt, sums, &fail_k, fail_un);
+        }
+        return fail_k;
+    }
     /* two batches: pairs with u < a at their last evaluation (spin torques on) and the others,
      * so that most groups of four are uniform and the kernel can skip the torque block */
     size_t kk[2][LUB_BATCH];

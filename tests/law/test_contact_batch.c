@@ -50,25 +50,26 @@ static void test_math(void)
 {
     law_rng r = {12345};
     double max_log = 0.0, max_exp = 0.0;
+    const int w = lub_pair_batch_width();
     for (int k = 0; k < 200000; ++k) {
-        double x[4], y[4];
-        for (int l = 0; l < 4; ++l) {
+        double x[8], y[8];
+        for (int l = 0; l < w; ++l) {
             if (k % 4 == 0)
                 x[l] = 1.0 + law_rng_range(&r, -1e-3, 1e-3) * pow(10.0, -(double)(k % 13));
             else
                 x[l] = law_rng_logrange(&r, DBL_MIN, 1e307);
         }
-        lub_pair_batch_log4(x, y);
-        for (int l = 0; l < 4; ++l) {
+        lub_pair_batch_log(x, y);
+        for (int l = 0; l < w; ++l) {
             const double ref = log(x[l]);
             const double err = fabs(y[l] - ref) / fmax(fabs(ref), DBL_MIN);
             if (err > max_log)
                 max_log = err;
         }
-        for (int l = 0; l < 4; ++l)
+        for (int l = 0; l < w; ++l)
             x[l] = law_rng_range(&r, -707.0, 707.0);
-        lub_pair_batch_exp4(x, y);
-        for (int l = 0; l < 4; ++l) {
+        lub_pair_batch_exp(x, y);
+        for (int l = 0; l < w; ++l) {
             const double err = fabs(y[l] - exp(x[l])) / exp(x[l]);
             if (err > max_exp)
                 max_exp = err;
@@ -78,12 +79,12 @@ static void test_math(void)
     CHECK(max_log < 4e-16, "log relative error %.3g", max_log);
     CHECK(max_exp < 4e-16, "exp relative error %.3g", max_exp);
     /* exact points */
-    double one[4] = {1.0, 2.0, 0.5, 1024.0}, out[4];
-    lub_pair_batch_log4(one, out);
+    double one[8] = {1.0, 2.0, 0.5, 1024.0, 1.0, 1.0, 1.0, 1.0}, out[8];
+    lub_pair_batch_log(one, out);
     CHECK(out[0] == 0.0, "log(1) = %.17g", out[0]);
     CHECK(fabs(out[1] - log(2.0)) <= DBL_EPSILON * log(2.0), "log 2 = %.17g", out[1]);
-    double z[4] = {0.0, 0.0, 0.0, 0.0};
-    lub_pair_batch_exp4(z, out);
+    double z[8] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
+    lub_pair_batch_exp(z, out);
     CHECK(out[0] == 1.0, "exp(0) = %.17g", out[0]);
 }
 
@@ -277,7 +278,7 @@ static void test_declined(void)
         sb[l] = cs[l].st;
     acc = lub_pair_step_batch(&p, 1e-4, &b);
     CHECK(acc == 0, "quasi-static batch accepted %d lanes", acc);
-    printf("batch_isa=%s\n", lub_pair_batch_isa());
+    printf("batch_isa=%s\nbatch_width=%d\n", lub_pair_batch_isa(), lub_pair_batch_width());
 }
 
 int main(void)
