@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "build_info.h"
+#include "contact_batch.h"
 #include "run_driver.h"
 #include "scene.h"
 
@@ -85,8 +86,8 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "scenes") == 0)
         return cmd_scenes();
     if (strcmp(cmd, "version") == 0) {
-        printf("lubdem %s (git %s; %s; %s)\n", lub_build_version(), lub_build_git(),
-               lub_build_compiler(), lub_build_cflags());
+        printf("lubdem %s (git %s; %s; %s; contact law SIMD %s)\n", lub_build_version(),
+               lub_build_git(), lub_build_compiler(), lub_build_cflags(), lub_pair_batch_isa());
         return 0;
     }
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "help") == 0) {

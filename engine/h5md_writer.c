@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "build_info.h"
+#include "contact_batch.h"
 
 #define ROWS_PER_CHUNK 1024
 #define MAX_TABLES 32
@@ -226,6 +227,8 @@ int lub_h5_write_parameters(lub_h5 *f, const char *spec_verbatim, const char *sp
     rc |= write_string_attr(b, "git_commit", lub_build_git());
     rc |= write_string_attr(b, "compiler", lub_build_compiler());
     rc |= write_string_attr(b, "cflags", lub_build_cflags());
+    /* the batched law's instruction set: results of different sets agree to round-off only */
+    rc |= write_string_attr(b, "contact_law_simd", lub_pair_batch_isa());
     char hv[64];
     unsigned maj, min, rel;
     H5get_libversion(&maj, &min, &rel);

@@ -98,6 +98,11 @@ def main():
                 fail("profile array")
             if "hdf5_version" not in f["parameters"]["build"].attrs:
                 fail("build provenance")
+            simd = f["parameters"]["build"].attrs.get("contact_law_simd")
+            if isinstance(simd, bytes):
+                simd = simd.decode()
+            if simd not in ("avx512", "avx2+fma", "avx", "sse2"):
+                fail(f"contact_law_simd provenance: {simd!r}")
         print(f"h5md_observables={nobs}")
         print("h5md_check=OK")
 
