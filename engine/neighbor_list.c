@@ -5,6 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 void lub_nlist_init(lub_nlist *nl, double range, double skin)
 {
     memset(nl, 0, sizeof *nl);
@@ -14,6 +18,12 @@ void lub_nlist_init(lub_nlist *nl, double range, double skin)
 
 void lub_nlist_free(lub_nlist *nl)
 {
+    for (int t = 0; t < nl->nparts; ++t) {
+        free(nl->parts[t].pi);
+        free(nl->parts[t].pj);
+        free(nl->parts[t].pc);
+    }
+    free(nl->parts);
     free(nl->pi);
     free(nl->pj);
     free(nl->pc);
@@ -35,18 +45,18 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem)
     return 0;
 }
 
-static int ensure_pairs(lub_nlist *nl, size_t need)
+/* Grows the three pair arrays *pi, *pj, *pc (capacity *cap pairs) to hold need pairs. */
+static int ensure_capacity(int32_t **pi, int32_t **pj, int32_t **pc, size_t *cap, size_t need)
 {
-    if (need <= nl->pair_cap)
+    if (need <= *cap)
         return 0;
-    size_t cap = nl->pair_cap ? nl->pair_cap : 1024;
-    while (cap < need)
-        cap += cap / 2;
-    if (grow((void **)&nl->pi, NULL, cap, sizeof *nl->pi) ||
-        grow((void **)&nl->pj, NULL, cap, sizeof *nl->pj) ||
-        grow((void **)&nl->pc, NULL, 3 * cap, sizeof *nl->pc))
+    size_t c = *cap ? *cap : 1024;
+    while (c < need)
+        c += c / 2;
+    if (grow((void **)pi, NULL, c, sizeof **pi) || grow((void **)pj, NULL, c, sizeof **pj) ||
+        grow((void **)pc, NULL, 3 * c, sizeof **pc))
         return -1;
-    nl->pair_cap = cap;
+    *cap = c;
     return 0;
 }
 
@@ -54,6 +64,87 @@ static int wrap_index(int k, int n)
 {
     k %= n;
     return k < 0 ? k + n : k;
+}
+
+typedef struct {
+    lub_nlist *nl;
+    const lub_cell *cell;
+    const double *radius;
+    double factor;
+    int nx, ny, nz;
+    int off[3][3], noff[3];
+} search_ctx;
+
+/* Pairs (i, j > i) for i0 <= i < i1 into *out (from its start), sorted by (i, j); sets
+ * nl->first[i + 1] to the number of pairs of out up to and including i. Returns 0 or -1 (no
+ * memory). Reads the bins and fractional coordinates only: ranges can run concurrently. */
+static int search_range(const search_ctx *sc, int i0, int i1, lub_nlist_part *out)
+{
+    lub_nlist *nl = sc->nl;
+    const lub_cell *cell = sc->cell;
+    const double *radius = sc->radius;
+    const double factor = sc->factor;
+    const int nx = sc->nx, ny = sc->ny, nz = sc->nz;
+    const int(*off)[3] = sc->off;
+    const int *noff = sc->noff;
+    size_t np = 0;
+    for (int i = i0; i < i1; ++i) {
+        int bin = nl->bin_of[i];
+        int bx = bin % nx, by = (bin / nx) % ny, bz = bin / (nx * ny);
+        vec3 si = nl->frac[i];
+        double ri = radius[i];
+        size_t start = np;
+        for (int oz = 0; oz < noff[2]; ++oz)
+            for (int oy = 0; oy < noff[1]; ++oy)
+                for (int ox = 0; ox < noff[0]; ++ox) {
+                    int cb =
+                        (wrap_index(bz + off[2][oz], nz) * ny + wrap_index(by + off[1][oy], ny)) *
+                            nx +
+                        wrap_index(bx + off[0][ox], nx);
+                    for (int t = nl->bin_start[cb]; t < nl->bin_start[cb + 1]; ++t) {
+                        int j = nl->bin_items[t];
+                        if (j <= i)
+                            continue;
+                        vec3 sj = nl->frac[j];
+                        vec3 ds = v3(sj.x - si.x, sj.y - si.y, sj.z - si.z);
+                        int c[3] = {-(int)lround(ds.x), -(int)lround(ds.y), -(int)lround(ds.z)};
+                        vec3 dsc = v3(ds.x + c[0], ds.y + c[1], ds.z + c[2]);
+                        vec3 d = lub_cell_to_cart(cell, dsc);
+                        double lim = (ri + radius[j]) * factor + nl->skin;
+                        if (v3_norm2(d) < lim * lim) {
+                            if (np + 1 > out->cap &&
+                                ensure_capacity(&out->pi, &out->pj, &out->pc, &out->cap, np + 1))
+                                return -1;
+                            out->pi[np] = i;
+                            out->pj[np] = j;
+                            out->pc[3 * np] = c[0];
+                            out->pc[3 * np + 1] = c[1];
+                            out->pc[3 * np + 2] = c[2];
+                            ++np;
+                        }
+                    }
+                }
+        /* sort this particle's pairs by j (insertion sort: lists are short) */
+        for (size_t a = start + 1; a < np; ++a) {
+            int32_t jj = out->pj[a];
+            int32_t c0 = out->pc[3 * a], c1 = out->pc[3 * a + 1], c2 = out->pc[3 * a + 2];
+            size_t b = a;
+            while (b > start && out->pj[b - 1] > jj) {
+                out->pj[b] = out->pj[b - 1];
+                out->pc[3 * b] = out->pc[3 * (b - 1)];
+                out->pc[3 * b + 1] = out->pc[3 * (b - 1) + 1];
+                out->pc[3 * b + 2] = out->pc[3 * (b - 1) + 2];
+                --b;
+            }
+            out->pj[b] = jj;
+            out->pc[3 * b] = c0;
+            out->pc[3 * b + 1] = c1;
+            out->pc[3 * b + 2] = c2;
+        }
+        nl->first[i + 1] = np;
+    }
+    out->n = np;
+    return 0;
 }
 
 int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const double *radius,
@@ -149,61 +240,53 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
         }
     }
 
-    size_t np = 0;
+    /* pair search over contiguous ranges of i, one buffer per thread, concatenated in order */
+    int nt = nl->threads > 1 ? nl->threads : 1;
+    if (n < 256)
+        nt = 1; /* not worth a team */
+#ifndef _OPENMP
+    nt = 1;
+#endif
+    if (nt > nl->nparts) {
+        lub_nlist_part *q = realloc(nl->parts, (size_t)nt * sizeof *q);
+        if (!q)
+            return LUB_NLIST_NOMEM;
+        memset(q + nl->nparts, 0, (size_t)(nt - nl->nparts) * sizeof *q);
+        nl->parts = q;
+        nl->nparts = nt;
+    }
+    search_ctx sc = {nl, cell, radius, factor, nx, ny, nz, {{0}}, {0}};
+    memcpy(sc.off, off, sizeof off);
+    memcpy(sc.noff, noff, sizeof noff);
+    int bad = 0;
     nl->first[0] = 0;
-    for (int i = 0; i < n; ++i) {
-        int bin = nl->bin_of[i];
-        int bx = bin % nx, by = (bin / nx) % ny, bz = bin / (nx * ny);
-        vec3 si = nl->frac[i];
-        double ri = radius[i];
-        size_t start = np;
-        for (int oz = 0; oz < noff[2]; ++oz)
-            for (int oy = 0; oy < noff[1]; ++oy)
-                for (int ox = 0; ox < noff[0]; ++ox) {
-                    int cb =
-                        (wrap_index(bz + off[2][oz], nz) * ny + wrap_index(by + off[1][oy], ny)) *
-                            nx +
-                        wrap_index(bx + off[0][ox], nx);
-                    for (int t = nl->bin_start[cb]; t < nl->bin_start[cb + 1]; ++t) {
-                        int j = nl->bin_items[t];
-                        if (j <= i)
-                            continue;
-                        vec3 sj = nl->frac[j];
-                        vec3 ds = v3(sj.x - si.x, sj.y - si.y, sj.z - si.z);
-                        int c[3] = {-(int)lround(ds.x), -(int)lround(ds.y), -(int)lround(ds.z)};
-                        vec3 dsc = v3(ds.x + c[0], ds.y + c[1], ds.z + c[2]);
-                        vec3 d = lub_cell_to_cart(cell, dsc);
-                        double lim = (ri + radius[j]) * factor + nl->skin;
-                        if (v3_norm2(d) < lim * lim) {
-                            if (np + 1 > nl->pair_cap && ensure_pairs(nl, np + 1))
-                                return LUB_NLIST_NOMEM;
-                            nl->pi[np] = i;
-                            nl->pj[np] = j;
-                            nl->pc[3 * np] = c[0];
-                            nl->pc[3 * np + 1] = c[1];
-                            nl->pc[3 * np + 2] = c[2];
-                            ++np;
-                        }
-                    }
-                }
-        /* sort this particle's pairs by j (insertion sort: lists are short) */
-        for (size_t a = start + 1; a < np; ++a) {
-            int32_t jj = nl->pj[a];
-            int32_t c0 = nl->pc[3 * a], c1 = nl->pc[3 * a + 1], c2 = nl->pc[3 * a + 2];
-            size_t b = a;
-            while (b > start && nl->pj[b - 1] > jj) {
-                nl->pj[b] = nl->pj[b - 1];
-                nl->pc[3 * b] = nl->pc[3 * (b - 1)];
-                nl->pc[3 * b + 1] = nl->pc[3 * (b - 1) + 1];
-                nl->pc[3 * b + 2] = nl->pc[3 * (b - 1) + 2];
-                --b;
-            }
-            nl->pj[b] = jj;
-            nl->pc[3 * b] = c0;
-            nl->pc[3 * b + 1] = c1;
-            nl->pc[3 * b + 2] = c2;
-        }
-        nl->first[i + 1] = np;
+#pragma omp parallel num_threads(nt) reduction(| : bad) if (nt > 1)
+    {
+#ifdef _OPENMP
+        const int t = omp_get_thread_num(), team = omp_get_num_threads();
+#else
+        const int t = 0, team = 1;
+#endif
+        const int i0 = (int)((long)n * t / team), i1 = (int)((long)n * (t + 1) / team);
+        bad |= search_range(&sc, i0, i1, &nl->parts[t]);
+    }
+    if (bad)
+        return LUB_NLIST_NOMEM;
+    size_t np = 0;
+    for (int t = 0; t < nt; ++t)
+        np += nl->parts[t].n;
+    if (ensure_capacity(&nl->pi, &nl->pj, &nl->pc, &nl->pair_cap, np))
+        return LUB_NLIST_NOMEM;
+    size_t base = 0;
+    for (int t = 0; t < nt; ++t) {
+        const lub_nlist_part *pt = &nl->parts[t];
+        memcpy(nl->pi + base, pt->pi, pt->n * sizeof *pt->pi);
+        memcpy(nl->pj + base, pt->pj, pt->n * sizeof *pt->pj);
+        memcpy(nl->pc + 3 * base, pt->pc, 3 * pt->n * sizeof *pt->pc);
+        const int i0 = (int)((long)n * t / nt), i1 = (int)((long)n * (t + 1) / nt);
+        for (int i = i0; i < i1; ++i)
+            nl->first[i + 1] += base; /* search_range stored counts relative to its buffer */
+        base += pt->n;
     }
     nl->npairs = np;
     return LUB_NLIST_OK;

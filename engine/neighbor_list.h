@@ -18,7 +18,12 @@
  * Memory: all arrays are owned by the lub_nlist and grow (realloc) only inside
  * lub_nlist_build; repeated builds with similar sizes do not allocate. Free with
  * lub_nlist_free. Not thread-safe per instance.
+ *
+ * Threads: with `threads` > 1 (set by the owner after lub_nlist_init) and OpenMP, the pair
+ * search runs on that many threads over contiguous ranges of i, each into its own buffer, and
+ * the buffers are concatenated in order: the result is identical to the serial build.
  */
+
 #ifndef LUBDEM_NEIGHBOR_LIST_H
 #define LUBDEM_NEIGHBOR_LIST_H
 
@@ -26,6 +31,11 @@
 #include <stdint.h>
 
 #include "periodic_cell.h"
+
+typedef struct {
+    int32_t *pi, *pj, *pc; /* one thread's pairs, in (i, j) order */
+    size_t n, cap;
+} lub_nlist_part;
 
 enum { LUB_NLIST_OK = 0, LUB_NLIST_NOMEM = -1, LUB_NLIST_CELL_TOO_SMALL = -2 };
 
@@ -43,10 +53,13 @@ typedef struct {
     /* internal buffers (grown at build time only) */
     size_t pair_cap, part_cap, bin_cap;
     int ncell[3];
-    int *bin_start; /* [nbins + 1] */
-    int *bin_items; /* [n] particle ids sorted by bin */
-    int *bin_of;    /* [n] */
-    vec3 *frac;     /* [n] unwrapped fractional coordinates */
+    int *bin_start;        /* [nbins + 1] */
+    int *bin_items;        /* [n] particle ids sorted by bin */
+    int *bin_of;           /* [n] */
+    vec3 *frac;            /* [n] unwrapped fractional coordinates */
+    int threads;           /* pair-search threads (<= 1: serial); set by the owner */
+    lub_nlist_part *parts; /* [nparts] per-thread buffers of the parallel search */
+    int nparts;
 } lub_nlist;
 
 void lub_nlist_init(lub_nlist *nl, double range, double skin);

@@ -78,6 +78,7 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
     s->nint = calloc(nn, sizeof *s->nint);
     s->img = calloc(3 * nn, sizeof *s->img);
     lub_nlist_init(&s->nl, p->cutoff, p->skin);
+    s->nl.threads = p->threads > 0 ? p->threads : 1;
     lub_pairs_init(&s->pairs);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
         !s->inv_i || !s->weight || !s->nint || !s->img) {

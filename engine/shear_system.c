@@ -123,6 +123,7 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
     s->dt = dt;
     s->fail_pair = -1;
     lub_nlist_init(&s->nl, cutoff, skin);
+    s->nl.threads = threads;
     lub_pairs_init(&s->pairs);
     s->need_rebuild = 1;
     return LUB_SHEAR_OK;
@@ -173,6 +174,8 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s)
     size_t n = (size_t)s->n;
     size_t b = n * (6 * sizeof(vec3) + 4 * sizeof(double) + sizeof(int));
     const lub_nlist *nl = &s->nl;
+    for (int t = 0; t < nl->nparts; ++t) /* per-thread buffers of the parallel search */
+        b += nl->parts[t].cap * 5 * sizeof(int32_t);
     b += nl->pair_cap * 5 * sizeof(int32_t) +
          nl->part_cap * (sizeof(size_t) + 2 * sizeof(int) + sizeof(vec3)) +
          nl->bin_cap * sizeof(int);
