@@ -280,9 +280,11 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
     size_t base = 0;
     for (int t = 0; t < nt; ++t) {
         const lub_nlist_part *pt = &nl->parts[t];
-        memcpy(nl->pi + base, pt->pi, pt->n * sizeof *pt->pi);
-        memcpy(nl->pj + base, pt->pj, pt->n * sizeof *pt->pj);
-        memcpy(nl->pc + 3 * base, pt->pc, 3 * pt->n * sizeof *pt->pc);
+        if (pt->n > 0) { /* an empty part may have no buffers at all */
+            memcpy(nl->pi + base, pt->pi, pt->n * sizeof *pt->pi);
+            memcpy(nl->pj + base, pt->pj, pt->n * sizeof *pt->pj);
+            memcpy(nl->pc + 3 * base, pt->pc, 3 * pt->n * sizeof *pt->pc);
+        }
         const int i0 = (int)((long)n * t / nt), i1 = (int)((long)n * (t + 1) / nt);
         for (int i = i0; i < i1; ++i)
             nl->first[i + 1] += base; /* search_range stored counts relative to its buffer */
