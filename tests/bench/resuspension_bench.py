@@ -17,6 +17,7 @@ is a prefix of the longest trajectory. With --table DIR it writes DIR/resuspensi
 DIR/resuspension_error.png.
 usage: resuspension_bench.py --lubdem PATH --out DIR [--strains 6 12 24] [--n 300]
                              [--orientation gradient|vorticity] [--eta-phi 0.40 0.45] [--reuse]
+                             [--stiffness K] [--table DIR]
 """
 import argparse
 import json
@@ -43,12 +44,14 @@ def main():
     ap.add_argument("--threads", type=int, default=1)
     ap.add_argument("--orientation", default="vorticity")
     ap.add_argument("--eta-phi", type=float, nargs=2, default=[0.40, 0.45])
+    ap.add_argument("--stiffness", type=float, default=None,
+                    help="contact stiffness in eta gd a (default: the scene's)")
     ap.add_argument("--table", default="", help="folder for the md table and the png plot")
     ap.add_argument("--reuse", action="store_true", help="analyse finished runs found in --out")
     args = ap.parse_args()
     rows = []
     print(f"config_n={args.n} config_orientation={args.orientation} "
-          f"config_average_from={args.average_from}")
+          f"config_average_from={args.average_from} config_stiffness={args.stiffness}")
     for strain in args.strains:
         d = os.path.join(args.out, f"strain{strain:g}")
         os.makedirs(d, exist_ok=True)
@@ -57,6 +60,8 @@ def main():
                 "density_ratio": 10, "shear_drag_viscosity": 3, "sample_strain": 0.05,
                 "orientation": args.orientation,
                 "snapshots": 0}
+        if args.stiffness is not None:
+            spec["stiffness"] = args.stiffness
         with open(os.path.join(d, "spec.json"), "w") as fh:
             json.dump(spec, fh)
         cpu_file = os.path.join(d, "cpu_seconds.txt")
@@ -80,6 +85,7 @@ def main():
             keep = f["profiles/bulk_mask"][:] > 0.5
             evp = f["profiles/eta_vs_phi"][:] if "profiles/eta_vs_phi" in f else np.zeros((0, 4))
         r = s["results"]
+        crushed = (r.get("crushed_contact_fraction") or {}).get("value", float("nan"))
         wall = s["wall_time_s"]
         steps = s["steps"]
         me = float(np.nanmean(err[keep])) if keep.any() else float("nan")
@@ -90,7 +96,8 @@ def main():
               f"mean_phi_err={me:.5f} max_phi_err={mx:.5f} "
               f"height={r['suspension_height']['value']:.3f} "
               f"height_err={r['suspension_height']['stderr']} "
-              f"phi_err_method=\"{s['phi_err_method']}\" cpu_s={cpu:.1f}", end="")
+              f"phi_err_method=\"{s['phi_err_method']}\" cpu_s={cpu:.1f} "
+              f"crushed_contact_fraction={crushed:.3f}", end="")
         row = {"strain": strain, "avg": avg, "cpu_s": cpu, "mean_phi_err": me,
                "height": r["suspension_height"]["value"],
                "height_err": r["suspension_height"]["stderr"]}
