@@ -35,6 +35,7 @@
 usage: resuspension_consistency.py --lubdem PATH --out DIR [--quick] [--reuse] [--check]
 """
 import argparse
+import concurrent.futures
 import json
 import os
 import subprocess
@@ -71,7 +72,7 @@ def config(quick):
 def resus_spec(cfg, orientation, sh, args):
     s = {"scene": "resuspension", "orientation": orientation, "n": cfg["n"],
          "width": cfg["width"], "shields": sh, "inertial_number": args.inertial_number,
-         "density_ratio": args.density_ratio, "stiffness": 1e4, "cutoff": 2.0,
+         "density_ratio": args.density_ratio, "stiffness": args.stiffness, "cutoff": 2.0,
          "radius_std": 0.05, "law": law_spec(), "sample_strain": 0.1, "seed": 1,
          "snapshots": 0}
     if orientation == "vorticity":
@@ -82,10 +83,10 @@ def resus_spec(cfg, orientation, sh, args):
     return s
 
 
-def shear_spec(cfg, phi):
+def shear_spec(cfg, phi, args):
     return {"scene": "simple_shear", "control": "volume", "n_particles": cfg["shear_n"],
             "phi": phi, "strain": cfg["shear_strain"], "transient_strain": 2.0,
-            "stiffness": 1e4, "cutoff": 2.0, "radius_std": 0.05, "St": 0.01, "seed": 1,
+            "stiffness": args.stiffness, "cutoff": 2.0, "radius_std": 0.05, "St": 0.01, "seed": 1,
             "snapshots": 0, "law": law_spec()}
 
 
@@ -192,28 +193,35 @@ def main():
     ap.add_argument("--max-sigma", type=float, default=3.0)
     ap.add_argument("--rel-floor", type=float, default=0.30)
     ap.add_argument("--ratio-range", type=float, nargs=2, default=[0.5, 2.0])
+    ap.add_argument("--stiffness", type=float, default=1e4,
+                    help="contact stiffness (eta gd a) of every run (scene default 1e4)")
+    ap.add_argument("--jobs", type=int, default=1, help="engine runs at a time (1 thread each)")
     args = ap.parse_args()
     cfg = config(args.quick)
     os.makedirs(args.out, exist_ok=True)
     t_start = time.time()
 
-    # ---- runs (one at a time, 1 thread) -----------------------------------------------------
-    vort = [(sh, run(args.lubdem, resus_spec(cfg, "vorticity", sh, args),
-                     os.path.join(args.out, f"vorticity_sh{sh:g}"), args.reuse))
+    # ---- runs (--jobs at a time, 1 thread each) ------------------------------------------
+    todo = [("vort", sh, resus_spec(cfg, "vorticity", sh, args), f"vorticity_sh{sh:g}")
             for sh in cfg["vort_sh"]]
-    shear = [(phi, run(args.lubdem, shear_spec(cfg, phi),
-                       os.path.join(args.out, f"shear_phi{phi:g}"), args.reuse))
+    todo += [("shear", phi, shear_spec(cfg, phi, args), f"shear_phi{phi:g}")
              for phi in cfg["shear_phi"]]
-    grad = [(sh, run(args.lubdem, resus_spec(cfg, "gradient", sh, args),
-                     os.path.join(args.out, f"gradient_sh{sh:g}"), args.reuse))
-            for sh in cfg["grad_sh"]]
+    todo += [("grad", sh, resus_spec(cfg, "gradient", sh, args), f"gradient_sh{sh:g}")
+             for sh in cfg["grad_sh"]]
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as ex:
+        futs = [ex.submit(run, args.lubdem, spec, os.path.join(args.out, name), args.reuse)
+                for _, _, spec, name in todo]
+        outs = [f.result() for f in futs]
+    vort = [(x, o) for (k, x, _, _), o in zip(todo, outs) if k == "vort"]
+    shear = [(x, o) for (k, x, _, _), o in zip(todo, outs) if k == "shear"]
+    grad = [(x, o) for (k, x, _, _), o in zip(todo, outs) if k == "grad"]
 
     print(f"config_n={cfg['n']} config_width={cfg['width']} config_vort_strain="
           f"{cfg['vort_strain']} config_vort_average_from={cfg['vort_avg']} "
           f"config_grad_strain={cfg['grad_strain']} config_grad_average_from={cfg['grad_avg']} "
           f"config_drag={args.drag} config_I={args.inertial_number} "
           f"config_density_ratio={args.density_ratio} config_shear_n={cfg['shear_n']} "
-          f"config_shear_strain={cfg['shear_strain']}")
+          f"config_shear_strain={cfg['shear_strain']} config_stiffness={args.stiffness:g}")
     fails = []
 
     # ---- 1. Acrivos table -------------------------------------------------------------------
@@ -267,7 +275,7 @@ def main():
         fh.write(f"Vorticity orientation, N = {cfg['n']}, cell {cfg['width']:g} a, strain "
                  f"{cfg['vort_strain']:g} averaged from {cfg['vort_avg']:g}, I = "
                  f"{args.inertial_number:g}, density_ratio {args.density_ratio:g}, eps 0.002, "
-                 f"mu 0.5, stiffness 1e4. h0 = inventory/0.58. (h-h0)/h0: summary value "
+                 f"mu 0.5, stiffness {args.stiffness:g}. h0 = inventory/0.58. (h-h0)/h0: summary value "
                  f"(height from the floor-centre plane) and floor-corrected (height from the "
                  f"bottom half-max crossing y_b). References: SBM (sbm_resuspension) with "
                  f"Zarraga's eta_33 (fitted to the Couette data of Acrivos, Mauri & Fan 1993) "
@@ -346,7 +354,7 @@ def main():
                  f"{', '.join(f'{x:g}' for x in cfg['grad_sh'])} for eta_22; bins pooled within "
                  f"±0.02 of phi, ln eta fitted linearly) vs simple_shear at imposed phi "
                  f"(N = {cfg['shear_n']}, strain {cfg['shear_strain']:g}, St 0.01); same law: "
-                 f"eps 0.002, mu 0.5, cutoff 2, stiffness 1e4 eta gd a. Agreement: within "
+                 f"eps 0.002, mu 0.5, cutoff 2, stiffness {args.stiffness:g} eta gd a. Agreement: within "
                  f"{args.max_sigma:g} combined sigma or {100 * args.rel_floor:.0f} %.\n\n")
         fh.write("| phi | eta_ii | resuspension | bins | simple shear | ratio | n sigma | "
                  "agree | shear crushed contacts |\n|---|---|---|---|---|---|---|---|---|\n")
