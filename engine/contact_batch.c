@@ -1,4 +1,5 @@
-/* contact_batch.c — four-lane evaluation of the lubricated contact law (see contact_batch.h).
+/* contact_batch.c — vector (4- or 8-lane) evaluation of the lubricated contact law (see
+ * contact_batch.h).
  *
  * Every line mirrors a line of contact_pair.c / contact_normal.c / contact_shear.c /
  * contact_torque.c for the regular case; branches of the scalar law become lane masks and
@@ -120,7 +121,7 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
     const int with_friction = (terms & LUB_TERM_FRICTION) != 0;
     const int with_roll = (terms & LUB_TERM_ROLL) != 0, with_twist = (terms & LUB_TERM_TWIST) != 0;
     const lub_vd zero = lub_v_set1(0.0), one = lub_v_set1(1.0);
-    const lub_vi none = {0}, all = ~none;
+    const lub_vi none = {0};
 
     /* pad the last group with copies of lane 0 (read only, never stored) */
     const int ng = (n + LUB_VW - 1) / LUB_VW * LUB_VW;
@@ -296,8 +297,7 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         lub_v_store(o[15], delta);
         int64_t okl[LUB_VW], cl[LUB_VW];
         memcpy(okl, &ok, sizeof okl);
-        const lub_vi cm = contact & all;
-        memcpy(cl, &cm, sizeof cl);
+        memcpy(cl, &contact, sizeof cl);
         for (int l = 0; l < LUB_VW && g0 + l < n; ++l) {
             const int q = g0 + l;
             if (!okl[l]) {

@@ -240,7 +240,8 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
         }
     }
 
-    /* pair search over contiguous ranges of i, one buffer per thread, concatenated in order */
+    /* pair search over contiguous ranges of i: thread 0 writes into the list's own arrays,
+     * thread t > 0 into its buffer parts[t], appended in order afterwards (serial: no copy) */
     int nt = nl->threads > 1 ? nl->threads : 1;
     if (n < 256)
         nt = 1; /* not worth a team */
@@ -258,6 +259,7 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
     search_ctx sc = {nl, cell, radius, factor, nx, ny, nz, {{0}}, {0}};
     memcpy(sc.off, off, sizeof off);
     memcpy(sc.noff, noff, sizeof noff);
+    lub_nlist_part own = {nl->pi, nl->pj, nl->pc, 0, nl->pair_cap};
     int bad = 0;
     nl->first[0] = 0;
 #pragma omp parallel num_threads(nt) reduction(| : bad) if (nt > 1)
@@ -268,17 +270,18 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
         const int t = 0, team = 1;
 #endif
         const int i0 = (int)((long)n * t / team), i1 = (int)((long)n * (t + 1) / team);
-        bad |= search_range(&sc, i0, i1, &nl->parts[t]);
+        bad |= search_range(&sc, i0, i1, t == 0 ? &own : &nl->parts[t]);
     }
+    nl->pi = own.pi, nl->pj = own.pj, nl->pc = own.pc, nl->pair_cap = own.cap; /* may have moved */
     if (bad)
         return LUB_NLIST_NOMEM;
-    size_t np = 0;
-    for (int t = 0; t < nt; ++t)
+    size_t np = own.n;
+    for (int t = 1; t < nt; ++t)
         np += nl->parts[t].n;
     if (ensure_capacity(&nl->pi, &nl->pj, &nl->pc, &nl->pair_cap, np))
         return LUB_NLIST_NOMEM;
-    size_t base = 0;
-    for (int t = 0; t < nt; ++t) {
+    size_t base = own.n;
+    for (int t = 1; t < nt; ++t) {
         const lub_nlist_part *pt = &nl->parts[t];
         if (pt->n > 0) { /* an empty part may have no buffers at all */
             memcpy(nl->pi + base, pt->pi, pt->n * sizeof *pt->pi);

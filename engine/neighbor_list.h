@@ -20,8 +20,9 @@
  * lub_nlist_free. Not thread-safe per instance.
  *
  * Threads: with `threads` > 1 (set by the owner after lub_nlist_init) and OpenMP, the pair
- * search runs on that many threads over contiguous ranges of i, each into its own buffer, and
- * the buffers are concatenated in order: the result is identical to the serial build.
+ * search runs on that many threads over contiguous ranges of i; the first range is written
+ * into the result arrays, the others into per-thread buffers appended in order: the result is
+ * identical to the serial build.
  */
 
 #ifndef LUBDEM_NEIGHBOR_LIST_H
@@ -58,7 +59,7 @@ typedef struct {
     int *bin_of;           /* [n] */
     vec3 *frac;            /* [n] unwrapped fractional coordinates */
     int threads;           /* pair-search threads (<= 1: serial); set by the owner */
-    lub_nlist_part *parts; /* [nparts] per-thread buffers of the parallel search */
+    lub_nlist_part *parts; /* [nparts] buffers of threads 1.. of the parallel search ([0] unused) */
     int nparts;
 } lub_nlist;
 

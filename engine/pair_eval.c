@@ -78,7 +78,7 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
         return fail_k;
     }
     /* two batches: pairs with u < a at their last evaluation (spin torques on) and the others,
-     * so that most groups of four are uniform and the kernel can skip the torque block */
+     * so that most vector groups are uniform and the kernel can skip the torque block */
     size_t kk[2][LUB_BATCH];
     batches[0].n = batches[1].n = 0;
     for (long kl = k0; kl < k1; ++kl) {
@@ -114,7 +114,6 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
         lub_pair_batch *bt = &batches[which];
         const int l = bt->n;
         bt->n += inside;
-        const int si = b->share[i] > 1 ? b->share[i] : 1, sj = b->share[j] > 1 ? b->share[j] : 1;
         const vec3 v2 = v3_add(b->v[j], lub_mat_vec(cell->L, shift));
         kk[which][l] = k;
         bt->bx[l] = d.x, bt->by[l] = d.y, bt->bz[l] = d.z;
@@ -123,7 +122,7 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
         bt->w1x[l] = b->w[i].x, bt->w1y[l] = b->w[i].y, bt->w1z[l] = b->w[i].z;
         bt->w2x[l] = b->w[j].x, bt->w2y[l] = b->w[j].y, bt->w2z[l] = b->w[j].z;
         bt->r1[l] = ri, bt->r2[l] = rj;
-        bt->inv_i1[l] = b->inv_i[i] * si, bt->inv_i2[l] = b->inv_i[j] * sj;
+        bt->inv_i1[l] = lub_pair_inv_inertia(b, i), bt->inv_i2[l] = lub_pair_inv_inertia(b, j);
         bt->state[l] = &ps->state[k];
         if (bt->n == LUB_BATCH)
             flush_batch(ps, kk[which], cell, b, law, cutoff, dt, bt, sums, &fail_k, fail_un);

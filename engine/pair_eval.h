@@ -23,6 +23,12 @@ typedef struct {
                               stable roll/twist torque integration (values < 1 count as 1) */
 } lub_pair_bodies;
 
+/* 1/I of body p times its inertia share N_p (>= 1): the inverse inertia the law is given. */
+static inline double lub_pair_inv_inertia(const lub_pair_bodies *b, int p)
+{
+    return b->inv_i[p] * (b->share[p] > 1 ? b->share[p] : 1);
+}
+
 enum { LUB_PAIR_OUT = -1, LUB_PAIR_OK = 0, LUB_PAIR_NONFINITE = 1 };
 
 /* Evaluates pair k: beyond cutoff*a it leaves the cut-off (state dropped, zero outputs) and
@@ -46,7 +52,6 @@ static inline int lub_pair_eval(lub_pairs *ps, size_t k, const lub_cell *cell,
         return LUB_PAIR_OUT;
     }
     lub_pairs_enter(ps, k);
-    const int si = b->share[i] > 1 ? b->share[i] : 1, sj = b->share[j] > 1 ? b->share[j] : 1;
     const lub_pair_input in = {
         .branch = d,
         .v1 = b->v[i],
@@ -55,8 +60,8 @@ static inline int lub_pair_eval(lub_pairs *ps, size_t k, const lub_cell *cell,
         .w2 = b->w[j],
         .r1 = ri,
         .r2 = rj,
-        .inv_inertia1 = b->inv_i[i] * si,
-        .inv_inertia2 = b->inv_i[j] * sj,
+        .inv_inertia1 = lub_pair_inv_inertia(b, i),
+        .inv_inertia2 = lub_pair_inv_inertia(b, j),
         .dt = dt,
     };
     if (lub_pair_step(law, &in, &ps->state[k], o) != 0 || !v3_isfinite(o->force1) ||
@@ -82,7 +87,7 @@ typedef struct {
  * and the lanes it declines through lub_pair_eval. Same stored outputs as calling
  * lub_pair_eval for every pair, to round-off. Pairs of two bodies both >= n_mobile (fixed
  * floor spheres) never interact: inactive, zero outputs. batches[2] is scratch space owned by
- * the caller (pairs are split by their last near flag so that most groups of four are
+ * the caller (pairs are split by their last near flag so that most vector groups are
  * uniform). *sums (zeroed by the caller) receives the range's sums.
  * Returns -1, or the index of the first pair whose law failed (LUB_PAIR_NONFINITE; later pairs
  * of the range are still evaluated), with its centre gap in *fail_un. No allocation. */

@@ -82,7 +82,7 @@ typedef struct {
     double dt, time;
     long step;
     int threads;
-    int batch_law; /* 1 (default): steps without a stress/PDF sample evaluate the law four pairs
+    int batch_law; /* 1 (default): steps without a stress/PDF sample evaluate the law 4 or 8 pairs
                       per vector operation (lub_pair_eval_range, contact_batch.h); 0: the scalar
                       lub_pair_step for every pair. Results agree to round-off. */
     int need_rebuild;

@@ -1,4 +1,4 @@
-/* test_contact_batch.c — the four-lane law (contact_batch.h) against the scalar law
+/* test_contact_batch.c — the vector (4- or 8-lane) law (contact_batch.h) against the scalar law
  * (lub_pair_step) and the vector exp/log (simd_math.h) against libm.
  *
  * 1. exp/log: relative error over their domains (log: 2e5 points log-uniform over the normal
@@ -19,32 +19,13 @@
  * Prints name=value lines; exits non-zero on failure. */
 #include "contact_batch.h"
 #include "contact_law.h"
+#include "law_check.h"
 #include "law_rng.h"
 
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-static int failures = 0;
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            ++failures;                                                                            \
-            if (failures < 30) {                                                                   \
-                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                               \
-                fprintf(stderr, __VA_ARGS__);                                                      \
-                fputc('\n', stderr);                                                               \
-            }                                                                                      \
-        }                                                                                          \
-    } while (0)
-
-static vec3 rand_vec(law_rng *r, double scale)
-{
-    return v3(law_rng_range(r, -scale, scale), law_rng_range(r, -scale, scale),
-              law_rng_range(r, -scale, scale));
-}
-static vec3 unit(vec3 a) { return v3_scale(a, 1.0 / v3_norm(a)); }
 
 static void test_math(void)
 {

@@ -14,24 +14,13 @@
  *     of x (delta in (-745, -708)) and down to delta < -1e4 (no floor at -700).
  * Prints name=value lines; exits non-zero on failure. */
 #include "contact_law.h"
+#define LAW_CHECK_PRINT_LIMIT 20
+#include "law_check.h"
 #include "law_rng.h"
 
 #include <float.h>
 #include <math.h>
 #include <stdio.h>
-
-static int failures = 0;
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            ++failures;                                                                            \
-            if (failures < 20) {                                                                   \
-                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                               \
-                fprintf(stderr, __VA_ARGS__);                                                      \
-                fputc('\n', stderr);                                                               \
-            }                                                                                      \
-        }                                                                                          \
-    } while (0)
 
 static void random_inputs(law_rng *r, int i, double *dprev, double *s, double *h, double *e,
                           double *alpha)

@@ -3,31 +3,12 @@
  * unfloored decay of a heavily compressed pair (delta far below -700, notes §11 P5).
  * Prints name=value lines; exits non-zero on failure. */
 #include "contact_law.h"
+#include "law_check.h"
 #include "law_rng.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-static int failures = 0;
-#define CHECK(cond, ...)                                                                           \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            ++failures;                                                                            \
-            if (failures < 30) {                                                                   \
-                fprintf(stderr, "FAIL %s:%d: ", __FILE__, __LINE__);                               \
-                fprintf(stderr, __VA_ARGS__);                                                      \
-                fputc('\n', stderr);                                                               \
-            }                                                                                      \
-        }                                                                                          \
-    } while (0)
-
-static vec3 rand_vec(law_rng *r, double scale)
-{
-    return v3(law_rng_range(r, -scale, scale), law_rng_range(r, -scale, scale),
-              law_rng_range(r, -scale, scale));
-}
-static vec3 unit(vec3 a) { return v3_scale(a, 1.0 / v3_norm(a)); }
 
 static lub_law_params base_params(void)
 {
