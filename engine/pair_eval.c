@@ -10,13 +10,13 @@
 /* Pair k through the scalar law (lub_pair_eval), its contributions added to *sums; the first
  * failing pair is recorded in *fail_k, *fail_un. */
 static void eval_scalar(lub_pairs *ps, size_t k, const lub_cell *cell, const lub_pair_bodies *b,
-                        const lub_law_params *law, double cutoff, double dt,
+                        const lub_law_params *law, double cutoff, double dt, lub_pair_accum *acc,
                         lub_pair_range_sums *sums, long *fail_k, double *fail_un)
 {
     lub_pair_output o;
     vec3 d;
     double un;
-    const int rc = lub_pair_eval(ps, k, cell, b, law, cutoff, dt, &o, &d, &un);
+    const int rc = lub_pair_eval(ps, k, cell, b, law, cutoff, dt, acc, &o, &d, &un);
     if (rc == LUB_PAIR_OK) {
         sums->syy += o.force1.y * d.y;
         sums->contacts += o.contact;
@@ -30,8 +30,8 @@ static void eval_scalar(lub_pairs *ps, size_t k, const lub_cell *cell, const lub
 /* Stores the accepted lanes of the batch, evaluates the declined ones with the scalar law. */
 static void flush_batch(lub_pairs *ps, const size_t *kk, const lub_cell *cell,
                         const lub_pair_bodies *b, const lub_law_params *law, double cutoff,
-                        double dt, lub_pair_batch *bt, lub_pair_range_sums *sums, long *fail_k,
-                        double *fail_un)
+                        double dt, lub_pair_accum *acc, lub_pair_batch *bt,
+                        lub_pair_range_sums *sums, long *fail_k, double *fail_un)
 {
     lub_pair_step_batch(law, dt, bt);
     const double crush = law->alpha * law->eps; /* crushed: u_n < -alpha eps a */
@@ -40,10 +40,10 @@ static void flush_batch(lub_pairs *ps, const size_t *kk, const lub_cell *cell,
     for (int l = 0; l < bt->n; ++l) {
         const size_t k = kk[l];
         if (bt->done[l]) {
-            ps->f1[k] = v3(bt->f1x[l], bt->f1y[l], bt->f1z[l]);
-            ps->t1[k] = v3(bt->t1x[l], bt->t1y[l], bt->t1z[l]);
-            ps->t2[k] = v3(bt->t2x[l], bt->t2y[l], bt->t2z[l]);
             ps->near[k] = bt->near[l];
+            lub_pair_accum_add(acc, ps->i[k], ps->j[k], v3(bt->f1x[l], bt->f1y[l], bt->f1z[l]),
+                               v3(bt->t1x[l], bt->t1y[l], bt->t1z[l]),
+                               v3(bt->t2x[l], bt->t2y[l], bt->t2z[l]), bt->near[l]);
             sy += bt->f1y[l] * bt->by[l];
             if (bt->contact[l]) {
                 nc++;
@@ -53,7 +53,7 @@ static void flush_batch(lub_pairs *ps, const size_t *kk, const lub_cell *cell,
             }
             continue;
         }
-        eval_scalar(ps, k, cell, b, law, cutoff, dt, sums, fail_k, fail_un);
+        eval_scalar(ps, k, cell, b, law, cutoff, dt, acc, sums, fail_k, fail_un);
     }
     sums->syy += sy;
     sums->contacts += nc;
@@ -63,7 +63,7 @@ static void flush_batch(lub_pairs *ps, const size_t *kk, const lub_cell *cell,
 
 long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
                          const lub_pair_bodies *b, const lub_law_params *law, double cutoff,
-                         double dt, int n_mobile, lub_pair_batch batches[2],
+                         double dt, int n_mobile, lub_pair_accum *acc, lub_pair_batch batches[2],
                          lub_pair_range_sums *sums, double *fail_un)
 {
     long fail_k = -1;
@@ -73,7 +73,7 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
             if (ps->i[kl] >= n_mobile && ps->j[kl] >= n_mobile)
                 lub_pairs_leave(ps, (size_t)kl);
             else
-                eval_scalar(ps, (size_t)kl, cell, b, law, cutoff, dt, sums, &fail_k, fail_un);
+                eval_scalar(ps, (size_t)kl, cell, b, law, cutoff, dt, acc, sums, &fail_k, fail_un);
         }
         return fail_k;
     }
@@ -125,10 +125,11 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
         bt->inv_i1[l] = lub_pair_inv_inertia(b, i), bt->inv_i2[l] = lub_pair_inv_inertia(b, j);
         bt->state[l] = &ps->state[k];
         if (bt->n == LUB_BATCH)
-            flush_batch(ps, kk[which], cell, b, law, cutoff, dt, bt, sums, &fail_k, fail_un);
+            flush_batch(ps, kk[which], cell, b, law, cutoff, dt, acc, bt, sums, &fail_k, fail_un);
     }
     for (int w = 0; w < 2; ++w)
         if (batches[w].n > 0)
-            flush_batch(ps, kk[w], cell, b, law, cutoff, dt, &batches[w], sums, &fail_k, fail_un);
+            flush_batch(ps, kk[w], cell, b, law, cutoff, dt, acc, &batches[w], sums, &fail_k,
+                        fail_un);
     return fail_k;
 }

@@ -13,13 +13,7 @@ void lub_pairs_free(lub_pairs *ps)
     free(ps->c);
     free(ps->state);
     free(ps->active);
-    free(ps->f1);
-    free(ps->t1);
-    free(ps->t2);
     free(ps->near);
-    free(ps->first1);
-    free(ps->first2);
-    free(ps->by2);
     free(ps->oi);
     free(ps->oj);
     free(ps->ostate);
@@ -39,7 +33,6 @@ static int re(void **p, size_t count, size_t elem)
 int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
 {
     size_t nn = nl->npairs;
-    size_t np = (size_t)n_particles;
     /* move the current keys/states into the old buffers (swap pointers, no copy) */
     {
         int32_t *t;
@@ -70,21 +63,11 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
     }
     /* per-pair arrays that are not double-buffered follow the largest capacity */
     size_t fcap = ps->cap > ps->ocap ? ps->cap : ps->ocap;
-    if (fcap > ps->fcap || !ps->f1) {
+    if (fcap > ps->fcap || !ps->near) {
         if (re((void **)&ps->c, 3 * fcap, sizeof *ps->c) ||
-            re((void **)&ps->f1, fcap, sizeof *ps->f1) ||
-            re((void **)&ps->t1, fcap, sizeof *ps->t1) ||
-            re((void **)&ps->t2, fcap, sizeof *ps->t2) ||
-            re((void **)&ps->near, fcap, sizeof *ps->near) ||
-            re((void **)&ps->by2, fcap, sizeof *ps->by2))
+            re((void **)&ps->near, fcap, sizeof *ps->near))
             return -1;
         ps->fcap = fcap;
-    }
-    if (np + 1 > ps->part_cap) {
-        if (re((void **)&ps->first1, np + 1, sizeof *ps->first1) ||
-            re((void **)&ps->first2, np + 1, sizeof *ps->first2))
-            return -1;
-        ps->part_cap = np + 1;
     }
 
     /* sorted merge: carry state of (i, j) present in the old list */
@@ -108,27 +91,11 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
             ps->state[k].is_new = 1;
             ps->active[k] = 0;
         }
-        ps->f1[k] = v3(0, 0, 0);
-        ps->t1[k] = v3(0, 0, 0);
-        ps->t2[k] = v3(0, 0, 0);
         ps->near[k] = 0;
     }
     ps->n = nn;
     ps->n_particles = n_particles;
     ps->carried = carried;
-    memcpy(ps->first1, nl->first, (np + 1) * sizeof *ps->first1);
-
-    /* transposed index: counting sort of the pairs by body 2 (stable: ascending pair index) */
-    memset(ps->first2, 0, (np + 1) * sizeof *ps->first2);
-    for (size_t k = 0; k < nn; ++k)
-        ps->first2[ps->j[k] + 1]++;
-    for (size_t p = 0; p < np; ++p)
-        ps->first2[p + 1] += ps->first2[p];
-    for (size_t k = 0; k < nn; ++k)
-        ps->by2[ps->first2[ps->j[k]]++] = k;
-    for (size_t p = np; p > 0; --p)
-        ps->first2[p] = ps->first2[p - 1];
-    ps->first2[0] = 0;
     return 0;
 }
 

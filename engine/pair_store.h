@@ -10,11 +10,10 @@
  * with a positive gap well before they touch.
  *
  * lub_pairs_adopt() replaces the candidate list by a new neighbour list and CARRIES the state
- * and active flag of every pair (i, j) present in both (sorted-key merge, O(old + new)). It also
- * builds the transposed index (pairs whose body 2 is j) used for race-free force gathering.
+ * and active flag of every pair (i, j) present in both (sorted-key merge, O(old + new)).
  *
- * Per-step outputs (force on body 1, torques on both bodies) live here too so that forces can be
- * computed in parallel over pairs and gathered in parallel over particles.
+ * Forces and torques are not stored per pair: the pair loops add them to per-particle sums
+ * (pair_accum.h).
  *
  * Memory: everything is owned here; arrays grow (realloc) only inside lub_pairs_adopt (i.e. at
  * neighbour-list rebuilds), never during a time step. Free with lub_pairs_free.
@@ -35,13 +34,8 @@ typedef struct {
     int32_t *i, *j, *c;    /* c: [3n] image shifts */
     lub_pair_state *state; /* [n] */
     unsigned char *active; /* [n] */
-    vec3 *f1, *t1, *t2;    /* [n] per-step outputs (zero for inactive pairs) */
     unsigned char *near;   /* [n] 1 if the last evaluation had u < a (spin torques on) */
-    size_t *first1;        /* [n_particles + 1]: pairs with body 1 = p */
-    size_t *first2;        /* [n_particles + 1]: index ranges into by2 */
-    size_t *by2;           /* [n]: pair indices grouped by body 2 */
-    size_t part_cap;
-    size_t fcap; /* capacity of c, f1, t1, t2, near, by2 */
+    size_t fcap;           /* capacity of c and near */
     /* double buffer for the merge */
     int32_t *oi, *oj;
     lub_pair_state *ostate;
@@ -71,11 +65,8 @@ static inline void lub_pairs_enter(lub_pairs *ps, size_t k)
 /* Pair k is beyond the cut-off: it loses its state and contributes nothing. */
 static inline void lub_pairs_leave(lub_pairs *ps, size_t k)
 {
-    if (ps->active[k]) {
-        ps->active[k] = 0;
-        ps->near[k] = 0;
-        ps->f1[k] = ps->t1[k] = ps->t2[k] = v3(0, 0, 0);
-    }
+    ps->active[k] = 0;
+    ps->near[k] = 0;
 }
 
 /* Number of active pairs. */

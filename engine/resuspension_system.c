@@ -47,6 +47,11 @@ void lub_rs_free(lub_rs_system *s)
     free(s->weight);
     free(s->nint);
     free(s->img);
+    if (s->acc) {
+        for (int k = 0; k < (s->p.threads > 0 ? s->p.threads : 1); ++k)
+            lub_pair_accum_free(&s->acc[k]);
+        free(s->acc);
+    }
     lub_nlist_free(&s->nl);
     lub_pairs_free(&s->pairs);
     memset(s, 0, sizeof *s);
@@ -77,14 +82,21 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
     s->weight = calloc(nn, sizeof *s->weight);
     s->nint = calloc(nn, sizeof *s->nint);
     s->img = calloc(3 * nn, sizeof *s->img);
+    const int nthreads = p->threads > 0 ? p->threads : 1;
+    s->acc = calloc((size_t)nthreads, sizeof *s->acc);
     lub_nlist_init(&s->nl, p->cutoff, p->skin);
     s->nl.threads = p->threads > 0 ? p->threads : 1;
     lub_pairs_init(&s->pairs);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
-        !s->inv_i || !s->weight || !s->nint || !s->img) {
+        !s->inv_i || !s->weight || !s->nint || !s->img || !s->acc) {
         lub_rs_free(s);
         return LUB_RS_NOMEM;
     }
+    for (int k = 0; k < nthreads; ++k)
+        if (lub_pair_accum_init(&s->acc[k], n)) {
+            lub_rs_free(s);
+            return LUB_RS_NOMEM;
+        }
     lub_cell_init_box(&s->cell, lx, ly, lz);
     memset(s->L_flow, 0, sizeof s->L_flow);
     if (p->orientation == LUB_RS_VORTICITY) {
@@ -176,11 +188,15 @@ int lub_rs_step(lub_rs_system *s)
         const long tid = 0, nteam = 1;
 #endif
         const long k0 = npairs * tid / nteam, k1 = npairs * (tid + 1) / nteam;
+        lub_pair_accum *acc = &s->acc[tid];
+        lub_pair_accum_zero(acc, 0, s->n);
+        if (tid == 0)
+            s->team = (int)nteam;
         lub_pair_batch batch[2];
         lub_pair_range_sums sums = {0.0, 0, 0};
         double un = 0.0;
         const long kf = lub_pair_eval_range(ps, k0, k1, cell, &bodies, &s->law, cutoff, dt, nmob,
-                                            batch, &sums, &un);
+                                            acc, batch, &sums, &un);
         ncon += sums.contacts;
         ncrush += sums.crushed;
         if (kf >= 0) {
@@ -204,7 +220,9 @@ int lub_rs_step(lub_rs_system *s)
     s->n_contacts = ncon;
     s->n_crushed = ncrush;
 
-    /* gather and integrate the free particles */
+    /* pair sums of the team (in thread order), integrate the free particles */
+    const int team = s->team;
+    const lub_pair_accum *all = s->acc;
     const double g_eta_s = s->p.orientation == LUB_RS_GRADIENT ? s->p.eta_shear : 0.0;
     const double eta_d = s->p.eta_dilute;
     const int ndil = s->p.dilute_max_interactions;
@@ -216,10 +234,13 @@ int lub_rs_step(lub_rs_system *s)
 #pragma omp parallel for num_threads(nt) schedule(static) reduction(max : umax2, vmax2) \
     reduction(+ : hits) reduction(| : bad)
     for (int p = 0; p < s->n; ++p) {
-        vec3 F, T;
-        int count, n_near;
-        lub_pair_gather(ps, p, &F, &T, &count, &n_near);
-        (void)n_near;
+        vec3 F = all[0].f[p], T = all[0].t[p];
+        int count = all[0].n_active[p];
+        for (int q = 1; q < team; ++q) {
+            F = v3_add(F, all[q].f[p]);
+            T = v3_add(T, all[q].t[p]);
+            count += all[q].n_active[p];
+        }
         s->nint[p] = count;
         if (p >= nmob) { /* floor sphere: prescribed velocity */
             s->f[p] = F;

@@ -31,7 +31,8 @@
  * Memory: lub_rs_init allocates every particle array; pair arrays grow only at neighbour-list
  * rebuilds; lub_rs_step allocates nothing otherwise. Free with lub_rs_free.
  * Errors: LUB_RS_* codes; fail_msg holds a sentence on failure. Threads: OpenMP over pairs and
- * particles (`threads`); results do not depend on the thread count.
+ * particles (`threads`), one pair accumulator per thread (pair_accum.h): a run is reproducible
+ * for a given thread count, and different thread counts agree to round-off.
  */
 #ifndef LUBDEM_RESUSPENSION_SYSTEM_H
 #define LUBDEM_RESUSPENSION_SYSTEM_H
@@ -40,6 +41,7 @@
 
 #include "contact_law.h"
 #include "neighbor_list.h"
+#include "pair_accum.h"
 #include "pair_store.h"
 #include "periodic_cell.h"
 
@@ -80,6 +82,8 @@ typedef struct {
     double L_flow[3][3]; /* gradient of the mean flow u */
     lub_nlist nl;
     lub_pairs pairs;
+    lub_pair_accum *acc; /* [p.threads] per-particle pair sums of each thread */
+    int team;            /* threads of the last pair pass (accumulators in use) */
     lub_law_params law;
     lub_rs_params p;
     double time, t_ref;

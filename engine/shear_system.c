@@ -51,7 +51,11 @@ void lub_shear_free(lub_shear_system *s)
     free(s->tstress);
     free(s->tsyy);
     free(s->tcount);
-    free(s->tmax);
+    if (s->acc) {
+        for (int k = 0; k < s->threads; ++k)
+            lub_pair_accum_free(&s->acc[k]);
+        free(s->acc);
+    }
     if (s->tpdf) {
         for (int k = 0; k < s->threads; ++k)
             lub_pdf_free(&s->tpdf[k]);
@@ -88,12 +92,17 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
     s->tstress = calloc((size_t)threads, sizeof *s->tstress);
     s->tsyy = calloc((size_t)threads, sizeof *s->tsyy);
     s->tcount = calloc(3 * (size_t)threads, sizeof *s->tcount);
-    s->tmax = calloc((size_t)threads, sizeof *s->tmax);
+    s->acc = calloc((size_t)threads, sizeof *s->acc);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
-        !s->inv_i || !s->near_count || !s->tstress || !s->tsyy || !s->tcount || !s->tmax) {
+        !s->inv_i || !s->near_count || !s->tstress || !s->tsyy || !s->tcount || !s->acc) {
         lub_shear_free(s);
         return LUB_SHEAR_NOMEM;
     }
+    for (int k = 0; k < threads; ++k)
+        if (lub_pair_accum_init(&s->acc[k], n)) {
+            lub_shear_free(s);
+            return LUB_SHEAR_NOMEM;
+        }
     if (pdf_theta > 0 && pdf_phi > 0) {
         s->tpdf = calloc((size_t)threads, sizeof *s->tpdf);
         if (!s->tpdf || lub_pdf_init(&s->pdf, pdf_theta, pdf_phi)) {
@@ -182,10 +191,9 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s)
     const lub_pairs *ps = &s->pairs;
     size_t fcap = ps->fcap;
     b += (ps->cap + ps->ocap) * (2 * sizeof(int32_t) + sizeof(lub_pair_state) + 1);
-    b += fcap * (3 * sizeof(int32_t) + 3 * sizeof(vec3) + sizeof(size_t) + 1);
-    b += ps->part_cap * 2 * sizeof(size_t);
-    b += (size_t)s->threads *
-         (sizeof(lub_stress) + sizeof(double) + 3 * sizeof(size_t) + sizeof(double));
+    b += fcap * (3 * sizeof(int32_t) + 1);
+    b += (size_t)s->threads * (sizeof(lub_stress) + sizeof(double) + 3 * sizeof(size_t));
+    b += (size_t)s->threads * n * (2 * sizeof(vec3) + 2 * sizeof(int)); /* pair sums */
     return b;
 }
 
@@ -212,8 +220,8 @@ static int rebuild(lub_shear_system *s)
     return LUB_SHEAR_OK;
 }
 
-/* A = H H_ref^-1 */
-static void affine_map(const lub_shear_system *s, double A[3][3])
+/* A = H H_ref^-1 for the cell matrix H of `cell` */
+static void affine_map(const lub_shear_system *s, const lub_cell *cell, double A[3][3])
 {
     lub_cell ref;
     memcpy(ref.h, s->h_ref, sizeof ref.h);
@@ -222,7 +230,7 @@ static void affine_map(const lub_shear_system *s, double A[3][3])
         for (int j = 0; j < 3; ++j) {
             double v = 0.0;
             for (int k = 0; k < 3; ++k)
-                v += s->cell.h[i][k] * ref.hinv[k][j];
+                v += cell->h[i][k] * ref.hinv[k][j];
             A[i][j] = v;
         }
 }
@@ -253,7 +261,6 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             lub_stress_zero(&s->tstress[k]);
         s->tsyy[k] = 0.0;
         s->tcount[3 * k] = s->tcount[3 * k + 1] = s->tcount[3 * k + 2] = 0;
-        s->tmax[k] = 0.0;
         if (want_pdf)
             lub_pdf_clear(&s->tpdf[k]);
     }
@@ -261,20 +268,33 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
     const lub_pair_bodies bodies = {
         .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->near_count};
     const int batched = s->batch_law && !want_stress && !want_pdf;
-#pragma omp parallel num_threads(nt) reduction(| : failed)
+    /* the cell at the end of the step (a pure function of the current cell) and the affine
+     * map since the last rebuild, so that the skin criterion is measured in the same pass as
+     * the integration */
+    lub_cell next = s->cell;
+    const int cell_degenerate = lub_cell_update(&next, dt);
+    double A[3][3];
+    affine_map(s, &next, A);
+    double umax2 = 0.0; /* largest squared non-affine displacement since the last rebuild */
+    int bad_position = 0;
+#pragma omp parallel num_threads(nt) reduction(| : failed, bad_position) reduction(max : umax2)
     {
         const int tid = thread_id();
+        const int nteam = team_size();
         lub_stress *ts = &s->tstress[tid];
+        lub_pair_accum *acc = &s->acc[tid];
         double syy = 0.0;
         size_t nact = 0, ncon = 0, ncrush = 0;
+        lub_pair_accum_zero(acc, 0, n);
+        if (tid == 0)
+            s->team = nteam; /* read after the barrier below */
         if (batched) {
             /* contiguous static partition of the pairs over the team */
-            const long nteam = team_size();
             const long k0 = npairs * tid / nteam, k1 = npairs * (tid + 1) / nteam;
             lub_pair_batch batch[2];
             lub_pair_range_sums sums = {0.0, 0, 0};
             double un = 0.0;
-            const long kf = lub_pair_eval_range(ps, k0, k1, cell, &bodies, law, cutoff, dt, n,
+            const long kf = lub_pair_eval_range(ps, k0, k1, cell, &bodies, law, cutoff, dt, n, acc,
                                                 batch, &sums, &un);
             syy += want_syy ? sums.syy : 0.0;
             if (kf >= 0) {
@@ -293,7 +313,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             }
         }
         /* scalar path (stress or PDF samples); when batched this loop is empty and its
-         * implicit barrier orders the pair evaluation before the gather below */
+         * implicit barrier orders the pair evaluation before the sums below */
 #pragma omp for schedule(static)
         for (long k = 0; k < (batched ? 0 : npairs); ++k) {
             const int i = ps->i[k], j = ps->j[k];
@@ -301,7 +321,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             vec3 d;
             double un;
             const int rc =
-                lub_pair_eval(ps, (size_t)k, cell, &bodies, law, cutoff, dt, &o, &d, &un);
+                lub_pair_eval(ps, (size_t)k, cell, &bodies, law, cutoff, dt, acc, &o, &d, &un);
             if (rc == LUB_PAIR_OUT)
                 continue;
             const double ri = s->r[i], rj = s->r[j];
@@ -337,14 +357,20 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
                 lub_pdf_add_pair(&s->tpdf[tid], &o, d, w, a, n, cell->volume);
             }
         }
-        /* gather + kinetic stress + integrate: one pass per particle */
+        /* pair sums of the team (in thread order) + kinetic stress + integrate: one pass per
+         * particle */
         double kyy = 0.0;
+        const int team = s->team;
+        const lub_pair_accum *all = s->acc;
 #pragma omp for schedule(static)
         for (int p = 0; p < n; ++p) {
-            vec3 F, T;
-            int n_active, near;
-            lub_pair_gather(ps, p, &F, &T, &n_active, &near);
-            (void)n_active;
+            vec3 F = all[0].f[p], T = all[0].t[p];
+            int near = all[0].n_near[p];
+            for (int q = 1; q < team; ++q) {
+                F = v3_add(F, all[q].f[p]);
+                T = v3_add(T, all[q].t[p]);
+                near += all[q].n_near[p];
+            }
             s->near_count[p] = near;
             s->f[p] = F;
             s->t[p] = T;
@@ -360,7 +386,11 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             v = v3_axpy(v, dt, acc);
             s->v[p] = v;
             s->w[p] = v3_axpy(s->w[p], dt * s->inv_i[p], T);
-            s->x[p] = v3_axpy(x, dt, v);
+            x = v3_axpy(x, dt, v);
+            s->x[p] = x;
+            const double u2 = v3_norm2(v3_sub(x, mat_vec(A, s->x_ref[p])));
+            bad_position |= !(u2 < INFINITY);
+            umax2 = u2 > umax2 ? u2 : umax2;
         }
         s->tsyy[tid] = syy + kyy;
         s->tcount[3 * tid] = nact;
@@ -370,35 +400,23 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
     if (failed)
         return LUB_SHEAR_NONFINITE;
 
-    if (lub_cell_update(&s->cell, dt)) {
+    if (cell_degenerate) {
         snprintf(s->fail_msg, sizeof s->fail_msg, "cell degenerate at step %ld", s->step);
         return LUB_SHEAR_DEGENERATE;
     }
+    s->cell = next;
     s->time += dt;
     s->step++;
 
     /* skin criterion for the next step */
     {
-        double A[3][3];
-        affine_map(s, A);
         double e2 = 0.0;
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j) {
                 double d = A[i][j] - (i == j ? 1.0 : 0.0);
                 e2 += d * d;
             }
-        double umax2 = 0.0;
-        int bad = 0;
-#pragma omp parallel for num_threads(nt) schedule(static) reduction(max : umax2) reduction(| : bad)
-        for (int p = 0; p < n; ++p) {
-            vec3 u = v3_sub(s->x[p], mat_vec(A, s->x_ref[p]));
-            double u2 = v3_norm2(u);
-            if (!(u2 < INFINITY))
-                bad = 1;
-            if (u2 > umax2)
-                umax2 = u2;
-        }
-        if (bad) {
+        if (bad_position) {
             snprintf(s->fail_msg, sizeof s->fail_msg,
                      "non-finite particle position at step %ld, t=%.6g", s->step, s->time);
             return LUB_SHEAR_NONFINITE;

@@ -40,6 +40,7 @@
 #include "contact_law.h"
 #include "microstructure.h"
 #include "neighbor_list.h"
+#include "pair_accum.h"
 #include "pair_store.h"
 #include "periodic_cell.h"
 #include "stress.h"
@@ -90,10 +91,11 @@ typedef struct {
     /* per-thread scratch (allocated at init) */
     lub_stress *tstress;
     double *tsyy;
-    size_t *tcount; /* [3 * threads] active, contacts, crushed */
-    double *tmax;   /* [threads] */
-    lub_pdf pdf;    /* accumulated snapshots (if enabled) */
-    lub_pdf *tpdf;  /* [threads] or NULL */
+    size_t *tcount;      /* [3 * threads] active, contacts, crushed */
+    lub_pair_accum *acc; /* [threads] per-particle pair sums of each thread (pair_accum.h) */
+    int team;            /* threads of the last step's team (accumulators in use) */
+    lub_pdf pdf;         /* accumulated snapshots (if enabled) */
+    lub_pdf *tpdf;       /* [threads] or NULL */
     /* failure report */
     long fail_pair; /* pair index or -1 */
     char fail_msg[256];
