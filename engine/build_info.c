@@ -1,5 +1,10 @@
-/* build_info.c — see build_info.h; values come from CMake compile definitions. */
+/* build_info.c — see build_info.h; values come from CMake compile definitions, the git
+ * description from a header CMake regenerates at every build (engine/git_describe.cmake). */
 #include "build_info.h"
+
+#ifdef LUBDEM_GIT_FROM_HEADER
+#include "lubdem_git.h"
+#endif
 
 #ifndef LUBDEM_VERSION
 #define LUBDEM_VERSION "0.0.0"
