@@ -28,6 +28,8 @@
 #include "contact_law.h"
 #include "neighbor_list.h"
 
+enum { LUB_PAIRS_MAX_PARTS = 256 }; /* largest team lub_pairs_balance splits for */
+
 typedef struct {
     size_t n, cap;
     int n_particles;
@@ -42,6 +44,10 @@ typedef struct {
     unsigned char *oactive;
     size_t ocap;
     size_t carried; /* statistics of the last adopt: active states carried over */
+    /* cost-balanced split of the pairs over the threads (lub_pairs_balance): part t is
+     * [bounds[t], bounds[t + 1]); valid for nbounds parts, 0 = not computed for this list */
+    int nbounds;
+    size_t bounds[LUB_PAIRS_MAX_PARTS + 1];
 } lub_pairs;
 
 void lub_pairs_init(lub_pairs *ps);
@@ -71,5 +77,28 @@ static inline void lub_pairs_leave(lub_pairs *ps, size_t k)
 
 /* Number of active pairs. */
 size_t lub_pairs_count_active(const lub_pairs *ps);
+
+/* Splits the current list into `parts` contiguous ranges of about equal estimated cost, from
+ * the active and near flags of the last evaluation (an inactive candidate costs only the
+ * cut-off test, an active pair the law, a near pair also the roll/twist torques), so that a
+ * static partition over threads does not leave one thread waiting. Deterministic (flags
+ * only, never timings), O(n); nothing is allocated. parts outside [1, LUB_PAIRS_MAX_PARTS]
+ * leave the split undefined (lub_pairs_range then splits by count). lub_pairs_adopt marks the
+ * split stale. */
+void lub_pairs_balance(lub_pairs *ps, int parts);
+
+/* Range [*k0, *k1) of part `part` of `parts`: the balanced split when it was computed for
+ * this list and this number of parts, otherwise equal pair counts. */
+static inline void lub_pairs_range(const lub_pairs *ps, int part, int parts, long *k0, long *k1)
+{
+    if (ps->nbounds == parts) {
+        *k0 = (long)ps->bounds[part];
+        *k1 = (long)ps->bounds[part + 1];
+    } else {
+        const long n = (long)ps->n;
+        *k0 = n * part / parts;
+        *k1 = n * (part + 1) / parts;
+    }
+}
 
 #endif

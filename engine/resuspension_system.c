@@ -167,7 +167,6 @@ int lub_rs_step(lub_rs_system *s)
     lub_pairs *ps = &s->pairs;
     const lub_cell *cell = &s->cell;
     const double dt = s->p.dt, cutoff = s->p.cutoff;
-    const long npairs = (long)ps->n;
     const int nt = s->p.threads > 0 ? s->p.threads : 1;
     const int nmob = s->n_mobile;
     int failed = 0;
@@ -187,7 +186,8 @@ int lub_rs_step(lub_rs_system *s)
 #else
         const long tid = 0, nteam = 1;
 #endif
-        const long k0 = npairs * tid / nteam, k1 = npairs * (tid + 1) / nteam;
+        long k0, k1; /* contiguous static partition of the pairs, balanced by cost */
+        lub_pairs_range(ps, (int)tid, (int)nteam, &k0, &k1);
         lub_pair_accum *acc = &s->acc[tid];
         lub_pair_accum_zero(acc, 0, s->n);
         if (tid == 0)
@@ -217,6 +217,9 @@ int lub_rs_step(lub_rs_system *s)
     }
     if (failed)
         return LUB_RS_NONFINITE;
+    /* once per neighbour list, from the flags of its first evaluation */
+    if (nt > 1 && ps->nbounds != nt)
+        lub_pairs_balance(ps, nt);
     s->n_contacts = ncon;
     s->n_crushed = ncrush;
 

@@ -289,8 +289,9 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
         if (tid == 0)
             s->team = nteam; /* read after the barrier below */
         if (batched) {
-            /* contiguous static partition of the pairs over the team */
-            const long k0 = npairs * tid / nteam, k1 = npairs * (tid + 1) / nteam;
+            /* contiguous static partition of the pairs over the team, balanced by cost */
+            long k0, k1;
+            lub_pairs_range(ps, tid, nteam, &k0, &k1);
             lub_pair_batch batch[2];
             lub_pair_range_sums sums = {0.0, 0, 0};
             double un = 0.0;
@@ -399,6 +400,9 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
     }
     if (failed)
         return LUB_SHEAR_NONFINITE;
+    /* once per neighbour list, from the flags of its first evaluation */
+    if (nt > 1 && ps->nbounds != nt)
+        lub_pairs_balance(ps, nt);
 
     if (cell_degenerate) {
         snprintf(s->fail_msg, sizeof s->fail_msg, "cell degenerate at step %ld", s->step);

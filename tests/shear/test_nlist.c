@@ -163,6 +163,40 @@ int main(void)
     ST_CHECK(carried > 100, "too few carried pairs %zu", carried);
     ST_CHECK(wrong == 0, "%zu pair states not carried correctly", wrong);
     ST_CHECK(branch_bad == 0, "%zu branch vectors inconsistent after wrap+flip", branch_bad);
+    /* cost-balanced split: stale after adopt (count split), then contiguous ranges covering
+     * the list whose costs differ by less than two pairs' costs (a pair costs at most 6:
+     * candidate 1, active 4, near 1); flags skewed towards the end of the list */
+    {
+        long k0, k1;
+        lub_pairs_range(&ps, 1, 2, &k0, &k1);
+        ST_CHECK(ps.nbounds == 0 && k0 == (long)ps.n / 2 && k1 == (long)ps.n,
+                 "stale split must fall back to equal counts");
+        for (size_t k = 0; k < ps.n; ++k) {
+            ps.active[k] = k > ps.n / 3 || k % 5 == 0;
+            ps.near[k] = ps.active[k] && k % 2 == 0;
+        }
+        for (int parts = 1; parts <= 5; ++parts) {
+            lub_pairs_balance(&ps, parts);
+            long lo = 1L << 60, hi = 0, prev = 0, cover = 0;
+            for (int t = 0; t < parts; ++t) {
+                lub_pairs_range(&ps, t, parts, &k0, &k1);
+                ST_CHECK(k0 == prev && k1 >= k0, "parts=%d: range %d not contiguous", parts, t);
+                long cost = 0;
+                for (long k = k0; k < k1; ++k)
+                    cost += 1 + 4 * ps.active[k] + ps.near[k];
+                lo = cost < lo ? cost : lo;
+                hi = cost > hi ? cost : hi;
+                cover += k1 - k0;
+                prev = k1;
+            }
+            printf("balance parts=%d cost_spread=%ld\n", parts, hi - lo);
+            ST_CHECK(cover == (long)ps.n && prev == (long)ps.n, "parts=%d: ranges do not cover",
+                     parts);
+            ST_CHECK(hi - lo < 12, "parts=%d: cost spread %ld >= two pairs", parts, hi - lo);
+        }
+        lub_pairs_adopt(&ps, &nl, n);
+        ST_CHECK(ps.nbounds == 0, "adopt must mark the split stale");
+    }
     /* too small cell is reported */
     lub_cell small;
     lub_cell_init_box(&small, 8, 8, 8);
