@@ -80,7 +80,9 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
     /* two batches: pairs with u < a at their last evaluation (spin torques on) and the others,
      * so that most vector groups are uniform and the kernel can skip the torque block */
     size_t kk[2][LUB_BATCH];
-    batches[0].n = batches[1].n = 0;
+    /* lane counts of the two batches, kept in registers (a count in memory would make every
+     * pair wait for the previous pair's store: it was the hottest instruction of the loop) */
+    int n_far = 0, n_near = 0;
     for (long kl = k0; kl < k1; ++kl) {
         const size_t k = (size_t)kl;
         const int i = ps->i[k], j = ps->j[k];
@@ -112,8 +114,9 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
         }
         const int which = ps->near[k] != 0;
         lub_pair_batch *bt = &batches[which];
-        const int l = bt->n;
-        bt->n += inside;
+        const int l = which ? n_near : n_far;
+        n_far += inside & !which;
+        n_near += inside & which;
         const vec3 v2 = v3_add(b->v[j], lub_mat_vec(cell->L, shift));
         kk[which][l] = k;
         bt->bx[l] = d.x, bt->by[l] = d.y, bt->bz[l] = d.z;
@@ -124,9 +127,17 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
         bt->r1[l] = ri, bt->r2[l] = rj;
         bt->inv_i1[l] = lub_pair_inv_inertia(b, i), bt->inv_i2[l] = lub_pair_inv_inertia(b, j);
         bt->state[l] = &ps->state[k];
-        if (bt->n == LUB_BATCH)
+        if ((which ? n_near : n_far) == LUB_BATCH) {
+            bt->n = LUB_BATCH;
             flush_batch(ps, kk[which], cell, b, law, cutoff, dt, acc, bt, sums, &fail_k, fail_un);
+            if (which)
+                n_near = 0;
+            else
+                n_far = 0;
+        }
     }
+    batches[0].n = n_far;
+    batches[1].n = n_near;
     for (int w = 0; w < 2; ++w)
         if (batches[w].n > 0)
             flush_batch(ps, kk[w], cell, b, law, cutoff, dt, acc, &batches[w], sums, &fail_k,
