@@ -1,5 +1,5 @@
 /* contact_batch.h — the lubricated contact law (contact_law.h) evaluated for a batch of pairs
- * at once, 8 pairs per vector operation (simd_math.h), for the common regime of a
+ * at once, 4 or 8 pairs per vector operation (simd_math.h), for the common regime of a
  * many-particle time step.
  *
  * What it computes: exactly the step of lub_pair_step() (same equations, same branches, taken
@@ -67,7 +67,8 @@ int lub_pair_batch_accelerated(void);
 void lub_pair_batch_exp(const double *x, double *y);
 void lub_pair_batch_log(const double *x, double *y);
 
-/* Name of the instruction set the batch kernel was compiled for ("avx2+fma" or "sse2"). */
+/* Name of the instruction set the batch kernel was compiled for ("avx512", "avx2+fma", "avx" or
+ * "sse2"). */
 const char *lub_pair_batch_isa(void);
 
 #endif

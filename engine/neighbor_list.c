@@ -260,7 +260,7 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
     memcpy(sc.off, off, sizeof off);
     memcpy(sc.noff, noff, sizeof noff);
     lub_nlist_part own = {nl->pi, nl->pj, nl->pc, 0, nl->pair_cap};
-    int bad = 0;
+    int bad = 0, used = 1; /* threads the runtime gave the team (may be fewer than nt) */
     nl->first[0] = 0;
 #pragma omp parallel num_threads(nt) reduction(| : bad) if (nt > 1)
     {
@@ -269,6 +269,8 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
 #else
         const int t = 0, team = 1;
 #endif
+        if (t == 0)
+            used = team;
         const int i0 = (int)((long)n * t / team), i1 = (int)((long)n * (t + 1) / team);
         bad |= search_range(&sc, i0, i1, t == 0 ? &own : &nl->parts[t]);
     }
@@ -276,19 +278,19 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
     if (bad)
         return LUB_NLIST_NOMEM;
     size_t np = own.n;
-    for (int t = 1; t < nt; ++t)
+    for (int t = 1; t < used; ++t)
         np += nl->parts[t].n;
     if (ensure_capacity(&nl->pi, &nl->pj, &nl->pc, &nl->pair_cap, np))
         return LUB_NLIST_NOMEM;
     size_t base = own.n;
-    for (int t = 1; t < nt; ++t) {
+    for (int t = 1; t < used; ++t) {
         const lub_nlist_part *pt = &nl->parts[t];
         if (pt->n > 0) { /* an empty part may have no buffers at all */
             memcpy(nl->pi + base, pt->pi, pt->n * sizeof *pt->pi);
             memcpy(nl->pj + base, pt->pj, pt->n * sizeof *pt->pj);
             memcpy(nl->pc + 3 * base, pt->pc, 3 * pt->n * sizeof *pt->pc);
         }
-        const int i0 = (int)((long)n * t / nt), i1 = (int)((long)n * (t + 1) / nt);
+        const int i0 = (int)((long)n * t / used), i1 = (int)((long)n * (t + 1) / used);
         for (int i = i0; i < i1; ++i)
             nl->first[i + 1] += base; /* search_range stored counts relative to its buffer */
         base += pt->n;

@@ -45,4 +45,23 @@ static inline void lub_pair_accum_add(lub_pair_accum *a, int i, int j, vec3 f1, 
     a->n_near[j] += near;
 }
 
+/* Body p's sums over the accumulators all[0..team-1], added in that order (the thread order
+ * that makes a run reproducible for a given thread count). */
+static inline void lub_pair_accum_sum(const lub_pair_accum *all, int team, int p, vec3 *f, vec3 *t,
+                                      int *n_active, int *n_near)
+{
+    vec3 F = all[0].f[p], T = all[0].t[p];
+    int na = all[0].n_active[p], nn = all[0].n_near[p];
+    for (int q = 1; q < team; ++q) {
+        F = v3_add(F, all[q].f[p]);
+        T = v3_add(T, all[q].t[p]);
+        na += all[q].n_active[p];
+        nn += all[q].n_near[p];
+    }
+    *f = F;
+    *t = T;
+    *n_active = na;
+    *n_near = nn;
+}
+
 #endif

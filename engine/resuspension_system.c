@@ -85,7 +85,7 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
     const int nthreads = p->threads > 0 ? p->threads : 1;
     s->acc = calloc((size_t)nthreads, sizeof *s->acc);
     lub_nlist_init(&s->nl, p->cutoff, p->skin);
-    s->nl.threads = p->threads > 0 ? p->threads : 1;
+    s->nl.threads = nthreads;
     lub_pairs_init(&s->pairs);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
         !s->inv_i || !s->weight || !s->nint || !s->img || !s->acc) {
@@ -237,13 +237,10 @@ int lub_rs_step(lub_rs_system *s)
 #pragma omp parallel for num_threads(nt) schedule(static) reduction(max : umax2, vmax2) \
     reduction(+ : hits) reduction(| : bad)
     for (int p = 0; p < s->n; ++p) {
-        vec3 F = all[0].f[p], T = all[0].t[p];
-        int count = all[0].n_active[p];
-        for (int q = 1; q < team; ++q) {
-            F = v3_add(F, all[q].f[p]);
-            T = v3_add(T, all[q].t[p]);
-            count += all[q].n_active[p];
-        }
+        vec3 F, T;
+        int count, n_near;
+        lub_pair_accum_sum(all, team, p, &F, &T, &count, &n_near);
+        (void)n_near;
         s->nint[p] = count;
         if (p >= nmob) { /* floor sphere: prescribed velocity */
             s->f[p] = F;

@@ -365,13 +365,10 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
         const lub_pair_accum *all = s->acc;
 #pragma omp for schedule(static)
         for (int p = 0; p < n; ++p) {
-            vec3 F = all[0].f[p], T = all[0].t[p];
-            int near = all[0].n_near[p];
-            for (int q = 1; q < team; ++q) {
-                F = v3_add(F, all[q].f[p]);
-                T = v3_add(T, all[q].t[p]);
-                near += all[q].n_near[p];
-            }
+            vec3 F, T;
+            int n_active, near;
+            lub_pair_accum_sum(all, team, p, &F, &T, &n_active, &near);
+            (void)n_active;
             s->near_count[p] = near;
             s->f[p] = F;
             s->t[p] = T;

@@ -60,21 +60,14 @@ static inline lub_vd lub_v_sel(lub_vi m, lub_vd a, lub_vd b)
 static inline lub_vd lub_v_abs(lub_vd a) { return (lub_vd)((lub_vi)a & INT64_MAX); }
 static inline lub_vd lub_v_min(lub_vd a, lub_vd b) { return lub_v_sel(a < b, a, b); }
 static inline lub_vd lub_v_max(lub_vd a, lub_vd b) { return lub_v_sel(a > b, a, b); }
-/* correctly rounded square root, 4 (AVX) or 2 (SSE2) lanes per instruction */
+/* correctly rounded square root, 8 (AVX-512), 4 (AVX) or 2 (SSE2) lanes per instruction */
 static inline lub_vd lub_v_sqrt(lub_vd a)
 {
 #if defined(__AVX512F__) && LUB_VW == 8
     return (lub_vd)_mm512_sqrt_pd((__m512d)a);
 #elif defined(__AVX__) && LUB_VW == 4
     return (lub_vd)_mm256_sqrt_pd((__m256d)a);
-#elif defined(__AVX__)
-    double t[LUB_VW];
-    memcpy(t, &a, sizeof t);
-    for (int k = 0; k < LUB_VW; k += 4)
-        _mm256_storeu_pd(t + k, _mm256_sqrt_pd(_mm256_loadu_pd(t + k)));
-    memcpy(&a, t, sizeof t);
-    return a;
-#elif defined(__SSE2__)
+#elif defined(__SSE2__) /* two lanes per instruction (also 8 lanes without AVX-512) */
     double t[LUB_VW];
     memcpy(t, &a, sizeof t);
     for (int k = 0; k < LUB_VW; k += 2)
