@@ -15,6 +15,10 @@
  * mu = sigma_xy/P, eta_r = sigma_xy/(eta gd), Iv = eta gd/P, eta_ii = -sigma_ii/(eta gd),
  * sigma_11/sigma_22, sigma_33/sigma_22, coordination Z and contact number Z_c (2 x pairs / N),
  * optional microstructure (microstructure.h). Steady state and error bars: stats.h.
+ * Optional `drag_viscosity` eta_d: a Stokes drag -6 pi eta_d eta r (v - L x) on every particle
+ * towards the affine flow (the shear drag of the resuspension scene's gradient orientation), so
+ * that its effect on the stresses can be measured in homogeneous shear; "affine_drag" is then
+ * listed in active_terms. The drag is a body force: it is not part of the virial stress.
  */
 #include <math.h>
 #include <stdio.h>
@@ -35,7 +39,8 @@ typedef struct {
     long long n, seed, snapshots;
     double radius_std, phi, Iv, St, stiffness, cutoff, skin, dt, dt_safety, strain;
     double target_rel_error, transient_strain, sample_strain;
-    int pressure; /* control */
+    double drag_viscosity; /* drag towards the affine flow, units of eta (0: none) */
+    int pressure;          /* control */
     double servo_gain, servo_filter_strain;
     int pdf_on;
     long long pdf_nt, pdf_np;
@@ -84,6 +89,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                                  "servo",
                                  "microstructure",
                                  "law",
+                                 "drag_viscosity",
                                  NULL};
     static const char *controls[] = {"volume", "pressure", NULL};
     if (lub_spec_only_keys(spec, "", keys, err))
@@ -126,7 +132,9 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
         lub_spec_number(spec, "", "transient_strain", LUB_NONNEGATIVE, 1, 2.0, &p->transient_strain,
                         err) ||
         lub_spec_number(spec, "", "sample_strain", samp_r, 1, 0.02, &p->sample_strain, err) ||
-        lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 1, &p->snapshots, err))
+        lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 1, &p->snapshots, err) ||
+        lub_spec_number(spec, "", "drag_viscosity", (lub_range){0.0, 1e3, 0, 0}, 1, 0.0,
+                        &p->drag_viscosity, err))
         return -1;
     if (p->pressure) {
         json_t *servo = lub_spec_object(spec, "", "servo", err);
@@ -351,6 +359,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (system)");
         return LUB_EXIT_INTERNAL;
     }
+    sys.drag_viscosity = p.drag_viscosity; /* eta = 1 */
     const double dt_el = lub_shear_elastic_dt(&sys);
     const double dt = p.dt > 0 ? p.dt : p.dt_safety * dt_el;
     sys.dt = dt;
@@ -606,6 +615,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                             json_boolean(stopped_early));
         json_t *terms = json_array();
         lub_law_terms_append(terms, p.law.params.terms);
+        if (p.drag_viscosity > 0.0)
+            json_array_append_new(terms, json_string("affine_drag"));
         json_object_set_new(ctx->summary_extra, "active_terms", terms);
         json_object_set_new(ctx->summary_extra, "steps", json_integer(step));
         json_object_set_new(ctx->summary_extra, "simulated_time", json_real(sys.time));

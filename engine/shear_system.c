@@ -246,6 +246,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
     const lub_cell *cell = &s->cell;
     lub_pairs *ps = &s->pairs;
     const double dt = s->dt;
+    const double drag_c = 6.0 * 3.14159265358979323846 * s->drag_viscosity * dt; /* x r/m */
     const double cutoff = s->cutoff;
     const lub_law_params *law = &s->law;
     const int want_stress = (flags & LUB_SAMPLE_STRESS) != 0;
@@ -382,6 +383,10 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             }
             vec3 acc = v3_add(v3_scale(F, s->inv_m[p]), mat_vec(cell->L, v));
             v = v3_axpy(v, dt, acc);
+            if (drag_c > 0.0) {
+                const double c = drag_c * s->r[p] * s->inv_m[p];
+                v = v3_scale(v3_axpy(v, c, mat_vec(cell->L, x)), 1.0 / (1.0 + c));
+            }
             s->v[p] = v;
             s->w[p] = v3_axpy(s->w[p], dt * s->inv_i[p], T);
             x = v3_axpy(x, dt, v);

@@ -10,10 +10,13 @@
  *      (lub_pair_step; pairs beyond cutoff*a are deactivated, pairs coming inside are created
  *      new — always with a positive gap thanks to the skin). Steps that sample no stress use
  *      the batched law (contact_batch.h), which gives the same forces to round-off;
- *   3. gather per particle (race-free: each particle sums its own pairs in a fixed order, so
- *      results do not depend on the number of threads);
+ *   3. per-particle sums: each thread adds its pairs' forces and torques into its own
+ *      per-particle arrays (pair_accum.h), which are then added in thread order (race-free;
+ *      bit-identical for a given thread count, round-off differences between thread counts);
  *   4. v += dt (F/m + L v)   (convective term: the affine flow v = L x needs no force),
- *      w += dt T/I, x += dt v;
+ *      w += dt T/I, x += dt v; with drag_viscosity eta_d > 0 the velocity update also carries
+ *      the Stokes drag -6 pi eta_d r (v - L x) towards the affine flow, implicitly:
+ *      v <- (v + dt (F/m + L v) + c L x)/(1 + c), c = 6 pi eta_d r dt/m (no time-step bound);
  *   5. H <- (I + dt L) H; t += dt.
  * Spin-torque stabilisation: the law integrates each pair's roll/twist damping exactly for an
  * isolated pair (contact_torque.h), but a sphere with d close neighbours (u < a) receives d
@@ -86,6 +89,9 @@ typedef struct {
     int batch_law; /* 1 (default): steps without a stress/PDF sample evaluate the law 4 or 8 pairs
                       per vector operation (lub_pair_eval_range, contact_batch.h); 0: the scalar
                       lub_pair_step for every pair. Results agree to round-off. */
+    double drag_viscosity; /* eta_d >= 0 of the drag towards the affine flow (step 4); 0 after
+                              init (no drag); the resuspension scene's gradient-orientation
+                              shear drag, for comparisons */
     int need_rebuild;
     long rebuilds, flips;
     /* per-thread scratch (allocated at init) */

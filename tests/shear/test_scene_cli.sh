@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # CLI-level checks of the simple_shear scene (fast suite):
-#  1. spec errors: Iv without pressure control, too few particles -> exit 2, nothing written;
+#  1. spec errors: Iv without pressure control, too few particles, negative drag viscosity
+#     -> exit 2, nothing written;
 #  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
 #     numbers, H5MD observables present;
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient;
@@ -20,6 +21,8 @@ echo '{"scene":"simple_shear","Iv":0.1}' | "$LUBDEM" run - --out "$W/bad1" --qui
 check "[ $rc -eq 2 ] && [ ! -e $W/bad1 ] && grep -q '/Iv' $W/e1" "Iv with control volume: rc=$rc"
 echo '{"scene":"simple_shear","n_particles":50}' | "$LUBDEM" validate - 2>"$W/e2"; rc=$?
 check "[ $rc -eq 2 ] && grep -q '/n_particles' $W/e2" "too few particles: rc=$rc"
+echo '{"scene":"simple_shear","drag_viscosity":-1}' | "$LUBDEM" validate - 2>"$W/e3"; rc=$?
+check "[ $rc -eq 2 ] && grep -q '/drag_viscosity' $W/e3" "negative drag viscosity: rc=$rc"
 
 # 2. robustness run
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
