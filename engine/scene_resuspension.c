@@ -110,7 +110,7 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
                         err) ||
         lub_spec_number(spec, "", "density_ratio", (lub_range){1.0, INFINITY, 0, 0}, 1, 1.0,
                         &p->density_ratio, err) ||
-        lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 1, 1e4, &p->stiffness, err) ||
+        lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 1, 1e6, &p->stiffness, err) ||
         lub_spec_number(spec, "", "shear_drag_viscosity", LUB_NONNEGATIVE, 1, 1.0 / 30.0,
                         &p->eta_shear, err) ||
         lub_spec_number(spec, "", "lid_height", (lub_range){1.0, 100.0, 0, 0}, 1, 3.0,

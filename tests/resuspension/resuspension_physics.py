@@ -43,7 +43,8 @@ def run(args, sh, outdir):
             "average_from": args.average_from, "shields": sh,
             "inertial_number": args.inertial_number, "density_ratio": args.density_ratio,
             "orientation": args.orientation, "shear_drag_viscosity": args.drag,
-            "sample_strain": 0.1, "seed": args.seed, "snapshots": 0}
+            "sample_strain": 0.1, "seed": args.seed, "snapshots": 0,
+            "stiffness": args.stiffness}
     os.makedirs(outdir, exist_ok=True)
     path = os.path.join(outdir, "spec.json")
     with open(path, "w") as fh:
@@ -78,6 +79,10 @@ def main():
                     help="shear_drag_viscosity (gradient); the seed's 1/30 does not shear "
                          "a free-surface bed homogeneously, see README")
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--stiffness", type=float, default=1e4,
+                    help="contact stiffness in eta gd a (default 1e4, the scene default until "
+                         "2026-12-02, which keeps this smoke-level check short; the scene "
+                         "now defaults to 1e6)")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--figure")
     ap.add_argument("--max-collapse-y", type=float, default=10.0)
