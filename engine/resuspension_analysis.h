@@ -43,4 +43,16 @@ double lub_profile_height(const double *phi, int n, double y0, double dy, double
 int lub_profile_select_bulk(const double *phi, int n, double y0, double dy, double interface_width,
                             double floor_skip, double phi_min, int *keep);
 
+/* Coarse-grained profile: phi_cg[i] is the mean of phi over the window of total width `width`
+ * centred on bin i (bin j enters with the length of its overlap with the window; the window
+ * is cut at the ends of the profile and the weights renormalised), and phi_cg_err[i] the
+ * error of that mean for independent bins, sqrt(sum (w_j phi_err[j])^2) (NAN if an error that
+ * enters is not finite; phi_err and phi_cg_err may be NULL). width <= dy copies phi.
+ * Why: next to the floor the suspension is layered, and 0.5 a bins see phi oscillate by
+ * +-0.05 with a period of one diameter while eta_ii(y), an integral, does not; pairing the
+ * raw bin phi with eta_ii biases eta_ii(phi) low at the dense end (the densest bins are layer
+ * peaks). The continuum quantity is phi averaged over at least one diameter (width 2 a). */
+void lub_profile_coarse_grain(const double *phi, const double *phi_err, int n, double dy,
+                              double width, double *phi_cg, double *phi_cg_err);
+
 #endif

@@ -23,8 +23,10 @@
  * Observables: phi(y) time- and plane-averaged over strain >= average_from with blocking
  * error bars (exact sphere–slab volumes, resuspension_profile.h), suspension height (phi
  * crosses half its maximum), eta_ii(y) = (1/Sh) int_y^inf phi (resuspension_analysis.h), the
- * bulk points eta_ii(phi) after lub_profile_select_bulk, and the seed's laws (eq. 9; for the
- * vorticity orientation eta_33 = lambda_33 eta_22 with eq. 8) for comparison.
+ * bulk points eta_ii(phi) after lub_profile_select_bulk, phi averaged over analysis.phi_window
+ * (default 2 a, one diameter: lub_profile_coarse_grain) so that the layering next to the floor
+ * does not bias them, and the seed's laws (eq. 9; for the vorticity orientation eta_33 =
+ * lambda_33 eta_22 with eq. 8) at that averaged phi for comparison.
  * y in all outputs is measured from the floor centre plane.
  */
 #include <math.h>
@@ -49,7 +51,8 @@ typedef struct {
     long long n, seed, snapshots, dilute_max;
     double width, radius_std, Sh, I, density_ratio, stiffness, eta_shear, eta_dilute;
     double floor_radius, floor_jitter, lid_height, strain, average_from, sample_strain, bin_width,
-        interface_width, floor_skip, phi_min, phi_m, dt, dt_safety, cutoff, skin, initial_phi;
+        interface_width, floor_skip, phi_min, phi_m, phi_window, dt, dt_safety, cutoff, skin,
+        initial_phi;
     int orientation;
     lub_law_spec law;
 } rs_params;
@@ -172,7 +175,8 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
     json_t *an = lub_spec_object(spec, "", "analysis", err);
     if (!an)
         return -1;
-    static const char *an_keys[] = {"interface_width", "floor_skip", "phi_min", "phi_m", NULL};
+    static const char *an_keys[] = {"interface_width", "floor_skip", "phi_min",
+                                    "phi_m",           "phi_window", NULL};
     if (lub_spec_only_keys(an, "/analysis", an_keys, err) ||
         lub_spec_number(an, "/analysis", "interface_width", LUB_NONNEGATIVE, 1, 5.0,
                         &p->interface_width, err) ||
@@ -180,7 +184,9 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
                         err) ||
         lub_spec_number(an, "/analysis", "phi_min", (lub_range){0.0, 1.0, 0, 1}, 1, 0.05,
                         &p->phi_min, err) ||
-        lub_spec_number(an, "/analysis", "phi_m", unit_open, 1, 0.58, &p->phi_m, err))
+        lub_spec_number(an, "/analysis", "phi_m", unit_open, 1, 0.58, &p->phi_m, err) ||
+        lub_spec_number(an, "/analysis", "phi_window", (lub_range){0.0, 100.0, 0, 0}, 1, 2.0,
+                        &p->phi_window, err))
         return -1;
 
     json_t *law = lub_spec_object(spec, "", "law", err);
@@ -213,7 +219,7 @@ static double lambda33_law(double phi)
 typedef struct {
     double *radius, *floor_r, *samples, *scratch, *series_h, *phi_inst, *vol;
     double *phi, *phi_err, *eta, *eta_err, *ybin, *keepd, *law, *pairs_out, *scratch2, *vx_vol,
-        *vx_sum, *vx_inst;
+        *vx_sum, *vx_inst, *phi_cg, *phi_cg_err;
     vec3 *pos, *floor_pos;
     int *keep;
     double *snap_x, *snap_v, *snap_w;
@@ -224,7 +230,7 @@ static void rs_buffers_free(rs_buffers *b)
     double *d[] = {b->radius,  b->floor_r, b->samples,   b->scratch,  b->series_h, b->phi_inst,
                    b->vol,     b->phi,     b->phi_err,   b->eta,      b->eta_err,  b->ybin,
                    b->keepd,   b->law,     b->pairs_out, b->scratch2, b->vx_vol,   b->vx_sum,
-                   b->vx_inst, b->snap_x,  b->snap_v,    b->snap_w};
+                   b->vx_inst, b->snap_x,  b->snap_v,    b->snap_w,   b->phi_cg,   b->phi_cg_err};
     for (size_t i = 0; i < sizeof d / sizeof d[0]; ++i)
         free(d[i]);
     free(b->pos);
@@ -384,6 +390,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     B.keepd = calloc((size_t)nb, sizeof *B.keepd);
     B.law = calloc((size_t)nb, sizeof *B.law);
     B.pairs_out = calloc((size_t)nb * 4, sizeof *B.pairs_out);
+    B.phi_cg = calloc((size_t)nb, sizeof *B.phi_cg);
+    B.phi_cg_err = calloc((size_t)nb, sizeof *B.phi_cg_err);
     B.keep = calloc((size_t)nb, sizeof *B.keep);
     B.snap_x = calloc((size_t)N * 3, sizeof *B.snap_x);
     B.snap_v = calloc((size_t)N * 3, sizeof *B.snap_v);
@@ -391,7 +399,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (!B.samples || !B.scratch || !B.scratch2 || !B.vx_vol || !B.vx_sum || !B.vx_inst ||
         !B.series_h || !B.phi_inst || !B.vol || !B.phi || !B.phi_err || !B.eta || !B.eta_err ||
         !B.ybin || !B.keepd || !B.law || !B.pairs_out || !B.keep || !B.snap_x || !B.snap_v ||
-        !B.snap_w) {
+        !B.snap_w || !B.phi_cg || !B.phi_cg_err) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (%d bins x %lld samples)",
                  nb, (long long)nsamp_avg);
         lub_rs_free(&S);
@@ -548,17 +556,19 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_profile_normal_viscosity(B.phi, B.phi_err, nb, dy, p.Sh, B.eta, B.eta_err);
         nkeep = lub_profile_select_bulk(B.phi, nb, 0.0, dy, p.interface_width, p.floor_skip,
                                         p.phi_min, B.keep);
+        /* eta_ii(phi) pairs the exact eta_ii(y) with phi averaged over phi_window (layering) */
+        lub_profile_coarse_grain(B.phi, B.phi_err, nb, dy, p.phi_window, B.phi_cg, B.phi_cg_err);
         double s2 = 0.0;
         int nl = 0, q = 0;
         for (int i = 0; i < nb; ++i) {
-            double lw = eta22_law(B.phi[i], p.phi_m);
+            double lw = eta22_law(B.phi_cg[i], p.phi_m);
             if (p.orientation == LUB_RS_VORTICITY)
-                lw *= lambda33_law(B.phi[i]);
+                lw *= lambda33_law(B.phi_cg[i]);
             B.law[i] = isfinite(lw) ? lw : NAN;
             B.keepd[i] = B.keep[i];
             if (B.keep[i]) {
-                B.pairs_out[4 * q + 0] = B.phi[i];
-                B.pairs_out[4 * q + 1] = B.phi_err[i];
+                B.pairs_out[4 * q + 0] = B.phi_cg[i];
+                B.pairs_out[4 * q + 1] = B.phi_cg_err[i];
                 B.pairs_out[4 * q + 2] = B.eta[i];
                 B.pairs_out[4 * q + 3] = B.eta_err[i];
                 ++q;
@@ -587,6 +597,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         int wr = write_profiles(ctx->out, "y", nb, B.ybin, "a") ||
                  write_profiles(ctx->out, "phi", nb, B.phi, "1") ||
                  write_profiles(ctx->out, "phi_err", nb, B.phi_err, "1") ||
+                 write_profiles(ctx->out, "phi_coarse", nb, B.phi_cg, "1") ||
+                 write_profiles(ctx->out, "phi_coarse_err", nb, B.phi_cg_err, "1") ||
                  write_profiles(ctx->out, "eta_normal", nb, B.eta, "1") ||
                  write_profiles(ctx->out, "eta_normal_err", nb, B.eta_err, "1") ||
                  write_profiles(ctx->out, "bulk_mask", nb, B.keepd, "1") ||

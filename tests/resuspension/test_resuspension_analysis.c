@@ -95,6 +95,34 @@ int main(void)
     }
     CHECK(kept > 0, "no bulk bins kept");
 
+    /* coarse graining over one diameter (2 a, bins of 0.5 a): a layered profile (mean 0.48,
+     * +-0.05 with the period of one diameter) becomes its mean away from the ends, exactly
+     * (the window spans whole periods); the error of the window mean of independent bins with
+     * equal errors e is e sqrt(2 (1/8)^2 + 3 (1/4)^2); at the ends the window is cut and
+     * renormalised; a window no wider than a bin copies the profile */
+    {
+        enum { M = 40 };
+        const double bw = 0.5;
+        double lay[M], le[M], cg[M], cge[M];
+        for (int i = 0; i < M; ++i) {
+            lay[i] = 0.48 + 0.05 * sin(2.0 * 3.14159265358979323846 * (i + 0.5) * bw / 2.0 + 0.3);
+            le[i] = 0.01;
+        }
+        lub_profile_coarse_grain(lay, le, M, bw, 2.0, cg, cge);
+        double worst = 0.0;
+        for (int i = 2; i < M - 2; ++i)
+            worst = fmax(worst, fabs(cg[i] - 0.48));
+        printf("coarse_grain_layered_max_dev=%.3g err_interior=%.6f\n", worst, cge[10]);
+        CHECK(worst < 1e-12, "layered profile not averaged to its mean: %g", worst);
+        const double e_exp = 0.01 * sqrt(2.0 / 64.0 + 3.0 / 16.0);
+        CHECK(fabs(cge[10] - e_exp) < 1e-14, "window error %g vs %g", cge[10], e_exp);
+        /* first bin: window [-0.75, 1.25] cut to [0, 1.25]: weights 0.5, 0.5, 0.25 */
+        const double c0 = (0.5 * lay[0] + 0.5 * lay[1] + 0.25 * lay[2]) / 1.25;
+        CHECK(fabs(cg[0] - c0) < 1e-15, "cut window at the floor %g vs %g", cg[0], c0);
+        lub_profile_coarse_grain(lay, NULL, M, bw, 0.0, cg, cge);
+        CHECK(cg[7] == lay[7] && isnan(cge[7]), "width 0 must copy the profile");
+    }
+
     /* dimensionless groups */
     CHECK(fabs(lub_shields_number(2.0, -3.0, 4.0, 5.0, 0.5) - 0.6) < 1e-15, "Shields");
     CHECK(fabs(lub_acrivos_number(1.0, 1.0, 1.0, 1.0, 9.0) - 0.5) < 1e-15, "Acrivos");
