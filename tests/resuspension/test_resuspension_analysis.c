@@ -4,7 +4,9 @@
  *   phi/Sh = -(d eta/d phi)(d phi/dy)  =>  (1 - psi)^-2 = (1 - psi0)^-2 - phi_m y/(lambda Sh),
  * so the front (phi = 0) is at y_f = lambda Sh ((1 - psi0)^-2 - 1)/phi_m.
  * Eq. 6 applied to the binned exact profile must return eta(phi) bin by bin: the check
- * fails if the 1/Sh factor, the integration direction or the half-bin term is wrong. */
+ * fails if the 1/Sh factor, the integration direction or the half-bin term is wrong.
+ * Also: inventory, height, bulk selection, dimensionless groups, and the coarse graining of a
+ * layered profile (lub_profile_coarse_grain). */
 #include <math.h>
 #include <stdio.h>
 
