@@ -19,18 +19,15 @@ usage: finite_size.py --lubdem PATH --out DIR [--n 600 10000] [--shields 1] [--s
                       [--average-from 20] [--stiffness 1e6] [--threads 2] [--reuse] [--table F] [--figure PNG]
 """
 import argparse
-import json
 import os
-import subprocess
 import sys
-import time
 
 import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from resuspension_consistency import (bulk_pairs, eta_at, half_max_crossings, law_spec,  # noqa
-                                      summary, val)
+                                      run, summary, val)
 
 
 def spec_for(n, args):
@@ -39,25 +36,6 @@ def spec_for(n, args):
             "inertial_number": 0.04, "density_ratio": 10.0, "stiffness": args.stiffness,
             "cutoff": 2.0, "radius_std": 0.05, "law": law_spec(), "sample_strain": 0.1,
             "seed": 1, "snapshots": 0, "strain": args.strain, "average_from": args.average_from}
-
-
-def run(lubdem, spec, d, reuse, threads):
-    os.makedirs(d, exist_ok=True)
-    sp, out = os.path.join(d, "spec.json"), os.path.join(d, "run")
-    if reuse and os.path.exists(sp) and os.path.exists(os.path.join(out, "summary.json")):
-        with open(sp) as fh:
-            same = json.load(fh) == spec
-        if same and summary(out).get("status") == "complete":
-            return out
-    with open(sp, "w") as fh:
-        json.dump(spec, fh, indent=1)
-    t0 = time.time()
-    p = subprocess.run([lubdem, "run", sp, "--out", out, "--threads", str(threads), "--quiet"],
-                       stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-    if p.returncode != 0:
-        raise RuntimeError(f"run in {d} failed ({p.returncode}): {p.stderr.strip()}")
-    print(f"# ran {d} in {time.time() - t0:.0f} s", file=sys.stderr, flush=True)
-    return out
 
 
 def main():
@@ -80,7 +58,7 @@ def main():
     for n in args.n:
         spec = spec_for(n, args)
         out = run(args.lubdem, spec, os.path.join(args.out, f"vorticity_sh{args.shields:g}_n{n}"),
-                  args.reuse, args.threads)
+                  args.reuse, threads=args.threads)
         s = summary(out)
         with h5py.File(os.path.join(out, "result.h5"), "r") as f:
             y, phi = f["profiles/y"][:], f["profiles/phi"][:]

@@ -112,7 +112,7 @@ def sbm_spec(law, sh, inventory):
 
 # --------------------------------------------------------------------------------------------
 # running
-def run(lubdem, spec, d, reuse, log=True):
+def run(lubdem, spec, d, reuse, log=True, threads=1):
     os.makedirs(d, exist_ok=True)
     sp = os.path.join(d, "spec.json")
     out = os.path.join(d, "run")
@@ -127,7 +127,7 @@ def run(lubdem, spec, d, reuse, log=True):
     with open(sp, "w") as fh:
         json.dump(spec, fh, indent=1)
     t0 = time.time()
-    p = subprocess.run([lubdem, "run", sp, "--out", out, "--threads", "1", "--quiet"],
+    p = subprocess.run([lubdem, "run", sp, "--out", out, "--threads", str(threads), "--quiet"],
                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if p.returncode != 0:
         raise RuntimeError(f"run in {d} failed ({p.returncode}): {p.stderr.strip()}")

@@ -37,6 +37,24 @@ static lub_law_params full_law(double g)
     return p;
 }
 
+/* 64 unit spheres on a cubic lattice of spacing 3 a in a 12 a box, sheared (L_xy = 1), cut-off
+ * 0.2 a, dt 2e-3: no two spheres ever interact under the affine flow */
+static int make_lattice(lub_shear_system *s)
+{
+    const lub_law_params law = full_law(1e4);
+    const int nl = 4, n = nl * nl * nl;
+    double r[64];
+    vec3 x[64];
+    for (int i = 0; i < n; ++i) {
+        r[i] = 1.0;
+        x[i] = v3(1.5 + 3.0 * (i % nl), 1.5 + 3.0 * ((i / nl) % nl), 1.5 + 3.0 * (i / (nl * nl)));
+    }
+    lub_cell c;
+    lub_cell_init_box(&c, 12, 12, 12);
+    c.L[0][1] = 1.0;
+    return lub_shear_init(s, n, r, x, &c, &law, 1e-2, 0.2, 0.5, 2e-3, 1, 0, 0);
+}
+
 static int make(lub_shear_system *s, int n, double phi, const lub_law_params *law, double cutoff,
                 int threads, unsigned seed, double st)
 {
@@ -138,20 +156,8 @@ int main(void)
      * flow (plus a uniform drift along y, so that spheres cross the gradient boundary and get
      * the mean-flow velocity jump) never brings two spheres within the cut-off 0.2 a */
     {
-        lub_law_params law = full_law(1e4);
-        const int nl = 4, n = nl * nl * nl;
-        double r[64];
-        vec3 x[64];
-        for (int i = 0; i < n; ++i) {
-            r[i] = 1.0;
-            x[i] =
-                v3(1.5 + 3.0 * (i % nl), 1.5 + 3.0 * ((i / nl) % nl), 1.5 + 3.0 * (i / (nl * nl)));
-        }
-        lub_cell c;
-        lub_cell_init_box(&c, 12, 12, 12);
-        c.L[0][1] = 1.0;
         lub_shear_system s;
-        int rc = lub_shear_init(&s, n, r, x, &c, &law, 1e-2, 0.2, 0.5, 2e-3, 1, 0, 0);
+        int rc = make_lattice(&s);
         ST_CHECK(rc == 0, "init %d", rc);
         const double u = 2.0;
         for (int i = 0; i < s.n; ++i)
@@ -193,20 +199,8 @@ int main(void)
      * (c = 6 pi eta_d r dt / m; the implicit update is exact for the discrete leap-frog with
      * the convective term, and wraps and flips leave d unchanged) */
     {
-        lub_law_params law = full_law(1e4);
-        const int nl = 4, n = nl * nl * nl;
-        double r[64];
-        vec3 x[64];
-        for (int i = 0; i < n; ++i) {
-            r[i] = 1.0;
-            x[i] =
-                v3(1.5 + 3.0 * (i % nl), 1.5 + 3.0 * ((i / nl) % nl), 1.5 + 3.0 * (i / (nl * nl)));
-        }
-        lub_cell c;
-        lub_cell_init_box(&c, 12, 12, 12);
-        c.L[0][1] = 1.0;
         lub_shear_system s;
-        int rc = lub_shear_init(&s, n, r, x, &c, &law, 1e-2, 0.2, 0.5, 2e-3, 1, 0, 0);
+        int rc = make_lattice(&s);
         ST_CHECK(rc == 0, "init %d", rc);
         s.drag_viscosity = 1.5e-3;
         const vec3 d0 = v3(0.3, 2.0, -0.5);
