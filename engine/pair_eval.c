@@ -105,7 +105,7 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
          * kept only if inside, so that no branch depends on this unpredictable test; only
          * the rare crossings of the cut-off (state created or dropped) branch. */
         const double reach = ri + rj + cutoff * 0.5 * (ri + rj);
-        const int inside = v3_norm2(d) <= reach * reach;
+        const int inside = (v3_norm2(d) <= reach * reach) & ps->allow[k];
         if (inside != ps->active[k]) {
             if (inside)
                 lub_pairs_enter(ps, k);

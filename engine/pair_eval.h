@@ -33,12 +33,12 @@ static inline double lub_pair_inv_inertia(const lub_pair_bodies *b, int p)
 
 enum { LUB_PAIR_OUT = -1, LUB_PAIR_OK = 0, LUB_PAIR_NONFINITE = 1 };
 
-/* Evaluates pair k: beyond cutoff*a it leaves the cut-off (state dropped, nothing added) and
- * LUB_PAIR_OUT is returned; otherwise it enters (fresh state if new), the law is stepped with
- * the image velocity L H c and the inertia share, the near flag is stored and the force and
- * torques are added to *acc. Returns LUB_PAIR_NONFINITE (nothing added) if the law fails or a
- * force/torque is not finite. *o, *branch and *un receive the law output, x2 + Hc - x1 and
- * the centre gap. */
+/* Evaluates pair k: beyond cutoff*a (or not allowed by the store's filter) it leaves the cut-off
+ * (state dropped, nothing added) and LUB_PAIR_OUT is returned; otherwise it enters (fresh state if
+ * new), the law is stepped with the image velocity L H c and the inertia share, the near flag is
+ * stored and the force and torques are added to *acc. Returns LUB_PAIR_NONFINITE (nothing added) if
+ * the law fails or a force/torque is not finite. *o, *branch and *un receive the law output, x2 +
+ * Hc - x1 and the centre gap. */
 static inline int lub_pair_eval(lub_pairs *ps, size_t k, const lub_cell *cell,
                                 const lub_pair_bodies *b, const lub_law_params *law, double cutoff,
                                 double dt, lub_pair_accum *acc, lub_pair_output *o, vec3 *branch,
@@ -51,7 +51,7 @@ static inline int lub_pair_eval(lub_pairs *ps, size_t k, const lub_cell *cell,
     *branch = d;
     *un = v3_norm(d) - ri - rj;
     const double a = 0.5 * (ri + rj);
-    if (*un > cutoff * a) {
+    if (*un > cutoff * a || !ps->allow[k]) {
         lub_pairs_leave(ps, k);
         return LUB_PAIR_OUT;
     }

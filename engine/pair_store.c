@@ -14,6 +14,7 @@ void lub_pairs_free(lub_pairs *ps)
     free(ps->state);
     free(ps->active);
     free(ps->near);
+    free(ps->allow);
     free(ps->oi);
     free(ps->oj);
     free(ps->ostate);
@@ -65,7 +66,8 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
     size_t fcap = ps->cap > ps->ocap ? ps->cap : ps->ocap;
     if (fcap > ps->fcap || !ps->near) {
         if (re((void **)&ps->c, 3 * fcap, sizeof *ps->c) ||
-            re((void **)&ps->near, fcap, sizeof *ps->near))
+            re((void **)&ps->near, fcap, sizeof *ps->near) ||
+            re((void **)&ps->allow, fcap, sizeof *ps->allow))
             return -1;
         ps->fcap = fcap;
     }
@@ -93,6 +95,7 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
         }
         ps->near[k] = 0;
     }
+    memset(ps->allow, 1, nn);
     ps->n = nn;
     ps->n_particles = n_particles;
     ps->carried = carried;

@@ -11,6 +11,8 @@
  *
  * lub_pairs_adopt() replaces the candidate list by a new neighbour list and CARRIES the state
  * and active flag of every pair (i, j) present in both (sorted-key merge, O(old + new)).
+ * A pair whose `allow` flag is 0 is treated as outside the cut-off (an interaction-set filter
+ * such as the Delaunay neighbours of pair_topology.h; adopt resets every flag to 1).
  *
  * Forces and torques are not stored per pair: the pair loops add them to per-particle sums
  * (pair_accum.h).
@@ -37,7 +39,9 @@ typedef struct {
     lub_pair_state *state; /* [n] */
     unsigned char *active; /* [n] */
     unsigned char *near;   /* [n] 1 if the last evaluation had u < a (spin torques on) */
-    size_t fcap;           /* capacity of c and near */
+    unsigned char *allow;  /* [n] 0: the pair may not interact even inside the cut-off (an
+                              interaction-set filter, pair_topology.h); lub_pairs_adopt sets 1 */
+    size_t fcap;           /* capacity of c, near and allow */
     /* double buffer for the merge */
     int32_t *oi, *oj;
     lub_pair_state *ostate;

@@ -39,8 +39,10 @@ typedef struct {
     long long n, seed, snapshots;
     double radius_std, phi, Iv, St, stiffness, cutoff, skin, dt, dt_safety, strain;
     double target_rel_error, transient_strain, sample_strain;
-    double drag_viscosity; /* drag towards the affine flow, units of eta (0: none) */
-    int pressure;          /* control */
+    double drag_viscosity;  /* drag towards the affine flow, units of eta (0: none) */
+    int delaunay;           /* lubrication_pairs "delaunay" (1) or "cutoff" (0) */
+    double delaunay_strain; /* strain between triangulation updates */
+    int pressure;           /* control */
     double servo_gain, servo_filter_strain;
     int pdf_on;
     long long pdf_nt, pdf_np;
@@ -90,8 +92,11 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                                  "microstructure",
                                  "law",
                                  "drag_viscosity",
+                                 "lubrication_pairs",
+                                 "delaunay_update_strain",
                                  NULL};
     static const char *controls[] = {"volume", "pressure", NULL};
+    static const char *pair_sets[] = {"cutoff", "delaunay", NULL};
     if (lub_spec_only_keys(spec, "", keys, err))
         return -1;
     const char *control = NULL;
@@ -136,6 +141,18 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
         lub_spec_number(spec, "", "drag_viscosity", (lub_range){0.0, 1e3, 0, 0}, 1, 0.0,
                         &p->drag_viscosity, err))
         return -1;
+    const char *pair_set = NULL;
+    if (lub_spec_enum(spec, "", "lubrication_pairs", pair_sets, "cutoff", &pair_set, err))
+        return -1;
+    p->delaunay = strcmp(pair_set, "delaunay") == 0;
+    if (p->delaunay) {
+        if (lub_spec_number(spec, "", "delaunay_update_strain", (lub_range){0.0, 1.0, 1, 0}, 1,
+                            0.005, &p->delaunay_strain, err))
+            return -1;
+    } else if (json_object_get(spec, "delaunay_update_strain")) {
+        return lub_fail(err, "/delaunay_update_strain",
+                        "only used with \"lubrication_pairs\": \"delaunay\"");
+    }
     if (p->pressure) {
         json_t *servo = lub_spec_object(spec, "", "servo", err);
         static const char *skeys[] = {"gain", "filter_strain", NULL};
@@ -363,6 +380,10 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     const double dt_el = lub_shear_elastic_dt(&sys);
     const double dt = p.dt > 0 ? p.dt : p.dt_safety * dt_el;
     sys.dt = dt;
+    if (p.delaunay) { /* contacts (u_n < eps a) are never cut off between updates */
+        const double every = fmin(1e6, fmax(1.0, floor(p.delaunay_strain / (gd * dt) + 0.5)));
+        lub_shear_use_delaunay(&sys, (int)every, fmax(0.05, 2.0 * p.law.params.eps));
+    }
     const double t_end = p.strain / gd;
     const int64_t nsteps = (int64_t)ceil(t_end / dt - 1e-9);
     const int64_t sample_every = (int64_t)fmax(1.0, floor(p.sample_strain / (gd * dt) + 0.5));
@@ -618,6 +639,16 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         if (p.drag_viscosity > 0.0)
             json_array_append_new(terms, json_string("affine_drag"));
         json_object_set_new(ctx->summary_extra, "active_terms", terms);
+        json_object_set_new(ctx->summary_extra, "lubrication_pairs",
+                            json_string(p.delaunay ? "delaunay" : "cutoff"));
+        if (p.delaunay) {
+            const lub_topology *tp = &sys.topo;
+            lub_summary_put(ctx, "delaunay_updates", (double)tp->updates, NAN, "1");
+            lub_summary_put(ctx, "delaunay_allowed_fraction",
+                            tp->inside ? (double)tp->allowed / (double)tp->inside : NAN, NAN, "1");
+            lub_summary_put(ctx, "delaunay_open_fraction",
+                            tp->allowed ? (double)tp->open / (double)tp->allowed : NAN, NAN, "1");
+        }
         json_object_set_new(ctx->summary_extra, "steps", json_integer(step));
         json_object_set_new(ctx->summary_extra, "simulated_time", json_real(sys.time));
         json_object_set_new(ctx->summary_extra, "units",

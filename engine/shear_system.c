@@ -64,6 +64,7 @@ void lub_shear_free(lub_shear_system *s)
     lub_pdf_free(&s->pdf);
     lub_nlist_free(&s->nl);
     lub_pairs_free(&s->pairs);
+    lub_topology_free(&s->topo);
     memset(s, 0, sizeof *s);
 }
 
@@ -191,7 +192,8 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s)
     const lub_pairs *ps = &s->pairs;
     size_t fcap = ps->fcap;
     b += (ps->cap + ps->ocap) * (2 * sizeof(int32_t) + sizeof(lub_pair_state) + 1);
-    b += fcap * (3 * sizeof(int32_t) + 1);
+    b += fcap * (3 * sizeof(int32_t) + 2);
+    b += s->topo.site_cap * sizeof(lub_power_site) + (size_t)s->topo.n_cap * sizeof(size_t);
     b += (size_t)s->threads * (sizeof(lub_stress) + sizeof(double) + 3 * sizeof(size_t));
     b += (size_t)s->threads * n * (2 * sizeof(vec3) + 2 * sizeof(int)); /* pair sums */
     return b;
@@ -212,6 +214,9 @@ static int rebuild(lub_shear_system *s)
         return LUB_SHEAR_CELL_TOO_SMALL;
     }
     if (rc != LUB_NLIST_OK || lub_pairs_adopt(&s->pairs, &s->nl, s->n))
+        return LUB_SHEAR_NOMEM;
+    if (s->topology_interval > 0 &&
+        lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff))
         return LUB_SHEAR_NOMEM;
     memcpy(s->x_ref, s->x, (size_t)s->n * sizeof *s->x);
     memcpy(s->h_ref, s->cell.h, sizeof s->h_ref);
@@ -235,12 +240,23 @@ static void affine_map(const lub_shear_system *s, const lub_cell *cell, double A
         }
 }
 
+void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
+{
+    s->topology_interval = interval < 1 ? 1 : interval;
+    lub_topology_init(&s->topo, s->cutoff, s->nl.skin, guard, s->threads);
+    s->need_rebuild = 1;
+}
+
 int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
 {
     if (s->need_rebuild) {
         int rc = rebuild(s);
         if (rc)
             return rc;
+    } else if (s->topology_interval > 0 && s->step % s->topology_interval == 0) {
+        /* the list is unchanged, so its buffers suffice: nothing is allocated */
+        if (lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff))
+            return LUB_SHEAR_NOMEM;
     }
     const int nt = s->threads;
     const lub_cell *cell = &s->cell;

@@ -6,6 +6,8 @@
  *   1. if the Verlet skin may be exhausted (or at the first step): flip the cell if tilted
  *      by more than 1/2, wrap particles into the cell (absolute velocities: v -= L H k), rebuild
  *      the list and carry the pair states;
+ *      and, with the Delaunay interaction set, recompute the allowed pairs (pair_topology.h;
+ *      also every topology_interval steps);
  *   2. pair forces from x^n and the half-step velocities v^{n-1/2}, w^{n-1/2}
  *      (lub_pair_step; pairs beyond cutoff*a are deactivated, pairs coming inside are created
  *      new — always with a positive gap thanks to the skin). Steps that sample no stress use
@@ -45,6 +47,7 @@
 #include "neighbor_list.h"
 #include "pair_accum.h"
 #include "pair_store.h"
+#include "pair_topology.h"
 #include "periodic_cell.h"
 #include "stress.h"
 
@@ -94,6 +97,11 @@ typedef struct {
                               shear drag, for comparisons */
     int need_rebuild;
     long rebuilds, flips;
+    /* interaction set: topology_interval > 0 restricts the lubricated pairs to the neighbours
+     * of the regular triangulation (pair_topology.h), recomputed at every rebuild and every
+     * topology_interval steps; 0 (after init): every pair inside the cut-off */
+    int topology_interval;
+    lub_topology topo;
     /* per-thread scratch (allocated at init) */
     lub_stress *tstress;
     double *tsyy;
@@ -114,6 +122,11 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
                    const lub_cell *cell, const lub_law_params *law, double rho, double cutoff,
                    double skin, double dt, int threads, int pdf_theta, int pdf_phi);
 void lub_shear_free(lub_shear_system *s);
+
+/* Restricts the lubricated pairs to the Delaunay (power-diagram) neighbours, updated at every
+ * neighbour-list rebuild and every `interval` steps (>= 1); pairs closer than guard*a are always
+ * allowed. Call after lub_shear_init, before the first step. */
+void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard);
 
 /* Changes the velocity gradient to Lnew, adding (Lnew - L) x to every velocity (and the
  * change of mean spin to every spin), as for a homogeneous change of the imposed flow. */

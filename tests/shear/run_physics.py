@@ -1,17 +1,19 @@
 #!/usr/bin/env python3
 """Physics validation of the simple_shear scene against physics-reference §2-§3 (issue 3).
 
-Two law configurations are run, because the §2 fits were NOT produced by this contact law
-(seed 000 rheology article, l.908: lubrication on the Delaunay nearest neighbours only, max
-interaction distance ~1.5a; roll torque written as (omega x n), which does no work):
-  * "ref"     : the configuration closest to the model the §2 fits come from: lubrication
-                cut-off 1a (nearest neighbours) and no roll/twist lubrication torques;
-  * "default" : the engine defaults (cut-off 2a, every lubrication term on).
+Three configurations of the same law are run, because the §2 fits were NOT produced by this
+contact law (seed 000 rheology article, l.908: lubrication on the Delaunay nearest neighbours
+only, max interaction distance ~1.5a; roll torque written as (omega x n), which does no work):
+  * "ref"      : lubrication cut-off 1a (nearest neighbours), no roll/twist lubrication torques;
+  * "delaunay" : the article's interaction set: lubrication only between Delaunay (power
+                 diagram) neighbours, within 2a; no roll/twist torques;
+  * "default"  : the engine defaults (cut-off 2a, every lubrication term on).
 Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
-  A  imposed pressure, mu_m = 0.5, Iv = 1, 0.1, 0.01, 0.001, both configurations
+  A  imposed pressure, mu_m = 0.5, Iv = 1, 0.1, 0.01, 0.001, every configuration
      (mu vs mu_c + mu_h, phi vs phi_m/(1 + Iv^0.5), stress split, eta_r vs eta_r(phi));
-  B  mu_m = 0 and mu_m = 1 at Iv = 0.01, 0.001 ("ref"): phi_m moving as phi_m(mu_m);
-  C  imposed volume phi = 0.35, 0.45, 0.50, 0.55 ("ref"): eta_r vs eta_r(phi); normal-stress
+  B  mu_m = 0 and mu_m = 1 at Iv = 0.01, 0.001 ("ref", "delaunay"): phi_m moving as
+     phi_m(mu_m);
+  C  imposed volume phi = 0.35, 0.45, 0.50, 0.55 ("ref", "delaunay"): eta_r vs eta_r(phi); normal-stress
      ratios sigma11/sigma22, sigma33/sigma22 and eta_22 vs §3;
   D  normal lubrication only (no shear lubrication) at Iv = 0.1, 1 ("ref"; reported);
   G  negative test in seed 004's conditions (Marzougui et al. 2015, §3.3, Fig. 10): Iv = 0.02,
@@ -25,14 +27,15 @@ Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
      roll/twist torques at Iv = 0.1 and 0.01.
 Writes OUT/table.md, OUT/table.csv, OUT/rheology.png, OUT/servo.png; prints one name=value
 line per run and per criterion.
---check: exit 1 if a criterion fails. Criteria (tolerances of the issue where the reference is
-meant to apply, see README "simple_shear" for why the rest is reported, not asserted):
-  * every run exits 0 with finite results; trends: mu increases, phi decreases with Iv;
-  * "ref", Iv <= 0.01: |phi - phi_ref| <= 0.015 and |mu/mu_ref - 1| <= 0.10;
-  * mu_m = 0 / 1 ("ref", Iv <= 0.01): |phi - phi_m(mu_m)/(1 + Iv^0.5)| <= 0.015, and
-    phi(mu_m=0) > phi(0.5) > phi(1) at each Iv;
+--check: exit 1 if a criterion fails that is not in KNOWN_MISSES (the measured misses, listed
+below the plan; they are printed with known_miss=1 and counted in physics_known_misses).
+Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
+  * every run exits 0 with finite results; trends: mu increases, phi decreases with Iv (also
+    "default");
+  * groups A and B, every Iv: |phi - phi_m(mu_m)/(1 + Iv^0.5)| <= 0.015 and, for mu_m >= 0.36,
+    |mu/mu_ref - 1| <= 0.10; phi(mu_m=0) > phi(0.5) > phi(1) at Iv = 0.01 and 0.001;
   * stress split: contact share > 1/2 at Iv <= 0.01, lubrication share > 1/2 at Iv = 1;
-  * imposed volume ("ref", phi <= 0.50): eta_r within 15 % of eta_r(phi);
+  * imposed volume, phi = 0.35 ... 0.55: eta_r within 15 % of eta_r(phi);
   * negative test (G): |phi(0.02) - phi(0.3)| without shear lubrication < 1/2 of the same
     with it, and phi without shear lubrication above phi with it at every Iv (seed 004: "almost
     constant for Iv > 0.02", "significantly overestimate the solid fraction");
@@ -53,7 +56,8 @@ MU_M = 0.5
 MU1, MU2, I0 = 0.36, 0.7, 0.0133
 REF_TERMS = {"roll": False, "twist": False}
 SEED004_I, SEED004_MU = 0.14, 0.577  # seed 004 §3.1: I = 0.14 fixed, friction angle 30 deg
-CONFIGS = {"ref": {"cutoff": 1.0, "terms": REF_TERMS}, "default": {}}
+CONFIGS = {"ref": {"cutoff": 1.0, "terms": REF_TERMS}, "default": {},
+           "delaunay": {"cutoff": 2.0, "terms": REF_TERMS, "pairs": "delaunay"}}
 
 
 def phi_m(mu_m):
@@ -99,6 +103,8 @@ def spec_for(case, n, quick):
     cutoff = case.get("cutoff", cfg.get("cutoff"))
     if cutoff is not None:
         spec["cutoff"] = cutoff
+    if cfg.get("pairs"):
+        spec["lubrication_pairs"] = cfg["pairs"]
     if case["control"] == "pressure":
         iv = case["Iv"]
         # St: inertial number I = sqrt(St Iv) <= 0.03; the time step in strain units scales as
@@ -178,17 +184,19 @@ def make_row(case, spec, rc, s, wall):
 
 def plan(quick):
     cases = []
-    for cfg in ("ref", "default"):
+    for cfg in ("ref", "default", "delaunay"):
         for iv in (1.0, 0.1, 0.01, 0.001) if quick else (1.0, 0.3, 0.1, 0.03, 0.01, 0.003, 0.001):
             cases.append({"name": f"{cfg}_iv_{iv:g}", "group": "A", "config": cfg,
                           "control": "pressure", "Iv": iv})
-    for mu_m in (0.0, 1.0):
-        for iv in (0.01, 0.001):
-            cases.append({"name": f"ref_mu{mu_m:g}_iv_{iv:g}", "group": "B", "config": "ref",
-                          "control": "pressure", "Iv": iv, "mu_m": mu_m})
-    for ph in (0.35, 0.45, 0.50, 0.55):
-        cases.append({"name": f"ref_phi_{ph:g}", "group": "C", "config": "ref",
-                      "control": "volume", "phi": ph})
+    for cfg in ("ref", "delaunay"):
+        for mu_m in (0.0, 1.0):
+            for iv in (0.01, 0.001):
+                cases.append({"name": f"{cfg}_mu{mu_m:g}_iv_{iv:g}", "group": "B", "config": cfg,
+                              "control": "pressure", "Iv": iv, "mu_m": mu_m})
+    for cfg in ("ref", "delaunay"):
+        for ph in (0.35, 0.45, 0.50, 0.55):
+            cases.append({"name": f"{cfg}_phi_{ph:g}", "group": "C", "config": cfg,
+                          "control": "volume", "phi": ph})
     for iv in (0.1, 1.0):
         cases.append({"name": f"ref_nlonly_iv_{iv:g}", "group": "D", "config": "ref",
                       "control": "pressure", "Iv": iv, "terms": {"shear_lubrication": False}})
@@ -222,7 +230,7 @@ def sensitivity_table(fh, rows):
         for r in rows:
             if r["group"] not in "AS" or r["control"] != "pressure" or r["Iv"] != iv:
                 continue
-            if r.get("mu_m", MU_M) != MU_M or r["phi"] is None:
+            if r.get("mu_m", MU_M) != MU_M or r["phi"] is None or r["config"] == "delaunay":
                 continue
             r_rot = r.get("rot", r["config"] == "default")
             if r["cutoff"] == cut and r_rot == rot:
@@ -259,7 +267,8 @@ def write_tables(out, rows, n):
         fh.write(f"N = {n}, eps = 0.02 (0.035 in the seed-004 rows), runs of `strain` strain "
                  f"units, steady state from strain >= 2 (MSER); errors are blocking standard errors. phi_m(0.5) = "
                  f"{phi_m(MU_M):.4f}. Config **ref** = cut-off 1a, no roll/twist torques; "
-                 f"**default** = cut-off 2a, all terms.\n\n")
+                 f"**default** = cut-off 2a, all terms; **delaunay** = lubrication on the "
+                 f"Delaunay (power-diagram) neighbours within 2a, no roll/twist torques.\n\n")
         fh.write("### Imposed pressure (mu_m = 0.5 unless stated)\n\n")
         fh.write("| config | Iv | mu_m | St | stiffness | strain | phi | phi_ref | dphi | mu | "
                  "mu_ref | mu/mu_ref | eta_r/eta_r(phi) | contact/NL/SL share | kinetic | Z | "
@@ -282,15 +291,15 @@ def write_tables(out, rows, n):
                      f"{fmt(r['contact_share'], '{:.2f}')}/{fmt(r['nl_share'], '{:.2f}')}/"
                      f"{fmt(r['sl_share'], '{:.2f}')} | {fmt(r['kinetic_share'], '{:.1e}')} | "
                      f"{fmt(r['Z'], '{:.1f}')} | {fmt(r['Z_contact'], '{:.2f}')} |\n")
-        fh.write("\n### Imposed volume (config ref, mu_m = 0.5)\n\n")
-        fh.write("| phi | stiffness | strain | eta_r | eta_r ref | ratio | mu | Iv (measured) | eta_22 | "
+        fh.write("\n### Imposed volume (mu_m = 0.5)\n\n")
+        fh.write("| config | phi | stiffness | strain | eta_r | eta_r ref | ratio | mu | Iv (measured) | eta_22 | "
                  "eta_22 ref (§3) | s11/s22 | s33/s22 | lambda_33 ref (§3) | Z_c | crushed |\n" +
-                 "|---" * 15 + "|\n")
+                 "|---" * 16 + "|\n")
         for r in rows:
             if r["control"] != "volume" or r["eta_r"] is None:
                 continue
             er = eta_ref(r["phi"])
-            fh.write(f"| {r['phi']:g} | {r['stiffness']:g} | {r['strain']:g} | "
+            fh.write(f"| {r['config']} | {r['phi']:g} | {r['stiffness']:g} | {r['strain']:g} | "
                      f"{r['eta_r']:.4g} ± {fmt(r['eta_r_err'], '{:.2g}')} | {er:.4g} | "
                      f"{r['eta_r'] / er:.2f} | {fmt(r['mu'], '{:.3f}')} | {fmt(r['Iv_meas'])} | "
                      f"{fmt(r['eta_22'])} | {eta22_ref(r['phi']):.4g} | "
@@ -314,7 +323,9 @@ def plot(out, rows, n):
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.2))
     ivg = np.logspace(-4.2, 0.2, 100)
     styles = {("ref", MU_M): ("o", "C0"), ("default", MU_M): ("s", "C3"),
-              ("ref", 0.0): ("v", "C2"), ("ref", 1.0): ("^", "C4")}
+              ("delaunay", MU_M): ("D", "C1"),
+              ("ref", 0.0): ("v", "C2"), ("ref", 1.0): ("^", "C4"),
+              ("delaunay", 0.0): ("1", "C2"), ("delaunay", 1.0): ("2", "C4")}
     for (cfg, mu_m), (mk, col) in styles.items():
         pr = [r for r in rows if r["control"] == "pressure" and r["group"] in "ABF" and
               r["config"] == cfg and r.get("mu_m", MU_M) == mu_m and r["mu"] is not None]
@@ -335,7 +346,7 @@ def plot(out, rows, n):
     ax[1].legend(fontsize=7)
     pg = np.linspace(0.3, phi_m(MU_M) - 0.004, 200)
     ax[2].plot(pg, [eta_ref(x) for x in pg], "-", color="k", lw=0.8, label="eta_r(phi) (§2)")
-    for cfg, mk, col in (("ref", "o", "C0"), ("default", "s", "C3")):
+    for cfg, mk, col in (("ref", "o", "C0"), ("default", "s", "C3"), ("delaunay", "D", "C1")):
         pts = [r for r in rows if r["config"] == cfg and r["group"] in "AC" and r["eta_r"]
                and r.get("mu_m", MU_M) == MU_M]
         ax[2].errorbar([r["phi"] for r in pts], [r["eta_r"] for r in pts],
@@ -372,38 +383,66 @@ def plot(out, rows, n):
     print(f"plot={os.path.join(out, 'servo.png')}")
 
 
+# Criteria of the issue that the named runs are known to miss (measured, see README
+# "simple_shear"): they are evaluated and printed like the others (known_miss=1) but do not
+# fail --check; any other failing criterion does. A known miss that passes is printed as
+# "now_passes" so that the list can be shortened.
+KNOWN_MISSES = {
+    # ref (cut-off 1a): too little far-field lubrication in dilute states
+    "phi_ref_iv_1", "mu_ref_iv_1", "phi_ref_iv_0.1", "eta_r_ref_phi_0.35",
+    # mu_m = 1: mu 11-14 % above the §2 law (valid for mu_m >= 0.36) in both configurations
+    "mu_ref_mu1_iv_0.01", "mu_ref_mu1_iv_0.001",
+    "mu_delaunay_mu1_iv_0.01", "mu_delaunay_mu1_iv_0.001",
+    # delaunay: phi right down to Iv = 0.1, mu 11-21 % high at Iv = 1, 0.1 and 1e-3
+    "phi_delaunay_iv_1", "mu_delaunay_iv_1", "mu_delaunay_iv_0.1", "mu_delaunay_iv_0.001",
+    # phi = 0.55 = 0.96 phi_m: a phi_m 0.005 below the law's gives the +38 % (both)
+    "eta_r_ref_phi_0.55", "eta_r_delaunay_phi_0.55",
+}
+
+
 def check(by, rows):
-    fails = []
+    """Returns (failures, known misses that missed)."""
+    fails, missed = [], []
 
     def crit(name, ok, detail):
-        print(f"criterion={name} ok={int(bool(ok))} {detail}")
-        if not ok:
+        known = name in KNOWN_MISSES
+        tag = (" known_miss=1" if known and not ok else "") + \
+            (" now_passes=1" if known and ok else "")
+        print(f"criterion={name} ok={int(bool(ok))}{tag} {detail}")
+        if not ok and not known:
             fails.append(f"{name}: {detail}")
+        if not ok and known:
+            missed.append(name)
 
     for r in rows:
         finite = all(r.get(k) is not None and math.isfinite(r[k]) for k in ("phi", "mu"))
         crit(f"completes_{r['name']}", r["rc"] == 0 and finite, f"rc={r['rc']}")
-    for cfg in ("ref", "default"):
+    for cfg in ("ref", "default", "delaunay"):
         pr = sorted([r for r in rows if r["group"] == "A" and r["config"] == cfg and r["mu"]],
                     key=lambda r: r["Iv"])
         for lo, hi in zip(pr, pr[1:]):
             crit(f"trend_{cfg}_{lo['Iv']:g}_{hi['Iv']:g}",
                  hi["mu"] > lo["mu"] and hi["phi"] < lo["phi"],
                  f"mu {lo['mu']:.3f}->{hi['mu']:.3f} phi {lo['phi']:.4f}->{hi['phi']:.4f}")
+    # the issue's tolerances at every Iv of groups A and B, for both configurations meant to
+    # reproduce §2
     for r in rows:
-        if r["group"] in "AB" and r["config"] == "ref" and r["Iv"] <= 0.01 and r["phi"]:
+        if r["group"] in "AB" and r["config"] in ("ref", "delaunay") and r["phi"]:
             crit(f"phi_{r['name']}", abs(r["phi"] - r["phi_ref"]) <= 0.015,
                  f"phi={r['phi']:.4f} ref={r['phi_ref']:.4f}")
             if r.get("mu_ref"):
                 crit(f"mu_{r['name']}", abs(r["mu"] / r["mu_ref"] - 1) <= 0.10,
                      f"mu={r['mu']:.4f} ref={r['mu_ref']:.4f}")
-    for iv in (0.01, 0.001):
-        k = [by.get(f"ref_mu0_iv_{iv:g}"), by.get(f"ref_iv_{iv:g}"), by.get(f"ref_mu1_iv_{iv:g}")]
-        if all(x and x["phi"] for x in k):
-            crit(f"phi_m_order_iv_{iv:g}", k[0]["phi"] > k[1]["phi"] > k[2]["phi"],
-                 "phi(mu_m=0,0.5,1)=" + ",".join(f"{x['phi']:.4f}" for x in k))
+    for cfg in ("ref", "delaunay"):
+        for iv in (0.01, 0.001):
+            k = [by.get(f"{cfg}_mu0_iv_{iv:g}"), by.get(f"{cfg}_iv_{iv:g}"),
+                 by.get(f"{cfg}_mu1_iv_{iv:g}")]
+            if all(x and x["phi"] for x in k):
+                crit(f"phi_m_order_{cfg}_iv_{iv:g}", k[0]["phi"] > k[1]["phi"] > k[2]["phi"],
+                     "phi(mu_m=0,0.5,1)=" + ",".join(f"{x['phi']:.4f}" for x in k))
     for r in rows:
-        if r["group"] == "A" and r["config"] == "ref" and r["contact_share"] is not None:
+        if r["group"] == "A" and r["config"] in ("ref", "delaunay") and \
+                r["contact_share"] is not None:
             if r["Iv"] <= 0.01:
                 crit(f"contact_dominates_{r['name']}", r["contact_share"] > 0.5,
                      f"share={r['contact_share']:.2f}")
@@ -411,7 +450,7 @@ def check(by, rows):
                 crit(f"lubrication_dominates_{r['name']}", r["contact_share"] < 0.5,
                      f"contact share={r['contact_share']:.2f}")
     for r in rows:
-        if r["group"] == "C" and r["phi"] <= 0.5 and r["eta_r"]:
+        if r["group"] == "C" and r["eta_r"]:
             e = eta_ref(r["phi"])
             crit(f"eta_r_{r['name']}", abs(r["eta_r"] / e - 1) <= 0.15,
                  f"eta_r={r['eta_r']:.4g} ref={e:.4g}")
@@ -438,7 +477,7 @@ def check(by, rows):
         if r["kinetic_share"] is not None and r["group"] != "F":
             crit(f"inertia_{r['name']}", abs(r["kinetic_share"]) <= 0.01,
                  f"kinetic share={r['kinetic_share']:.2e}")
-    return fails
+    return fails, missed
 
 
 def main():
@@ -468,9 +507,11 @@ def main():
         rows = list(ex.map(work, cases))
     by = write_tables(a.out, rows, a.n)
     plot(a.out, rows, a.n)
-    fails = check(by, rows) if a.check else []
+    fails, missed = check(by, rows) if a.check else ([], [])
     for fl in fails:
         print("FAIL", fl, file=sys.stderr)
+    if a.check:
+        print(f"physics_known_misses={len(missed)}")
     print(f"physics_failures={len(fails)}")
     sys.exit(1 if fails else 0)
 

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # CLI-level checks of the simple_shear scene (fast suite):
-#  1. spec errors: Iv without pressure control, too few particles, negative drag viscosity
+#  1. spec errors: Iv without pressure control, too few particles, negative drag viscosity,
+#     unknown lubrication_pairs, delaunay_update_strain without "delaunay" or zero
 #     -> exit 2, nothing written;
 #  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
 #     numbers, H5MD observables present;
+#  2b. the Delaunay interaction set: completes with its statistics and a Delaunay-like
+#      coordination (12-17, below the cut-off run's);
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient;
 #  3b. target relative error stops the run early;
 #  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5.
@@ -23,6 +26,12 @@ echo '{"scene":"simple_shear","n_particles":50}' | "$LUBDEM" validate - 2>"$W/e2
 check "[ $rc -eq 2 ] && grep -q '/n_particles' $W/e2" "too few particles: rc=$rc"
 echo '{"scene":"simple_shear","drag_viscosity":-1}' | "$LUBDEM" validate - 2>"$W/e3"; rc=$?
 check "[ $rc -eq 2 ] && grep -q '/drag_viscosity' $W/e3" "negative drag viscosity: rc=$rc"
+echo '{"scene":"simple_shear","lubrication_pairs":"voronoi"}' | "$LUBDEM" validate - 2>"$W/e4"; rc=$?
+check "[ $rc -eq 2 ] && grep -q '/lubrication_pairs' $W/e4" "unknown pair set: rc=$rc"
+echo '{"scene":"simple_shear","delaunay_update_strain":0.01}' | "$LUBDEM" validate - 2>"$W/e5"; rc=$?
+check "[ $rc -eq 2 ] && grep -q '/delaunay_update_strain' $W/e5" "update strain without delaunay: rc=$rc"
+echo '{"scene":"simple_shear","lubrication_pairs":"delaunay","delaunay_update_strain":0}' | "$LUBDEM" validate - 2>"$W/e6"; rc=$?
+check "[ $rc -eq 2 ] && grep -q '/delaunay_update_strain' $W/e6" "zero update strain: rc=$rc"
 
 # 2. robustness run
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
@@ -48,6 +57,29 @@ for k in ["stress/total", "stress/normal_contact", "stress/kinetic", "mu", "pres
 if f["observables/stress/total/value"].shape[1:] != (3, 3): bad.append("tensor shape")
 if "pdf_interaction_density" not in f["profiles"]: bad.append("microstructure missing")
 print(f"robust mu={r['mu']['value']:.3f} eta_r={r['eta_r']['value']:.2f} Zc={r['Z_contact']['value']:.2f}")
+for b in bad: print("FAIL:", b, file=sys.stderr)
+sys.exit(1 if bad else 0)
+PYEOF
+
+# 2b. Delaunay interaction set: completes, reports its statistics, fewer interacting pairs
+#     than the same run with every pair inside 2a
+for set in cutoff delaunay; do
+  echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"stiffness":1e4,"strain":0.4,"transient_strain":0.1,"sample_strain":0.01,"snapshots":0,"lubrication_pairs":"'$set'"}' \
+    | "$LUBDEM" run - --out "$W/pairs_$set" --quiet; rc=$?
+  check "[ $rc -eq 0 ]" "$set run exit $rc"
+done
+"$PY" - "$W/pairs_cutoff" "$W/pairs_delaunay" <<'PYEOF' || fail=1
+import json, sys
+c, d = (json.load(open(p + "/summary.json")) for p in sys.argv[1:3])
+rc, rd = c["results"], d["results"]
+bad = []
+if d["lubrication_pairs"] != "delaunay" or c["lubrication_pairs"] != "cutoff": bad.append("pair set not reported")
+if not rd["delaunay_updates"]["value"] >= 10: bad.append("too few triangulation updates")
+if not 0.2 < rd["delaunay_allowed_fraction"]["value"] < 0.9: bad.append("allowed fraction")
+if not 12 < rd["Z"]["value"] < 17 < rc["Z"]["value"]: bad.append("coordination")
+if "delaunay_updates" in rc: bad.append("cutoff run reports delaunay statistics")
+print(f"pairs Z cutoff={rc['Z']['value']:.2f} delaunay={rd['Z']['value']:.2f} "
+      f"allowed={rd['delaunay_allowed_fraction']['value']:.3f} updates={rd['delaunay_updates']['value']:.0f}")
 for b in bad: print("FAIL:", b, file=sys.stderr)
 sys.exit(1 if bad else 0)
 PYEOF

@@ -1,0 +1,60 @@
+/* pair_topology.h — restricts the lubricated pairs of a pair store to the neighbours of the
+ * regular (weighted Delaunay) triangulation, the interaction set of the seed's rheology
+ * article (seed 000 l.908; physics-reference §2 comes from that model).
+ *
+ * lub_topology_update sets ps->allow[k] for every candidate pair k of the store:
+ *   allow = 1  the two spheres' power cells share a face of positive area (power_faces.h),
+ *              or their gap is below guard * a_ij (contacts are never dropped, even between
+ *              updates; a touching pair is a power neighbour anyway unless a third sphere
+ *              overlaps the contact point);
+ *   allow = 0  otherwise: the pair loop treats the pair as outside the cut-off (no force, its
+ *              state dropped), so it re-enters with a fresh state when allowed again.
+ * The faces are computed from the candidate list itself: each sphere's known neighbours are the
+ * pairs listed within range*a_ij + skin, which certifies faces within the radius of
+ * lub_power_certified_radius. A face that still touches that ball (it may extend beyond it:
+ * dilute regions) is counted in `open`; it is allowed if its clipped area is positive.
+ * The triangulation is a function of the positions at the update; the caller decides how often
+ * to update (the neighbour list changes at rebuilds, so an update must follow every
+ * lub_pairs_adopt).
+ *
+ * Memory: the per-sphere site lists are owned here and grow only when the pair count grows
+ * (call after lub_pairs_adopt, i.e. at neighbour-list rebuilds: nothing is allocated when the
+ * pair count has not grown). Free with lub_topology_free.
+ * Threads: OpenMP over spheres with `threads` threads (pure per-sphere work, one writer per
+ * pair): the result does not depend on the thread count.
+ * Errors: lub_topology_update returns 0 or -1 (no memory; allow is then all ones).
+ */
+#ifndef LUBDEM_PAIR_TOPOLOGY_H
+#define LUBDEM_PAIR_TOPOLOGY_H
+
+#include <stddef.h>
+
+#include "pair_store.h"
+#include "periodic_cell.h"
+#include "power_faces.h"
+
+typedef struct {
+    double range; /* the neighbour list's cut-off in units of a_ij */
+    double skin;  /* the neighbour list's skin (length) */
+    double guard; /* pairs with u_n < guard * a_ij are always allowed */
+    int threads;
+    /* per-sphere candidate lists, CSR */
+    size_t *first;         /* [n + 1] */
+    lub_power_site *sites; /* [2 * npairs]; tag = 2 k + (sphere is body 1 of pair k) */
+    size_t site_cap;
+    int n_cap;
+    /* statistics of the last update (pairs inside the cut-off only) */
+    size_t inside, allowed, open, guarded;
+    long updates;
+} lub_topology;
+
+void lub_topology_init(lub_topology *t, double range, double skin, double guard, int threads);
+void lub_topology_free(lub_topology *t);
+
+/* Recomputes ps->allow from the positions x (unwrapped; the image shifts of the store give
+ * the branch vectors), radii r of n spheres and the cell. cutoff: the lubrication cut-off
+ * (units of a_ij) used for the statistics. */
+int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, const vec3 *x,
+                        const double *r, int n, double cutoff);
+
+#endif
