@@ -81,10 +81,11 @@ double lub_power_face_area(double r0, const lub_power_site *sites, int n, int j,
     vertex buf[2][MAX_VERTS];
     int m = 8, cur = 0;
     const double rho = sqrt(rho2);
-    for (int k = 0; k < 8; ++k) {
-        const double ang = (double)k * (3.14159265358979323846 / 4.0);
-        buf[0][k] = (vertex){rho * cos(ang), rho * sin(ang), OCTAGON_LABEL};
-    }
+    static const double h2 = 0.70710678118654752440; /* cos 45 deg */
+    static const double oc[8] = {1.0, h2, 0.0, -h2, -1.0, -h2, 0.0, h2};
+    static const double os[8] = {0.0, h2, 1.0, h2, 0.0, -h2, -1.0, -h2};
+    for (int k = 0; k < 8; ++k)
+        buf[0][k] = (vertex){rho * oc[k], rho * os[k], OCTAGON_LABEL};
     double ext2 = rho2; /* largest s^2 + t^2 of the polygon */
     int clips = 0;
     for (int k = 0; k < n && m > 0; ++k) {
