@@ -31,8 +31,7 @@ typedef struct {
     long tag; /* the caller's (moves with the site when sorted) */
 } lub_power_site;
 
-/* Sorts sites by increasing |d| (insertion sort: the lists are short and nearly sorted
- * between updates). */
+/* Sorts sites by increasing |d| (insertion sort: the lists are short, ~20-60 sites). */
 void lub_power_sort(lub_power_site *sites, int n);
 
 /* Largest R for which faces within the ball |x| <= R are exact when every sphere whose centre
