@@ -5,11 +5,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-void lub_topology_init(lub_topology *t, double range, double skin, double guard, int threads)
+void lub_topology_init(lub_topology *t, double range, double guard, int threads)
 {
     memset(t, 0, sizeof *t);
     t->range = range;
-    t->skin = skin;
     t->guard = guard;
     t->threads = threads < 1 ? 1 : threads;
 }
@@ -19,6 +18,14 @@ void lub_topology_free(lub_topology *t)
     free(t->first);
     free(t->sites);
     memset(t, 0, sizeof *t);
+}
+
+double lub_topology_certified_radius(const lub_topology *t, double ri, double rmin, double rmax,
+                                     double margin)
+{
+    /* every sphere within this centre distance of i is still in its list */
+    const double known = (ri + rmin) * (1.0 + 0.5 * t->range) + (margin > 0.0 ? margin : 0.0);
+    return lub_power_certified_radius(known, ri, rmax);
 }
 
 static int grow(lub_topology *t, int n, size_t nsites)
@@ -42,7 +49,7 @@ static int grow(lub_topology *t, int n, size_t nsites)
 }
 
 int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, const vec3 *x,
-                        const double *r, int n, double cutoff)
+                        const double *r, int n, double cutoff, double margin)
 {
     const size_t np = ps->n;
     if (grow(t, n, 2 * np)) {
@@ -76,7 +83,7 @@ int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, co
     first[0] = 0;
 
     size_t inside = 0, allowed = 0, open = 0, guarded = 0;
-    const double range = t->range, skin = t->skin, guard = t->guard;
+    const double guard = t->guard;
     lub_power_site *sites = t->sites;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(t->threads)                         \
     reduction(+ : inside, allowed, open, guarded)
@@ -84,9 +91,7 @@ int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, co
         lub_power_site *s = sites + first[i];
         const int m = (int)(first[i + 1] - first[i]);
         lub_power_sort(s, m);
-        /* every sphere within this centre distance of i is in its list */
-        const double known = (r[i] + rmin) * (1.0 + 0.5 * range) + skin;
-        const double R = lub_power_certified_radius(known, r[i], rmax);
+        const double R = lub_topology_certified_radius(t, r[i], rmin, rmax, margin);
         for (int q = 0; q < m; ++q) {
             if (!(s[q].tag & 1))
                 continue; /* decided from the other sphere's side */

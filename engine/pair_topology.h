@@ -9,10 +9,15 @@
  *              overlaps the contact point);
  *   allow = 0  otherwise: the pair loop treats the pair as outside the cut-off (no force, its
  *              state dropped), so it re-enters with a fresh state when allowed again.
- * The faces are computed from the candidate list itself: each sphere's known neighbours are the
- * pairs listed within range*a_ij + skin, which certifies faces within the radius of
- * lub_power_certified_radius. A face that still touches that ball (it may extend beyond it:
- * dilute regions) is counted in `open`; it is allowed if its clipped area is positive.
+ * The faces are computed from the candidate list itself. A Verlet list built with listing
+ * distance (r_i + r_j)(1 + range/2) + skin still holds every pair closer than that distance
+ * minus the skin consumed since the build (`margin` = skin - consumed, the owner's skin
+ * criterion), so each sphere's known neighbours certify faces within the radius of
+ * lub_power_certified_radius. The allowed pairs are therefore exactly the power neighbours
+ * whose face meets that ball (at cut-off 2a and skin 0.5a the radius is ~1.8-2.1 a, so
+ * neighbours much farther than ~3.6 a centre to centre can be missed; the seed's article
+ * quotes a maximum interaction distance of ~1.5 a gap). A face that still touches the ball is
+ * counted in `open`.
  * The triangulation is a function of the positions at the update; the caller decides how often
  * to update (the neighbour list changes at rebuilds, so an update must follow every
  * lub_pairs_adopt).
@@ -35,7 +40,6 @@
 
 typedef struct {
     double range; /* the neighbour list's cut-off in units of a_ij */
-    double skin;  /* the neighbour list's skin (length) */
     double guard; /* pairs with u_n < guard * a_ij are always allowed */
     int threads;
     /* per-sphere candidate lists, CSR */
@@ -48,13 +52,19 @@ typedef struct {
     long updates;
 } lub_topology;
 
-void lub_topology_init(lub_topology *t, double range, double skin, double guard, int threads);
+void lub_topology_init(lub_topology *t, double range, double guard, int threads);
 void lub_topology_free(lub_topology *t);
+
+/* Radius of the ball around a sphere of radius ri within which its faces are exact (the
+ * packing's radii span [rmin, rmax]; margin as in lub_topology_update). */
+double lub_topology_certified_radius(const lub_topology *t, double ri, double rmin, double rmax,
+                                     double margin);
 
 /* Recomputes ps->allow from the positions x (unwrapped; the image shifts of the store give
  * the branch vectors), radii r of n spheres and the cell. cutoff: the lubrication cut-off
- * (units of a_ij) used for the statistics. */
+ * (units of a_ij) used for the statistics; margin: the part of the list's skin not yet
+ * consumed (length, >= 0; the full skin right after a rebuild). */
 int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, const vec3 *x,
-                        const double *r, int n, double cutoff);
+                        const double *r, int n, double cutoff, double margin);
 
 #endif

@@ -215,8 +215,9 @@ static int rebuild(lub_shear_system *s)
     }
     if (rc != LUB_NLIST_OK || lub_pairs_adopt(&s->pairs, &s->nl, s->n))
         return LUB_SHEAR_NOMEM;
+    s->skin_used = 0.0;
     if (s->topology_interval > 0 &&
-        lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff))
+        lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff, s->nl.skin))
         return LUB_SHEAR_NOMEM;
     memcpy(s->x_ref, s->x, (size_t)s->n * sizeof *s->x);
     memcpy(s->h_ref, s->cell.h, sizeof s->h_ref);
@@ -243,7 +244,7 @@ static void affine_map(const lub_shear_system *s, const lub_cell *cell, double A
 void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
 {
     s->topology_interval = interval < 1 ? 1 : interval;
-    lub_topology_init(&s->topo, s->cutoff, s->nl.skin, guard, s->threads);
+    lub_topology_init(&s->topo, s->cutoff, guard, s->threads);
     s->need_rebuild = 1;
 }
 
@@ -255,7 +256,8 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             return rc;
     } else if (s->topology_interval > 0 && s->step % s->topology_interval == 0) {
         /* the list is unchanged, so its buffers suffice: nothing is allocated */
-        if (lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff))
+        if (lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff,
+                                s->nl.skin - s->skin_used))
             return LUB_SHEAR_NOMEM;
     }
     const int nt = s->threads;
@@ -443,7 +445,8 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
                      "non-finite particle position at step %ld, t=%.6g", s->step, s->time);
             return LUB_SHEAR_NONFINITE;
         }
-        if (2.0 * sqrt(umax2) + sqrt(e2) * s->nl.max_dist > s->nl.skin)
+        s->skin_used = 2.0 * sqrt(umax2) + sqrt(e2) * s->nl.max_dist;
+        if (s->skin_used > s->nl.skin)
             s->need_rebuild = 1;
         double tilt = fabs(s->cell.h[0][1] / s->cell.h[0][0]);
         if (tilt > 0.5)

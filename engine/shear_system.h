@@ -102,6 +102,7 @@ typedef struct {
      * topology_interval steps; 0 (after init): every pair inside the cut-off */
     int topology_interval;
     lub_topology topo;
+    double skin_used; /* skin consumed since the last rebuild (the skin criterion's left side) */
     /* per-thread scratch (allocated at init) */
     lub_stress *tstress;
     double *tsyy;
