@@ -5,11 +5,18 @@
 #include <stdlib.h>
 #include <string.h>
 
-void lub_topology_init(lub_topology *t, double range, double guard, int threads)
+void lub_topology_init(lub_topology *t, double range, double guard, const double *radius, int n,
+                       int threads)
 {
     memset(t, 0, sizeof *t);
     t->range = range;
     t->guard = guard;
+    t->r_min = n > 0 ? radius[0] : 0.0;
+    t->r_max = t->r_min;
+    for (int p = 1; p < n; ++p) {
+        t->r_min = radius[p] < t->r_min ? radius[p] : t->r_min;
+        t->r_max = radius[p] > t->r_max ? radius[p] : t->r_max;
+    }
     t->threads = threads < 1 ? 1 : threads;
 }
 
@@ -20,12 +27,11 @@ void lub_topology_free(lub_topology *t)
     memset(t, 0, sizeof *t);
 }
 
-double lub_topology_certified_radius(const lub_topology *t, double ri, double rmin, double rmax,
-                                     double margin)
+double lub_topology_certified_radius(const lub_topology *t, double ri, double margin)
 {
     /* every sphere within this centre distance of i is still in its list */
-    const double known = (ri + rmin) * (1.0 + 0.5 * t->range) + (margin > 0.0 ? margin : 0.0);
-    return lub_power_certified_radius(known, ri, rmax);
+    const double known = (ri + t->r_min) * (1.0 + 0.5 * t->range) + (margin > 0.0 ? margin : 0.0);
+    return lub_power_certified_radius(known, ri, t->r_max);
 }
 
 static int grow(lub_topology *t, int n, size_t nsites)
@@ -56,11 +62,7 @@ int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, co
         memset(ps->allow, 1, np);
         return -1;
     }
-    double rmin = r[0], rmax = r[0];
-    for (int p = 1; p < n; ++p) {
-        rmin = r[p] < rmin ? r[p] : rmin;
-        rmax = r[p] > rmax ? r[p] : rmax;
-    }
+    const double rmax = t->r_max;
     /* CSR of both directions of every listed pair */
     size_t *first = t->first;
     memset(first, 0, ((size_t)n + 1) * sizeof *first);
@@ -82,16 +84,16 @@ int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, co
         first[p] = first[p - 1];
     first[0] = 0;
 
-    size_t inside = 0, allowed = 0, open = 0, guarded = 0;
+    size_t inside = 0, allowed = 0, open = 0;
     const double guard = t->guard;
     lub_power_site *sites = t->sites;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(t->threads)                         \
-    reduction(+ : inside, allowed, open, guarded)
+    reduction(+ : inside, allowed, open)
     for (int i = 0; i < n; ++i) {
         lub_power_site *s = sites + first[i];
         const int m = (int)(first[i + 1] - first[i]);
         lub_power_sort(s, m);
-        const double R = lub_topology_certified_radius(t, r[i], rmin, rmax, margin);
+        const double R = lub_topology_certified_radius(t, r[i], margin);
         for (int q = 0; q < m; ++q) {
             if (!(s[q].tag & 1))
                 continue; /* decided from the other sphere's side */
@@ -100,14 +102,12 @@ int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, co
             const double un = v3_norm(s[q].d) - r[i] - s[q].r;
             int is_open = 0;
             int ok = un < guard * a;
-            const int close = ok;
             if (!ok)
                 ok = lub_power_face_area(r[i], s, m, q, R, rmax, &is_open) > 1e-9 * a * a;
             ps->allow[k] = (unsigned char)ok;
             if (un <= cutoff * a) {
                 inside++;
                 allowed += ok;
-                guarded += close;
                 open += ok && is_open;
             }
         }
@@ -115,7 +115,6 @@ int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, co
     t->inside = inside;
     t->allowed = allowed;
     t->open = open;
-    t->guarded = guarded;
     t->updates++;
     return 0;
 }

@@ -39,8 +39,9 @@
 #include "power_faces.h"
 
 typedef struct {
-    double range; /* the neighbour list's cut-off in units of a_ij */
-    double guard; /* pairs with u_n < guard * a_ij are always allowed */
+    double range;        /* the neighbour list's cut-off in units of a_ij */
+    double guard;        /* pairs with u_n < guard * a_ij are always allowed */
+    double r_min, r_max; /* smallest and largest radius of the packing (fixed) */
     int threads;
     /* per-sphere candidate lists, CSR */
     size_t *first;         /* [n + 1] */
@@ -48,22 +49,23 @@ typedef struct {
     size_t site_cap;
     int n_cap;
     /* statistics of the last update (pairs inside the cut-off only) */
-    size_t inside, allowed, open, guarded;
+    size_t inside, allowed, open;
     long updates;
 } lub_topology;
 
-void lub_topology_init(lub_topology *t, double range, double guard, int threads);
+/* radius[n]: the packing's radii (only their range is kept). */
+void lub_topology_init(lub_topology *t, double range, double guard, const double *radius, int n,
+                       int threads);
 void lub_topology_free(lub_topology *t);
 
-/* Radius of the ball around a sphere of radius ri within which its faces are exact (the
- * packing's radii span [rmin, rmax]; margin as in lub_topology_update). */
-double lub_topology_certified_radius(const lub_topology *t, double ri, double rmin, double rmax,
-                                     double margin);
+/* Radius of the ball around a sphere of radius ri within which its faces are exact (margin as
+ * in lub_topology_update). */
+double lub_topology_certified_radius(const lub_topology *t, double ri, double margin);
 
 /* Recomputes ps->allow from the positions x (unwrapped; the image shifts of the store give
- * the branch vectors), radii r of n spheres and the cell. cutoff: the lubrication cut-off
- * (units of a_ij) used for the statistics; margin: the part of the list's skin not yet
- * consumed (length, >= 0; the full skin right after a rebuild). */
+ * the branch vectors), radii r of n spheres (those given to lub_topology_init) and the cell.
+ * cutoff: the lubrication cut-off (units of a_ij) used for the statistics; margin: the part of the
+ * list's skin not yet consumed (length, >= 0; the full skin right after a rebuild). */
 int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, const vec3 *x,
                         const double *r, int n, double cutoff, double margin);
 

@@ -199,6 +199,14 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s)
     return b;
 }
 
+/* Delaunay flags from the current positions; the list holds every pair within its listing
+ * distance minus the skin consumed since the rebuild. */
+static int update_topology(lub_shear_system *s)
+{
+    return lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff,
+                               s->nl.skin - s->skin_used);
+}
+
 static int rebuild(lub_shear_system *s)
 {
     int m[3];
@@ -216,8 +224,7 @@ static int rebuild(lub_shear_system *s)
     if (rc != LUB_NLIST_OK || lub_pairs_adopt(&s->pairs, &s->nl, s->n))
         return LUB_SHEAR_NOMEM;
     s->skin_used = 0.0;
-    if (s->topology_interval > 0 &&
-        lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff, s->nl.skin))
+    if (s->topology_interval > 0 && update_topology(s))
         return LUB_SHEAR_NOMEM;
     memcpy(s->x_ref, s->x, (size_t)s->n * sizeof *s->x);
     memcpy(s->h_ref, s->cell.h, sizeof s->h_ref);
@@ -244,7 +251,7 @@ static void affine_map(const lub_shear_system *s, const lub_cell *cell, double A
 void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
 {
     s->topology_interval = interval < 1 ? 1 : interval;
-    lub_topology_init(&s->topo, s->cutoff, guard, s->threads);
+    lub_topology_init(&s->topo, s->cutoff, guard, s->r, s->n, s->threads);
     s->need_rebuild = 1;
 }
 
@@ -256,8 +263,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             return rc;
     } else if (s->topology_interval > 0 && s->step % s->topology_interval == 0) {
         /* the list is unchanged, so its buffers suffice: nothing is allocated */
-        if (lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff,
-                                s->nl.skin - s->skin_used))
+        if (update_topology(s))
             return LUB_SHEAR_NOMEM;
     }
     const int nt = s->threads;

@@ -16,9 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "packing.h"
 #include "pair_topology.h"
-#include "shear_system.h"
+#include "shear_fixture.h"
 #include "shear_test.h"
 
 enum { N = 200, MAXS = 27 * N };
@@ -27,28 +26,11 @@ static lub_power_site sites[MAXS];
 
 static int make(lub_shear_system *s, double phi)
 {
-    double r[N];
-    vec3 x[N];
-    lub_cell c;
-    lub_packing_params pp = {
-        .n = N, .phi = phi, .radius_std = 0.05, .seed = 99, .margin = 0.01, .max_sweeps = 2000000};
-    int rc = lub_packing_generate(&pp, r, x, &c, NULL);
-    if (rc)
-        return rc;
-    c.L[0][1] = 1.0;
-    const lub_law_params law = {.eta = 1.0,
-                                .k_bulk = 1e4,
-                                .alpha = 1.0,
-                                .k_t = 5e3,
-                                .eps = 0.02,
-                                .mu = 0.5,
-                                .terms = LUB_TERM_ALL};
-    rc = lub_shear_init(s, N, r, x, &c, &law, 1e-2, 2.0, 0.5, 1.0, 1, 0, 0);
-    if (rc)
-        return rc;
-    s->dt = 0.3 * lub_shear_elastic_dt(s);
-    lub_shear_use_delaunay(s, 5, 0.05);
-    return 0;
+    const lub_law_params law = shear_fixture_law(1e4);
+    const int rc = shear_fixture_make(s, N, phi, &law, 2.0, 1, 99, 1e-2);
+    if (rc == 0)
+        lub_shear_use_delaunay(s, 5, 0.05);
+    return rc;
 }
 
 /* power-diagram face of pair k from all spheres and 27 images, clipped to the ball of radius R
@@ -59,9 +41,7 @@ static int full_neighbour(const lub_shear_system *s, size_t k, double R, double 
     const int i = ps->i[k], j = ps->j[k];
     const vec3 dj = v3_sub(v3_add(s->x[j], lub_cell_shift(&s->cell, &ps->c[3 * k])), s->x[i]);
     int m = 0, target = -1;
-    double rmax = 0.0;
     for (int p = 0; p < s->n; ++p) {
-        rmax = s->r[p] > rmax ? s->r[p] : rmax;
         for (int a = -1; a <= 1; ++a)
             for (int b = -1; b <= 1; ++b)
                 for (int c = -1; c <= 1; ++c) {
@@ -81,7 +61,7 @@ static int full_neighbour(const lub_shear_system *s, size_t k, double R, double 
     if (target < 0)
         return -1;
     const double a = 0.5 * (s->r[i] + s->r[j]);
-    const double A = lub_power_face_area(s->r[i], sites, m, target, R, rmax, NULL);
+    const double A = lub_power_face_area(s->r[i], sites, m, target, R, s->topo.r_max, NULL);
     return A > 1e-9 * a * a ? 1 : 0;
 }
 
@@ -99,17 +79,12 @@ static void check_density(double phi, double max_missed)
     const double margin = s.nl.skin - s.skin_used;
     rc = lub_topology_update(&s.topo, ps, &s.cell, s.x, s.r, s.n, s.cutoff, margin);
     ST_CHECK(rc == 0, "update %d", rc);
-    double rmin = s.r[0], rmax = s.r[0];
-    for (int p = 1; p < s.n; ++p) {
-        rmin = s.r[p] < rmin ? s.r[p] : rmin;
-        rmax = s.r[p] > rmax ? s.r[p] : rmax;
-    }
 
     size_t mismatch = 0, inside = 0, allowed = 0, edges = 0, missed = 0;
     for (size_t k = 0; k < ps->n; ++k) {
         double un;
         const int i = ps->i[k];
-        const double R = lub_topology_certified_radius(&s.topo, s.r[i], rmin, rmax, margin);
+        const double R = lub_topology_certified_radius(&s.topo, s.r[i], margin);
         const int in_ball = full_neighbour(&s, k, R, &un);
         const int full = full_neighbour(&s, k, 50.0, &un);
         const double a = 0.5 * (s.r[i] + s.r[ps->j[k]]);

@@ -20,28 +20,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "packing.h"
 #include "pair_eval.h"
 #include "shear_system.h"
+#include "shear_fixture.h"
 #include "shear_test.h"
-
-static lub_law_params full_law(double g)
-{
-    lub_law_params p = {.eta = 1.0,
-                        .k_bulk = g,
-                        .alpha = 1.0,
-                        .k_t = 0.5 * g,
-                        .eps = 0.02,
-                        .mu = 0.5,
-                        .terms = LUB_TERM_ALL};
-    return p;
-}
 
 /* 64 unit spheres on a cubic lattice of spacing 3 a in a 12 a box, sheared (L_xy = 1), cut-off
  * 0.2 a, dt 2e-3: no two spheres ever interact under the affine flow */
 static int make_lattice(lub_shear_system *s)
 {
-    const lub_law_params law = full_law(1e4);
+    const lub_law_params law = shear_fixture_law(1e4);
     const int nl = 4, n = nl * nl * nl;
     double r[64];
     vec3 x[64];
@@ -53,30 +41,6 @@ static int make_lattice(lub_shear_system *s)
     lub_cell_init_box(&c, 12, 12, 12);
     c.L[0][1] = 1.0;
     return lub_shear_init(s, n, r, x, &c, &law, 1e-2, 0.2, 0.5, 2e-3, 1, 0, 0);
-}
-
-static int make(lub_shear_system *s, int n, double phi, const lub_law_params *law, double cutoff,
-                int threads, unsigned seed, double st)
-{
-    double *r = malloc(n * sizeof *r);
-    vec3 *x = malloc(n * sizeof *x);
-    lub_cell c;
-    lub_packing_params pp = {.n = n,
-                             .phi = phi,
-                             .radius_std = 0.05,
-                             .seed = seed,
-                             .margin = 0.01,
-                             .max_sweeps = 2000000};
-    int rc = lub_packing_generate(&pp, r, x, &c, NULL);
-    if (rc == 0) {
-        c.L[0][1] = 1.0;
-        rc = lub_shear_init(s, n, r, x, &c, law, st, cutoff, 0.5, 1.0, threads, 0, 0);
-        if (rc == 0)
-            s->dt = 0.3 * lub_shear_elastic_dt(s);
-    }
-    free(r);
-    free(x);
-    return rc;
 }
 
 static void compare_batched_with_scalar(lub_shear_system *s)
@@ -228,11 +192,11 @@ int main(void)
     }
     /* 2. dense robustness run + 3. thread equivalence */
     {
-        lub_law_params law = full_law(1e4);
+        lub_law_params law = shear_fixture_law(1e4);
         lub_shear_system a, b, b2;
-        int rc = make(&a, 400, 0.55, &law, 2.0, 1, 5, 1e-2);
-        rc |= make(&b, 400, 0.55, &law, 2.0, 2, 5, 1e-2);
-        rc |= make(&b2, 400, 0.55, &law, 2.0, 2, 5, 1e-2);
+        int rc = shear_fixture_make(&a, 400, 0.55, &law, 2.0, 1, 5, 1e-2);
+        rc |= shear_fixture_make(&b, 400, 0.55, &law, 2.0, 2, 5, 1e-2);
+        rc |= shear_fixture_make(&b2, 400, 0.55, &law, 2.0, 2, 5, 1e-2);
         ST_CHECK(rc == 0, "init");
         const int nsteps = 1200;
         double sxy = 0, P = 0, zc = 0, z = 0;
