@@ -20,7 +20,7 @@
  * Dilute-region damping: Stokes drag with viscosity dilute_drag.viscosity*eta on particles
  * with at most dilute_drag.max_interactions active pairs (default 2: "fewer than three").
  *
- * Observables: phi(y) time- and plane-averaged over strain >= average_from with blocking
+ * Observables: phi(y) time- and plane-averaged over strain >= average_from with the stats.h
  * error bars (exact sphere–slab volumes, resuspension_profile.h), suspension height (phi
  * crosses half its maximum), eta_ii(y) = (1/Sh) int_y^inf phi (resuspension_analysis.h), the
  * bulk points eta_ii(phi) after lub_profile_select_bulk, phi averaged over analysis.phi_window
@@ -525,7 +525,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     /* ---- steady-state analysis (also for a partial run: whatever was averaged) ---- */
     int steady = 0;
     const size_t mser = nh >= 10 ? lub_stats_mser(B.series_h, (size_t)nh, 5, &steady) : 0;
-    int sem_blocking = 1;
+    int sem_batch_means = 1;
     for (int i = 0; i < nb; ++i) {
         B.ybin[i] = (i + 0.5) * dy;
         for (int64_t j = 0; j < navg; ++j)
@@ -536,7 +536,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             sem = lub_stats_block_sem(B.scratch, (size_t)navg, B.scratch2);
         if (!(sem >= 0.0) && navg >= 2) {
             sem = sqrt(lub_stats_var(B.scratch, (size_t)navg) / (double)navg);
-            sem_blocking = 0;
+            sem_batch_means = 0;
         }
         B.phi_err[i] = sem;
     }
@@ -547,7 +547,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         for (int i = 0; i < nb; ++i)
             pmax = fmax(pmax, B.phi[i]);
         hs_mean = lub_profile_height(B.phi, nb, 0.0, dy, 0.5 * pmax);
-        /* error of the height: blocking SEM of the instantaneous heights in the window */
+        /* error of the height: stats.h standard error of the instantaneous heights */
         size_t h0i = (size_t)(nh - navg);
         lub_stats_result hr;
         lub_stats_analyse(B.series_h + h0i, (size_t)navg, 0, B.scratch2, &hr);
@@ -664,8 +664,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     json_object_set_new(ctx->summary_extra, "height_steady", json_boolean(steady));
     json_object_set_new(ctx->summary_extra, "height_transient_end_strain",
                         json_real((double)mser * p.sample_strain));
-    json_object_set_new(ctx->summary_extra, "phi_err_method",
-                        json_string(sem_blocking ? "blocking" : "naive (fewer than 32 samples)"));
+    json_object_set_new(
+        ctx->summary_extra, "phi_err_method",
+        json_string(sem_batch_means ? "batch_means_ar1" : "naive (fewer than 32 samples)"));
     json_t *warn = json_array();
     if (gd * sqrt(a / grav) > 5e-2)
         json_array_append_new(warn, json_string("inertial number gd sqrt(a/g) above 5e-2: "

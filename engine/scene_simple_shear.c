@@ -707,7 +707,7 @@ const lub_scene lub_scene_simple_shear = {
         "viscous number Iv = eta gd/P (units: a, eta, P = 1). Reports phi, P, mu = sigma_xy/P, "
         "eta_r, Iv, normal viscosities eta_ii, normal-stress ratios, coordination and contact "
         "numbers and the stress split (normal/tangential contact/lubrication, kinetic) with "
-        "steady-state detection (MSER) and blocking error bars.",
+        "steady-state detection (MSER) and AR(1)-corrected batch-means error bars.",
     .resolve = ss_resolve,
     .run = ss_run,
 };

@@ -1,4 +1,4 @@
-/* stats.c — MSER truncation and blocking error bars (see stats.h). */
+/* stats.c — MSER truncation and AR(1)-corrected batch-means error bars (see stats.h). */
 #include "stats.h"
 
 #include <math.h>
@@ -65,24 +65,39 @@ size_t lub_stats_mser(const double *x, size_t n, size_t batch, int *steady)
     return best_d * batch;
 }
 
+/* Lag-1 autocorrelation of y[0..m), 0 when the series is constant. */
+static double lag1_correlation(const double *y, size_t m)
+{
+    double mean = lub_stats_mean(y, m), num = 0.0, den = 0.0;
+    for (size_t i = 0; i < m; ++i) {
+        double d = y[i] - mean;
+        den += d * d;
+        if (i + 1 < m)
+            num += d * (y[i + 1] - mean);
+    }
+    return den > 0.0 ? num / den : 0.0;
+}
+
 double lub_stats_block_sem(const double *x, size_t n, double *scratch)
 {
     if (n < 32)
         return NAN;
     memcpy(scratch, x, n * sizeof *x);
     size_t m = n;
-    double best = 0.0;
-    while (m >= 16) {
-        double v = lub_stats_var(scratch, m);
-        double sem = sqrt(v / (double)m);
-        if (sem > best)
-            best = sem;
+    /* halve while the next level still keeps >= LUB_STATS_MIN_BATCHES batch means */
+    while (m / 2 >= LUB_STATS_MIN_BATCHES) {
         size_t h = m / 2;
         for (size_t i = 0; i < h; ++i)
             scratch[i] = 0.5 * (scratch[2 * i] + scratch[2 * i + 1]);
         m = h;
     }
-    return best;
+    double sem = sqrt(lub_stats_var(scratch, m) / (double)m);
+    double r = lag1_correlation(scratch, m);
+    if (r < 0.0)
+        r = 0.0;
+    if (r > LUB_STATS_MAX_LAG1)
+        r = LUB_STATS_MAX_LAG1;
+    return sem * sqrt((1.0 + r) / (1.0 - r));
 }
 
 double lub_stats_drift_z(const double *x, size_t n, double *scratch)

@@ -6,7 +6,7 @@ Runs the scene (vorticity orientation by default: no artificial shear drag, whic
 gradient orientation also slows the settling transient; N = 300) for several total strains with
 the same start of averaging; for each prints one line of name=value figures:
   strain=..  averaged_strain=..  wall_s=..  steps=..  steps_per_s=..  particle_steps_per_s=..
-  mean_phi_err=.. (mean blocking SEM of phi over the bulk bins)  max_phi_err=..
+  mean_phi_err=.. (mean standard error of phi over the bulk bins)  max_phi_err=..
   height=.. height_err=..  cpu_s=.. (CPU seconds of the engine: not inflated by other load)
   eta_at_<phi>=.. eta_err_at_<phi>=.. for the two --eta-phi values (eta_22 in the gradient
   orientation, eta_33 in the vorticity one; local ln-linear fit of the bulk bins of
@@ -126,7 +126,7 @@ def write_table(args, rows):
     e1, e2 = args.eta_phi
     with open(os.path.join(args.table, "resuspension_error.md"), "w") as fh:
         fh.write(f"resuspension, {args.orientation} orientation, N = {args.n}, Sh = 0.5, "
-                 f"averaging from strain {args.average_from:g}, 1 thread; errors: blocking SEM "
+                 f"averaging from strain {args.average_from:g}, 1 thread; errors: standard error (engine/stats.h) "
                  f"of the bins (phi), SEM of the height series, local fit for {comp}\n\n")
         fh.write(f"| strain | averaged strain | CPU s | mean SEM(phi) bulk bins | height (a) | "
                  f"{comp}({e1:g}) | {comp}({e2:g}) |\n|---|---|---|---|---|---|---|\n")

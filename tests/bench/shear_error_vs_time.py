@@ -6,16 +6,16 @@ time for the simple_shear scene at imposed pressure, for several particle number
 For each N one run of `--strain` strain units is made (imposed pressure, default Iv = 0.01,
 default law and cut-off unless overridden). The steady-state series of mu and phi (samples after
 `transient_strain`) are then truncated at increasing end strains S and, for each S, the
-Flyvbjerg-Petersen blocking standard error (the same estimator as engine/stats.c: largest SEM
-over the blocking levels that keep >= 16 blocks; needs >= 32 samples) is computed. The run time
-to reach S is the run's measured CPU time (with 1 thread: the wall time on an idle core, not
-inflated when the machine is shared) scaled by S / strain (the cost per strain is
-constant once the pair lists are built). Prints one name=value line per figure:
+standard error of the mean is computed with the engine's estimator (engine/stats.c: batch
+means at the coarsest blocking level that keeps >= 32 of them, AR(1)-corrected; needs >= 32
+samples). The run time to reach S is the run's measured CPU time (with 1 thread: the wall
+time on an idle core, not inflated when the machine is shared) scaled by S / strain (the cost
+per strain is constant once the pair lists are built). Prints one name=value line per figure:
   N=.. end_strain=.. averaged_strain=.. cpu_s=.. mu=.. mu_sem=.. mu_rel_err=.. phi=.. phi_sem=..
 and per N the constants of the error model mu_rel_err = C_mu / sqrt(averaged_strain),
-phi_sem = C_phi / sqrt(averaged_strain), taken from the whole steady series (the only window
-long enough for the blocking estimate to reach its plateau), with the apparent exponent of the
-shorter windows as a diagnostic; finally the pooled K = C sqrt(N) (error ~ K/sqrt(N strain)).
+phi_sem = C_phi / sqrt(averaged_strain), taken from the whole steady series, with the apparent
+exponents of the shorter windows as a diagnostic (1/2 if the estimator is unbiased at every
+length); finally the pooled K = C sqrt(N) (error ~ K/sqrt(N strain)).
 Writes OUT/error_vs_time.md, OUT/error_vs_time.csv and OUT/error_vs_time.png.
 
 usage: shear_error_vs_time.py --lubdem PATH --out DIR [--n 500 1000 2000] [--strain 20]
@@ -36,17 +36,20 @@ import numpy as np
 
 
 def block_sem(x):
-    """Flyvbjerg-Petersen blocking SEM (max over levels with >= 16 blocks), as engine/stats.c."""
+    """Standard error of the mean as engine/stats.c: halve (average neighbours) down to the
+    coarsest level keeping >= 32 batch means, then the SEM of those means times
+    sqrt((1 + r)/(1 - r)), r = their lag-1 autocorrelation clipped to [0, 0.95]."""
     x = np.asarray(x, dtype=float)
     if x.size < 32:
         return float("nan")
-    best = 0.0
-    while x.size >= 16:
-        sem = math.sqrt(np.var(x, ddof=1) / x.size)
-        best = max(best, sem)
+    while x.size // 2 >= 32:
         h = x.size // 2
         x = 0.5 * (x[0:2 * h:2] + x[1:2 * h:2])
-    return best
+    d = x - x.mean()
+    den = float(d @ d)
+    r = float(d[:-1] @ d[1:]) / den if den > 0 else 0.0
+    r = min(max(r, 0.0), 0.95)
+    return math.sqrt(np.var(x, ddof=1) / x.size) * math.sqrt((1 + r) / (1 - r))
 
 
 def run(lubdem, out, name, spec, threads, reuse):
@@ -122,17 +125,17 @@ def main():
                 ys_mu.append(r["mu_rel_err"])
                 ys_phi.append(phi_sem)
         if xs:
-            # Error model: SEM(S) = SEM_full sqrt(S_full / S) (S = averaged strain). SEM_full is
-            # the blocking SEM of the whole steady series, the only window long enough for the
-            # blocking estimate to reach its plateau (it needs >~ 16 correlation strains; the
-            # shorter windows above under-estimate it, which their exponent shows).
+            # Error model: SEM(S) = SEM_full sqrt(S_full / S) (S = averaged strain), SEM_full from
+            # the whole steady series (the longest window, the least noisy estimate). The fitted
+            # exponents of the shorter windows show whether the estimate falls as S^-1/2.
             p_mu = -np.polyfit(np.log(xs), np.log(ys_mu), 1)[0] if len(xs) > 1 else float("nan")
+            p_phi = -np.polyfit(np.log(xs), np.log(ys_phi), 1)[0] if len(xs) > 1 else float("nan")
             c_mu = ys_mu[-1] * math.sqrt(xs[-1])
             c_phi = ys_phi[-1] * math.sqrt(xs[-1])
             fits.append({"N": n, "cpu_s_per_strain": cpu / strain[-1], "p_mu": p_mu,
-                         "C_mu": c_mu, "C_phi": c_phi})
+                         "p_phi": p_phi, "C_mu": c_mu, "C_phi": c_phi})
             print(f"N={n} cpu_s_per_strain={cpu / strain[-1]:.4g} window_exponent_mu={p_mu:.3f} "
-                  f"C_mu={c_mu:.4g} C_phi={c_phi:.4g}", flush=True)
+                  f"window_exponent_phi={p_phi:.3f} C_mu={c_mu:.4g} C_phi={c_phi:.4g}", flush=True)
     if fits:
         k_mu = float(np.exp(np.mean([math.log(f["C_mu"] * math.sqrt(f["N"])) for f in fits])))
         k_phi = float(np.exp(np.mean([math.log(f["C_phi"] * math.sqrt(f["N"])) for f in fits])))
@@ -149,11 +152,12 @@ def main():
         for r in rows:
             fh.write(f"| {r['N']} | {r['end_strain']:g} | {r['cpu_s']:.0f} | {r['mu']:.4f} | "
                      f"{r['mu_rel_err']:.2%} | {r['phi']:.4f} | {r['phi_sem']:.1e} |\n")
-        fh.write("\n| N | CPU s per strain | apparent p, SEM(mu) ~ strain^-p over the windows | C_mu "
-                 "(rel. err of mu for 1 averaged strain) | C_phi |\n|---|---|---|---|---|\n")
+        fh.write("\n| N | CPU s per strain | apparent p, SEM(mu) ~ strain^-p over the windows | "
+                 "same for SEM(phi) | C_mu (rel. err of mu for 1 averaged strain) | C_phi |\n"
+                 "|---|---|---|---|---|---|\n")
         for f in fits:
             fh.write(f"| {f['N']} | {f['cpu_s_per_strain']:.1f} | {f['p_mu']:.2f} | "
-                     f"{f['C_mu']:.3g} | {f['C_phi']:.2g} |\n")
+                     f"{f['p_phi']:.2f} | {f['C_mu']:.3g} | {f['C_phi']:.2g} |\n")
         if fits:
             fh.write(f"\nPooled: SEM(mu)/mu ~ {k_mu:.3g}/sqrt(N*strain), SEM(phi) ~ "
                      f"{k_phi:.3g}/sqrt(N*strain) (strain = averaged strain).\n")

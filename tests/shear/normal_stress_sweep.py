@@ -4,7 +4,7 @@
 
 Runs `simple_shear` at imposed phi over a range of volume fractions with the resuspension
 scene's law (eps 0.002, mu 0.5, alpha 1, kt_ratio 0.5, cutoff 2a, radius_std 0.05) at a chosen
-stiffness, and tabulates, per phi, with blocking standard errors:
+stiffness, and tabulates, per phi, with the engine's standard errors (engine/stats.h):
   eta_11, eta_22, eta_33 = -sigma_ii/(eta gd), lambda_1 = sigma_11/sigma_22,
   lambda_3 = sigma_33/sigma_22, the contact and lubrication parts of -sigma_yy, Z_contact and
   the crushed-contact fraction,
@@ -95,7 +95,7 @@ def write_table(path, rows, args):
         fh.write(f"Simple shear at imposed phi, N = {args.n}, strain {args.strain:g} (averaged "
                  f"after the detected transient, >= 2), stiffness {args.stiffness:g} eta gd a, "
                  "St 0.01, law eps 0.002, mu 0.5, alpha 1, kt_ratio 0.5, cutoff 2a, radius_std "
-                 "0.05, seed 1, 1 thread per run. Errors: blocking standard errors. Laws: "
+                 "0.05, seed 1, 1 thread per run. Errors: standard errors (engine/stats.h). Laws: "
                  "physics-reference §3 (eta_22 eq. with phi_m = 0.58; lambda_33 with phi_rcp = "
                  "0.64).\n\n")
         fh.write("| phi | eta_22 | law | ratio | eta_33 | law | ratio | lambda_1 = s11/s22 | "
