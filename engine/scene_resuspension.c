@@ -533,7 +533,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         B.phi[i] = navg > 0 ? lub_stats_mean(B.scratch, (size_t)navg) : NAN;
         double sem = NAN;
         if (navg >= 32)
-            sem = lub_stats_block_sem(B.scratch, (size_t)navg, B.scratch2);
+            sem = lub_stats_sem(B.scratch, (size_t)navg, B.scratch2);
         if (!(sem >= 0.0) && navg >= 2) {
             sem = sqrt(lub_stats_var(B.scratch, (size_t)navg) / (double)navg);
             sem_batch_means = 0;

@@ -78,7 +78,7 @@ static double lag1_correlation(const double *y, size_t m)
     return den > 0.0 ? num / den : 0.0;
 }
 
-double lub_stats_block_sem(const double *x, size_t n, double *scratch)
+double lub_stats_sem(const double *x, size_t n, double *scratch)
 {
     if (n < 32)
         return NAN;
@@ -106,8 +106,8 @@ double lub_stats_drift_z(const double *x, size_t n, double *scratch)
     if (h < 32)
         return NAN;
     double m1 = lub_stats_mean(x, h), m2 = lub_stats_mean(x + (n - h), h);
-    double s1 = lub_stats_block_sem(x, h, scratch);
-    double s2 = lub_stats_block_sem(x + (n - h), h, scratch);
+    double s1 = lub_stats_sem(x, h, scratch);
+    double s2 = lub_stats_sem(x + (n - h), h, scratch);
     double den = sqrt(s1 * s1 + s2 * s2);
     if (!(den > 0))
         return (m1 == m2) ? 0.0 : INFINITY;
@@ -127,7 +127,7 @@ void lub_stats_analyse(const double *x, size_t n, size_t min_start, double *scra
     r->n = n - d;
     (void)steady;
     r->mean = lub_stats_mean(x + d, r->n);
-    r->sem = lub_stats_block_sem(x + d, r->n, scratch);
+    r->sem = lub_stats_sem(x + d, r->n, scratch);
     double v = lub_stats_var(x + d, r->n);
     r->n_eff = (isfinite(r->sem) && r->sem > 0) ? v / (r->sem * r->sem) : NAN;
     r->drift_z = lub_stats_drift_z(x + d, r->n, scratch);

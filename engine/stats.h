@@ -25,7 +25,7 @@
  *    optimum often falls late by chance.
  *  - "Known to x %": sem / |mean| <= x/100.
  * All functions are pure: they read the arrays and write the outputs; no allocation except
- * lub_stats_block_sem, which uses a caller-provided scratch array of n doubles.
+ * lub_stats_sem, which uses a caller-provided scratch array of n doubles.
  */
 #ifndef LUBDEM_STATS_H
 #define LUBDEM_STATS_H
@@ -56,7 +56,7 @@ size_t lub_stats_mser(const double *x, size_t n, size_t batch, int *steady);
 
 /* Standard error of the mean of x[0..n) (AR(1)-corrected batch means, rule above). scratch:
  * n doubles. Returns NaN if n < 32; 0 for a constant series. */
-double lub_stats_block_sem(const double *x, size_t n, double *scratch);
+double lub_stats_sem(const double *x, size_t n, double *scratch);
 
 /* Drift z-score of the two halves of x[0..n) (NaN if a half has < 32 samples). */
 double lub_stats_drift_z(const double *x, size_t n, double *scratch);

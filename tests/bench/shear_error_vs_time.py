@@ -35,7 +35,7 @@ import h5py
 import numpy as np
 
 
-def block_sem(x):
+def stats_sem(x):
     """Standard error of the mean as engine/stats.c: halve (average neighbours) down to the
     coarsest level keeping >= 32 batch means, then the SEM of those means times
     sqrt((1 + r)/(1 - r)), r = their lag-1 autocorrelation clipped to [0, 0.95]."""
@@ -111,7 +111,7 @@ def main():
         for e in ends:
             m = keep & (strain <= e + tol)
             mu, phi = s["mu"][m], s["phi"][m]
-            mu_sem, phi_sem = block_sem(mu), block_sem(phi)
+            mu_sem, phi_sem = stats_sem(mu), stats_sem(phi)
             r = {"N": n, "end_strain": e, "averaged_strain": e - transient,
                  "cpu_s": cpu * e / strain[-1], "samples": int(m.sum()),
                  "mu": float(np.mean(mu)), "mu_sem": mu_sem,

@@ -47,7 +47,7 @@ Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
     0.005, and |dmu| (|d eta_r|) within 3 % (5 %) or three combined standard errors;
   * St divided by 10 (Iv = 0.1, 0.01, ref and delaunay): |dphi| <= 0.005 or three combined
     standard errors, |dmu| within 3 % or three combined standard errors;
-    kinetic share of sigma_xy <= 1 %.
+  * kinetic share of sigma_xy <= 1 % in every run but the robustness ones (F).
 usage: run_physics.py --lubdem PATH --out DIR [--check] [--quick] [--n N] [--jobs J] [--reuse]
 """
 import argparse

@@ -29,7 +29,7 @@ int main(void)
                 v = rho * v + se * lub_rng_gauss(&rng);
                 x[i] = v;
             }
-            double sem = lub_stats_block_sem(x, n, scr);
+            double sem = lub_stats_sem(x, n, scr);
             double m = lub_stats_mean(x, n);
             mean_est += sem / reps;
             if (fabs(m) < 2 * sem)
@@ -67,7 +67,7 @@ int main(void)
                     v = rho * v + lub_rng_gauss(&rng);
                     x[i] = v;
                 }
-                double sem = lub_stats_block_sem(x, ns, scr);
+                double sem = lub_stats_sem(x, ns, scr);
                 mean_est += sem / reps;
                 if (fabs(lub_stats_mean(x, ns)) < 2 * sem)
                     covered++;
@@ -83,8 +83,8 @@ int main(void)
     /* a constant series has a zero error bar (no 0/0 in the lag-1 correlation) */
     for (size_t i = 0; i < 100; ++i)
         x[i] = 3.0;
-    ST_CHECK(lub_stats_block_sem(x, 100, scr) == 0.0, "constant series SEM %g",
-             lub_stats_block_sem(x, 100, scr));
+    ST_CHECK(lub_stats_sem(x, 100, scr) == 0.0, "constant series SEM %g",
+             lub_stats_sem(x, 100, scr));
     /* naive SEM underestimates correlated data: check blocking is larger by ~sqrt(19) */
     {
         double v = 0;
@@ -93,7 +93,7 @@ int main(void)
             x[i] = v;
         }
         double naive = sqrt(lub_stats_var(x, n) / n);
-        double blk = lub_stats_block_sem(x, n, scr);
+        double blk = lub_stats_sem(x, n, scr);
         ST_CHECK(blk / naive > 3.0, "blocking/naive %g", blk / naive);
     }
     /* transient: x = 5 exp(-i/200) + noise, n = 4000; truncation should fall in [300, 1500] */
