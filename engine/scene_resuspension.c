@@ -531,9 +531,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         for (int64_t j = 0; j < navg; ++j)
             B.scratch[j] = B.samples[j * nb + i];
         B.phi[i] = navg > 0 ? lub_stats_mean(B.scratch, (size_t)navg) : NAN;
-        double sem = NAN;
-        if (navg >= 32)
-            sem = lub_stats_sem(B.scratch, (size_t)navg, B.scratch2);
+        /* NaN below LUB_STATS_MIN_BATCHES samples: then the naive SEM */
+        double sem = navg > 0 ? lub_stats_sem(B.scratch, (size_t)navg, B.scratch2) : NAN;
         if (!(sem >= 0.0) && navg >= 2) {
             sem = sqrt(lub_stats_var(B.scratch, (size_t)navg) / (double)navg);
             sem_batch_means = 0;

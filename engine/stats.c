@@ -80,7 +80,7 @@ static double lag1_correlation(const double *y, size_t m)
 
 double lub_stats_sem(const double *x, size_t n, double *scratch)
 {
-    if (n < 32)
+    if (n < LUB_STATS_MIN_BATCHES)
         return NAN;
     memcpy(scratch, x, n * sizeof *x);
     size_t m = n;
@@ -103,7 +103,7 @@ double lub_stats_sem(const double *x, size_t n, double *scratch)
 double lub_stats_drift_z(const double *x, size_t n, double *scratch)
 {
     size_t h = n / 2;
-    if (h < 32)
+    if (h < LUB_STATS_MIN_BATCHES)
         return NAN;
     double m1 = lub_stats_mean(x, h), m2 = lub_stats_mean(x + (n - h), h);
     double s1 = lub_stats_sem(x, h, scratch);
