@@ -230,6 +230,7 @@ enum {
     S_YY_SL,
     S_YY_KIN,
     S_CRUSHED,
+    S_SLIDING,
     S_COUNT
 };
 static const char *s_names[S_COUNT] = {"phi",
@@ -255,7 +256,8 @@ static const char *s_names[S_COUNT] = {"phi",
                                        "sigma_yy_normal_lubrication",
                                        "sigma_yy_tangential_lubrication",
                                        "sigma_yy_kinetic",
-                                       "crushed_contact_fraction"};
+                                       "crushed_contact_fraction",
+                                       "sliding_contact_fraction"};
 
 typedef struct {
     double *v[S_COUNT];
@@ -502,7 +504,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 smp.stress.part[LUB_SP_NL][4] / s0,
                 smp.stress.part[LUB_SP_SL][4] / s0,
                 smp.stress.part[LUB_SP_KIN][4] / s0,
-                smp.n_contacts ? (double)smp.n_crushed / (double)smp.n_contacts : 0.0};
+                smp.n_contacts ? (double)smp.n_crushed / (double)smp.n_contacts : 0.0,
+                smp.n_contacts ? (double)smp.n_sliding / (double)smp.n_contacts : 0.0};
             if (ser.n < ser.cap) {
                 for (int k = 0; k < S_COUNT; ++k)
                     ser.v[k][ser.n] = vals[k];
@@ -598,7 +601,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             lub_stats_result sr;
             lub_stats_analyse(ser.v[k], ser.n, start, scratch, &sr);
             const char *unit = "1";
-            if (k == S_P || k == S_SXY || k >= S_XY_NC)
+            if (k == S_P || k == S_SXY || (k >= S_XY_NC && k <= S_YY_KIN))
                 unit = su;
             if (k == S_ETA || k == S_ETA11 || k == S_ETA22 || k == S_ETA33)
                 unit = "1";

@@ -92,7 +92,7 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
     s->near_count = calloc(un, sizeof *s->near_count);
     s->tstress = calloc((size_t)threads, sizeof *s->tstress);
     s->tsyy = calloc((size_t)threads, sizeof *s->tsyy);
-    s->tcount = calloc(3 * (size_t)threads, sizeof *s->tcount);
+    s->tcount = calloc(LUB_COUNT_N * (size_t)threads, sizeof *s->tcount);
     s->acc = calloc((size_t)threads, sizeof *s->acc);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
         !s->inv_i || !s->near_count || !s->tstress || !s->tsyy || !s->tcount || !s->acc) {
@@ -285,7 +285,8 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
         if (want_stress)
             lub_stress_zero(&s->tstress[k]);
         s->tsyy[k] = 0.0;
-        s->tcount[3 * k] = s->tcount[3 * k + 1] = s->tcount[3 * k + 2] = 0;
+        for (int c = 0; c < LUB_COUNT_N; ++c)
+            s->tcount[LUB_COUNT_N * k + c] = 0;
         if (want_pdf)
             lub_pdf_clear(&s->tpdf[k]);
     }
@@ -309,7 +310,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
         lub_stress *ts = &s->tstress[tid];
         lub_pair_accum *acc = &s->acc[tid];
         double syy = 0.0;
-        size_t nact = 0, ncon = 0, ncrush = 0;
+        size_t nact = 0, ncon = 0, ncrush = 0, nslide = 0;
         lub_pair_accum_zero(acc, 0, n);
         if (tid == 0)
             s->team = nteam; /* read after the barrier below */
@@ -373,6 +374,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
                 nact++;
                 ncon += o.contact ? 1 : 0;
                 ncrush += (un < -law->alpha * law->eps * a) ? 1 : 0;
+                nslide += o.slip ? 1 : 0;
             }
             if (want_pdf) {
                 double h1 = ri + 0.5 * un, h2 = rj + 0.5 * un;
@@ -420,9 +422,11 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             umax2 = u2 > umax2 ? u2 : umax2;
         }
         s->tsyy[tid] = syy + kyy;
-        s->tcount[3 * tid] = nact;
-        s->tcount[3 * tid + 1] = ncon;
-        s->tcount[3 * tid + 2] = ncrush;
+        size_t *count = &s->tcount[LUB_COUNT_N * tid];
+        count[LUB_COUNT_ACTIVE] = nact;
+        count[LUB_COUNT_CONTACT] = ncon;
+        count[LUB_COUNT_CRUSHED] = ncrush;
+        count[LUB_COUNT_SLIDING] = nslide;
     }
     if (failed)
         return LUB_SHEAR_NONFINITE;
@@ -467,9 +471,11 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             syy += s->tsyy[k];
             if (want_stress) {
                 lub_stress_accumulate(&out->stress, &s->tstress[k]);
-                out->n_active += s->tcount[3 * k];
-                out->n_contacts += s->tcount[3 * k + 1];
-                out->n_crushed += s->tcount[3 * k + 2];
+                const size_t *count = &s->tcount[LUB_COUNT_N * k];
+                out->n_active += count[LUB_COUNT_ACTIVE];
+                out->n_contacts += count[LUB_COUNT_CONTACT];
+                out->n_crushed += count[LUB_COUNT_CRUSHED];
+                out->n_sliding += count[LUB_COUNT_SLIDING];
             }
         }
         out->syy = syy * iv;

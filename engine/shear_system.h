@@ -51,6 +51,9 @@
 #include "periodic_cell.h"
 #include "stress.h"
 
+/* Per-thread pair counts of a stress sample (lub_shear_system.tcount). */
+enum { LUB_COUNT_ACTIVE, LUB_COUNT_CONTACT, LUB_COUNT_CRUSHED, LUB_COUNT_SLIDING, LUB_COUNT_N };
+
 enum {
     LUB_SHEAR_OK = 0,
     LUB_SHEAR_NOMEM = -1,
@@ -73,6 +76,7 @@ typedef struct {
     size_t n_crushed;  /* pairs with u_n < -alpha eps a: asperities crushed, the bulk spring and a
                           persistent lubrication force carry the load (notes §11 P5); a non-zero
                           count means the stiffness is too low for the stress level */
+    size_t n_sliding;  /* contacts sliding at the Coulomb limit (|F_s,contact| = mu |F_c|) */
 } lub_shear_sample;
 
 typedef struct {
@@ -106,7 +110,7 @@ typedef struct {
     /* per-thread scratch (allocated at init) */
     lub_stress *tstress;
     double *tsyy;
-    size_t *tcount;      /* [3 * threads] active, contacts, crushed */
+    size_t *tcount;      /* [LUB_COUNT_N * threads], indexed by LUB_COUNT_* */
     lub_pair_accum *acc; /* [threads] per-particle pair sums of each thread (pair_accum.h) */
     int team;            /* threads of the last step's team (accumulators in use) */
     lub_pdf pdf;         /* accumulated snapshots (if enabled) */

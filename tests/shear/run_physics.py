@@ -81,6 +81,11 @@ def mu_ref(iv, mu_m=MU_M):
     return MU1 + (MU2 - MU1) / (1.0 + I0 / iv) + iv * (1.0 - phi) ** -2.5
 
 
+def mu_c_ref(iv):
+    """Contact part mu_c of the §2 law (seed 000 eq. 14)."""
+    return MU1 + (MU2 - MU1) / (1.0 + I0 / iv)
+
+
 def eta_ref(phi, mu_m=MU_M):
     q = phi_m(mu_m) / phi - 1.0
     if q <= 0:
@@ -168,7 +173,8 @@ def make_row(case, spec, rc, s, wall):
               "eps": spec["law"]["eps"]})
     r["Iv_meas"], _ = val(s, "Iv")
     for k in ("phi", "mu", "eta_r", "eta_22", "eta_33", "Z", "Z_contact",
-              "sigma11_over_sigma22", "sigma33_over_sigma22", "crushed_contact_fraction"):
+              "sigma11_over_sigma22", "sigma33_over_sigma22", "crushed_contact_fraction",
+              "sliding_contact_fraction"):
         v, e = val(s, k)
         r[k], r[k + "_err"] = v, e
     sxy = val(s, "sigma_xy")[0]
@@ -179,10 +185,17 @@ def make_row(case, spec, rc, s, wall):
         r["nl_share"] = val(s, "sigma_xy_normal_lubrication")[0] / sxy
         r["sl_share"] = val(s, "sigma_xy_tangential_lubrication")[0] / sxy
         r["kinetic_share"] = val(s, "sigma_xy_kinetic")[0] / sxy
+    pres = val(s, "pressure")[0]
+    r["mu_nc"] = r["mu_sc"] = None
+    if sxy and pres:
+        # contact part of mu split into its normal and tangential (friction) forces
+        r["mu_nc"] = val(s, "sigma_xy_normal_contact")[0] / pres
+        r["mu_sc"] = val(s, "sigma_xy_tangential_contact")[0] / pres
     mu_m = case.get("mu_m", MU_M)
     if case["control"] == "pressure":
         r["phi_ref"] = phi_ref(case["Iv"], mu_m)
         r["mu_ref"] = mu_ref(case["Iv"], mu_m) if mu_m >= 0.36 else None
+        r["mu_c_ref"] = mu_c_ref(case["Iv"]) if mu_m >= 0.36 else None
     if r["phi"]:
         r["eta_ref_at_phi"] = eta_ref(r["phi"], mu_m)
         r["eta22_ref"] = eta22_ref(r["phi"], mu_m)
@@ -291,7 +304,8 @@ def write_tables(out, rows, n):
         fh.write("### Imposed pressure (mu_m = 0.5 unless stated)\n\n")
         fh.write("| config | Iv | mu_m | St | stiffness | strain | phi | phi_ref | dphi | mu | "
                  "mu_ref | mu/mu_ref | eta_r/eta_r(phi) | contact/NL/SL share | kinetic | Z | "
-                 "Z_c |\n" + "|---" * 17 + "|\n")
+                 "Z_c | contact mu: normal + tangential (mu_c §2) | sliding |\n" +
+                 "|---" * 19 + "|\n")
         for r in rows:
             if r["control"] != "pressure" or r["phi"] is None or r["group"] == "S":
                 continue
@@ -310,7 +324,10 @@ def write_tables(out, rows, n):
                      f"{fmt(ratio, '{:.3f}')} | {fmt(er, '{:.2f}')} | "
                      f"{fmt(r['contact_share'], '{:.2f}')}/{fmt(r['nl_share'], '{:.2f}')}/"
                      f"{fmt(r['sl_share'], '{:.2f}')} | {fmt(r['kinetic_share'], '{:.1e}')} | "
-                     f"{fmt(r['Z'], '{:.1f}')} | {fmt(r['Z_contact'], '{:.2f}')} |\n")
+                     f"{fmt(r['Z'], '{:.1f}')} | {fmt(r['Z_contact'], '{:.2f}')} | "
+                     f"{fmt(r.get('mu_nc'), '{:.3f}')} + {fmt(r.get('mu_sc'), '{:.3f}')} "
+                     f"({fmt(r.get('mu_c_ref'), '{:.3f}')}) | "
+                     f"{fmt(r.get('sliding_contact_fraction'), '{:.2f}')} |\n")
         fh.write("\n### Imposed volume (mu_m = 0.5)\n\n")
         fh.write("| config | phi | stiffness | strain | eta_r | eta_r ref | ratio | mu | Iv (measured) | eta_22 | "
                  "eta_22 ref (§3) | s11/s22 | s33/s22 | lambda_33 ref (§3) | Z_c | crushed |\n" +
@@ -556,7 +573,9 @@ def main():
         rc, s, wall, err = run_case(a.lubdem, a.out, case, spec, a.reuse)
         r = make_row(case, spec, rc, s, wall)
         print(f"case={case['name']} rc={rc} phi={fmt(r['phi'])} mu={fmt(r['mu'])} "
-              f"eta_r={fmt(r['eta_r'])} wall_s={fmt(r['wall_s'])}"
+              f"eta_r={fmt(r['eta_r'])} mu_contact_normal={fmt(r.get('mu_nc'))} "
+              f"mu_contact_tangential={fmt(r.get('mu_sc'))} "
+              f"sliding={fmt(r.get('sliding_contact_fraction'))} wall_s={fmt(r['wall_s'])}"
               + (f" error={err.strip()[:200]}" if rc else ""), flush=True)
         return r
 

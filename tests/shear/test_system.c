@@ -114,6 +114,33 @@ static void compare_batched_with_scalar(lub_shear_system *s)
     lub_pair_accum_free(&accs);
 }
 
+/* Mean fraction of the contacts that slide (law output slip) over the stress samples of a
+ * short dense run (N = 300, phi = 0.55) with friction coefficient mu and term mask terms. */
+static double sliding_fraction(double mu, unsigned terms, double *zc)
+{
+    lub_law_params law = shear_fixture_law(1e4);
+    law.mu = mu;
+    law.terms = terms;
+    lub_shear_system s;
+    int rc = shear_fixture_make(&s, 300, 0.55, &law, 2.0, 1, 7, 1e-2);
+    ST_CHECK(rc == 0, "init");
+    double slide = 0.0, contacts = 0.0;
+    for (int step = 0; step < 600 && rc == 0; ++step) {
+        lub_shear_sample smp;
+        const unsigned fl = (step >= 200 && step % 10 == 0) ? LUB_SAMPLE_STRESS : 0u;
+        rc = lub_shear_step(&s, fl, &smp);
+        if (fl && rc == 0) {
+            ST_CHECK(smp.n_sliding <= smp.n_contacts, "more sliding pairs than contacts");
+            slide += (double)smp.n_sliding;
+            contacts += (double)smp.n_contacts;
+        }
+    }
+    ST_CHECK(rc == 0, "sliding run rc %d", rc);
+    *zc = 2.0 * contacts / (40.0 * s.n);
+    lub_shear_free(&s);
+    return contacts > 0 ? slide / contacts : NAN;
+}
+
 int main(void)
 {
     /* 1. no interactions: spheres on a lattice with gradient-direction spacing 3 a: the affine
@@ -275,6 +302,23 @@ int main(void)
         lub_shear_free(&a);
         lub_shear_free(&b);
         lub_shear_free(&b2);
+    }
+    /* 4. the sliding-contact count follows the Coulomb limit: almost every contact slides
+     * when mu is tiny, almost none when it is huge, none at all without friction */
+    {
+        double zc_lo, zc_mid, zc_hi, zc_off;
+        const double lo = sliding_fraction(1e-4, LUB_TERM_ALL, &zc_lo);
+        const double mid = sliding_fraction(0.5, LUB_TERM_ALL, &zc_mid);
+        const double hi = sliding_fraction(1e3, LUB_TERM_ALL, &zc_hi);
+        const double off = sliding_fraction(0.5, LUB_TERM_ALL & ~LUB_TERM_FRICTION, &zc_off);
+        printf("sliding fraction mu=1e-4: %.3f (Zc %.2f)  mu=0.5: %.3f (Zc %.2f)  mu=1e3: %.3f "
+               "(Zc %.2f)  friction off: %.3f (Zc %.2f)\n",
+               lo, zc_lo, mid, zc_mid, hi, zc_hi, off, zc_off);
+        ST_CHECK(zc_lo > 0.5 && zc_mid > 0.5 && zc_hi > 0.5 && zc_off > 0.5, "too few contacts");
+        ST_CHECK(lo > 0.9, "mu = 1e-4: only %.3f of the contacts slide", lo);
+        ST_CHECK(hi < 0.1, "mu = 1e3: %.3f of the contacts slide", hi);
+        ST_CHECK(mid > hi && mid < lo, "mu = 0.5: %.3f not between %.3f and %.3f", mid, hi, lo);
+        ST_CHECK(off == 0.0, "friction off: %.3f of the contacts slide", off);
     }
     ST_DONE();
 }
