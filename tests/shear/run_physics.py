@@ -26,7 +26,12 @@ Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
      "delaunay"); kinetic share of sigma_xy in every run;
   F  robustness: imposed volume at 0.995 phi_m and imposed pressure at Iv = 1e-4 (3 strain);
   S  sensitivity (reported, not asserted): cut-off 0.5a, 1a, 1.5a, 2a with and without the
-     roll/twist torques at Iv = 0.1 and 0.01.
+     roll/twist torques at Iv = 0.1 and 0.01;
+  R  the article's roughness as its reference code applies it (lubrication gap
+     max(u_n, 0) + 2 eps a, eps = 0.02, contact at the nominal radius): "delaunay" with
+     eps = 0.04 at the four Iv of A (reported, not asserted).
+Every row also gives phi_tip = phi (1 + eps/2)^3, the solid fraction at the contact radius
+(the asperity tips), which is what the article's phi counts (README, simple_shear).
 Writes OUT/table.md, OUT/table.csv, OUT/rheology.png, OUT/servo.png; prints one name=value
 line per run and per criterion.
 --check: exit 1 if a criterion fails that is not in KNOWN_MISSES (the committed table's misses,
@@ -79,6 +84,13 @@ def phi_ref(iv, mu_m=MU_M):
 def mu_ref(iv, mu_m=MU_M):
     phi = phi_ref(iv, mu_m)
     return MU1 + (MU2 - MU1) / (1.0 + I0 / iv) + iv * (1.0 - phi) ** -2.5
+
+
+def phi_at_contact_radius(phi, eps):
+    """phi counting each sphere at its contact radius r (1 + eps/2) instead of r: contact
+    starts at the gap eps a, so the asperity tips sit eps a / 2 outside the lubricated
+    surface. The reference code of the §2 article puts its nominal radius there."""
+    return phi * (1.0 + 0.5 * eps) ** 3
 
 
 def mu_c_ref(iv):
@@ -197,6 +209,7 @@ def make_row(case, spec, rc, s, wall):
         r["mu_ref"] = mu_ref(case["Iv"], mu_m) if mu_m >= 0.36 else None
         r["mu_c_ref"] = mu_c_ref(case["Iv"]) if mu_m >= 0.36 else None
     if r["phi"]:
+        r["phi_tip"] = phi_at_contact_radius(r["phi"], spec["law"]["eps"])
         r["eta_ref_at_phi"] = eta_ref(r["phi"], mu_m)
         r["eta22_ref"] = eta22_ref(r["phi"], mu_m)
         r["lambda33_ref"] = lambda33_ref(r["phi"])
@@ -227,6 +240,12 @@ def plan(quick):
                           "group": "G", "config": "ref", "control": "pressure", "Iv": iv,
                           "St": round(SEED004_I**2 / (4.0 * iv), 6), "eps": 0.035,
                           "mu_m": SEED004_MU, "terms": {"shear_lubrication": sl}})
+    # the article's roughness in the reference code's convention (lubrication gap
+    # max(u_n, 0) + 2 eps_Y a, contact at the nominal radius): eps = 2 x 0.02 here, compared
+    # at the contact radius (phi_tip); reported, not asserted
+    for iv in (1.0, 0.1, 0.01, 0.001):
+        cases.append({"name": f"delaunay_eps0.04_iv_{iv:g}", "group": "R", "config": "delaunay",
+                      "control": "pressure", "Iv": iv, "eps": 0.04})
     for cfg in ("ref", "delaunay"):
         cases.append({"name": f"{cfg}_iv_0.01_stiff2", "group": "E", "config": cfg,
                       "control": "pressure", "Iv": 0.01, "stiffness_factor": 2.0})
@@ -295,17 +314,19 @@ def write_tables(out, rows, n):
         w.writerows(rows)
     by = {r["name"]: r for r in rows}
     with open(os.path.join(out, "table.md"), "w") as fh:
-        fh.write(f"N = {n}, eps = 0.02 (0.035 in the seed-004 rows), runs of `strain` strain "
+        fh.write(f"N = {n}, eps = 0.02 (0.035 in the seed-004 rows, 0.04 in the 'eps 0.04' rows), "
+                 f"runs of `strain` strain "
                  f"units, steady state from strain >= 2 (MSER); errors are standard errors "
                  f"(AR(1)-corrected batch means, engine/stats.h). phi_m(0.5) = "
                  f"{phi_m(MU_M):.4f}. Config **ref** = cut-off 1a, no roll/twist torques; "
                  f"**default** = cut-off 2a, all terms; **delaunay** = lubrication on the "
-                 f"Delaunay (power-diagram) neighbours within 2a, no roll/twist torques.\n\n")
+                 f"Delaunay (power-diagram) neighbours within 2a, no roll/twist torques. "
+                 f"phi_tip = phi (1 + eps/2)^3 counts the spheres at their contact radius.\n\n")
         fh.write("### Imposed pressure (mu_m = 0.5 unless stated)\n\n")
         fh.write("| config | Iv | mu_m | St | stiffness | strain | phi | phi_ref | dphi | mu | "
                  "mu_ref | mu/mu_ref | eta_r/eta_r(phi) | contact/NL/SL share | kinetic | Z | "
-                 "Z_c | contact mu: normal + tangential (mu_c §2) | sliding |\n" +
-                 "|---" * 19 + "|\n")
+                 "Z_c | contact mu: normal + tangential (mu_c §2) | sliding | "
+                 "phi_tip - phi_ref |\n" + "|---" * 20 + "|\n")
         for r in rows:
             if r["control"] != "pressure" or r["phi"] is None or r["group"] == "S":
                 continue
@@ -315,6 +336,8 @@ def write_tables(out, rows, n):
             tag = r["config"] + (" NL only" if r["group"] == "D" else "") + \
                 (" 2x stiff" if r.get("stiffness_factor") else "") + \
                 (" St/10" if r["name"].endswith("_st10") else "")
+            if r["group"] == "R":
+                tag = r["config"] + f" eps {r['eps']:g}"
             if r["group"] == "G":
                 tag = "seed-004 conditions, " + ("full" if "full" in r["name"] else "NL only")
             fh.write(f"| {tag} | {r['Iv']:g} | {r.get('mu_m', MU_M):g} | {r['St']:g} | "
@@ -327,7 +350,8 @@ def write_tables(out, rows, n):
                      f"{fmt(r['Z'], '{:.1f}')} | {fmt(r['Z_contact'], '{:.2f}')} | "
                      f"{fmt(r.get('mu_nc'), '{:.3f}')} + {fmt(r.get('mu_sc'), '{:.3f}')} "
                      f"({fmt(r.get('mu_c_ref'), '{:.3f}')}) | "
-                     f"{fmt(r.get('sliding_contact_fraction'), '{:.2f}')} |\n")
+                     f"{fmt(r.get('sliding_contact_fraction'), '{:.2f}')} | "
+                     f"{r['phi_tip'] - r['phi_ref']:+.3f} |\n")
         fh.write("\n### Imposed volume (mu_m = 0.5)\n\n")
         fh.write("| config | phi | stiffness | strain | eta_r | eta_r ref | ratio | mu | Iv (measured) | eta_22 | "
                  "eta_22 ref (§3) | s11/s22 | s33/s22 | lambda_33 ref (§3) | Z_c | crushed |\n" +
@@ -575,7 +599,8 @@ def main():
         print(f"case={case['name']} rc={rc} phi={fmt(r['phi'])} mu={fmt(r['mu'])} "
               f"eta_r={fmt(r['eta_r'])} mu_contact_normal={fmt(r.get('mu_nc'))} "
               f"mu_contact_tangential={fmt(r.get('mu_sc'))} "
-              f"sliding={fmt(r.get('sliding_contact_fraction'))} wall_s={fmt(r['wall_s'])}"
+              f"sliding={fmt(r.get('sliding_contact_fraction'))} "
+              f"phi_tip={fmt(r.get('phi_tip'))} wall_s={fmt(r['wall_s'])}"
               + (f" error={err.strip()[:200]}" if rc else ""), flush=True)
         return r
 
