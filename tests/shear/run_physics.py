@@ -29,7 +29,8 @@ Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
      roll/twist torques at Iv = 0.1 and 0.01;
   R  the article's roughness as its reference code applies it (lubrication gap
      max(u_n, 0) + 2 eps a, eps = 0.02, contact at the nominal radius): "delaunay" with
-     eps = 0.04 at the four Iv of A (reported, not asserted).
+     eps = 0.04 at the four Iv of A; asserted only: phi_tip equal to the eps = 0.02 run's
+     within 0.005 or three combined standard errors.
 Every row also gives phi_tip = phi (1 + eps/2)^3, the solid fraction at the contact radius
 (the asperity tips), which is what the article's phi counts (README, simple_shear).
 Writes OUT/table.md, OUT/table.csv, OUT/rheology.png, OUT/servo.png; prints one name=value
@@ -506,6 +507,18 @@ def check(by, rows):
                 crit(f"mu_{r['name']}", dev <= 0.10,
                      f"mu={r['mu']:.4f}+-{err(r, 'mu'):.4f} ref={r['mu_ref']:.4f}",
                      dev <= 0.10 + 2 * err(r, "mu") / r["mu_ref"])
+    # group R: counted at the contact radius, phi does not depend on the roughness (the
+    # asperity shell is what moves phi; README "The PRF model is this law with the nominal
+    # radius at the asperity tips"): within 0.005 or three combined standard errors
+    for iv in (1.0, 0.1, 0.01, 0.001):
+        r2, r4 = by.get(f"delaunay_iv_{iv:g}"), by.get(f"delaunay_eps0.04_iv_{iv:g}")
+        if r2 and r4 and r2["phi"] and r4["phi"]:
+            d = r4["phi_tip"] - r2["phi_tip"]
+            tol = max(0.005, 3.0 * math.hypot(err(r2, "phi") * r2["phi_tip"] / r2["phi"],
+                                              err(r4, "phi") * r4["phi_tip"] / r4["phi"]))
+            crit(f"phi_tip_eps_invariant_iv_{iv:g}", abs(d) <= tol,
+                 f"phi_tip eps 0.02 -> 0.04: {r2['phi_tip']:.4f} -> {r4['phi_tip']:.4f} "
+                 f"(phi {r2['phi']:.4f} -> {r4['phi']:.4f}), tolerance {tol:.4f}")
     for cfg in ("ref", "delaunay"):
         for iv in (0.01, 0.001):
             k = [by.get(f"{cfg}_mu0_iv_{iv:g}"), by.get(f"{cfg}_iv_{iv:g}"),
