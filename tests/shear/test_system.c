@@ -125,6 +125,7 @@ static double sliding_fraction(double mu, unsigned terms, double *zc)
     int rc = shear_fixture_make(&s, 300, 0.55, &law, 2.0, 1, 7, 1e-2);
     ST_CHECK(rc == 0, "init");
     double slide = 0.0, contacts = 0.0;
+    int samples = 0;
     for (int step = 0; step < 600 && rc == 0; ++step) {
         lub_shear_sample smp;
         const unsigned fl = (step >= 200 && step % 10 == 0) ? LUB_SAMPLE_STRESS : 0u;
@@ -133,10 +134,11 @@ static double sliding_fraction(double mu, unsigned terms, double *zc)
             ST_CHECK(smp.n_sliding <= smp.n_contacts, "more sliding pairs than contacts");
             slide += (double)smp.n_sliding;
             contacts += (double)smp.n_contacts;
+            samples++;
         }
     }
     ST_CHECK(rc == 0, "sliding run rc %d", rc);
-    *zc = 2.0 * contacts / (40.0 * s.n);
+    *zc = samples ? 2.0 * contacts / ((double)samples * s.n) : 0.0;
     lub_shear_free(&s);
     return contacts > 0 ? slide / contacts : NAN;
 }
