@@ -82,9 +82,14 @@ def phi_ref(iv, mu_m=MU_M):
     return phi_m(mu_m) / (1.0 + math.sqrt(iv))
 
 
+def mu_c_ref(iv):
+    """Contact part mu_c of the §2 law (seed 000 eq. 14)."""
+    return MU1 + (MU2 - MU1) / (1.0 + I0 / iv)
+
+
 def mu_ref(iv, mu_m=MU_M):
     phi = phi_ref(iv, mu_m)
-    return MU1 + (MU2 - MU1) / (1.0 + I0 / iv) + iv * (1.0 - phi) ** -2.5
+    return mu_c_ref(iv) + iv * (1.0 - phi) ** -2.5
 
 
 def phi_at_contact_radius(phi, eps):
@@ -92,11 +97,6 @@ def phi_at_contact_radius(phi, eps):
     starts at the gap eps a, so the asperity tips sit eps a / 2 outside the lubricated
     surface. The reference code of the §2 article puts its nominal radius there."""
     return phi * (1.0 + 0.5 * eps) ** 3
-
-
-def mu_c_ref(iv):
-    """Contact part mu_c of the §2 law (seed 000 eq. 14)."""
-    return MU1 + (MU2 - MU1) / (1.0 + I0 / iv)
 
 
 def eta_ref(phi, mu_m=MU_M):
