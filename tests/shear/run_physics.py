@@ -11,8 +11,8 @@ only, max interaction distance ~1.5a; roll torque written as (omega x n), which 
 Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
   A  imposed pressure, mu_m = 0.5, Iv = 1, 0.1, 0.01, 0.001, every configuration
      (mu vs mu_c + mu_h, phi vs phi_m/(1 + Iv^0.5), stress split, eta_r vs eta_r(phi));
-  B  mu_m = 0 and mu_m = 1 at Iv = 0.01, 0.001 ("ref", "delaunay"): phi_m moving as
-     phi_m(mu_m);
+  B  mu_m = 0 and mu_m = 1 at Iv = 0.1, 0.01, 0.001 ("ref", "delaunay"): phi_m moving as
+     phi_m(mu_m); at Iv = 0.1, mu collapsing across mu_m (seed 000 l.1007);
   C  imposed volume phi = 0.35, 0.45, 0.50, 0.55 ("ref", "delaunay"): eta_r vs eta_r(phi); normal-stress
      ratios sigma11/sigma22, sigma33/sigma22 and eta_22 vs §3;
   D  normal lubrication only (no shear lubrication) at Iv = 0.1, 1 ("ref"; reported);
@@ -22,8 +22,9 @@ Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
      0.035 a, friction tan 30 deg, cut-off 1a, no roll/twist; with and without shear
      lubrication;
   E  asymptotic regime: stiffness doubled at Iv = 0.01 ("ref", "delaunay"), Iv = 1e-3 and
-     imposed phi = 0.50 ("ref"); Stokes number divided by 10 at Iv = 0.1 and 0.01 ("ref",
-     "delaunay"); kinetic share of sigma_xy in every run;
+     imposed phi = 0.50 ("ref"); at Iv = 1 and 0.1 ("ref", "delaunay") the P-scaled
+     stiffness raised to the seed's k/(eta gd a) = 1e6 (x100 and x10); Stokes number divided
+     by 10 at Iv = 0.1 and 0.01 ("ref", "delaunay"); kinetic share of sigma_xy in every run;
   F  robustness: imposed volume at 0.995 phi_m and imposed pressure at Iv = 1e-4 (3 strain);
   S  sensitivity (reported, not asserted): cut-off 0.5a, 1a, 1.5a, 2a with and without the
      roll/twist torques at Iv = 0.1 and 0.01;
@@ -43,7 +44,10 @@ Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
   * every run exits 0 with finite results; trends: mu increases, phi decreases with Iv (also
     "default");
   * groups A and B, every Iv: |phi - phi_m(mu_m)/(1 + Iv^0.5)| <= 0.015 and, for mu_m >= 0.36,
-    |mu/mu_ref - 1| <= 0.10; phi(mu_m=0) > phi(0.5) > phi(1) at Iv = 0.01 and 0.001;
+    |mu/mu_ref - 1| <= 0.10; phi(mu_m=0) > phi(0.5) > phi(1) at Iv = 0.1, 0.01 and 0.001;
+  * mu collapse at Iv = 0.1 (seed 000 l.1007: "for Iv >~ 0.1, all results - even for the
+    frictionless case - collapse on a master curve"): |mu(mu_m)/mu(0.5) - 1| <= 0.10 for
+    mu_m = 0 and 1;
   * stress split: contact share > 1/2 at Iv <= 0.01, lubrication share > 1/2 at Iv = 1;
   * imposed volume, phi = 0.35 ... 0.55: eta_r within 15 % of eta_r(phi);
   * negative test (G): |phi(0.02) - phi(0.3)| without shear lubrication < 1/2 of the same
@@ -51,6 +55,8 @@ Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
     constant for Iv > 0.02", "significantly overestimate the solid fraction");
   * stiffness doubled (Iv = 0.01 ref and delaunay, Iv = 1e-3 ref, phi = 0.50 ref): |dphi| <=
     0.005, and |dmu| (|d eta_r|) within 3 % (5 %) or three combined standard errors;
+  * stiffness raised to k/(eta gd a) = 1e6 at Iv = 1 and 0.1 (ref and delaunay): |dphi| <=
+    0.005 or three combined standard errors, |dmu| within 3 % or three combined standard errors;
   * St divided by 10 (Iv = 0.1, 0.01, ref and delaunay): |dphi| <= 0.005 or three combined
     standard errors, |dmu| within 3 % or three combined standard errors;
   * kinetic share of sigma_xy <= 1 % in every run but the robustness ones (F).
@@ -135,7 +141,8 @@ def spec_for(case, n, quick):
         iv = case["Iv"]
         # St: inertial number I = sqrt(St Iv) <= 0.03; the time step in strain units scales as
         # sqrt(St Iv / stiffness). Stiffness P-scaled: 1e4 (3e3 at Iv <= 1e-3, 1e3 at 1e-4):
-        # k/(eta gd a) = stiffness/Iv >= 1e6 as in the seed, deflections << eps a.
+        # k/(eta gd a) = stiffness/Iv >= 1e6 as in the seed for Iv <= 0.01, deflections << eps a.
+        # At Iv = 0.1 and 1 it is 1e5 and 1e4; group E reruns those at 1e6 (no change asserted).
         st = 0.01 if iv > 0.01 else (0.1 if iv >= 1e-3 else 1.0)
         stiff = 1e4 if iv >= 0.01 else (3e3 if iv >= 1e-3 else 1e3)
         spec.update({"control": "pressure", "Iv": iv, "St": case.get("St", st), "stiffness": stiff,
@@ -225,7 +232,7 @@ def plan(quick):
                           "control": "pressure", "Iv": iv})
     for cfg in ("ref", "delaunay"):
         for mu_m in (0.0, 1.0):
-            for iv in (0.01, 0.001):
+            for iv in (0.1, 0.01, 0.001):
                 cases.append({"name": f"{cfg}_mu{mu_m:g}_iv_{iv:g}", "group": "B", "config": cfg,
                               "control": "pressure", "Iv": iv, "mu_m": mu_m})
     for cfg in ("ref", "delaunay"):
@@ -254,6 +261,12 @@ def plan(quick):
                   "control": "pressure", "Iv": 0.001, "stiffness_factor": 2.0})
     cases.append({"name": "ref_phi_0.5_stiff2", "group": "E", "config": "ref",
                   "control": "volume", "phi": 0.5, "stiffness_factor": 2.0})
+    # Iv = 1 and 0.1: the P-scaled stiffness 1e4 is only 1e4/Iv in eta gd a units; rerun at the
+    # seed's k/(eta gd a) = 1e6 (x100 at Iv = 1, x10 at Iv = 0.1)
+    for cfg in ("ref", "delaunay"):
+        for iv, fac in ((1.0, 100.0), (0.1, 10.0)):
+            cases.append({"name": f"{cfg}_iv_{iv:g}_stiff{fac:g}", "group": "E", "config": cfg,
+                          "control": "pressure", "Iv": iv, "stiffness_factor": fac})
     # Stokes number divided by 10 (the spec's St: 0.01 at Iv >= 0.1, 0.1 at 0.01)
     for cfg in ("ref", "delaunay"):
         for iv, st in ((0.1, 0.001), (0.01, 0.01)):
@@ -335,7 +348,7 @@ def write_tables(out, rows, n):
             ratio = r["mu"] / r["mu_ref"] if r.get("mu_ref") else None
             er = r["eta_r"] / r["eta_ref_at_phi"] if r.get("eta_r") else None
             tag = r["config"] + (" NL only" if r["group"] == "D" else "") + \
-                (" 2x stiff" if r.get("stiffness_factor") else "") + \
+                (f" {r['stiffness_factor']:g}x stiff" if r.get("stiffness_factor") else "") + \
                 (" St/10" if r["name"].endswith("_st10") else "")
             if r["group"] == "R":
                 tag = r["config"] + f" eps {r['eps']:g}"
@@ -361,7 +374,8 @@ def write_tables(out, rows, n):
             if r["control"] != "volume" or r["eta_r"] is None:
                 continue
             er = eta_ref(r["phi"])
-            tag = r["config"] + (" 2x stiff" if r.get("stiffness_factor") else "")
+            tag = r["config"] + (f" {r['stiffness_factor']:g}x stiff"
+                                 if r.get("stiffness_factor") else "")
             fh.write(f"| {tag} | {r['phi']:g} | {r['stiffness']:g} | {r['strain']:g} | "
                      f"{r['eta_r']:.4g} ± {fmt(r['eta_r_err'], '{:.2g}')} | {er:.4g} | "
                      f"{r['eta_r'] / er:.2f} | {fmt(r['mu'], '{:.3f}')} | {fmt(r['Iv_meas'])} | "
@@ -454,9 +468,13 @@ def plot(out, rows, n):
 KNOWN_MISSES = {
     # ref (cut-off 1a): too little far-field lubrication in dilute states
     "phi_ref_iv_1", "mu_ref_iv_1", "phi_ref_iv_0.1", "eta_r_ref_phi_0.35",
-    # mu_m = 1: mu 11-15 % above the §2 law (valid for mu_m >= 0.36) in both configurations
+    # mu_m = 1: mu 11-15 % above the §2 law (valid for mu_m >= 0.36) in both configurations,
+    # 23 % for delaunay at Iv = 0.1 (ref: +8 %)
     "mu_ref_mu1_iv_0.01", "mu_ref_mu1_iv_0.001",
-    "mu_delaunay_mu1_iv_0.01", "mu_delaunay_mu1_iv_0.001",
+    "mu_delaunay_mu1_iv_0.01", "mu_delaunay_mu1_iv_0.001", "mu_delaunay_mu1_iv_0.1",
+    # mu_m = 0 at Iv = 0.1: phi 0.041 (ref) and 0.028 (delaunay) above phi_m(0)/(1 + Iv^0.5);
+    # within 0.008 at Iv <= 0.01: the frictionless dilatancy is too weak
+    "phi_ref_mu0_iv_0.1", "phi_delaunay_mu0_iv_0.1",
     # delaunay: phi right down to Iv = 0.1, mu 10-19 % high at Iv = 1, 0.1 and 0.01
     "phi_delaunay_iv_1", "mu_delaunay_iv_1", "mu_delaunay_iv_0.1", "mu_delaunay_iv_0.01",
     # phi = 0.55 = 0.96 phi_m: phi_m 0.003-0.005 below the law's gives the +26-46 % (both)
@@ -520,12 +538,21 @@ def check(by, rows):
                  f"phi_tip eps 0.02 -> 0.04: {r2['phi_tip']:.4f} -> {r4['phi_tip']:.4f} "
                  f"(phi {r2['phi']:.4f} -> {r4['phi']:.4f}), tolerance {tol:.4f}")
     for cfg in ("ref", "delaunay"):
-        for iv in (0.01, 0.001):
+        for iv in (0.1, 0.01, 0.001):
             k = [by.get(f"{cfg}_mu0_iv_{iv:g}"), by.get(f"{cfg}_iv_{iv:g}"),
                  by.get(f"{cfg}_mu1_iv_{iv:g}")]
             if all(x and x["phi"] for x in k):
                 crit(f"phi_m_order_{cfg}_iv_{iv:g}", k[0]["phi"] > k[1]["phi"] > k[2]["phi"],
                      "phi(mu_m=0,0.5,1)=" + ",".join(f"{x['phi']:.4f}" for x in k))
+            # seed 000 l.1007: mu(Iv) independent of mu_m for Iv >~ 0.1
+            if iv == 0.1 and all(x and x["mu"] for x in k):
+                for x, tag in ((k[0], "mu0"), (k[2], "mu1")):
+                    dev = abs(x["mu"] / k[1]["mu"] - 1)
+                    crit(f"mu_collapse_{cfg}_{tag}_iv_0.1", dev <= 0.10,
+                         f"mu(mu_m={x.get('mu_m', MU_M):g})={x['mu']:.4f} "
+                         f"mu(mu_m=0.5)={k[1]['mu']:.4f}",
+                         dev <= 0.10 + 2 * math.hypot(err(x, "mu") / x["mu"],
+                                                      err(k[1], "mu") / k[1]["mu"]))
     for r in rows:
         if r["group"] == "A" and r["config"] in ("ref", "delaunay") and \
                 r["contact_share"] is not None:
@@ -574,6 +601,18 @@ def check(by, rows):
         else:
             crit(f"stiffness_doubling_{base}", same("eta_r", s1, s2, 0.05),
                  f"eta_r {s1['eta_r']:.4g}->{s2['eta_r']:.4g}")
+    # insensitive to raising the stiffness to the seed's k/(eta gd a) = 1e6 at Iv = 1 and 0.1
+    # (phi within 0.005 or three combined standard errors: sigma_phi is 0.003-0.006 at Iv = 1)
+    for base, suffix in (("ref_iv_1", "_stiff100"), ("delaunay_iv_1", "_stiff100"),
+                         ("ref_iv_0.1", "_stiff10"), ("delaunay_iv_0.1", "_stiff10")):
+        s1, s2 = by.get(base), by.get(base + suffix)
+        if not (s1 and s2 and s1["phi"] and s2["phi"]):
+            continue
+        dphi_ok = abs(s1["phi"] - s2["phi"]) <= max(
+            0.005, 3.0 * math.hypot(s1["phi_err"] or 0.0, s2["phi_err"] or 0.0))
+        crit(f"stiffness_viscous_1e6_{base}", dphi_ok and same("mu", s1, s2, 0.03),
+             f"stiffness {s1['stiffness']:g}->{s2['stiffness']:g} phi {s1['phi']:.4f}->"
+             f"{s2['phi']:.4f} mu {s1['mu']:.4f}->{s2['mu']:.4f}")
     # insensitive to dividing the Stokes number by 10 (same tolerances)
     for base in ("ref_iv_0.1", "ref_iv_0.01", "delaunay_iv_0.1", "delaunay_iv_0.01"):
         s1, s2 = by.get(base), by.get(base + "_st10")
