@@ -601,28 +601,26 @@ def check(by, rows):
         else:
             crit(f"stiffness_doubling_{base}", same("eta_r", s1, s2, 0.05),
                  f"eta_r {s1['eta_r']:.4g}->{s2['eta_r']:.4g}")
+    def same_state(name, s1, s2, detail):
+        """phi within 0.005 or three combined standard errors, mu within 3 % (or 3 sigma)."""
+        dphi_ok = abs(s1["phi"] - s2["phi"]) <= max(
+            0.005, 3.0 * math.hypot(s1["phi_err"] or 0.0, s2["phi_err"] or 0.0))
+        crit(name, dphi_ok and same("mu", s1, s2, 0.03),
+             f"{detail} phi {s1['phi']:.4f}->{s2['phi']:.4f} mu {s1['mu']:.4f}->{s2['mu']:.4f}")
+
     # insensitive to raising the stiffness to the seed's k/(eta gd a) = 1e6 at Iv = 1 and 0.1
-    # (phi within 0.005 or three combined standard errors: sigma_phi is 0.003-0.006 at Iv = 1)
+    # (sigma_phi is 0.003-0.006 at Iv = 1, hence the three-sigma alternative)
     for base, suffix in (("ref_iv_1", "_stiff100"), ("delaunay_iv_1", "_stiff100"),
                          ("ref_iv_0.1", "_stiff10"), ("delaunay_iv_0.1", "_stiff10")):
         s1, s2 = by.get(base), by.get(base + suffix)
-        if not (s1 and s2 and s1["phi"] and s2["phi"]):
-            continue
-        dphi_ok = abs(s1["phi"] - s2["phi"]) <= max(
-            0.005, 3.0 * math.hypot(s1["phi_err"] or 0.0, s2["phi_err"] or 0.0))
-        crit(f"stiffness_viscous_1e6_{base}", dphi_ok and same("mu", s1, s2, 0.03),
-             f"stiffness {s1['stiffness']:g}->{s2['stiffness']:g} phi {s1['phi']:.4f}->"
-             f"{s2['phi']:.4f} mu {s1['mu']:.4f}->{s2['mu']:.4f}")
+        if s1 and s2 and s1["phi"] and s2["phi"]:
+            same_state(f"stiffness_viscous_1e6_{base}", s1, s2,
+                       f"stiffness {s1['stiffness']:g}->{s2['stiffness']:g}")
     # insensitive to dividing the Stokes number by 10 (same tolerances)
     for base in ("ref_iv_0.1", "ref_iv_0.01", "delaunay_iv_0.1", "delaunay_iv_0.01"):
         s1, s2 = by.get(base), by.get(base + "_st10")
-        if not (s1 and s2 and s1["phi"] and s2["phi"]):
-            continue
-        dphi_ok = abs(s1["phi"] - s2["phi"]) <= max(
-            0.005, 3.0 * math.hypot(s1["phi_err"] or 0.0, s2["phi_err"] or 0.0))
-        crit(f"stokes_tenth_{base}", dphi_ok and same("mu", s1, s2, 0.03),
-             f"St {s1['St']:g}->{s2['St']:g} phi {s1['phi']:.4f}->{s2['phi']:.4f} "
-             f"mu {s1['mu']:.4f}->{s2['mu']:.4f}")
+        if s1 and s2 and s1["phi"] and s2["phi"]:
+            same_state(f"stokes_tenth_{base}", s1, s2, f"St {s1['St']:g}->{s2['St']:g}")
     for r in rows:
         if r["kinetic_share"] is not None and r["group"] != "F":
             crit(f"inertia_{r['name']}", abs(r["kinetic_share"]) <= 0.01,
