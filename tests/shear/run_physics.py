@@ -503,6 +503,10 @@ def check(by, rows):
     def err(r, k):
         return r.get(k + "_err") or 0.0
 
+    def within(d, tol, e1, e2):
+        """|d| within tol or within three combined standard errors e1, e2."""
+        return abs(d) <= max(tol, 3.0 * math.hypot(e1, e2))
+
     for r in rows:
         finite = all(r.get(k) is not None and math.isfinite(r[k]) for k in ("phi", "mu"))
         crit(f"completes_{r['name']}", r["rc"] == 0 and finite, f"rc={r['rc']}")
@@ -531,10 +535,11 @@ def check(by, rows):
     for iv in (1.0, 0.1, 0.01, 0.001):
         r2, r4 = by.get(f"delaunay_iv_{iv:g}"), by.get(f"delaunay_eps0.04_iv_{iv:g}")
         if r2 and r4 and r2["phi"] and r4["phi"]:
-            d = r4["phi_tip"] - r2["phi_tip"]
-            tol = max(0.005, 3.0 * math.hypot(err(r2, "phi") * r2["phi_tip"] / r2["phi"],
-                                              err(r4, "phi") * r4["phi_tip"] / r4["phi"]))
-            crit(f"phi_tip_eps_invariant_iv_{iv:g}", abs(d) <= tol,
+            e2 = err(r2, "phi") * r2["phi_tip"] / r2["phi"]  # phi_tip is phi times a constant
+            e4 = err(r4, "phi") * r4["phi_tip"] / r4["phi"]
+            tol = max(0.005, 3.0 * math.hypot(e2, e4))  # printed
+            crit(f"phi_tip_eps_invariant_iv_{iv:g}",
+                 within(r4["phi_tip"] - r2["phi_tip"], 0.005, e2, e4),
                  f"phi_tip eps 0.02 -> 0.04: {r2['phi_tip']:.4f} -> {r4['phi_tip']:.4f} "
                  f"(phi {r2['phi']:.4f} -> {r4['phi']:.4f}), tolerance {tol:.4f}")
     for cfg in ("ref", "delaunay"):
@@ -586,9 +591,7 @@ def check(by, rows):
     # insensitive to doubling the stiffness: a change within the tolerance or within three
     # combined standard errors (the statistics of two 10-strain runs)
     def same(k, r1, r2, rel):
-        d = abs(r2[k] - r1[k])
-        sig = math.hypot(r1.get(k + "_err") or 0.0, r2.get(k + "_err") or 0.0)
-        return d <= rel * abs(r1[k]) or d <= 3.0 * sig
+        return within(r2[k] - r1[k], rel * abs(r1[k]), err(r1, k), err(r2, k))
 
     for base in ("ref_iv_0.01", "delaunay_iv_0.01", "ref_iv_0.001", "ref_phi_0.5"):
         s1, s2 = by.get(base), by.get(base + "_stiff2")
@@ -603,8 +606,7 @@ def check(by, rows):
                  f"eta_r {s1['eta_r']:.4g}->{s2['eta_r']:.4g}")
     def same_state(name, s1, s2, detail):
         """phi within 0.005 or three combined standard errors, mu within 3 % (or 3 sigma)."""
-        dphi_ok = abs(s1["phi"] - s2["phi"]) <= max(
-            0.005, 3.0 * math.hypot(s1["phi_err"] or 0.0, s2["phi_err"] or 0.0))
+        dphi_ok = within(s2["phi"] - s1["phi"], 0.005, err(s1, "phi"), err(s2, "phi"))
         crit(name, dphi_ok and same("mu", s1, s2, 0.03),
              f"{detail} phi {s1['phi']:.4f}->{s2['phi']:.4f} mu {s1['mu']:.4f}->{s2['mu']:.4f}")
 
