@@ -11,8 +11,9 @@ only, max interaction distance ~1.5a; roll torque written as (omega x n), which 
 Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
   A  imposed pressure, mu_m = 0.5, Iv = 1, 0.1, 0.01, 0.001, every configuration
      (mu vs mu_c + mu_h, phi vs phi_m/(1 + Iv^0.5), stress split, eta_r vs eta_r(phi));
-  B  mu_m = 0 and mu_m = 1 at Iv = 0.1, 0.01, 0.001 ("ref", "delaunay"): phi_m moving as
-     phi_m(mu_m); at Iv = 0.1, mu collapsing across mu_m (seed 000 l.1007);
+  B  mu_m = 0 and mu_m = 1 at Iv = 0.1, 0.01, 0.001, and mu_m = 0 at 1e-4 ("ref",
+     "delaunay"): phi_m moving as phi_m(mu_m); at Iv = 0.1, mu collapsing across mu_m (seed
+     000 l.1007); at 1e-4, the frictionless contact mu (thesis l.1172: ~0.15; reported);
   C  imposed volume phi = 0.35, 0.45, 0.50, 0.55 ("ref", "delaunay"): eta_r vs eta_r(phi); normal-stress
      ratios sigma11/sigma22, sigma33/sigma22 and eta_22 vs §3;
   D  normal lubrication only (no shear lubrication) at Iv = 0.1, 1 ("ref"; reported);
@@ -24,7 +25,10 @@ Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
   E  asymptotic regime: stiffness doubled at Iv = 0.01 ("ref", "delaunay"), Iv = 1e-3 and
      imposed phi = 0.50 ("ref"); at Iv = 1 and 0.1 ("ref", "delaunay") the P-scaled
      stiffness raised to the seed's k/(eta gd a) = 1e6 (x100 and x10); Stokes number divided
-     by 10 at Iv = 0.1 and 0.01 ("ref", "delaunay"); kinetic share of sigma_xy in every run;
+     by 10 at Iv = 0.1 and 0.01 ("ref", "delaunay"); time step divided by 3 (dt_safety 0.3 ->
+     0.1) at Iv = 0.1 and 0.01 ("ref", "delaunay"): doubling the stiffness or dividing St keeps
+     the elastic period over dt fixed, so only this tests time-step convergence; kinetic share
+     of sigma_xy in every run;
   F  robustness: imposed volume at 0.995 phi_m and imposed pressure at Iv = 1e-4 (3 strain);
   S  sensitivity (reported, not asserted): cut-off 0.5a, 1a, 1.5a, 2a with and without the
      roll/twist torques at Iv = 0.1 and 0.01;
@@ -59,6 +63,7 @@ Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
     0.005 or three combined standard errors, |dmu| within 3 % or three combined standard errors;
   * St divided by 10 (Iv = 0.1, 0.01, ref and delaunay): |dphi| <= 0.005 or three combined
     standard errors, |dmu| within 3 % or three combined standard errors;
+  * time step divided by 3 (Iv = 0.1, 0.01, ref and delaunay): same tolerances;
   * kinetic share of sigma_xy <= 1 % in every run but the robustness ones (F).
 usage: run_physics.py --lubdem PATH --out DIR [--check] [--quick] [--n N] [--jobs J] [--reuse]
 """
@@ -153,6 +158,8 @@ def spec_for(case, n, quick):
         stiff = 1e5 if ph <= 0.5 else 1e6
         spec.update({"control": "volume", "phi": ph, "St": 0.01, "stiffness": stiff})
     spec["stiffness"] *= case.get("stiffness_factor", 1.0)
+    if "dt_safety" in case:
+        spec["dt_safety"] = case["dt_safety"]
     return spec
 
 
@@ -232,7 +239,7 @@ def plan(quick):
                           "control": "pressure", "Iv": iv})
     for cfg in ("ref", "delaunay"):
         for mu_m in (0.0, 1.0):
-            for iv in (0.1, 0.01, 0.001):
+            for iv in (0.1, 0.01, 0.001) + ((1e-4,) if mu_m == 0.0 else ()):
                 cases.append({"name": f"{cfg}_mu{mu_m:g}_iv_{iv:g}", "group": "B", "config": cfg,
                               "control": "pressure", "Iv": iv, "mu_m": mu_m})
     for cfg in ("ref", "delaunay"):
@@ -272,6 +279,12 @@ def plan(quick):
         for iv, st in ((0.1, 0.001), (0.01, 0.01)):
             cases.append({"name": f"{cfg}_iv_{iv:g}_st10", "group": "E", "config": cfg,
                           "control": "pressure", "Iv": iv, "St": st})
+    # time step divided by 3: dt = dt_safety sqrt(m/k) stays the same fraction of the elastic
+    # period when the stiffness or St changes, so only dt_safety tests convergence in dt
+    for cfg in ("ref", "delaunay"):
+        for iv in (0.1, 0.01):
+            cases.append({"name": f"{cfg}_iv_{iv:g}_dt3", "group": "E", "config": cfg,
+                          "control": "pressure", "Iv": iv, "dt_safety": 0.1})
     cases.append({"name": "ref_phi_0.995phim", "group": "F", "config": "ref", "control": "volume",
                   "phi": round(0.995 * phi_m(MU_M), 4), "strain": 3.0})
     cases.append({"name": "ref_iv_0.0001", "group": "F", "config": "ref", "control": "pressure",
@@ -349,7 +362,8 @@ def write_tables(out, rows, n):
             er = r["eta_r"] / r["eta_ref_at_phi"] if r.get("eta_r") else None
             tag = r["config"] + (" NL only" if r["group"] == "D" else "") + \
                 (f" {r['stiffness_factor']:g}x stiff" if r.get("stiffness_factor") else "") + \
-                (" St/10" if r["name"].endswith("_st10") else "")
+                (" St/10" if r["name"].endswith("_st10") else "") + \
+                (" dt/3" if r["name"].endswith("_dt3") else "")
             if r["group"] == "R":
                 tag = r["config"] + f" eps {r['eps']:g}"
             if r["group"] == "G":
@@ -623,6 +637,11 @@ def check(by, rows):
         s1, s2 = by.get(base), by.get(base + "_st10")
         if s1 and s2 and s1["phi"] and s2["phi"]:
             same_state(f"stokes_tenth_{base}", s1, s2, f"St {s1['St']:g}->{s2['St']:g}")
+    # insensitive to dividing the time step by 3 (same tolerances)
+    for base in ("ref_iv_0.1", "ref_iv_0.01", "delaunay_iv_0.1", "delaunay_iv_0.01"):
+        s1, s2 = by.get(base), by.get(base + "_dt3")
+        if s1 and s2 and s1["phi"] and s2["phi"]:
+            same_state(f"timestep_third_{base}", s1, s2, "dt_safety 0.3->0.1")
     for r in rows:
         if r["kinetic_share"] is not None and r["group"] != "F":
             crit(f"inertia_{r['name']}", abs(r["kinetic_share"]) <= 0.01,
