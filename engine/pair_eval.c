@@ -80,6 +80,14 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
     /* two batches: pairs with u < a at their last evaluation (spin torques on) and the others,
      * so that most vector groups are uniform and the kernel can skip the torque block */
     size_t kk[2][LUB_BATCH];
+    /* the 27 image shifts H c (c in {-1, 0, 1}^3) and their mean-flow velocities L H c, once
+     * per call instead of a matrix product per candidate */
+    vec3 sh[27], vsh[27];
+    for (int ic = 0; ic < 27; ++ic) {
+        const int c[3] = {ic / 9 - 1, ic / 3 % 3 - 1, ic % 3 - 1};
+        sh[ic] = lub_cell_shift(cell, c);
+        vsh[ic] = lub_mat_vec(cell->L, sh[ic]);
+    }
     /* lane counts of the two batches, kept in registers (a count in memory would make every
      * pair wait for the previous pair's store: it was the hottest instruction of the loop) */
     int n_far = 0, n_near = 0;
@@ -97,7 +105,15 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
             lub_pairs_leave(ps, k);
             continue;
         }
-        const vec3 shift = lub_cell_shift(cell, &ps->c[3 * k]);
+        const unsigned ic = ps->img[k];
+        vec3 shift, vshift;
+        if (__builtin_expect(ic < 27, 1)) {
+            shift = sh[ic];
+            vshift = vsh[ic];
+        } else {
+            shift = lub_cell_shift(cell, &ps->c[3 * k]);
+            vshift = lub_mat_vec(cell->L, shift);
+        }
         const vec3 d = v3_sub(v3_add(b->x[j], shift), b->x[i]);
         const double ri = b->r[i], rj = b->r[j];
         /* u_n <= cutoff a  <=>  |d|^2 <= (r_i + r_j + cutoff a)^2 (no square root here).
@@ -117,7 +133,7 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
         const int l = which ? n_near : n_far;
         n_far += inside & !which;
         n_near += inside & which;
-        const vec3 v2 = v3_add(b->v[j], lub_mat_vec(cell->L, shift));
+        const vec3 v2 = v3_add(b->v[j], vshift);
         kk[which][l] = k;
         bt->bx[l] = d.x, bt->by[l] = d.y, bt->bz[l] = d.z;
         bt->v1x[l] = b->v[i].x, bt->v1y[l] = b->v[i].y, bt->v1z[l] = b->v[i].z;

@@ -18,17 +18,23 @@
 
 /* Per-particle state the pair kernel reads (structure of arrays, borrowed). */
 typedef struct {
-    const vec3 *x, *v, *w; /* positions (unwrapped), absolute velocities, spins */
-    const double *r;       /* radii */
-    const double *inv_i;   /* 1/I (0 for fixed bodies) */
-    const int *share;      /* number of pairs among which a body's inertia is shared by the
-                              stable roll/twist torque integration (values < 1 count as 1) */
+    const vec3 *x, *v, *w;     /* positions (unwrapped), absolute velocities, spins */
+    const double *r;           /* radii */
+    const double *inv_i_share; /* 1/I times the number N >= 1 of pairs among which the body's
+                                  inertia is shared by the stable roll/twist torque
+                                  integration (0 for fixed bodies): lub_inertia_share() */
 } lub_pair_bodies;
 
-/* 1/I of body p times its inertia share N_p (>= 1): the inverse inertia the law is given. */
+/* 1/I times the inertia share: share counts below 1 count as 1. */
+static inline double lub_inertia_share(double inv_i, int share)
+{
+    return inv_i * (share > 1 ? share : 1);
+}
+
+/* The inverse inertia the law is given for body p. */
 static inline double lub_pair_inv_inertia(const lub_pair_bodies *b, int p)
 {
-    return b->inv_i[p] * (b->share[p] > 1 ? b->share[p] : 1);
+    return b->inv_i_share[p];
 }
 
 enum { LUB_PAIR_OUT = -1, LUB_PAIR_OK = 0, LUB_PAIR_NONFINITE = 1 };

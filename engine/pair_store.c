@@ -11,6 +11,7 @@ void lub_pairs_free(lub_pairs *ps)
     free(ps->i);
     free(ps->j);
     free(ps->c);
+    free(ps->img);
     free(ps->state);
     free(ps->active);
     free(ps->near);
@@ -29,6 +30,15 @@ static int re(void **p, size_t count, size_t elem)
         return -1;
     *p = q;
     return 0;
+}
+
+/* The img code of the image shift c[3] (pair_store.h). */
+static unsigned char image_code(const int32_t *c)
+{
+    for (int d = 0; d < 3; ++d)
+        if (c[d] < -1 || c[d] > 1)
+            return LUB_PAIR_IMG_OTHER;
+    return (unsigned char)(9 * (c[0] + 1) + 3 * (c[1] + 1) + (c[2] + 1));
 }
 
 int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
@@ -67,6 +77,7 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
     if (fcap > ps->fcap || !ps->near) {
         if (re((void **)&ps->c, 3 * fcap, sizeof *ps->c) ||
             re((void **)&ps->near, fcap, sizeof *ps->near) ||
+            re((void **)&ps->img, fcap, sizeof *ps->img) ||
             re((void **)&ps->allow, fcap, sizeof *ps->allow))
             return -1;
         ps->fcap = fcap;
@@ -81,6 +92,7 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
         ps->c[3 * k] = nl->pc[3 * k];
         ps->c[3 * k + 1] = nl->pc[3 * k + 1];
         ps->c[3 * k + 2] = nl->pc[3 * k + 2];
+        ps->img[k] = image_code(&ps->c[3 * k]);
         while (o < nold && (ps->oi[o] < a || (ps->oi[o] == a && ps->oj[o] < b)))
             ++o;
         if (o < nold && ps->oi[o] == a && ps->oj[o] == b) {

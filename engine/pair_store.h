@@ -31,11 +31,15 @@
 #include "neighbor_list.h"
 
 enum { LUB_PAIRS_MAX_PARTS = 256 }; /* largest team lub_pairs_balance splits for */
+enum { LUB_PAIR_IMG_OTHER = 255 };  /* img code of a shift with a component outside {-1,0,1} */
 
 typedef struct {
     size_t n, cap;
     int n_particles;
     int32_t *i, *j, *c;    /* c: [3n] image shifts */
+    unsigned char *img;    /* [n] 9 (c0 + 1) + 3 (c1 + 1) + (c2 + 1) when every component of c is
+                              in {-1, 0, 1} (the 27 shifts of a pair kernel's table), else
+                              LUB_PAIR_IMG_OTHER */
     lub_pair_state *state; /* [n] */
     unsigned char *active; /* [n] */
     unsigned char *near;   /* [n] 1 if the last evaluation had u < a (spin torques on) */

@@ -46,6 +46,7 @@ void lub_rs_free(lub_rs_system *s)
     free(s->inv_i);
     free(s->weight);
     free(s->nint);
+    free(s->inv_i_share);
     free(s->img);
     if (s->acc) {
         for (int k = 0; k < (s->p.threads > 0 ? s->p.threads : 1); ++k)
@@ -81,6 +82,7 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
     s->inv_i = calloc(nn, sizeof *s->inv_i);
     s->weight = calloc(nn, sizeof *s->weight);
     s->nint = calloc(nn, sizeof *s->nint);
+    s->inv_i_share = calloc(nn, sizeof *s->inv_i_share);
     s->img = calloc(3 * nn, sizeof *s->img);
     const int nthreads = p->threads > 0 ? p->threads : 1;
     s->acc = calloc((size_t)nthreads, sizeof *s->acc);
@@ -88,7 +90,7 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
     s->nl.threads = nthreads;
     lub_pairs_init(&s->pairs);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
-        !s->inv_i || !s->weight || !s->nint || !s->img || !s->acc) {
+        !s->inv_i || !s->weight || !s->nint || !s->inv_i_share || !s->img || !s->acc) {
         lub_rs_free(s);
         return LUB_RS_NOMEM;
     }
@@ -115,6 +117,7 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
         s->m[i] = p->rho * vol;
         s->inv_m[i] = mob ? 1.0 / s->m[i] : 0.0;
         s->inv_i[i] = mob ? 1.0 / (0.4 * s->m[i] * r * r) : 0.0;
+        s->inv_i_share[i] = lub_inertia_share(s->inv_i[i], 0);
         s->weight[i] = mob ? p->drho * vol * p->gravity : 0.0;
         /* floor spheres in the gradient orientation sit where u ~ 0 and are held at rest;
          * in the vorticity orientation they ride with the sheared cell */
@@ -175,7 +178,7 @@ int lub_rs_step(lub_rs_system *s)
     /* N_i / I_i (contact_law.h recommendation), N_i = active pairs of body i; 1/I = 0 for floor
      * spheres */
     const lub_pair_bodies bodies = {
-        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->nint};
+        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
     long ncon = 0, ncrush = 0;
     /* every step needs only forces, contact and crushed counts: the batched law
      * (lub_pair_eval_range) on a contiguous static partition of the pairs */
@@ -242,6 +245,7 @@ int lub_rs_step(lub_rs_system *s)
         lub_pair_accum_sum(all, team, p, &F, &T, &count, &n_near);
         (void)n_near;
         s->nint[p] = count;
+        s->inv_i_share[p] = lub_inertia_share(s->inv_i[p], count);
         if (p >= nmob) { /* floor sphere: prescribed velocity */
             s->f[p] = F;
             s->t[p] = T;

@@ -77,6 +77,7 @@ typedef struct {
     vec3 *x, *v, *w, *f, *t, *x_ref;
     double *r, *m, *inv_m, *inv_i, *weight;
     int *nint;           /* active pairs of each body at the last step */
+    double *inv_i_share; /* lub_inertia_share(inv_i, nint): what the pair law is given */
     int *img;            /* [3n] cell images removed by wrapping so far (x_unwrapped = x + H img) */
     lub_cell cell;       /* cell (deforms only in the vorticity orientation) */
     double L_flow[3][3]; /* gradient of the mean flow u */

@@ -48,6 +48,7 @@ void lub_shear_free(lub_shear_system *s)
     free(s->inv_m);
     free(s->inv_i);
     free(s->near_count);
+    free(s->inv_i_share);
     free(s->tstress);
     free(s->tsyy);
     free(s->tcount);
@@ -90,12 +91,14 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
     s->inv_m = malloc(un * sizeof *s->inv_m);
     s->inv_i = malloc(un * sizeof *s->inv_i);
     s->near_count = calloc(un, sizeof *s->near_count);
+    s->inv_i_share = malloc(un * sizeof *s->inv_i_share);
     s->tstress = calloc((size_t)threads, sizeof *s->tstress);
     s->tsyy = calloc((size_t)threads, sizeof *s->tsyy);
     s->tcount = calloc(LUB_COUNT_N * (size_t)threads, sizeof *s->tcount);
     s->acc = calloc((size_t)threads, sizeof *s->acc);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
-        !s->inv_i || !s->near_count || !s->tstress || !s->tsyy || !s->tcount || !s->acc) {
+        !s->inv_i || !s->near_count || !s->inv_i_share || !s->tstress || !s->tsyy || !s->tcount ||
+        !s->acc) {
         lub_shear_free(s);
         return LUB_SHEAR_NOMEM;
     }
@@ -125,6 +128,7 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
         s->m[i] = 4.0 / 3.0 * PI * r * r * r * rho;
         s->inv_m[i] = 1.0 / s->m[i];
         s->inv_i[i] = 1.0 / (0.4 * s->m[i] * r * r);
+        s->inv_i_share[i] = lub_inertia_share(s->inv_i[i], 0);
         s->v[i] = lub_cell_mean_velocity(cell, pos[i]);
         s->w[i] = spin;
     }
@@ -182,7 +186,7 @@ double lub_shear_phi(const lub_shear_system *s)
 size_t lub_shear_memory_bytes(const lub_shear_system *s)
 {
     size_t n = (size_t)s->n;
-    size_t b = n * (6 * sizeof(vec3) + 4 * sizeof(double) + sizeof(int));
+    size_t b = n * (6 * sizeof(vec3) + 5 * sizeof(double) + sizeof(int));
     const lub_nlist *nl = &s->nl;
     for (int t = 0; t < nl->nparts; ++t) /* per-thread buffers of the parallel search */
         b += nl->parts[t].cap * 5 * sizeof(int32_t);
@@ -192,7 +196,7 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s)
     const lub_pairs *ps = &s->pairs;
     size_t fcap = ps->fcap;
     b += (ps->cap + ps->ocap) * (2 * sizeof(int32_t) + sizeof(lub_pair_state) + 1);
-    b += fcap * (3 * sizeof(int32_t) + 2);
+    b += fcap * (3 * sizeof(int32_t) + 3); /* c, near, allow, img */
     b += s->topo.site_cap * sizeof(lub_power_site) + (size_t)s->topo.n_cap * sizeof(size_t);
     b += (size_t)s->threads * (sizeof(lub_stress) + sizeof(double) + 3 * sizeof(size_t));
     b += (size_t)s->threads * n * (2 * sizeof(vec3) + 2 * sizeof(int)); /* pair sums */
@@ -292,7 +296,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
     }
 
     const lub_pair_bodies bodies = {
-        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->near_count};
+        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
     const int batched = s->batch_law && !want_stress && !want_pdf;
     /* the cell at the end of the step (a pure function of the current cell) and the affine
      * map since the last rebuild, so that the skin criterion is measured in the same pass as
@@ -397,6 +401,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             lub_pair_accum_sum(all, team, p, &F, &T, &n_active, &near);
             (void)n_active;
             s->near_count[p] = near;
+            s->inv_i_share[p] = lub_inertia_share(s->inv_i[p], near);
             s->f[p] = F;
             s->t[p] = T;
             vec3 v = s->v[p];

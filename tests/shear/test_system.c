@@ -58,7 +58,7 @@ static void compare_batched_with_scalar(lub_shear_system *s)
     memcpy(act0, ps->active, np);
     memcpy(near0, ps->near, np);
     const lub_pair_bodies bodies = {
-        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i = s->inv_i, .share = s->near_count};
+        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
     lub_pair_batch batch[2];
     double un = 0.0;
     lub_pair_range_sums sums = {0.0, 0, 0};
