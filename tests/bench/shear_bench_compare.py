@@ -11,7 +11,11 @@ Running the same binary as A and B gives the null result to expect (about 1.00 w
 cent). The two binaries must be built the same way (build type, LTO, SIMD) and should come from
 the same source tree path, or at least both from fresh builds.
 
+The same binary as A and B with --threads-b 2 measures the speed-up of 2 threads over 1 the
+same way.
+
 usage: shear_bench_compare.py A B [--blocks K] [--n N] [--steps S] [--threads T]
+                              [--threads-b TB]
 prints name=value lines: compare_blocks, compare_ratio_median, compare_ratio_ci90_low/high,
 compare_a_median, compare_b_median (particle-steps/s).
 """
@@ -40,12 +44,14 @@ def main():
     ap.add_argument("--n", type=int, default=1000)
     ap.add_argument("--steps", type=int, default=600)
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--threads-b", type=int, default=0, help="threads of B (default: --threads)")
     args = ap.parse_args()
+    tb = args.threads_b if args.threads_b > 0 else args.threads
     logs, va, vb = [], [], []
     for _ in range(args.blocks):
         a1 = throughput(args.a, args.n, args.threads, args.steps)
-        b1 = throughput(args.b, args.n, args.threads, args.steps)
-        b2 = throughput(args.b, args.n, args.threads, args.steps)
+        b1 = throughput(args.b, args.n, tb, args.steps)
+        b2 = throughput(args.b, args.n, tb, args.steps)
         a2 = throughput(args.a, args.n, args.threads, args.steps)
         logs.append(math.log((b1 + b2) / (a1 + a2)))
         va += [a1, a2]
@@ -54,6 +60,7 @@ def main():
     boots = sorted(statistics.median(rng.choices(logs, k=len(logs))) for _ in range(2000))
     print(f"compare_n={args.n}")
     print(f"compare_threads={args.threads}")
+    print(f"compare_threads_b={tb}")
     print(f"compare_blocks={args.blocks}")
     print(f"compare_ratio_median={math.exp(statistics.median(logs)):.4f}")
     print(f"compare_ratio_ci90_low={math.exp(boots[len(boots) // 20]):.4f}")
