@@ -44,6 +44,25 @@ static int make_lattice(lub_shear_system *s)
     return lub_shear_init(s, n, r, x, &c, &law, 1e-2, 0.2, 0.5, 2e-3, 1, 0, 0);
 }
 
+/* The bodies of the system as the pair kernel reads them. */
+static lub_pair_bodies system_bodies(const lub_shear_system *s)
+{
+    return (lub_pair_bodies){
+        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
+}
+
+/* Every pair of s through the batched law (lub_pair_eval_range) into *acc; returns its result
+ * (the first failing pair or -1) and its sums in *sums. */
+static long eval_batched(lub_shear_system *s, lub_pair_accum *acc, lub_pair_range_sums *sums)
+{
+    const lub_pair_bodies bodies = system_bodies(s);
+    lub_pair_batch batch[2];
+    double un = 0.0;
+    *sums = (lub_pair_range_sums){0.0, 0, 0};
+    return lub_pair_eval_range(&s->pairs, 0, (long)s->pairs.n, &s->cell, &bodies, &s->law,
+                               s->cutoff, s->dt, s->n, acc, batch, sums, &un);
+}
+
 /* The batched evaluation with every pair's image code set to LUB_PAIR_IMG_OTHER (the shift
  * H c and its velocity L H c computed per pair instead of read from the 27-entry table) gives
  * the very sums *ref of the table path, from the same states st0/act0/near0: the table holds
@@ -69,13 +88,8 @@ static void check_image_fallback(lub_shear_system *s, const lub_pair_state *st0,
     memcpy(ps->state, st0, np * sizeof *st0);
     memcpy(ps->active, act0, np);
     memcpy(ps->near, near0, np);
-    const lub_pair_bodies bodies = {
-        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
-    lub_pair_batch batch[2];
-    double un = 0.0;
-    lub_pair_range_sums sums = {0.0, 0, 0};
-    const long kf = lub_pair_eval_range(ps, 0, (long)np, &s->cell, &bodies, &s->law, s->cutoff,
-                                        s->dt, s->n, &acc, batch, &sums, &un);
+    lub_pair_range_sums sums;
+    const long kf = eval_batched(s, &acc, &sums);
     const size_t nv = (size_t)s->n * sizeof(vec3), ni = (size_t)s->n * sizeof(int);
     const int same = memcmp(acc.f, ref->f, nv) == 0 && memcmp(acc.t, ref->t, nv) == 0 &&
                      memcmp(acc.n_active, ref->n_active, ni) == 0;
@@ -102,13 +116,10 @@ static void compare_batched_with_scalar(lub_shear_system *s)
     memcpy(st0, ps->state, np * sizeof *st0);
     memcpy(act0, ps->active, np);
     memcpy(near0, ps->near, np);
-    const lub_pair_bodies bodies = {
-        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
-    lub_pair_batch batch[2];
+    const lub_pair_bodies bodies = system_bodies(s);
     double un = 0.0;
-    lub_pair_range_sums sums = {0.0, 0, 0};
-    const long kf = lub_pair_eval_range(ps, 0, (long)np, &s->cell, &bodies, &s->law, s->cutoff,
-                                        s->dt, s->n, &accb, batch, &sums, &un);
+    lub_pair_range_sums sums;
+    const long kf = eval_batched(s, &accb, &sums);
     const double syy_b = sums.syy;
     const long nc_b = sums.contacts;
     ST_CHECK(kf < 0, "batched evaluation failed at pair %ld", kf);
