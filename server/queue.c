@@ -321,44 +321,80 @@ int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_
     return 0;
 }
 
+/* Runs sql, whose ?1 is the instant `now` (s), inside the caller's transaction. Returns the
+ * number of rows changed, or -1. */
+static int exec_at(sqlite3 *db, const char *sql, double now)
+{
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db, sql, &st) != 0)
+        return -1;
+    sqlite3_bind_double(st, 1, now);
+    const int rc = sqlite3_step(st);
+    sqlite3_finalize(st);
+    if (rc != SQLITE_DONE) {
+        fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
+        return -1;
+    }
+    return sqlite3_changes(db);
+}
+
 int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
+{
+    *requeued = *failed = 0;
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db, "SELECT " LUBD_SQL_NOW, &st) != 0)
+        return -1;
+    const int have_now = sqlite3_step(st) == SQLITE_ROW;
+    const double now = have_now ? sqlite3_column_double(st, 0) : 0.0;
+    sqlite3_finalize(st);
+    if (!have_now) {
+        fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
+        return -1;
+    }
+    return lubd_queue_reap_at(db, now, requeued, failed);
+}
+
+int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed)
 {
     *requeued = *failed = 0;
     if (lubd_db_begin(db) != 0)
         return -1;
-    const char *ev =
-        "INSERT INTO job_events(job_id, at, event, attempt, worker, token) SELECT id, " LUBD_SQL_NOW
-        ", ?1, attempt, worker, lease_token FROM jobs WHERE state = 'running' AND "
-        "lease_until < " LUBD_SQL_NOW " AND (attempt < max_attempts) = ?2";
     sqlite3_stmt *st;
+    const char *ev =
+        "INSERT INTO job_events(job_id, at, event, attempt, worker, token) SELECT id, ?1, ?2, "
+        "attempt, worker, lease_token FROM jobs WHERE state = 'running' AND lease_until < ?1 "
+        "AND (attempt < max_attempts) = ?3";
     for (int retry = 1; retry >= 0; --retry) {
         if (lubd_db_prepare(db, ev, &st) != 0)
             goto fail;
-        sqlite3_bind_text(st, 1, retry ? "requeued" : "failed", -1, SQLITE_STATIC);
-        sqlite3_bind_int(st, 2, retry);
+        sqlite3_bind_double(st, 1, now);
+        sqlite3_bind_text(st, 2, retry ? "requeued" : "failed", -1, SQLITE_STATIC);
+        sqlite3_bind_int(st, 3, retry);
         int rc = sqlite3_step(st);
         sqlite3_finalize(st);
         if (rc != SQLITE_DONE)
             goto fail;
     }
-    if (lubd_db_exec(
-            db,
-            "UPDATE jobs SET state = 'accepted', worker = NULL, lease_token = "
-            "NULL, lease_until = NULL, engine_pid = NULL, progress = 0, message = "
-            "'requeued: the worker stopped heartbeating (lease expired)', updated = " LUBD_SQL_NOW
-            " WHERE state = 'running' AND lease_until < " LUBD_SQL_NOW
-            " AND attempt < max_attempts") != 0)
+    const int nr = exec_at(
+        db,
+        "UPDATE jobs SET state = 'accepted', worker = NULL, lease_token = NULL, lease_until = "
+        "NULL, engine_pid = NULL, progress = 0, message = 'requeued: the worker stopped "
+        "heartbeating (lease expired)', updated = ?1 WHERE state = 'running' AND lease_until < "
+        "?1 AND attempt < max_attempts",
+        now);
+    if (nr < 0)
         goto fail;
-    *requeued = sqlite3_changes(db);
-    if (lubd_db_exec(db, "UPDATE jobs SET state = 'failed', failure_kind = 'system', "
-                         "worker = NULL, lease_token = NULL, lease_until = NULL, message = "
-                         "'failed: the worker died on every attempt (lease expired after the "
-                         "last attempt)', finished = " LUBD_SQL_NOW ", updated = " LUBD_SQL_NOW
-                         " WHERE state = 'running' AND lease_until < " LUBD_SQL_NOW) != 0)
+    const int nf = exec_at(db,
+                           "UPDATE jobs SET state = 'failed', failure_kind = 'system', worker = "
+                           "NULL, lease_token = NULL, lease_until = NULL, message = 'failed: the "
+                           "worker died on every attempt (lease expired after the last "
+                           "attempt)', finished = ?1, updated = ?1 WHERE state = 'running' AND "
+                           "lease_until < ?1",
+                           now);
+    if (nf < 0 || lubd_db_commit(db) != 0)
         goto fail;
-    *failed = sqlite3_changes(db);
-    if (lubd_db_commit(db) != 0)
-        goto fail;
+    *requeued = nr;
+    *failed = nf;
     return 0;
 fail:
     lubd_db_rollback(db);

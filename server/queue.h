@@ -74,8 +74,16 @@ int lubd_queue_list(sqlite3 *db, const lubd_list_query *q, lubd_job **jobs, int 
  * the job directory; 1 if the job is already purged; -1 error. */
 int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_files);
 
-/* Requeues running jobs whose lease expired (attempt < max_attempts) and fails the others.*/
+/* Requeues running jobs whose lease expired (attempt < max_attempts) and fails the others,
+ * each with its job_events row ('requeued' / 'failed'), in one transaction. Returns 0, or -1
+ * (database error; nothing changed). */
 int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed);
+
+/* lubd_queue_reap with every lease judged against the one instant `now` (s, the clock of
+ * LUBD_SQL_NOW): a lease has expired when lease_until < now. Every statement of the reaper
+ * uses this instant, so the jobs whose state changes and the jobs that get an event are the
+ * same set (SQLite's own 'now' moves between statements). */
+int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed);
 
 int lubd_queue_counts(sqlite3 *db, int *accepted, int *running);
 

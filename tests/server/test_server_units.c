@@ -181,6 +181,65 @@ static void test_queue(const char *dir)
         CHECK(lubd_queue_submit(db, &s, a2, &rep, &f) == -1 && f.status == 429 &&
               f.retry_after > 0);
     }
+    /* The reaper judges every lease against one instant T: a lease ending 1 ms before T is
+     * requeued with exactly one event stamped T, one ending 1 ms after T is left alone and
+     * gets none. (SQLite's own 'now' moves between the reaper's statements; judged against it,
+     * a lease expiring between the event INSERT and the UPDATE lost its event; server.kill9
+     * caught that once as a job claimed twice without a requeue.) */
+    {
+        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{}", "fp-reap", NULL, 10, 3};
+        char ra[33], rb[33];
+        int rep;
+        lubd_fault f;
+        CHECK(lubd_queue_submit(db, &s, ra, &rep, &f) == 0);
+        s.fingerprint = "fp-reap-2";
+        CHECK(lubd_queue_submit(db, &s, rb, &rep, &f) == 0);
+        lubd_claim ca, cb;
+        CHECK(lubd_lease_claim(db, "ra", 100, &ca) == 1 && strcmp(ca.id, ra) == 0);
+        CHECK(lubd_lease_claim(db, "rb", 100, &cb) == 1 && strcmp(cb.id, rb) == 0);
+        /* T: 30 s from now, inside the 60 s lease of the job still running from above */
+        double T = 0.0;
+        {
+            sqlite3_stmt *st;
+            CHECK(sqlite3_prepare_v2(db, "SELECT " LUBD_SQL_NOW " + 30", -1, &st, NULL) ==
+                  SQLITE_OK);
+            CHECK(sqlite3_step(st) == SQLITE_ROW);
+            T = sqlite3_column_double(st, 0);
+            sqlite3_finalize(st);
+        }
+        const char *ids_ab[2] = {ra, rb};
+        for (int k = 0; k < 2; ++k) {
+            sqlite3_stmt *st;
+            CHECK(sqlite3_prepare_v2(db, "UPDATE jobs SET lease_until = ?2 WHERE id = ?1", -1, &st,
+                                     NULL) == SQLITE_OK);
+            sqlite3_bind_text(st, 1, ids_ab[k], -1, SQLITE_STATIC);
+            sqlite3_bind_double(st, 2, k == 0 ? T - 1e-3 : T + 1e-3);
+            CHECK(sqlite3_step(st) == SQLITE_DONE);
+            sqlite3_finalize(st);
+        }
+        int rq2, fl2;
+        CHECK(lubd_queue_reap_at(db, T, &rq2, &fl2) == 0 && rq2 == 1 && fl2 == 0);
+        lubd_job ja, jb;
+        CHECK(lubd_queue_get(db, ra, &ja) == 1 && strcmp(ja.state, "accepted") == 0);
+        CHECK(lubd_queue_get(db, rb, &jb) == 1 && strcmp(jb.state, "running") == 0);
+        for (int k = 0; k < 2; ++k) {
+            sqlite3_stmt *st;
+            CHECK(sqlite3_prepare_v2(db,
+                                     "SELECT count(*), coalesce(min(at), 0) FROM job_events "
+                                     "WHERE job_id = ?1 AND event = 'requeued'",
+                                     -1, &st, NULL) == SQLITE_OK);
+            sqlite3_bind_text(st, 1, ids_ab[k], -1, SQLITE_STATIC);
+            CHECK(sqlite3_step(st) == SQLITE_ROW);
+            const int n_ev = sqlite3_column_int(st, 0);
+            const double at = sqlite3_column_double(st, 1);
+            CHECK(k == 0 ? (n_ev == 1 && at == T) : n_ev == 0);
+            sqlite3_finalize(st);
+        }
+        CHECK(lubd_lease_heartbeat(db, &ca, 60, 5, NULL, 0) == 0); /* requeued: fenced */
+        CHECK(lubd_lease_heartbeat(db, &cb, 60, 5, NULL, 0) == 1);
+        lubd_lease_clear(&ca);
+        lubd_lease_clear(&cb);
+    }
     /* Dismissing the running job makes its holder's heartbeat fail. */
     int purge;
     lubd_job after;
