@@ -47,7 +47,6 @@ void lub_shear_free(lub_shear_system *s)
     free(s->m);
     free(s->inv_m);
     free(s->inv_i);
-    free(s->near_count);
     free(s->inv_i_share);
     free(s->tstress);
     free(s->tsyy);
@@ -90,15 +89,13 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
     s->m = malloc(un * sizeof *s->m);
     s->inv_m = malloc(un * sizeof *s->inv_m);
     s->inv_i = malloc(un * sizeof *s->inv_i);
-    s->near_count = calloc(un, sizeof *s->near_count);
     s->inv_i_share = malloc(un * sizeof *s->inv_i_share);
     s->tstress = calloc((size_t)threads, sizeof *s->tstress);
     s->tsyy = calloc((size_t)threads, sizeof *s->tsyy);
     s->tcount = calloc(LUB_COUNT_N * (size_t)threads, sizeof *s->tcount);
     s->acc = calloc((size_t)threads, sizeof *s->acc);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
-        !s->inv_i || !s->near_count || !s->inv_i_share || !s->tstress || !s->tsyy || !s->tcount ||
-        !s->acc) {
+        !s->inv_i || !s->inv_i_share || !s->tstress || !s->tsyy || !s->tcount || !s->acc) {
         lub_shear_free(s);
         return LUB_SHEAR_NOMEM;
     }
@@ -186,7 +183,7 @@ double lub_shear_phi(const lub_shear_system *s)
 size_t lub_shear_memory_bytes(const lub_shear_system *s)
 {
     size_t n = (size_t)s->n;
-    size_t b = n * (6 * sizeof(vec3) + 5 * sizeof(double) + sizeof(int));
+    size_t b = n * (6 * sizeof(vec3) + 5 * sizeof(double));
     const lub_nlist *nl = &s->nl;
     for (int t = 0; t < nl->nparts; ++t) /* per-thread buffers of the parallel search */
         b += nl->parts[t].cap * 5 * sizeof(int32_t);
@@ -400,7 +397,6 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             int n_active, near;
             lub_pair_accum_sum(all, team, p, &F, &T, &n_active, &near);
             (void)n_active;
-            s->near_count[p] = near;
             s->inv_i_share[p] = lub_inertia_share(s->inv_i[p], near);
             s->f[p] = F;
             s->t[p] = T;

@@ -83,8 +83,8 @@ typedef struct {
     int n;
     vec3 *x, *v, *w, *f, *t, *x_ref;
     double *r, *m, *inv_m, *inv_i;
-    int *near_count;     /* close neighbours (u < a) of each particle at the last step */
-    double *inv_i_share; /* lub_inertia_share(inv_i, near_count): what the pair law is given */
+    double *inv_i_share; /* lub_inertia_share(inv_i, close (u < a) neighbours at the last
+                            step): the inverse inertia the pair law is given */
     lub_cell cell;
     double h_ref[3][3];
     lub_nlist nl;

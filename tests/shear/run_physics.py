@@ -632,16 +632,14 @@ def check(by, rows):
         if s1 and s2 and s1["phi"] and s2["phi"]:
             same_state(f"stiffness_viscous_1e6_{base}", s1, s2,
                        f"stiffness {s1['stiffness']:g}->{s2['stiffness']:g}")
-    # insensitive to dividing the Stokes number by 10 (same tolerances)
-    for base in ("ref_iv_0.1", "ref_iv_0.01", "delaunay_iv_0.1", "delaunay_iv_0.01"):
-        s1, s2 = by.get(base), by.get(base + "_st10")
-        if s1 and s2 and s1["phi"] and s2["phi"]:
-            same_state(f"stokes_tenth_{base}", s1, s2, f"St {s1['St']:g}->{s2['St']:g}")
-    # insensitive to dividing the time step by 3 (same tolerances)
-    for base in ("ref_iv_0.1", "ref_iv_0.01", "delaunay_iv_0.1", "delaunay_iv_0.01"):
-        s1, s2 = by.get(base), by.get(base + "_dt3")
-        if s1 and s2 and s1["phi"] and s2["phi"]:
-            same_state(f"timestep_third_{base}", s1, s2, "dt_safety 0.3->0.1")
+    # insensitive to dividing the Stokes number by 10 and the time step by 3 (same tolerances)
+    for suffix, tag in (("_st10", "stokes_tenth"), ("_dt3", "timestep_third")):
+        for base in ("ref_iv_0.1", "ref_iv_0.01", "delaunay_iv_0.1", "delaunay_iv_0.01"):
+            s1, s2 = by.get(base), by.get(base + suffix)
+            if s1 and s2 and s1["phi"] and s2["phi"]:
+                detail = (f"St {s1['St']:g}->{s2['St']:g}" if suffix == "_st10"
+                          else "dt_safety 0.3->0.1")
+                same_state(f"{tag}_{base}", s1, s2, detail)
     for r in rows:
         if r["kinetic_share"] is not None and r["group"] != "F":
             crit(f"inertia_{r['name']}", abs(r["kinetic_share"]) <= 0.01,
