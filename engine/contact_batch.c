@@ -5,7 +5,10 @@
  * contact_torque.c for the regular case; branches of the scalar law become lane masks and
  * both sides are computed. Differences from the scalar code, all at round-off level:
  *  - exp/log from simd_math.h instead of libm;
- *  - nu_t for u > a uses ln((2 + x)/x) instead of log1p(2/x) (same value, x <= 8 here);
+ *  - nu_t for u > a uses ln(2 + x) - delta instead of log1p(2/x) (same value, x <= 8 here);
+ *  - reciprocals shared between quantities (1/|d| and 1/a; 1/c1, 1/(1 + q) and 1/|F_s|^2 of
+ *    the shear-force rotation) and the branch test of the normal root multiplied through by e;
+ *    divisions and square roots that only some lanes need run only when one of the group does;
  *  - the stable damping factor (1 - e^-k)/k uses its Taylor series up to k = 0.35 (truncation
  *    3e-19) and 1 - e^-k above, instead of the 4-term series up to k = 1e-3 and expm1.
  * Compiled for AVX-512 (8 lanes) or AVX2+FMA (4 lanes) when the build machine has them (CMake
@@ -68,6 +71,8 @@ __attribute__((always_inline)) static inline lub_vd stable_damping(lub_vd c, dou
     ps = ps * (-k) + 0.5;
     ps = ps * (-k) + 1.0;
     const lub_vi small = k <= 0.35;
+    if (!lub_v_any(~small))
+        return c * ps;
     /* large k: (1 - e^-k)/(dt inv_sum), inv_sum > 0 there; the denominator of unused lanes is
      * made 1 so that nothing divides by 0 */
     const lub_vd den = lub_v_sel(small, lub_v_set1(1.0), inv_sum * dt);
@@ -174,17 +179,20 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         const lub_vd dist = lub_v_sqrt(w_dot(br, br));
         ok &= (dist > 0.0) & lub_v_isfinite(dist);
         const lub_vd dist_safe = lub_v_sel(ok, dist, one);
-        const vvec3 nrm = w_scale(br, 1.0 / dist_safe);
         const lub_vd un = dist - r1 - r2;
         const lub_vd a = 0.5 * (r1 + r2);
-        const lub_vd s = un / a;
-        const lub_vd h = dtg / (c_h * a);
+        /* 1/dist and 1/a from one division (a division costs as much as ~10 multiplies) */
+        const lub_vd inv_da = 1.0 / (dist_safe * a);
+        const lub_vd inv_dist = a * inv_da, inv_a = dist_safe * inv_da;
+        const vvec3 nrm = w_scale(br, inv_dist);
+        const lub_vd s = un * inv_a;
+        const lub_vd h = (dtg / c_h) * inv_a;
 
         /* ---- normal part (contact_normal.c, closed form) ---- */
         const lub_vd xp = lub_v_exp(lub_v_sel(ok, delta_prev, zero));
         lub_vi c = none;
         if (e > 0.0)
-            c = (h * (s - e) - 1.0 + xp / e) < 0.0;
+            c = ((h * (s - e) - 1.0) * e + xp) < 0.0; /* h (s - e) - 1 + xp/e < 0, times e */
         const lub_vd ac = lub_v_sel(c, lub_v_set1(alpha), zero);
         const lub_vd A = 1.0 + ac;
         const lub_vd bq = 1.0 - h * (s + ac * e);
@@ -192,9 +200,9 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         ok &= lub_v_isfinite(bq) & lub_v_isfinite(q) & ((lub_v_abs(bq) >= 1e-140) | (q >= 1e-290));
         const lub_vd sq = lub_v_sqrt(bq * bq + q);
         const lub_vi bpos = bq > 0.0;
-        const lub_vd x_pos = 2.0 * xp / lub_v_sel(bpos, bq + sq, one);
-        const lub_vd x_neg = (sq - bq) / (2.0 * A * h);
-        lub_vd x = lub_v_sel(bpos, x_pos, x_neg);
+        /* the root in its cancellation-free form: 2 xp/(bq + sq) for bq > 0, (sq - bq)/(2 A h)
+         * otherwise (one division for both) */
+        lub_vd x = lub_v_sel(bpos, 2.0 * xp, sq - bq) / lub_v_sel(bpos, bq + sq, 2.0 * A * h);
         ok &= (x >= DBL_MIN) & (x <= 1e304); /* normal, and ln x <= 700 (the guard) */
         x = lub_v_sel(ok, x, one);
         const lub_vd delta = lub_v_log(x);
@@ -209,23 +217,38 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         const lub_vd m0 = w_dot(fs_prev, fs_prev);
         const vvec3 wt = w_cross(n_prev, nrm);
         const lub_vd c1 = 1.0 + w_dot(n_prev, nrm);
-        ok &= (c1 > 1e-12) | (m0 == 0.0);
-        const vvec3 wf = w_cross(wt, fs_prev);
-        vvec3 f = w_add(fs_prev, w_axpy(wf, 1.0 / lub_v_sel(ok, c1, one), w_cross(wt, wf)));
         const lub_vd tau = 0.5 * dt * w_dot(w_add(w1, w2), nrm);
         const lub_vd qt = 0.25 * tau * tau;
-        f = w_scale(w_axpy(w_scale(f, 1.0 - qt), tau, w_cross(nrm, f)), 1.0 / (1.0 + qt));
+        const lub_vi m0_zero = m0 == 0.0;
+        ok &= (c1 > 1e-12) | m0_zero;
+        /* 1/c1, 1/(1 + qt) and 1/m0 from one division of their product; the ranges asked
+         * here keep the product a normal double (other lanes go to the scalar law) */
+        ok &= m0_zero | ((m0 >= 1e-200) & (m0 <= 1e200));
+        ok &= qt <= 1e50;
+        const lub_vd c1s = lub_v_sel(ok, c1, one), qt1 = lub_v_sel(ok, 1.0 + qt, one);
+        const lub_vd m0s = lub_v_sel(ok & ~m0_zero, m0, one);
+        const lub_vd inv3 = 1.0 / (c1s * qt1 * m0s);
+        const lub_vd inv_c1 = qt1 * m0s * inv3, inv_qt1 = c1s * m0s * inv3,
+                     inv_m0 = c1s * qt1 * inv3;
+        const vvec3 wf = w_cross(wt, fs_prev);
+        vvec3 f = w_add(fs_prev, w_axpy(wf, inv_c1, w_cross(wt, wf)));
+        f = w_scale(w_axpy(w_scale(f, 1.0 - qt), tau, w_cross(nrm, f)), inv_qt1);
         f = w_axpy(f, -w_dot(f, nrm), nrm);
         const lub_vd m1 = w_dot(f, f);
-        const lub_vd ratio = m1 / lub_v_sel(m0 == 0.0, one, m0);
+        const lub_vd ratio = m1 * inv_m0;
         const lub_vi near_one = lub_v_abs(ratio - 1.0) < 1e-8;
-        const lub_vd rsafe = lub_v_sel(m1 > 0.0, ratio, one);
-        const lub_vd fscale = lub_v_sel(near_one, 1.5 - 0.5 * ratio, 1.0 / lub_v_sqrt(rsafe));
+        /* the magnitude is restored to first order where the rotation kept it to 1e-8 (nearly
+         * always); the square root and its division only when a lane needs them */
+        lub_vd fscale = 1.5 - 0.5 * ratio;
+        const lub_vi exact_scale = ~near_one & (m1 > 0.0) & ~m0_zero;
+        if (lub_v_any(exact_scale))
+            fscale = lub_v_sel(exact_scale, 1.0 / lub_v_sqrt(lub_v_sel(exact_scale, ratio, one)),
+                               fscale);
         vvec3 fr = w_scale(f, fscale);
         fr = w_sel(m1 > 0.0, fr, (vvec3){zero, zero, zero});
         fr = w_sel(m0 == 0.0, fs_prev, fr);
         /* increment of the tangential displacement */
-        const lub_vd alpha_r = (r1 + r2) / (r1 + r2 + un);
+        const lub_vd alpha_r = (r1 + r2) * inv_dist; /* (r1 + r2)/(r1 + r2 + u_n) */
         vvec3 du = w_scale(w_sub(v2, v1), alpha_r);
         du = w_sub(du, w_cross(w_axpy(w_scale(w1, r1), r2, w2), nrm));
         du = w_axpy(du, -w_dot(du, nrm), nrm);
@@ -237,10 +260,11 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         if (shear_lub) {
             const lub_vi small = x < 1e-3;
             ok &= dneg | (x <= 8.0);
-            const lub_vd l2x = 0.69314718055994530942 + x * (0.5 - x * (0.125 - x / 24.0));
-            const lub_vd arg = lub_v_sel(dneg, 2.0 + x, (2.0 + x) / x);
-            const lub_vd L = lub_v_log(lub_v_sel(small, one, arg));
-            const lub_vd lg = lub_v_sel(small, l2x - delta, lub_v_sel(dneg, L - delta, L));
+            /* ln((2 + x)/x) = ln(2 + x) - delta: no division (the scalar law's log1p(2/x) for
+             * u > a, ln(2 + x) - delta below) */
+            const lub_vd l2x = 0.69314718055994530942 + x * (0.5 - x * (0.125 - x * (1.0 / 24.0)));
+            const lub_vd L = lub_v_log(2.0 + x);
+            const lub_vd lg = lub_v_sel(small, l2x, L) - delta;
             nu_t = 0.5 * LUB_PI * eta * a * ((2.0 + x) * lg - 2.0);
         }
         /* Maxwell element / stick / slip (lub_shear_update), in one form:
@@ -252,17 +276,15 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         const lub_vd visc = lub_v_sel(den > 0.0, nu_t / lub_v_sel(den > 0.0, den, one), zero);
         const lub_vd ft2 = w_dot(f_trial, f_trial);
         const lub_vi slip = friction & (ft2 > lim * lim);
-        const lub_vd csl = lub_v_sel(
-            friction, lub_v_sel(slip, lim / lub_v_sqrt(lub_v_sel(slip, ft2, one)), one), zero);
+        lub_vd csl = lub_v_sel(friction, one, zero);
+        if (lub_v_any(slip))
+            csl = lub_v_sel(slip, lim / lub_v_sqrt(lub_v_sel(slip, ft2, one)), csl);
         const vvec3 f_sl = w_scale(f_trial, csl);
         const vvec3 fs = w_add(f_sl, w_scale(w_sub(f_trial, f_sl), visc));
 
         /* ---- roll / twist torques (contact_torque.c), u < a only ---- */
         vvec3 t_lub = {zero, zero, zero};
-        int64_t any_near = 0;
-        for (int l = 0; l < LUB_VW; ++l)
-            any_near |= dneg[l];
-        if ((with_roll || with_twist) && any_near) {
+        if ((with_roll || with_twist) && lub_v_any(dneg)) {
             const lub_vd base = LUB_PI * eta * a * a * a * (-delta);
             const lub_vd inv_sum = ii1 + ii2;
             const vvec3 om = w_sub(w2, w1);

@@ -16,7 +16,9 @@
  *    (permanently compressed contacts, notes §11 P5), or either closed-form term underflowing
  *    (the cases contact_normal.c sends to its bracketed solve);
  *  - u/a > 8 without shear-lubrication log form (only with cut-offs beyond 8a);
- *  - the antiparallel-normal corner of the shear-force rotation, a non-finite result.
+ *  - the antiparallel-normal corner of the shear-force rotation, a non-finite result;
+ *  - a stored shear force with 0 < |F_s|^2 < 1e-200 or > 1e200, or a spin about the normal with
+ *    (dt (w1 + w2).n / 2)^2 / 4 > 1e50 (the kernel's shared reciprocal must stay normal).
  * The whole batch is declined when normal lubrication is off or eta <= 0 (the quasi-static
  * branch of the law).
  *

@@ -57,6 +57,20 @@ static inline lub_vd lub_v_sel(lub_vi m, lub_vd a, lub_vd b)
 {
     return (lub_vd)(((lub_vi)a & m) | ((lub_vi)b & ~m));
 }
+/* 1 if any lane of the mask m is true (for branches that skip work no lane needs). */
+static inline int lub_v_any(lub_vi m)
+{
+#if defined(__AVX512F__) && LUB_VW == 8
+    return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) != 0;
+#elif defined(__AVX__) && LUB_VW == 4
+    return !_mm256_testz_si256((__m256i)m, (__m256i)m);
+#else
+    int64_t r = 0;
+    for (int l = 0; l < LUB_VW; ++l)
+        r |= m[l];
+    return r != 0;
+#endif
+}
 static inline lub_vd lub_v_abs(lub_vd a) { return (lub_vd)((lub_vi)a & INT64_MAX); }
 static inline lub_vd lub_v_min(lub_vd a, lub_vd b) { return lub_v_sel(a < b, a, b); }
 static inline lub_vd lub_v_max(lub_vd a, lub_vd b) { return lub_v_sel(a > b, a, b); }

@@ -13,7 +13,8 @@
  *    both implementations alike (they differ by FMA contraction and 2-ulp exp/log), so x+ can
  *    differ by ~1e-13 relative; the largest differences seen are 2e-11 (force) and 1.3e-13
  *    (delta). A wrong branch or a missing term gives O(1) errors.
- * 3. Declined lanes (new pairs, delta outside [-700, 700], u/a > 8, quasi-static law) are
+ * 3. Declined lanes (new pairs, delta outside [-700, 700], u/a > 8, a stored shear force
+ *    outside [1e-100, 1e100], an absurd spin about the normal, quasi-static law) are
  *    reported as not done and their state is bit-for-bit untouched; a regular far pair is
  *    accepted.
  * Prints name=value lines; exits non-zero on failure. */
@@ -107,7 +108,9 @@ static pair_case random_case(law_rng *r, int regime)
     else
         dprev = log(fabs(s) + 1e-12) + law_rng_range(r, -0.3, 0.3);
     c.st.delta = dprev;
-    c.st.fs = law_rng_uniform(r) < 0.1 ? v3(0, 0, 0) : rand_vec(r, law_rng_logrange(r, 1e-3, 1e3));
+    const double fs_size = law_rng_uniform(r) < 0.05 ? law_rng_logrange(r, 1e-95, 1e95)
+                                                     : law_rng_logrange(r, 1e-3, 1e3);
+    c.st.fs = law_rng_uniform(r) < 0.1 ? v3(0, 0, 0) : rand_vec(r, fs_size);
     c.st.n_prev = unit(v3_axpy(n, law_rng_range(r, 0.0, 0.2), rand_vec(r, 1.0)));
     c.st.is_new = 0;
     return c;
@@ -232,30 +235,39 @@ static void test_declined(void)
                         .eps = 0.02,
                         .mu = 0.5,
                         .terms = LUB_TERM_ALL};
-    pair_case cs[5];
-    lub_pair_state sb[5];
+    enum { NL = 8 };
+    pair_case cs[NL];
+    lub_pair_state sb[NL];
     lub_pair_batch b;
-    b.n = 5;
-    for (int l = 0; l < 5; ++l)
+    b.n = NL;
+    for (int l = 0; l < NL; ++l)
         cs[l] = random_case(&r, 0);
     cs[0].st.is_new = 1;     /* new pair: created by the scalar law */
     cs[1].st.delta = -800.0; /* deep gap */
     cs[2].st.delta = 701.0;  /* beyond the guard */
     cs[3].in.branch = v3_scale(unit(cs[3].in.branch), cs[3].in.r1 + cs[3].in.r2 + 9.0); /* u/a>8 */
     cs[3].st.delta = log(9.0 / (0.5 * (cs[3].in.r1 + cs[3].in.r2)));
-    for (int l = 0; l < 5; ++l) {
+    /* lane 4: regular. Outside the ranges of the kernel's shared division (1/c1, 1/(1 + qt),
+     * 1/|F_s|^2 from one reciprocal): stored shear forces below 1e-100 and above 1e100, and a
+     * spin about the normal so large that (dt (w1 + w2).n / 2)^2 / 4 > 1e50 */
+    cs[5].st.fs = v3(1e-101, 0.0, 0.0);
+    cs[7].st.fs = v3(0.0, 0.0, 1e101);
+    cs[6].in.w1 = v3_scale(unit(cs[6].in.branch), 1e32);
+    for (int l = 0; l < NL; ++l) {
         sb[l] = cs[l].st;
         fill_lane(&b, l, &cs[l], &sb[l]);
     }
     int acc = lub_pair_step_batch(&p, 1e-4, &b);
     CHECK(acc == 1 && b.done[4] == 1, "regular lane accepted (%d accepted)", acc);
-    for (int l = 0; l < 4; ++l) {
+    for (int l = 0; l < NL; ++l) {
+        if (l == 4)
+            continue;
         CHECK(b.done[l] == 0, "lane %d should be declined", l);
         CHECK(memcmp(&sb[l], &cs[l].st, sizeof sb[l]) == 0, "declined lane %d modified", l);
     }
     /* quasi-static law (no normal lubrication): the whole batch is declined */
     p.terms = LUB_TERM_ALL & ~LUB_TERM_NORMAL_LUB;
-    for (int l = 0; l < 5; ++l)
+    for (int l = 0; l < NL; ++l)
         sb[l] = cs[l].st;
     acc = lub_pair_step_batch(&p, 1e-4, &b);
     CHECK(acc == 0, "quasi-static batch accepted %d lanes", acc);
