@@ -60,6 +60,19 @@ static int ensure_capacity(int32_t **pi, int32_t **pj, int32_t **pc, size_t *cap
     return 0;
 }
 
+/* lround(x) (nearest integer, halves away from zero) without the library call, which was
+ * ~15 % of the search: the fractional part x - trunc(x) is exact, so the result is identical
+ * for |x| < 2^31; larger |x| (never met with wrapped positions) go to lround. */
+static inline int round_half_away(double x)
+{
+    if (!(fabs(x) < 2147483647.0))
+        return (int)lround(x);
+    int k = (int)x;
+    const double r = x - (double)k;
+    k += (r >= 0.5) - (r <= -0.5);
+    return k;
+}
+
 static int wrap_index(int k, int n)
 {
     k %= n;
@@ -107,7 +120,8 @@ static int search_range(const search_ctx *sc, int i0, int i1, lub_nlist_part *ou
                             continue;
                         vec3 sj = nl->frac[j];
                         vec3 ds = v3(sj.x - si.x, sj.y - si.y, sj.z - si.z);
-                        int c[3] = {-(int)lround(ds.x), -(int)lround(ds.y), -(int)lround(ds.z)};
+                        int c[3] = {-round_half_away(ds.x), -round_half_away(ds.y),
+                                    -round_half_away(ds.z)};
                         vec3 dsc = v3(ds.x + c[0], ds.y + c[1], ds.z + c[2]);
                         vec3 d = lub_cell_to_cart(cell, dsc);
                         double lim = (ri + radius[j]) * factor + nl->skin;
