@@ -91,21 +91,31 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
     /* lane counts of the two batches, kept in registers (a count in memory would make every
      * pair wait for the previous pair's store: it was the hottest instruction of the loop) */
     int n_far = 0, n_near = 0;
+    /* the array pointers in locals: the flag stores (unsigned char may alias anything) would
+     * otherwise make the compiler reload every array pointer of ps and b for every pair.
+     * restrict only on the arrays nothing writes during the loop (active, near and state are
+     * written through ps and by the kernel) */
+    const int32_t *restrict pi = ps->i, *restrict pj = ps->j;
+    const unsigned char *restrict img = ps->img, *restrict allow = ps->allow;
+    const unsigned char *active = ps->active, *near = ps->near;
+    lub_pair_state *state = ps->state;
+    const vec3 *restrict X = b->x, *restrict V = b->v, *restrict W = b->w;
+    const double *restrict R = b->r, *restrict inv_share = b->inv_i_share;
     for (long kl = k0; kl < k1; ++kl) {
         const size_t k = (size_t)kl;
-        const int i = ps->i[k], j = ps->j[k];
+        const int i = pi[k], j = pj[k];
         if (kl + LUB_PREFETCH_AHEAD < k1) { /* large systems: hide the latency of the streams */
             const size_t kp = k + LUB_PREFETCH_AHEAD;
-            __builtin_prefetch(&ps->state[kp], 1);
-            __builtin_prefetch(&b->x[ps->j[kp]], 0);
-            __builtin_prefetch(&b->v[ps->j[kp]], 0);
-            __builtin_prefetch(&b->w[ps->j[kp]], 0);
+            __builtin_prefetch(&state[kp], 1);
+            __builtin_prefetch(&X[pj[kp]], 0);
+            __builtin_prefetch(&V[pj[kp]], 0);
+            __builtin_prefetch(&W[pj[kp]], 0);
         }
         if (i >= n_mobile && j >= n_mobile) { /* two fixed bodies: never interact */
             lub_pairs_leave(ps, k);
             continue;
         }
-        const unsigned ic = ps->img[k];
+        const unsigned ic = img[k];
         vec3 shift, vshift;
         if (__builtin_expect(ic < 27, 1)) {
             shift = sh[ic];
@@ -114,35 +124,35 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
             shift = lub_cell_shift(cell, &ps->c[3 * k]);
             vshift = lub_mat_vec(cell->L, shift);
         }
-        const vec3 d = v3_sub(v3_add(b->x[j], shift), b->x[i]);
-        const double ri = b->r[i], rj = b->r[j];
+        const vec3 d = v3_sub(v3_add(X[j], shift), X[i]);
+        const double ri = R[i], rj = R[j];
         /* u_n <= cutoff a  <=>  |d|^2 <= (r_i + r_j + cutoff a)^2 (no square root here).
          * About a third of the candidates are outside: the lane is written either way and
          * kept only if inside, so that no branch depends on this unpredictable test; only
          * the rare crossings of the cut-off (state created or dropped) branch. */
         const double reach = ri + rj + cutoff * 0.5 * (ri + rj);
-        const int inside = (v3_norm2(d) <= reach * reach) & ps->allow[k];
-        if (inside != ps->active[k]) {
+        const int inside = (v3_norm2(d) <= reach * reach) & allow[k];
+        if (inside != active[k]) {
             if (inside)
                 lub_pairs_enter(ps, k);
             else
                 lub_pairs_leave(ps, k);
         }
-        const int which = ps->near[k] != 0;
+        const int which = near[k] != 0;
         lub_pair_batch *bt = &batches[which];
         const int l = which ? n_near : n_far;
         n_far += inside & !which;
         n_near += inside & which;
-        const vec3 v2 = v3_add(b->v[j], vshift);
+        const vec3 v2 = v3_add(V[j], vshift);
         kk[which][l] = k;
         bt->bx[l] = d.x, bt->by[l] = d.y, bt->bz[l] = d.z;
-        bt->v1x[l] = b->v[i].x, bt->v1y[l] = b->v[i].y, bt->v1z[l] = b->v[i].z;
+        bt->v1x[l] = V[i].x, bt->v1y[l] = V[i].y, bt->v1z[l] = V[i].z;
         bt->v2x[l] = v2.x, bt->v2y[l] = v2.y, bt->v2z[l] = v2.z;
-        bt->w1x[l] = b->w[i].x, bt->w1y[l] = b->w[i].y, bt->w1z[l] = b->w[i].z;
-        bt->w2x[l] = b->w[j].x, bt->w2y[l] = b->w[j].y, bt->w2z[l] = b->w[j].z;
+        bt->w1x[l] = W[i].x, bt->w1y[l] = W[i].y, bt->w1z[l] = W[i].z;
+        bt->w2x[l] = W[j].x, bt->w2y[l] = W[j].y, bt->w2z[l] = W[j].z;
         bt->r1[l] = ri, bt->r2[l] = rj;
-        bt->inv_i1[l] = lub_pair_inv_inertia(b, i), bt->inv_i2[l] = lub_pair_inv_inertia(b, j);
-        bt->state[l] = &ps->state[k];
+        bt->inv_i1[l] = inv_share[i], bt->inv_i2[l] = inv_share[j]; /* lub_pair_inv_inertia */
+        bt->state[l] = &state[k];
         if ((which ? n_near : n_far) == LUB_BATCH) {
             bt->n = LUB_BATCH;
             flush_batch(ps, kk[which], cell, b, law, cutoff, dt, acc, bt, sums, &fail_k, fail_un);
