@@ -5,7 +5,11 @@
  *   shear_particle_steps_per_s (wall), shear_particle_steps_per_cpu_s (CPU time: meaningful
  *   on a loaded machine), shear_ns_per_active_pair, shear_ns_per_candidate_pair,
  *   shear_active_pairs_per_particle, shear_bytes_per_particle, shear_rebuild_every_steps
- *   shear_law_isa (instruction set of the batched law), shear_batch_law (1 batched, 0 scalar)
+ *   shear_law_isa (instruction set of the batched law), shear_batch_law (1 batched, 0 scalar),
+ *   shear_host_ghz_before/after (the rate of a chain of dependent integer adds, one per cycle:
+ *   the clock the host gives this process just before and after the timed steps) and
+ *   shear_cycles_per_particle_step (CPU seconds of all threads times their mean, per particle
+ *   step: the cost of the code in cycles, which drifts far less than the host's speed)
  * usage: shear_bench N THREADS STEPS [scalar]   ("scalar": every step with lub_pair_step) */
 #include <stdio.h>
 #include <stdlib.h>
@@ -23,6 +27,23 @@ static double cpu_seconds(void)
     getrusage(RUSAGE_SELF, &ru);
     return (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
            (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
+}
+
+/* Effective clock in GHz: 2e8 dependent integer adds (latency 1 cycle each on x86-64 and
+ * AArch64), timed on the wall clock. On a shared virtual machine it falls when the host
+ * throttles or shares the core; a hypervisor that hides the hardware counters leaves no better
+ * gauge. */
+static double host_ghz(void)
+{
+    const long iters = 200000000L;
+    unsigned long x = 0;
+    const double t0 = lub_wall_seconds();
+    for (long k = 0; k < iters; ++k) {
+        x += 1;
+        __asm__ volatile("" : "+r"(x)); /* keeps the chain: no folding, no vectorising */
+    }
+    const double t = lub_wall_seconds() - t0;
+    return (double)iters / t * 1e-9;
 }
 
 int main(int argc, char **argv)
@@ -61,6 +82,7 @@ int main(int argc, char **argv)
             return 1;
         }
     long rb0 = s.rebuilds;
+    const double ghz0 = host_ghz();
     double t0 = lub_wall_seconds(), c0 = cpu_seconds();
     lub_shear_sample smp;
     double active = 0;
@@ -77,6 +99,7 @@ int main(int argc, char **argv)
         }
     }
     double wall = lub_wall_seconds() - t0, cpu = cpu_seconds() - c0;
+    const double ghz1 = host_ghz();
     active /= nsamp;
     double ps = (double)n * steps / wall;
     printf("shear_n=%d\nshear_threads=%d\nshear_steps=%d\nshear_wall_s=%.3f\n", n, threads, steps,
@@ -85,6 +108,9 @@ int main(int argc, char **argv)
     printf("shear_particle_steps_per_s=%.4g\n", ps);
     printf("shear_cpu_s=%.3f\n", cpu);
     printf("shear_particle_steps_per_cpu_s=%.4g\n", (double)n * steps / cpu);
+    printf("shear_host_ghz_before=%.2f\nshear_host_ghz_after=%.2f\n", ghz0, ghz1);
+    printf("shear_cycles_per_particle_step=%.0f\n",
+           0.5 * (ghz0 + ghz1) * 1e9 * cpu / ((double)n * steps));
     printf("shear_ns_per_active_pair=%.1f\n", wall * 1e9 / (steps * active));
     printf("shear_cpu_ns_per_active_pair=%.1f\n", cpu * 1e9 / (steps * active));
     printf("shear_ns_per_candidate_pair=%.1f\n", wall * 1e9 / (steps * (double)s.pairs.n));
