@@ -121,7 +121,7 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
     const double alpha = (p->alpha >= 0.0) ? p->alpha : 0.0;
     const double g = p->k_bulk, k_t = p->k_t;
     const double kt_dt = k_t * dt;
-    const double dtg = dt * g, c_h = 1.5 * LUB_PI * eta;
+    const double h_a = dt * g / (1.5 * LUB_PI * eta); /* h = dt g a / nu_n = h_a / a */
     const int shear_lub = (terms & LUB_TERM_SHEAR_LUB) != 0;
     const int with_friction = (terms & LUB_TERM_FRICTION) != 0;
     const int with_roll = (terms & LUB_TERM_ROLL) != 0, with_twist = (terms & LUB_TERM_TWIST) != 0;
@@ -186,7 +186,7 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         const lub_vd inv_dist = a * inv_da, inv_a = dist_safe * inv_da;
         const vvec3 nrm = w_scale(br, inv_dist);
         const lub_vd s = un * inv_a;
-        const lub_vd h = (dtg / c_h) * inv_a;
+        const lub_vd h = h_a * inv_a;
 
         /* ---- normal part (contact_normal.c, closed form) ---- */
         const lub_vd xp = lub_v_exp(lub_v_sel(ok, delta_prev, zero));
@@ -246,7 +246,7 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
                                fscale);
         vvec3 fr = w_scale(f, fscale);
         fr = w_sel(m1 > 0.0, fr, (vvec3){zero, zero, zero});
-        fr = w_sel(m0 == 0.0, fs_prev, fr);
+        fr = w_sel(m0_zero, fs_prev, fr);
         /* increment of the tangential displacement */
         const lub_vd alpha_r = (r1 + r2) * inv_dist; /* (r1 + r2)/(r1 + r2 + u_n) */
         vvec3 du = w_scale(w_sub(v2, v1), alpha_r);
