@@ -38,8 +38,14 @@ Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
      within 0.005 or three combined standard errors.
 Every row also gives phi_tip = phi (1 + eps/2)^3, the solid fraction at the contact radius
 (the asperity tips), which is what the article's phi counts (README, simple_shear).
+Every imposed-pressure row is also compared with the experimental fit of Boyer et al.
+(physics-reference §2, "for comparison plots": mu1 = 0.32, mu2 = 0.7, I0 = 0.005,
+phi_m = 0.585, mu = mu_c + Iv + 5/2 phi_m Iv^0.5), which the article reports agreement with
+(seed 000 l.1003); it is reported (mu/mu_Boyer column, dashed curves), not asserted.
 Writes OUT/table.md, OUT/table.csv, OUT/rheology.png, OUT/servo.png; prints one name=value
-line per run and per criterion.
+line per run and per criterion. --from-csv TABLE rebuilds table.md, table.csv and
+rheology.png (and evaluates --check) from a table.csv written by an earlier sweep, without
+running anything (servo.png needs the runs' HDF5 files and is then left as it is).
 --check: exit 1 if a criterion fails that is not in KNOWN_MISSES (the committed table's misses,
 listed below the plan; printed with known_miss=1 and counted in physics_known_misses). A
 tolerance criterion outside KNOWN_MISSES fails only when missed by more than two standard
@@ -66,6 +72,7 @@ Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
   * time step divided by 3 (Iv = 0.1, 0.01, ref and delaunay): same tolerances;
   * kinetic share of sigma_xy <= 1 % in every run but the robustness ones (F).
 usage: run_physics.py --lubdem PATH --out DIR [--check] [--quick] [--n N] [--jobs J] [--reuse]
+       run_physics.py --from-csv TABLE --out DIR [--check] [--n N]
 """
 import argparse
 import concurrent.futures
@@ -80,6 +87,7 @@ import time
 MU_M = 0.5
 MU1, MU2, I0 = 0.36, 0.7, 0.0133
 REF_TERMS = {"roll": False, "twist": False}
+BOYER_MU1, BOYER_MU2, BOYER_I0, BOYER_PHI_M = 0.32, 0.7, 0.005, 0.585  # physics-reference §2
 SEED004_I, SEED004_MU = 0.14, 0.577  # seed 004 §3.1: I = 0.14 fixed, friction angle 30 deg
 CONFIGS = {"ref": {"cutoff": 1.0, "terms": REF_TERMS}, "default": {},
            "delaunay": {"cutoff": 2.0, "terms": REF_TERMS, "pairs": "delaunay"}}
@@ -101,6 +109,16 @@ def mu_c_ref(iv):
 def mu_ref(iv, mu_m=MU_M):
     phi = phi_ref(iv, mu_m)
     return mu_c_ref(iv) + iv * (1.0 - phi) ** -2.5
+
+
+def mu_boyer(iv):
+    """Boyer et al.'s experimental fit (physics-reference §2, for comparison only)."""
+    return (BOYER_MU1 + (BOYER_MU2 - BOYER_MU1) / (1.0 + BOYER_I0 / iv) + iv +
+            2.5 * BOYER_PHI_M * math.sqrt(iv))
+
+
+def phi_boyer(iv):
+    return BOYER_PHI_M / (1.0 + math.sqrt(iv))
 
 
 def phi_at_contact_radius(phi, eps):
@@ -223,6 +241,7 @@ def make_row(case, spec, rc, s, wall):
         r["phi_ref"] = phi_ref(case["Iv"], mu_m)
         r["mu_ref"] = mu_ref(case["Iv"], mu_m) if mu_m >= 0.36 else None
         r["mu_c_ref"] = mu_c_ref(case["Iv"]) if mu_m >= 0.36 else None
+        r["mu_boyer"] = mu_boyer(case["Iv"])
     if r["phi"]:
         r["phi_tip"] = phi_at_contact_radius(r["phi"], spec["law"]["eps"])
         r["eta_ref_at_phi"] = eta_ref(r["phi"], mu_m)
@@ -351,14 +370,15 @@ def write_tables(out, rows, n):
                  f"phi_tip = phi (1 + eps/2)^3 counts the spheres at their contact radius.\n\n")
         fh.write("### Imposed pressure (mu_m = 0.5 unless stated)\n\n")
         fh.write("| config | Iv | mu_m | St | stiffness | strain | phi | phi_ref | dphi | mu | "
-                 "mu_ref | mu/mu_ref | eta_r/eta_r(phi) | contact/NL/SL share | kinetic | Z | "
-                 "Z_c | contact mu: normal + tangential (mu_c §2) | sliding | "
-                 "phi_tip - phi_ref |\n" + "|---" * 20 + "|\n")
+                 "mu_ref | mu/mu_ref | mu/mu_Boyer | eta_r/eta_r(phi) | contact/NL/SL share | "
+                 "kinetic | Z | Z_c | contact mu: normal + tangential (mu_c §2) | sliding | "
+                 "phi_tip - phi_ref |\n" + "|---" * 21 + "|\n")
         for r in rows:
             if r["control"] != "pressure" or r["phi"] is None or r["group"] == "S":
                 continue
             dphi = r["phi"] - r["phi_ref"]
             ratio = r["mu"] / r["mu_ref"] if r.get("mu_ref") else None
+            ratio_b = r["mu"] / r["mu_boyer"] if r.get("mu_boyer") else None
             er = r["eta_r"] / r["eta_ref_at_phi"] if r.get("eta_r") else None
             tag = r["config"] + (" NL only" if r["group"] == "D" else "") + \
                 (f" {r['stiffness_factor']:g}x stiff" if r.get("stiffness_factor") else "") + \
@@ -372,7 +392,7 @@ def write_tables(out, rows, n):
                      f"{r['stiffness']:g} | {r['strain']:g} | {r['phi']:.4f} ± "
                      f"{fmt(r['phi_err'], '{:.1g}')} | {r['phi_ref']:.4f} | {dphi:+.3f} | "
                      f"{r['mu']:.3f} ± {fmt(r['mu_err'], '{:.1g}')} | {fmt(r.get('mu_ref'))} | "
-                     f"{fmt(ratio, '{:.3f}')} | {fmt(er, '{:.2f}')} | "
+                     f"{fmt(ratio, '{:.3f}')} | {fmt(ratio_b, '{:.3f}')} | {fmt(er, '{:.2f}')} | "
                      f"{fmt(r['contact_share'], '{:.2f}')}/{fmt(r['nl_share'], '{:.2f}')}/"
                      f"{fmt(r['sl_share'], '{:.2f}')} | {fmt(r['kinetic_share'], '{:.1e}')} | "
                      f"{fmt(r['Z'], '{:.1f}')} | {fmt(r['Z_contact'], '{:.2f}')} | "
@@ -431,6 +451,10 @@ def plot(out, rows, n):
     ax[1].plot([r["Iv"] for r in nl], [r["phi"] for r in nl], "x--", color="k",
                label="ref, no shear lubrication")
     ax[0].plot(ivg, [mu_ref(x) for x in ivg], "-", color="C0", lw=0.8, label="mu_c + mu_h (§2)")
+    ax[0].plot(ivg, [mu_boyer(x) for x in ivg], "--", color="0.4", lw=0.8,
+               label="Boyer et al. fit (experiments)")
+    ax[1].plot(ivg, [phi_boyer(x) for x in ivg], "--", color="0.4", lw=0.8,
+               label="Boyer et al. fit (phi_m 0.585)")
     ax[0].set_xscale("log"); ax[0].set_yscale("log"); ax[0].set_xlabel("Iv")
     ax[0].set_ylabel("mu"); ax[0].legend(fontsize=7)
     ax[1].set_xscale("log"); ax[1].set_xlabel("Iv"); ax[1].set_ylabel("phi")
@@ -453,14 +477,14 @@ def plot(out, rows, n):
         import h5py
     except ImportError:
         return
+    runs = [r for r in rows if r["group"] == "A" and r["config"] == "ref" and
+            os.path.exists(os.path.join(out, r["name"], "result.h5"))]
+    if not runs:
+        print("servo_plot=skipped (no result.h5 of the group-A ref runs in the output folder)")
+        return
     fig, ax = plt.subplots(3, 1, figsize=(8, 8), sharex=True)
-    for r in rows:
-        if not (r["group"] == "A" and r["config"] == "ref"):
-            continue
-        fn = os.path.join(out, r["name"], "result.h5")
-        if not os.path.exists(fn):
-            continue
-        with h5py.File(fn, "r") as h:
+    for r in runs:
+        with h5py.File(os.path.join(out, r["name"], "result.h5"), "r") as h:
             o = h["observables"]
             sx = o["strain/value"][:]
             ax[0].plot(sx, o["pressure/value"][:], lw=0.7, label=f"Iv={r['Iv']:g}")
@@ -647,9 +671,39 @@ def check(by, rows):
     return fails, missed
 
 
+def rows_from_csv(path):
+    """The rows of a table.csv written by write_tables, typed as make_row returns them: empty
+    cells are None, except the case keys whose absence means a default (mu_m, rot, and the
+    optional overrides), which are left out; reference columns added since (mu_boyer) are
+    computed."""
+    optional = {"mu_m", "rot", "stiffness_factor", "dt_safety"}
+
+    def typed(v):
+        if v in ("True", "False"):
+            return v == "True"
+        for conv in (int, float):
+            try:
+                return conv(v)
+            except ValueError:
+                pass
+        return v
+
+    rows = []
+    with open(path, newline="") as fh:
+        for raw in csv.DictReader(fh):
+            r = {k: (None if v == "" else typed(v)) for k, v in raw.items()
+                 if not (v == "" and k in optional)}
+            if r.get("control") == "pressure" and r.get("Iv"):
+                r["mu_boyer"] = mu_boyer(r["Iv"])
+            rows.append(r)
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--lubdem", required=True)
+    ap.add_argument("--lubdem", help="the lubdem binary (required unless --from-csv)")
+    ap.add_argument("--from-csv", default="",
+                    help="rebuild the tables and the plot from this table.csv, run nothing")
     ap.add_argument("--out", required=True)
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--quick", action="store_true", help="10 strain per run, 4 Iv values")
@@ -658,6 +712,8 @@ def main():
     ap.add_argument("--reuse", action="store_true", help="reuse finished runs found in --out")
     ap.add_argument("--only", default="", help="comma-separated groups to run (A-F)")
     a = ap.parse_args()
+    if not a.from_csv and not a.lubdem:
+        ap.error("--lubdem is required unless --from-csv is given")
     os.makedirs(a.out, exist_ok=True)
     cases = [c for c in plan(a.quick) if not a.only or c["group"] in a.only.split(",")]
 
@@ -673,8 +729,11 @@ def main():
               + (f" error={err.strip()[:200]}" if rc else ""), flush=True)
         return r
 
-    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-        rows = list(ex.map(work, cases))
+    if a.from_csv:
+        rows = rows_from_csv(a.from_csv)
+    else:
+        with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+            rows = list(ex.map(work, cases))
     by = write_tables(a.out, rows, a.n)
     plot(a.out, rows, a.n)
     fails, missed = check(by, rows) if a.check else ([], [])
