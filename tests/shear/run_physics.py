@@ -41,7 +41,7 @@ Every row also gives phi_tip = phi (1 + eps/2)^3, the solid fraction at the cont
 Every imposed-pressure row is also compared with the experimental fit of Boyer et al.
 (physics-reference §2, "for comparison plots": mu1 = 0.32, mu2 = 0.7, I0 = 0.005,
 phi_m = 0.585, mu = mu_c + Iv + 5/2 phi_m Iv^0.5), which the article reports agreement with
-(seed 000 l.1003); it is reported (mu/mu_Boyer column, dashed curves), not asserted.
+(seed 000 l.1005); it is reported (mu/mu_Boyer column, dashed curves), not asserted.
 Writes OUT/table.md, OUT/table.csv, OUT/rheology.png, OUT/servo.png; prints one name=value
 line per run and per criterion. --from-csv TABLE rebuilds table.md, table.csv and
 rheology.png (and evaluates --check) from a table.csv written by an earlier sweep, without
