@@ -290,6 +290,23 @@ static void servo_step(lub_shear_system *s, double p_inst, double *p_f, double d
     lub_shear_set_gradient(s, L);
 }
 
+/* A ratio observable as the ratio of the time averages of its numerator and denominator
+ * series, over the later of their two steady windows (lub_stats_analyse with min_start), with
+ * its delta-method standard error (lub_stats_ratio). The mean of the sampled ratios would be
+ * biased where the denominator fluctuates: at imposed volume P varies by 20-45 % (rms),
+ * mean(sigma_xy/P) exceeded <sigma_xy>/<P> by up to 4.4 % and mean(gd/P) exceeded gd/<P> by
+ * up to 18 % (README "Steady state and error bars"), and where P nears zero the mean of the
+ * ratios means nothing. z, scratch: ser->n doubles each. */
+static void ss_ratio_stat(const ss_series *ser, int num, int den, size_t min_start, double *z,
+                          double *scratch, lub_stats_result *r)
+{
+    lub_stats_result rx, ry;
+    lub_stats_analyse(ser->v[num], ser->n, min_start, scratch, &rx);
+    lub_stats_analyse(ser->v[den], ser->n, min_start, scratch, &ry);
+    const size_t d = rx.start > ry.start ? rx.start : ry.start;
+    lub_stats_ratio(ser->v[num] + d, ser->v[den] + d, ser->n - d, z, scratch, &r->mean, &r->sem);
+}
+
 static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
 {
     double edges[9];
@@ -340,7 +357,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     memset(&ser, 0, sizeof ser);
     lub_shear_system sys;
     memset(&sys, 0, sizeof sys);
-    double *scratch = NULL;
+    double *scratch = NULL, *ratio_z = NULL;
     int exit_code = LUB_EXIT_OK;
     if (!radius || !pos) {
         free(radius);
@@ -395,7 +412,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     ser.cap = (size_t)(nsteps / sample_every) + 4;
     ser.strain = malloc(ser.cap * sizeof(double));
     scratch = malloc(ser.cap * sizeof(double));
-    int mem_ok = ser.strain && scratch;
+    ratio_z = malloc(ser.cap * sizeof(double));
+    int mem_ok = ser.strain && scratch && ratio_z;
     for (int k = 0; k < S_COUNT && mem_ok; ++k)
         mem_ok = (ser.v[k] = malloc(ser.cap * sizeof(double))) != NULL;
     if (!mem_ok) {
@@ -548,6 +566,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                     ++min_start;
                 lub_stats_result sr;
                 lub_stats_analyse(ser.v[headline], ser.n, min_start, scratch, &sr);
+                if (headline == S_MU) /* the estimator the summary reports (steady: from mu) */
+                    ss_ratio_stat(&ser, S_SXY, S_P, min_start, ratio_z, scratch, &sr);
                 if (sr.steady && isfinite(sr.sem) && sr.sem <= p.target_rel_error * fabs(sr.mean)) {
                     stopped_early = 1;
                     ++step;
@@ -600,6 +620,19 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         for (int k = 0; k < S_COUNT; ++k) {
             lub_stats_result sr;
             lub_stats_analyse(ser.v[k], ser.n, start, scratch, &sr);
+            /* ratio observables: ratios of time averages (ss_ratio_stat) */
+            if (k == S_MU)
+                ss_ratio_stat(&ser, S_SXY, S_P, start, ratio_z, scratch, &sr);
+            else if (k == S_L1)
+                ss_ratio_stat(&ser, S_ETA11, S_ETA22, start, ratio_z, scratch, &sr);
+            else if (k == S_L3)
+                ss_ratio_stat(&ser, S_ETA33, S_ETA22, start, ratio_z, scratch, &sr);
+            else if (k == S_IV) { /* gd/<P>, P = s0 * S_P */
+                lub_stats_result rp;
+                lub_stats_analyse(ser.v[S_P], ser.n, start, scratch, &rp);
+                sr.mean = gd / (s0 * rp.mean);
+                sr.sem = gd * rp.sem / (s0 * rp.mean * rp.mean);
+            }
             const char *unit = "1";
             if (k == S_P || k == S_SXY || (k >= S_XY_NC && k <= S_YY_KIN))
                 unit = su;
@@ -694,6 +727,7 @@ cleanup:
         free(ser.v[k]);
     free(ser.strain);
     free(scratch);
+    free(ratio_z);
     free(radius);
     lub_shear_free(&sys);
     return exit_code;

@@ -133,3 +133,16 @@ void lub_stats_analyse(const double *x, size_t n, size_t min_start, double *scra
     r->drift_z = lub_stats_drift_z(x + d, r->n, scratch);
     r->steady = isfinite(r->drift_z) && fabs(r->drift_z) <= 3.0;
 }
+
+void lub_stats_ratio(const double *x, const double *y, size_t n, double *z, double *scratch,
+                     double *ratio, double *sem)
+{
+    const double mx = lub_stats_mean(x, n), my = lub_stats_mean(y, n);
+    *ratio = (n > 0 && my != 0.0) ? mx / my : NAN;
+    *sem = NAN;
+    if (n < LUB_STATS_MIN_BATCHES || !isfinite(*ratio))
+        return;
+    for (size_t i = 0; i < n; ++i)
+        z[i] = (x[i] - *ratio * y[i]) / my;
+    *sem = lub_stats_sem(z, n, scratch);
+}

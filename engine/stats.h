@@ -66,4 +66,12 @@ double lub_stats_drift_z(const double *x, size_t n, double *scratch);
 void lub_stats_analyse(const double *x, size_t n, size_t min_start, double *scratch,
                        lub_stats_result *r);
 
+/* Ratio of two time averages over the same samples, R = mean(x)/mean(y) (e.g. mu =
+ * <sigma_xy>/<P> at imposed volume, where the mean of the sampled ratios x_k/y_k is biased by
+ * the fluctuations of y), and its standard error by the delta method: the SEM (rule above) of
+ * z_k = (x_k - R y_k)/mean(y). z and scratch: n doubles each (z receives that series).
+ * *ratio is NaN if mean(y) is 0 or n is 0; *sem is NaN if n < 32 or *ratio is not finite. */
+void lub_stats_ratio(const double *x, const double *y, size_t n, double *z, double *scratch,
+                     double *ratio, double *sem);
+
 #endif
