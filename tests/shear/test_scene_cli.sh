@@ -4,7 +4,9 @@
 #     unknown lubrication_pairs, delaunay_update_strain without "delaunay" or zero
 #     -> exit 2, nothing written;
 #  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
-#     numbers, H5MD observables present;
+#     numbers, H5MD observables present; mu, Iv, sigma11/sigma22 and sigma33/sigma22 of the
+#     summary are ratios of time averages of the HDF5 stress series (over a suffix), which the
+#     mean of the sampled ratios is not (1e-3 away here);
 #  2b. the Delaunay interaction set: completes with its statistics and a Delaunay-like
 #      coordination (12-17, below the cut-off run's);
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient;
@@ -56,6 +58,23 @@ for k in ["stress/total", "stress/normal_contact", "stress/kinetic", "mu", "pres
     if f["observables/" + k + "/value"].shape[0] < 10: bad.append("few rows " + k)
 if f["observables/stress/total/value"].shape[1:] != (3, 3): bad.append("tensor shape")
 if "pdf_interaction_density" not in f["profiles"]: bad.append("microstructure missing")
+# ratio observables are ratios of time averages over a steady window (a suffix of the series),
+# not means of the sampled ratios: the summary value must equal <num>/<den> over some suffix
+S = f["observables/stress/total/value"][:]
+def suffix_mismatch(num, den, v):
+    return min(abs(num[k:].mean() / den[k:].mean() / v - 1) for k in range(len(den) - 31))
+ones = S[:, 1, 1] * 0 + 1
+for key, num, den in (("mu", S[:, 0, 1], -S[:, 1, 1]), ("Iv", ones, -S[:, 1, 1]),
+                      ("sigma11_over_sigma22", S[:, 0, 0], S[:, 1, 1]),
+                      ("sigma33_over_sigma22", S[:, 2, 2], S[:, 1, 1])):
+    m = suffix_mismatch(num, den, r[key]["value"])
+    print(f"ratio_of_means {key} mismatch={m:.1e}")
+    if m > 1e-8: bad.append(f"{key} is not a ratio of time averages (mismatch {m:.1e})")
+k0 = len(S) - int(r["steady_samples"]["value"])
+old = (S[k0:, 0, 1] / -S[k0:, 1, 1]).mean()
+m_old = suffix_mismatch(S[:, 0, 1], -S[:, 1, 1], old)
+print(f"ratio_of_means mean_of_sampled_mu={old:.4f} mismatch={m_old:.1e}")
+if m_old < 1e-6: bad.append("the mean of the sampled ratios is not told apart: no test")
 print(f"robust mu={r['mu']['value']:.3f} eta_r={r['eta_r']['value']:.2f} Zc={r['Z_contact']['value']:.2f}")
 for b in bad: print("FAIL:", b, file=sys.stderr)
 sys.exit(1 if bad else 0)
