@@ -618,20 +618,21 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         }
         lub_summary_put(ctx, "steady_drift_z", worst_z, NAN, "1");
         for (int k = 0; k < S_COUNT; ++k) {
+            /* only mean and sem are reported; ratio observables are ratios of time averages
+             * (ss_ratio_stat), the others the mean of their series */
             lub_stats_result sr;
-            lub_stats_analyse(ser.v[k], ser.n, start, scratch, &sr);
-            /* ratio observables: ratios of time averages (ss_ratio_stat) */
-            if (k == S_MU)
+            if (k == S_MU) {
                 ss_ratio_stat(&ser, S_SXY, S_P, start, ratio_z, scratch, &sr);
-            else if (k == S_L1)
+            } else if (k == S_L1) {
                 ss_ratio_stat(&ser, S_ETA11, S_ETA22, start, ratio_z, scratch, &sr);
-            else if (k == S_L3)
+            } else if (k == S_L3) {
                 ss_ratio_stat(&ser, S_ETA33, S_ETA22, start, ratio_z, scratch, &sr);
-            else if (k == S_IV) { /* gd/<P>, P = s0 * S_P */
-                lub_stats_result rp;
-                lub_stats_analyse(ser.v[S_P], ser.n, start, scratch, &rp);
-                sr.mean = gd / (s0 * rp.mean);
-                sr.sem = gd * rp.sem / (s0 * rp.mean * rp.mean);
+            } else if (k == S_IV) { /* gd/<P>, P = s0 * S_P */
+                lub_stats_analyse(ser.v[S_P], ser.n, start, scratch, &sr);
+                sr.sem = gd * sr.sem / (s0 * sr.mean * sr.mean);
+                sr.mean = gd / (s0 * sr.mean);
+            } else {
+                lub_stats_analyse(ser.v[k], ser.n, start, scratch, &sr);
             }
             const char *unit = "1";
             if (k == S_P || k == S_SXY || (k >= S_XY_NC && k <= S_YY_KIN))

@@ -40,7 +40,7 @@ echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"stra
   | "$LUBDEM" run - --out "$W/run" --quiet; rc=$?
 check "[ $rc -eq 0 ]" "robustness run exit $rc"
 "$PY" - "$W/run" <<'PYEOF' || fail=1
-import json, math, sys, h5py
+import json, math, sys, h5py, numpy
 d = sys.argv[1]
 s = json.load(open(d + "/summary.json"))
 bad = []
@@ -63,8 +63,7 @@ if "pdf_interaction_density" not in f["profiles"]: bad.append("microstructure mi
 S = f["observables/stress/total/value"][:]
 def suffix_mismatch(num, den, v):
     return min(abs(num[k:].mean() / den[k:].mean() / v - 1) for k in range(len(den) - 31))
-ones = S[:, 1, 1] * 0 + 1
-for key, num, den in (("mu", S[:, 0, 1], -S[:, 1, 1]), ("Iv", ones, -S[:, 1, 1]),
+for key, num, den in (("mu", S[:, 0, 1], -S[:, 1, 1]), ("Iv", numpy.ones(len(S)), -S[:, 1, 1]),
                       ("sigma11_over_sigma22", S[:, 0, 0], S[:, 1, 1]),
                       ("sigma33_over_sigma22", S[:, 2, 2], S[:, 1, 1])):
     m = suffix_mismatch(num, den, r[key]["value"])
