@@ -72,7 +72,7 @@ Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
   * time step divided by 3 (Iv = 0.1, 0.01, ref and delaunay): same tolerances;
   * kinetic share of sigma_xy <= 1 % in every run but the robustness ones (F).
 usage: run_physics.py --lubdem PATH --out DIR [--check] [--quick] [--n N] [--jobs J] [--reuse]
-       run_physics.py --from-csv TABLE --out DIR [--check] [--n N]
+       run_physics.py --from-csv TABLE --out DIR [--check] [--n N] [--expect-md TABLE_MD]
 """
 import argparse
 import concurrent.futures
@@ -712,6 +712,9 @@ def main():
     ap.add_argument("--jobs", type=int, default=1, help="runs in parallel (1 thread each)")
     ap.add_argument("--reuse", action="store_true", help="reuse finished runs found in --out")
     ap.add_argument("--only", default="", help="comma-separated groups to run (A-F)")
+    ap.add_argument("--expect-md", default="",
+                    help="exit 1 unless the table.md written equals this file (the committed "
+                         "table.md against its table.csv)")
     a = ap.parse_args()
     if not a.from_csv and not a.lubdem:
         ap.error("--lubdem is required unless --from-csv is given")
@@ -743,7 +746,15 @@ def main():
     if a.check:
         print(f"physics_known_misses={len(missed)}")
     print(f"physics_failures={len(fails)}")
-    sys.exit(1 if fails else 0)
+    md_differs = 0
+    if a.expect_md:
+        with open(os.path.join(a.out, "table.md")) as fa, open(a.expect_md) as fb:
+            md_differs = int(fa.read() != fb.read())
+        if md_differs:
+            print(f"FAIL {a.expect_md} is not the table.md of its table.csv "
+                  f"(rebuilt: {os.path.join(a.out, 'table.md')})", file=sys.stderr)
+        print(f"table_md_differs={md_differs}")
+    sys.exit(1 if fails or md_differs else 0)
 
 
 if __name__ == "__main__":
