@@ -22,6 +22,8 @@ struct lub_h5_table {
     int64_t *step_buf;
     double *time_buf;
     double *row_buf;
+    double *col_buf; /* one series' columns of a flush (ROWS_PER_CHUNK x 9): no allocation in a
+                        run's time loop */
     int nbuf;
     int64_t nwritten;
 };
@@ -248,9 +250,7 @@ static int table_flush(lub_h5_table *t)
         append_rows(t->time_ds, H5T_NATIVE_DOUBLE, 1, NULL, t->nwritten, t->nbuf, t->time_buf))
         return set_err(f, "append to", "observables step/time");
     /* gather each series' columns from the row buffer */
-    double *col = malloc(sizeof(double) * (size_t)t->nbuf * 9);
-    if (!col)
-        return set_err(f, "allocate", "buffer");
+    double *col = t->col_buf;
     int off = 0;
     for (int s = 0; s < t->nseries; ++s) {
         int nc = t->ncomp[s];
@@ -261,13 +261,10 @@ static int table_flush(lub_h5_table *t)
         if (nc == 3)
             fd[0] = 3;
         int rank = nc == 1 ? 1 : (nc == 3 ? 2 : 3);
-        if (append_rows(t->value_ds[s], H5T_NATIVE_DOUBLE, rank, fd, t->nwritten, t->nbuf, col)) {
-            free(col);
+        if (append_rows(t->value_ds[s], H5T_NATIVE_DOUBLE, rank, fd, t->nwritten, t->nbuf, col))
             return set_err(f, "append to", "observable value");
-        }
         off += nc;
     }
-    free(col);
     t->nwritten += t->nbuf;
     t->nbuf = 0;
     return 0;
@@ -301,7 +298,8 @@ lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *nam
     t->step_buf = malloc(sizeof(int64_t) * ROWS_PER_CHUNK);
     t->time_buf = malloc(sizeof(double) * ROWS_PER_CHUNK);
     t->row_buf = malloc(sizeof(double) * ROWS_PER_CHUNK * (size_t)t->row_len);
-    int ok = t->ncomp && t->value_ds && t->step_buf && t->time_buf && t->row_buf;
+    t->col_buf = malloc(sizeof(double) * ROWS_PER_CHUNK * 9);
+    int ok = t->ncomp && t->value_ds && t->step_buf && t->time_buf && t->row_buf && t->col_buf;
     char path[512];
     for (int s = 0; ok && s < nseries; ++s) {
         snprintf(path, sizeof path, "observables/%s", names[s]);
@@ -337,6 +335,7 @@ lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *nam
         free(t->step_buf);
         free(t->time_buf);
         free(t->row_buf);
+        free(t->col_buf);
         free(t);
         return NULL;
     }
@@ -365,6 +364,7 @@ static void table_free(lub_h5_table *t)
     free(t->step_buf);
     free(t->time_buf);
     free(t->row_buf);
+    free(t->col_buf);
     free(t);
 }
 
