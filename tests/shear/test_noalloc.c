@@ -1,0 +1,143 @@
+/* test_noalloc.c — the time loop of the sheared system does not allocate (issue 3 item 4).
+ *
+ * The program counts every malloc, calloc and realloc of the process (its own definitions
+ * interpose glibc's and forward to __libc_malloc and friends, so the OpenMP runtime's and libc's
+ * own allocations are counted too). Each case builds a system, runs a warm-up of 1500 steps
+ * (the pair arrays and the neighbour list grow to their working size, with headroom), then
+ * 3000 more steps with the scene's sampling pattern (sigma_yy every step, a full stress sample
+ * every 50 steps, a microstructure snapshot every 100) and asserts that these steps
+ * allocated nothing, and that they crossed at least 10 neighbour-list rebuilds, so the
+ * rebuilds, the pair-state carry-over and (Delaunay case) the triangulation updates are inside
+ * the measured window. Cases: cut-off 2a at phi 0.50 on 1 and 2 threads; the Delaunay set on
+ * 2 threads; a cell whose gradient dimension breathes by +-2 % (a stand-in for the imposed-
+ * pressure servo, which moves L_yy), so the bin grid and the pair count change.
+ *
+ * Under AddressSanitizer the allocator is the sanitizer's, which these definitions would
+ * bypass: the sanitizer build does not build this test (tests/shear/CMakeLists.txt). */
+#include <math.h>
+#include <stdatomic.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+#if defined(__SANITIZE_ADDRESS__)
+#error "test_noalloc replaces the allocator: build it without AddressSanitizer"
+#endif
+
+#include "packing.h"
+#include "shear_fixture.h"
+#include "shear_system.h"
+#include "shear_test.h"
+
+static atomic_long alloc_calls;
+
+extern void *__libc_malloc(size_t n);
+extern void *__libc_calloc(size_t n, size_t size);
+extern void *__libc_realloc(void *p, size_t n);
+
+void *malloc(size_t n)
+{
+    atomic_fetch_add_explicit(&alloc_calls, 1, memory_order_relaxed);
+    return __libc_malloc(n);
+}
+void *calloc(size_t n, size_t size)
+{
+    atomic_fetch_add_explicit(&alloc_calls, 1, memory_order_relaxed);
+    return __libc_calloc(n, size);
+}
+void *realloc(void *p, size_t n)
+{
+    atomic_fetch_add_explicit(&alloc_calls, 1, memory_order_relaxed);
+    return __libc_realloc(p, n);
+}
+
+enum { CASE_CUTOFF, CASE_DELAUNAY, CASE_BREATHING };
+
+/* The fixture's system (shear_fixture.h: N = 400, phi 0.50, cut-off 2a) with the
+ * microstructure accumulators on (13 x 9 bins, the scene's default). */
+static int make_system(lub_shear_system *s, const lub_law_params *law, int threads)
+{
+    const int n = 400;
+    double *r = malloc(n * sizeof *r);
+    vec3 *x = malloc(n * sizeof *x);
+    lub_cell c;
+    lub_packing_params pp = {
+        .n = n, .phi = 0.50, .radius_std = 0.05, .seed = 3, .margin = 0.01, .max_sweeps = 2000000};
+    int rc = r && x ? lub_packing_generate(&pp, r, x, &c, NULL) : -1;
+    if (rc == 0) {
+        c.L[0][1] = 1.0;
+        rc = lub_shear_init(s, n, r, x, &c, law, 1e-2, 2.0, 0.5, 1.0, threads, 13, 9);
+        if (rc == 0)
+            s->dt = 0.3 * lub_shear_elastic_dt(s);
+    }
+    free(r);
+    free(x);
+    return rc;
+}
+
+/* One case: returns the allocations counted during the measured steps (or -1 on a setup or
+ * step failure, reported). */
+static long run_case(const char *name, int kind, int threads)
+{
+    const lub_law_params law = shear_fixture_law(1e4);
+    lub_shear_system s;
+    const long at_start = atomic_load(&alloc_calls);
+    const int rc = make_system(&s, &law, threads);
+    /* the counter sees the allocations of the set-up: the interposition works */
+    ST_CHECK(atomic_load(&alloc_calls) - at_start >= 10, "%s: set-up counted %ld allocations", name,
+             atomic_load(&alloc_calls) - at_start);
+    ST_CHECK(rc == 0, "%s: setup rc %d", name, rc);
+    if (rc != 0)
+        return -1;
+    if (kind == CASE_DELAUNAY)
+        lub_shear_use_delaunay(&s, 10, 0.0);
+    const int warm = 1500, measured = 3000;
+    long before = 0, rebuilds0 = 0;
+    lub_shear_sample smp;
+    int failed = 0;
+    for (int k = 0; k < warm + measured && !failed; ++k) {
+        if (k == warm) {
+            before = atomic_load(&alloc_calls);
+            rebuilds0 = s.rebuilds;
+        }
+        if (kind == CASE_BREATHING) {
+            /* H_yy(t) = H_yy(0) (1 + A sin(2 pi k/P)): L_yy = A (2 pi/(P dt)) cos(2 pi k/P) */
+            const double amp = 0.02, period = 400.0, w = 2.0 * 3.14159265358979323846 / period;
+            double L[3][3];
+            for (int a = 0; a < 3; ++a)
+                for (int b = 0; b < 3; ++b)
+                    L[a][b] = s.cell.L[a][b];
+            L[1][1] = amp * w / s.dt * cos(w * k);
+            lub_shear_set_gradient(&s, L);
+        }
+        unsigned flags = LUB_SAMPLE_SYY;
+        if (k % 50 == 0)
+            flags |= LUB_SAMPLE_STRESS;
+        if (k % 100 == 0 && s.tpdf)
+            flags |= LUB_SAMPLE_PDF;
+        const int src = lub_shear_step(&s, flags, &smp);
+        if (src != LUB_SHEAR_OK) {
+            ST_CHECK(src == LUB_SHEAR_OK, "%s: step %d rc %d (%s)", name, k, src, s.fail_msg);
+            failed = 1;
+        }
+    }
+    const long allocs = atomic_load(&alloc_calls) - before;
+    const long rebuilds = s.rebuilds - rebuilds0;
+    printf("noalloc_%s_setup_and_warmup_allocations=%ld\n", name, before - at_start);
+    printf("noalloc_%s_allocations=%ld\n", name, allocs);
+    printf("noalloc_%s_rebuilds=%ld\n", name, rebuilds);
+    printf("noalloc_%s_pairs=%zu\n", name, s.pairs.n);
+    ST_CHECK(rebuilds >= 10, "%s: only %ld rebuilds in the measured steps", name, rebuilds);
+    ST_CHECK(allocs == 0, "%s: %ld allocations in %d steps", name, allocs, measured);
+    lub_shear_free(&s);
+    return failed ? -1 : allocs;
+}
+
+int main(void)
+{
+    run_case("cutoff_t1", CASE_CUTOFF, 1);
+    run_case("cutoff_t2", CASE_CUTOFF, 2);
+    run_case("delaunay_t2", CASE_DELAUNAY, 2);
+    run_case("breathing_t1", CASE_BREATHING, 1);
+    ST_DONE();
+}
