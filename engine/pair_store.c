@@ -111,6 +111,13 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
     ps->n = nn;
     ps->n_particles = n_particles;
     ps->carried = carried;
+    /* active states of the old list whose pair the new list lacks: the skin rule makes this 0
+     * (an active pair is inside the cut-off, the new list holds every pair inside the cut-off
+     * plus the skin); a lost state would restart a contact without its history */
+    size_t old_active = 0;
+    for (size_t q = 0; q < nold; ++q)
+        old_active += ps->oactive[q];
+    ps->lost = old_active - carried;
     ps->nbounds = 0; /* the balanced split belongs to the old list */
     return 0;
 }

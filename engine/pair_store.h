@@ -52,6 +52,8 @@ typedef struct {
     unsigned char *oactive;
     size_t ocap;
     size_t carried; /* statistics of the last adopt: active states carried over */
+    size_t lost;    /* statistics of the last adopt: active states of the old list whose pair
+                       is missing from the new list (0 unless the Verlet skin rule failed) */
     /* cost-balanced split of the pairs over the threads (lub_pairs_balance): part t is
      * [bounds[t], bounds[t + 1]); valid for nbounds parts, 0 = not computed for this list */
     int nbounds;

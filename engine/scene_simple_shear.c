@@ -666,6 +666,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_summary_put(ctx, "dt_elastic", dt_el, NAN, p.pressure ? "eta/P" : "1/gd");
         lub_summary_put(ctx, "neighbor_rebuilds", (double)sys.rebuilds, NAN, "1");
         lub_summary_put(ctx, "cell_flips", (double)sys.flips, NAN, "1");
+        lub_summary_put(ctx, "lost_pairs", (double)sys.lost_pairs, NAN, "1");
         lub_summary_put(ctx, "packing_min_gap", pinfo.min_gap, NAN, "a");
         json_object_set_new(ctx->summary_extra, "steady_state_detected",
                             json_boolean(steady && start < ser.n));

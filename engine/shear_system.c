@@ -224,6 +224,7 @@ static int rebuild(lub_shear_system *s)
     }
     if (rc != LUB_NLIST_OK || lub_pairs_adopt(&s->pairs, &s->nl, s->n))
         return LUB_SHEAR_NOMEM;
+    s->lost_pairs += (long)s->pairs.lost;
     s->skin_used = 0.0;
     if (s->topology_interval > 0 && update_topology(s))
         return LUB_SHEAR_NOMEM;

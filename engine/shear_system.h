@@ -102,6 +102,8 @@ typedef struct {
                               shear drag, for comparisons */
     int need_rebuild;
     long rebuilds, flips;
+    long lost_pairs; /* sum over rebuilds of lub_pairs.lost: active pair states dropped while
+                        the pair was still listed as inside the cut-off (0 in a correct run) */
     /* interaction set: topology_interval > 0 restricts the lubricated pairs to the neighbours
      * of the regular triangulation (pair_topology.h), recomputed at every rebuild and every
      * topology_interval steps; 0 (after init): every pair inside the cut-off */

@@ -134,7 +134,7 @@ int main(void)
     lub_nlist_build(&nl, &c, x, r, n);
     ST_CHECK(check_against_brute(&nl, &c, x, r, n) == 0, "after flip: brute force mismatch");
     lub_pairs_adopt(&ps, &nl, n);
-    size_t carried = 0, fresh = 0, wrong = 0, branch_bad = 0;
+    size_t carried = 0, fresh = 0, wrong = 0, branch_bad = 0, carried_active = 0;
     size_t o = 0;
     for (size_t k = 0; k < ps.n; ++k) {
         while (o < n_old && (oi[o] < ps.i[k] || (oi[o] == ps.i[k] && oj[o] < ps.j[k])))
@@ -142,6 +142,7 @@ int main(void)
         int existed = o < n_old && oi[o] == ps.i[k] && oj[o] == ps.j[k];
         if (existed) {
             carried++;
+            carried_active += (o % 3) != 0;
             if (ps.state[k].delta != ps.i[k] * 10000.0 + ps.j[k])
                 wrong++;
             if (ps.active[k] != ((o % 3) != 0))
@@ -161,6 +162,14 @@ int main(void)
     printf("persist carried=%zu new=%zu wrong=%zu branch_mismatch=%zu\n", carried, fresh, wrong,
            branch_bad);
     ST_CHECK(carried > 100, "too few carried pairs %zu", carried);
+    /* lost: the old active states (o % 3 != 0) whose pair the new list lacks (here many: the
+     * affine shift by 0.7 strain moves pairs out of the listing distance) */
+    size_t old_active = 0;
+    for (size_t q = 0; q < n_old; ++q)
+        old_active += (q % 3) != 0;
+    printf("persist lost=%zu of %zu active\n", ps.lost, old_active);
+    ST_CHECK(ps.lost == old_active - carried_active && ps.lost > 0, "lost %zu, expected %zu",
+             ps.lost, old_active - carried_active);
     ST_CHECK(wrong == 0, "%zu pair states not carried correctly", wrong);
     ST_CHECK(branch_bad == 0, "%zu branch vectors inconsistent after wrap+flip", branch_bad);
     /* cost-balanced split: stale after adopt (count split), then contiguous ranges covering
@@ -196,6 +205,24 @@ int main(void)
         }
         lub_pairs_adopt(&ps, &nl, n);
         ST_CHECK(ps.nbounds == 0, "adopt must mark the split stale");
+    }
+    /* lost states: none when the same list is adopted again; exactly one when the new list
+     * lacks one active pair */
+    {
+        for (size_t k = 0; k < ps.n; ++k)
+            ps.active[k] = k % 2;
+        lub_pairs_adopt(&ps, &nl, n);
+        ST_CHECK(ps.lost == 0, "same list: %zu states lost", ps.lost);
+        const size_t drop = 2 * (ps.n / 4) + 1; /* an odd index: active */
+        for (size_t k = drop; k + 1 < nl.npairs; ++k) {
+            nl.pi[k] = nl.pi[k + 1];
+            nl.pj[k] = nl.pj[k + 1];
+            for (int d = 0; d < 3; ++d)
+                nl.pc[3 * k + d] = nl.pc[3 * (k + 1) + d];
+        }
+        nl.npairs--;
+        lub_pairs_adopt(&ps, &nl, n);
+        ST_CHECK(ps.lost == 1, "one active pair dropped: %zu states lost", ps.lost);
     }
     /* too small cell is reported */
     lub_cell small;
