@@ -91,6 +91,7 @@ static long run_case(const char *name, int kind, int threads)
         return -1;
     if (kind == CASE_DELAUNAY)
         lub_shear_use_delaunay(&s, 10, 0.0);
+    ST_CHECK(s.tpdf != NULL, "%s: microstructure accumulators off", name);
     const int warm = 1500, measured = 3000;
     long before = 0, rebuilds0 = 0;
     lub_shear_sample smp;
@@ -113,7 +114,7 @@ static long run_case(const char *name, int kind, int threads)
         unsigned flags = LUB_SAMPLE_SYY;
         if (k % 50 == 0)
             flags |= LUB_SAMPLE_STRESS;
-        if (k % 100 == 0 && s.tpdf)
+        if (k % 100 == 0)
             flags |= LUB_SAMPLE_PDF;
         const int src = lub_shear_step(&s, flags, &smp);
         if (src != LUB_SHEAR_OK) {
