@@ -5,7 +5,7 @@ The servo (README "Imposed pressure servo") sets L_yy = gain gd clamp((P_f - P)/
 the pressure low-passed over filter_strain. A servo that overshoots would make the pressure, the
 cell height and L_yy oscillate at its own frequency, and would move the steady state with its
 settings. The script runs one imposed-pressure spec (the physics suite's group-A delaunay spec,
-N = 300) at Iv = 0.1 and 0.01 with the default servo (gain 1, filter 0.05 strain) and with the
+N = 300, with St 0.01 also at Iv = 0.01 where the suite uses 0.1) at Iv = 0.1 and 0.01 with the default servo (gain 1, filter 0.05 strain) and with the
 gain and the filter changed by factors of 4-5 each way, plus an imposed-volume run at the
 default run's phi (no servo: the pressure's own fluctuations), and reports per run:
   - phi and mu with their standard errors, and their differences from the default servo in
@@ -35,6 +35,8 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "resuspension"))
 from resuspension_consistency import run, summary  # noqa: E402
 
+import run_physics  # noqa: E402  (same folder: the suite's configurations and specs)
+
 IVS = (0.1, 0.01)
 # (label, gain, filter_strain); the first is the default servo
 SERVOS = (("default", 1.0, 0.05), ("gain/4", 0.25, 0.05), ("gain*4", 4.0, 0.05),
@@ -45,37 +47,41 @@ def tag_of(label):
     return label.replace(" ", "_").replace("/", "div").replace("*", "x")
 
 
-def base_spec(args):
-    return {"scene": "simple_shear", "n_particles": 300, "strain": args.strain,
-            "transient_strain": 2.0, "snapshots": 0, "seed": 1, "St": 0.01,
-            "lubrication_pairs": "delaunay", "cutoff": 2.0,
-            "law": {"mu": 0.5, "eps": 0.02, "terms": {"roll": False, "twist": False}}}
-
-
 def pressure_spec(iv, gain, filt, args):
-    s = base_spec(args)
-    s.update({"control": "pressure", "Iv": iv, "stiffness": 1e4,
-              "phi": round(0.574 / (1 + math.sqrt(iv)), 4),
+    """the physics suite's group-A delaunay spec (run_physics.spec_for) with St 0.01 at every Iv
+    (the suite uses 0.1 at Iv = 0.01), the start phi on the §2 law and the servo settings"""
+    case = {"config": "delaunay", "control": "pressure", "Iv": iv, "St": 0.01,
+            "strain": args.strain}
+    s = run_physics.spec_for(case, 300, True)
+    s.update({"seed": 1, "phi": round(0.574 / (1 + math.sqrt(iv)), 4),
               "servo": {"gain": gain, "filter_strain": filt}})
     return s
 
 
 def volume_spec(iv, phi, args):
     """imposed volume at phi with the stiffness k/(eta gd a) of the pressure runs (1e4/Iv)"""
-    s = base_spec(args)
-    s.update({"control": "volume", "phi": round(phi, 4), "stiffness": 1e4 / iv})
+    case = {"config": "delaunay", "control": "volume", "phi": round(phi, 4),
+            "strain": args.strain}
+    s = run_physics.spec_for(case, 300, True)
+    s.update({"seed": 1, "stiffness": 1e4 / iv})
     return s
 
 
-def autocorr_min(x, max_lag):
-    """smallest value of the autocorrelation over lags 1..max_lag samples (value, lag)"""
+def autocorrelation(x):
+    """normalised autocorrelation of x at lags 0..len(x)-1 (FFT, zero-padded)"""
     import numpy as np
     x = np.asarray(x, float) - np.mean(x)
     n = len(x)
     f = np.fft.rfft(x, 2 * n)
     ac = np.fft.irfft(f * np.conj(f))[:n]
-    ac = ac / ac[0]
-    m = min(max_lag, n // 2)
+    return ac / ac[0]
+
+
+def autocorr_min(x, max_lag):
+    """smallest value of the autocorrelation over lags 1..max_lag samples (value, lag)"""
+    import numpy as np
+    ac = autocorrelation(x)
+    m = min(max_lag, len(ac) // 2)
     k = int(np.argmin(ac[1:m + 1])) + 1
     return float(ac[k]), k
 
@@ -187,13 +193,10 @@ def plot(rows, out, runs):
             w = (g >= 6.0) & (g <= 9.0)
             lab = label if control == "pressure" else "imposed volume"
             ax[0][col].plot(g[w], p[w], lw=0.7, label=lab)
-            x = p[g >= 2.0] - np.mean(p[g >= 2.0])
-            n = len(x)
-            fr = np.fft.rfft(x, 2 * n)
-            ac = np.fft.irfft(fr * np.conj(fr))[:n]
+            ac = autocorrelation(p[g >= 2.0])
             dg = float(np.median(np.diff(g)))
             m = int(1.0 / dg)
-            ax[1][col].plot(np.arange(m) * dg, ac[:m] / ac[0], lw=0.8, label=lab)
+            ax[1][col].plot(np.arange(m) * dg, ac[:m], lw=0.8, label=lab)
         ax[0][col].set_title(f"Iv = {iv:g}: sampled pressure, strain 6-9")
         ax[0][col].set_xlabel("strain")
         ax[0][col].set_ylabel("-sigma_yy / <-sigma_yy>")

@@ -23,11 +23,12 @@ static inline lub_law_params shear_fixture_law(double g)
     return p;
 }
 
-/* n spheres at solid fraction phi (packing seed `seed`), density from St, sheared at L_xy = 1.
- * Returns 0 or the packing / init error. */
-static inline int shear_fixture_make(lub_shear_system *s, int n, double phi,
-                                     const lub_law_params *law, double cutoff, int threads,
-                                     unsigned seed, double st)
+/* n spheres at solid fraction phi (packing seed `seed`), density from St, sheared at L_xy = 1,
+ * microstructure accumulators of pdf_theta x pdf_phi bins (0, 0: off). Returns 0 or the
+ * packing / init error. */
+static inline int shear_fixture_make_pdf(lub_shear_system *s, int n, double phi,
+                                         const lub_law_params *law, double cutoff, int threads,
+                                         unsigned seed, double st, int pdf_theta, int pdf_phi)
 {
     double *r = malloc(n * sizeof *r);
     vec3 *x = malloc(n * sizeof *x);
@@ -41,13 +42,21 @@ static inline int shear_fixture_make(lub_shear_system *s, int n, double phi,
     int rc = r && x ? lub_packing_generate(&pp, r, x, &c, NULL) : -1;
     if (rc == 0) {
         c.L[0][1] = 1.0;
-        rc = lub_shear_init(s, n, r, x, &c, law, st, cutoff, 0.5, 1.0, threads, 0, 0);
+        rc = lub_shear_init(s, n, r, x, &c, law, st, cutoff, 0.5, 1.0, threads, pdf_theta, pdf_phi);
         if (rc == 0)
             s->dt = 0.3 * lub_shear_elastic_dt(s);
     }
     free(r);
     free(x);
     return rc;
+}
+
+/* The same without microstructure accumulators. */
+static inline int shear_fixture_make(lub_shear_system *s, int n, double phi,
+                                     const lub_law_params *law, double cutoff, int threads,
+                                     unsigned seed, double st)
+{
+    return shear_fixture_make_pdf(s, n, phi, law, cutoff, threads, seed, st, 0, 0);
 }
 
 #endif

@@ -5,9 +5,10 @@ statistics as one thread").
 The pair sums are added in a different order on T threads, so a T-thread trajectory differs from
 the 1-thread one at round-off level from the first step, and the dynamics amplifies the
 difference exponentially until the two runs are different samples of the same steady state.
-The script runs one simple_shear spec (the physics suite's group-A specs, N = 300; default: the
-ref set, cut-off 1a, at imposed pressure, Iv = 0.01, 20 strain averaged from strain 8, where the
-runs separate fastest) for K packing seeds, once on 1 thread and once on T
+The script runs one simple_shear spec (the physics suite's group-A spec, N = 300, with St 0.01
+also at Iv = 0.01 where the suite uses 0.1; default: the ref set, cut-off 1a, at imposed
+pressure, Iv = 0.01, 20 strain averaged from strain 8, where the runs separate fastest) for K
+packing seeds, once on 1 thread and once on T
 threads, and prints:
   - the separation of the two runs' time series against strain: max |mu_T - mu_1| and
     |L_y,T - L_y,1| over each unit of strain, relative to the standard deviation of the series,
@@ -36,17 +37,20 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "resuspension"))
 from resuspension_consistency import run, summary  # noqa: E402
 
+import run_physics  # noqa: E402  (same folder: the suite's configurations and specs)
+
 OBSERVABLES = ["phi", "mu", "Z_contact", "friction_share"]
 
 
 def spec_for(seed, args):
-    s = {"scene": "simple_shear", "control": "pressure", "Iv": args.iv, "n_particles": args.n,
-         "strain": args.strain, "transient_strain": args.transient, "snapshots": 0, "seed": seed,
-         "phi": round(0.574 / (1 + math.sqrt(args.iv)), 4),  # start near the §2 law
-         "St": 0.01, "stiffness": 1e4, "cutoff": 2.0 if args.pairs == "delaunay" else 1.0,
-         "law": {"mu": 0.5, "eps": 0.02, "terms": {"roll": False, "twist": False}}}
-    if args.pairs == "delaunay":
-        s["lubrication_pairs"] = "delaunay"
+    """the physics suite's group-A spec of the configuration (run_physics.spec_for), with St
+    0.01 at every Iv (the suite uses 0.1 at Iv = 0.01), the start phi on the §2 law and this
+    script's strain, averaging start and seed"""
+    case = {"config": "delaunay" if args.pairs == "delaunay" else "ref", "control": "pressure",
+            "Iv": args.iv, "St": 0.01, "strain": args.strain}
+    s = run_physics.spec_for(case, args.n, True)
+    s.update({"transient_strain": args.transient, "seed": seed,
+              "phi": round(0.574 / (1 + math.sqrt(args.iv)), 4)})  # start near the §2 law
     return s
 
 
