@@ -38,7 +38,7 @@
 typedef struct {
     long long n, seed, snapshots;
     double radius_std, phi, Iv, St, stiffness, cutoff, skin, dt, dt_safety, strain;
-    double target_rel_error, transient_strain, sample_strain;
+    double target_rel_error, target_min_strain, transient_strain, sample_strain;
     double drag_viscosity;  /* drag towards the affine flow, units of eta (0: none) */
     int delaunay;           /* lubrication_pairs "delaunay" (1) or "cutoff" (0) */
     double delaunay_strain; /* strain between triangulation updates */
@@ -85,6 +85,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                                  "dt_safety",
                                  "strain",
                                  "target_rel_error",
+                                 "target_min_strain",
                                  "transient_strain",
                                  "sample_strain",
                                  "snapshots",
@@ -134,6 +135,8 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
         lub_spec_number(spec, "", "strain", (lub_range){0.0, 1e6, 1, 0}, 1, 20.0, &p->strain,
                         err) ||
         lub_spec_number(spec, "", "target_rel_error", rel_r, 1, 0.0, &p->target_rel_error, err) ||
+        lub_spec_number(spec, "", "target_min_strain", LUB_NONNEGATIVE, 1, 5.0,
+                        &p->target_min_strain, err) ||
         lub_spec_number(spec, "", "transient_strain", LUB_NONNEGATIVE, 1, 2.0, &p->transient_strain,
                         err) ||
         lub_spec_number(spec, "", "sample_strain", samp_r, 1, 0.02, &p->sample_strain, err) ||
@@ -568,7 +571,13 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 lub_stats_analyse(ser.v[headline], ser.n, min_start, scratch, &sr);
                 if (headline == S_MU) /* the estimator the summary reports (steady: from mu) */
                     ss_ratio_stat(&ser, S_SXY, S_P, min_start, ratio_z, scratch, &sr);
-                if (sr.steady && isfinite(sr.sem) && sr.sem <= p.target_rel_error * fabs(sr.mean)) {
+                /* ... over at least target_min_strain of steady samples: shorter windows
+                 * hold too few correlation times of phi, and a stop chosen by a low error
+                 * of mu then also picks a low error of phi (README "Run until mu is known") */
+                const double averaged =
+                    sr.start < ser.n ? ser.strain[ser.n - 1] - ser.strain[sr.start] : 0.0;
+                if (sr.steady && averaged >= p.target_min_strain && isfinite(sr.sem) &&
+                    sr.sem <= p.target_rel_error * fabs(sr.mean)) {
                     stopped_early = 1;
                     ++step;
                     break;

@@ -18,7 +18,9 @@ tests/bench/shear_error_vs_time.py, and the ratio rule of lub_stats_ratio for mu
   - coverage: the fraction of seeds with |x_k - m| <= 2 s_k sqrt((K - 1)/K) (0.954 if exact).
 The window "summary" is each run's own summary.json value and stderr (steady window from the
 engine's transient rule to the end), so the numbers users get are calibrated directly; the
-mirror is checked against it (largest relative difference of value and stderr, printed).
+mirror, given the summary's windows (the common steady start, moved later where a series' own
+MSER-5 truncation is later: for mu, sigma_xy's or P's), is checked against it (largest relative
+difference of value and stderr, printed).
 Verdict per row: "calibrated" (R inside its interval), "conservative" (below: the error bars are
 larger than the scatter says) or "too small" (above: they promise a precision the runs do not
 have). --check fails on any "too small", on R below the interval's lower end divided by
@@ -29,8 +31,12 @@ failed: they never make a result look more precise than it is (measured: 1.5-2x 
 delaunay Iv = 0.1, README "Steady state and error bars"). Prints name=value lines; writes OUT/calibration.md
 and OUT/calibration.csv (one row per point, seed, window and observable), from which
 --from-csv rebuilds the table without running anything.
+With --target-rel-error X each run stops once mu is known to X (the spec's target_rel_error,
+checked every unit of strain; --strain is the cap): the calibration of the summaries then says
+whether "run until mu is known to X" delivers X, stopping on the error bar included.
 usage: error_bar_calibration.py --lubdem PATH --out DIR [--seeds K] [--points ref:0.01 ...]
-       [--strain S] [--windows 2:10 2:20 ...] [--jobs J] [--n N] [--reuse] [--check]
+       [--strain S] [--windows 2:10 2:20 ...] [--target-rel-error X] [--jobs J] [--n N]
+       [--reuse] [--check]
        error_bar_calibration.py --from-csv CSV --out DIR [--check] [--expect-md MD]
 (--expect-md: also fail if the table differs from MD, e.g. the committed one)
 """
@@ -60,7 +66,30 @@ def spec_for(point, seed, args):
     s = run_physics.spec_for({"config": config, "control": "pressure", "Iv": iv,
                               "strain": args.strain}, args.n, True)
     s["seed"] = seed
+    if args.target_rel_error > 0:
+        s["target_rel_error"] = args.target_rel_error
     return s
+
+
+def mser(x, batch=5):
+    """the MSER truncation of engine/stats.c (lub_stats_mser): over batch means of `batch`
+    samples, the d <= m/2 minimising the variance of the batches d..m-1 over their count
+    squared (ties: the smallest d); returns d * batch, 0 for fewer than 4 batches"""
+    m = len(x) // batch
+    if m < 4:
+        return 0
+    best, best_d, s1, s2 = math.inf, 0, 0.0, 0.0
+    for dd in range(m - 1, -1, -1):
+        y = sum(float(v) for v in x[dd * batch:(dd + 1) * batch]) / batch
+        s1 += y
+        s2 += y * y
+        cnt = m - dd
+        if dd <= m // 2 and cnt >= 2:
+            mean = s1 / cnt
+            val = max(s2 - cnt * mean * mean, 0.0) / (cnt * cnt)
+            if val <= best:
+                best, best_d = val, dd
+    return best_d * batch
 
 
 def window_stats(out, windows):
@@ -89,7 +118,16 @@ def window_stats(out, windows):
 
     res = {f"{a:g}:{b:g}": stats((g > a) & (g <= b + 1e-9)) for a, b in windows}
     res["summary"] = {k: (s[k]["value"], s[k]["stderr"]) for k in OBSERVABLES}
-    res["mirror"] = stats(g >= s["steady_from_strain"]["value"] - 1e-9)
+    # the summary's windows: from the common steady start, or later where a series' own
+    # MSER-5 truncation is later (for mu the later of sigma_xy's and P's, lub_stats_analyse)
+    start = int(np.argmax(g >= s["steady_from_strain"]["value"] - 1e-9))
+    d_phi = max(start, mser(phi))
+    d_mu = max(start, mser(sxy), mser(p))
+    res["mirror"] = {"phi": stats(np.arange(g.size) >= d_phi)["phi"],
+                     "mu": stats(np.arange(g.size) >= d_mu)["mu"]}
+    full = summary(out)
+    res["run"] = {"strain_reached": (s["strain_reached"]["value"], 0.0),
+                  "stopped_on_target": (float(bool(full.get("stopped_on_target_error"))), 0.0)}
     return res
 
 
@@ -125,8 +163,17 @@ def analyse(rows, out, check):
     for r in rows:
         if r["point"] not in points:
             points.append(r["point"])
-        if r["window"] not in windows and r["window"] != "mirror":
+        if r["window"] not in windows and r["window"] not in ("mirror", "run"):
             windows.append(r["window"])
+    for pt in points:
+        run_rows = [r for r in rows if r["point"] == pt and r["window"] == "run"]
+        reach = [r["value"] for r in run_rows if r["obs"] == "strain_reached"]
+        stop = [r["value"] for r in run_rows if r["obs"] == "stopped_on_target"]
+        if reach:
+            tag = pt.replace(":", "_iv")
+            print(f"calib_{tag}_strain_reached_mean={sum(reach) / len(reach):.2f}")
+            print(f"calib_{tag}_strain_reached_range={min(reach):g}-{max(reach):g}")
+            print(f"calib_{tag}_stopped_on_target_fraction={sum(stop) / len(stop):.3f}")
     lines = ["| point | window (strain) | observable | K | mean of the K means | sd of the means |"
              " rms error bar | R = sd / rms | R interval (exact error bars, 99.8 %) |"
              " chi2/dof | 2-sigma coverage | verdict |",
@@ -217,6 +264,10 @@ def main():
     ap.add_argument("--windows", type=parse_window, nargs="+",
                     default=[(2, 6), (2, 10), (2, 20), (8, 20)])
     ap.add_argument("--n", type=int, default=300)
+    ap.add_argument("--target-rel-error", type=float, default=0.0,
+                    help="run each seed until mu is known to this relative error (the spec's "
+                         "target_rel_error; --strain is then the cap) and calibrate the "
+                         "summaries only (no windows)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--reuse", action="store_true")
     ap.add_argument("--check", action="store_true")
@@ -231,6 +282,8 @@ def main():
             ap.error("--lubdem is required unless --from-csv is given")
         if a.seeds < 3:
             ap.error("--seeds must be at least 3")
+        if a.target_rel_error > 0:
+            a.windows = []  # the runs end at different strains: only the summaries compare
         if any(b > a.strain for _, b in a.windows):
             ap.error("every window must end at or before --strain")
         jobs = [(pt, seed) for pt in a.points for seed in range(1, a.seeds + 1)]
