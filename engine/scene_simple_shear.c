@@ -300,6 +300,27 @@ static void servo_step(lub_shear_system *s, double p_inst, double *p_f, double d
  * mean(sigma_xy/P) exceeded <sigma_xy>/<P> by up to 4.4 % and mean(gd/P) exceeded gd/<P> by
  * up to 18 % (README "Steady state and error bars"), and where P nears zero the mean of the
  * ratios means nothing. z, scratch: ser->n doubles each. */
+/* End of the transient: the first sample at or after transient_strain, moved later to the
+ * latest MSER-5 truncation of the control-relevant series (phi and mu at imposed pressure,
+ * P and eta_r at imposed volume), which are written to watch[] (terminated by -1). The
+ * summary's steady window starts there; so does the target-error stop's. */
+static size_t ss_steady_start(const ss_series *ser, int pressure, double transient_strain,
+                              int watch[3])
+{
+    size_t start = 0;
+    while (start < ser->n && ser->strain[start] < transient_strain)
+        ++start;
+    watch[0] = pressure ? S_PHI : S_P;
+    watch[1] = pressure ? S_MU : S_ETA;
+    watch[2] = -1;
+    for (int w = 0; w < 2; ++w) {
+        size_t d = lub_stats_mser(ser->v[watch[w]], ser->n, 5, NULL);
+        if (d > start)
+            start = d;
+    }
+    return start > ser->n ? ser->n : start;
+}
+
 static void ss_ratio_stat(const ss_series *ser, int num, int den, size_t min_start, double *z,
                           double *scratch, lub_stats_result *r)
 {
@@ -564,18 +585,19 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             /* "run until the headline is known to target_rel_error" */
             if (p.target_rel_error > 0 && strain >= next_check) {
                 next_check = strain + 1.0;
-                size_t min_start = 0;
-                while (min_start < ser.n && ser.strain[min_start] < p.transient_strain)
-                    ++min_start;
+                /* the headline as the summary written now would report it (same steady
+                 * window, same estimator; steady: from the headline's drift test) ... */
+                int watch[3];
+                const size_t start = ss_steady_start(&ser, p.pressure, p.transient_strain, watch);
                 lub_stats_result sr;
-                lub_stats_analyse(ser.v[headline], ser.n, min_start, scratch, &sr);
-                if (headline == S_MU) /* the estimator the summary reports (steady: from mu) */
-                    ss_ratio_stat(&ser, S_SXY, S_P, min_start, ratio_z, scratch, &sr);
-                /* ... over at least target_min_strain of steady samples: shorter windows
-                 * hold too few correlation times of phi, and a stop chosen by a low error
-                 * of mu then also picks a low error of phi (README "Run until mu is known") */
+                lub_stats_analyse(ser.v[headline], ser.n, start, scratch, &sr);
+                if (headline == S_MU)
+                    ss_ratio_stat(&ser, S_SXY, S_P, start, ratio_z, scratch, &sr);
+                /* ... over at least target_min_strain of that window: shorter windows hold
+                 * too few correlation times of phi, and a stop chosen by a low error of mu
+                 * then also picks a low error of phi (README "Run until mu is known") */
                 const double averaged =
-                    sr.start < ser.n ? ser.strain[ser.n - 1] - ser.strain[sr.start] : 0.0;
+                    start < ser.n ? ser.strain[ser.n - 1] - ser.strain[start] : 0.0;
                 if (sr.steady && averaged >= p.target_min_strain && isfinite(sr.sem) &&
                     sr.sem <= p.target_rel_error * fabs(sr.mean)) {
                     stopped_early = 1;
@@ -598,23 +620,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
 
     /* ---- statistics and summary (also for partial runs) ---- */
     {
-        size_t min_start = 0;
-        while (min_start < ser.n && ser.strain[min_start] < p.transient_strain)
-            ++min_start;
-        /* end of transient: the latest MSER truncation of the control-relevant series */
-        int watch[3] = {S_P, S_ETA, -1};
-        if (p.pressure) {
-            watch[0] = S_PHI;
-            watch[1] = S_MU;
-        }
-        size_t start = min_start;
-        for (int w = 0; w < 3 && watch[w] >= 0; ++w) {
-            size_t d = lub_stats_mser(ser.v[watch[w]], ser.n, 5, NULL);
-            if (d > start)
-                start = d;
-        }
-        if (start > ser.n)
-            start = ser.n;
+        int watch[3];
+        const size_t start = ss_steady_start(&ser, p.pressure, p.transient_strain, watch);
         /* verdict: no significant drift of the watched series after the common start */
         int steady = 1;
         double worst_z = 0.0;

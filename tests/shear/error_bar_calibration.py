@@ -28,9 +28,10 @@ MAX_CONSERVATISM (error bars more than twice too large beyond chance: runs stopp
 target_rel_error would then run over four times longer than needed), and if the mirror differs
 from the engine by more than 1e-6. Too-large error bars within that factor are reported, not
 failed: they never make a result look more precise than it is (measured: 1.5-2x for mu at
-delaunay Iv = 0.1, README "Steady state and error bars"). Prints name=value lines; writes OUT/calibration.md
-and OUT/calibration.csv (one row per point, seed, window and observable), from which
---from-csv rebuilds the table without running anything.
+delaunay Iv = 0.1, README "Steady state and error bars"). Prints name=value lines; writes
+OUT/calibration.md and OUT/calibration.csv (one row per point, seed, window and observable, plus
+each run's strain reached and stop flag), from which --from-csv rebuilds the table without
+running anything.
 With --target-rel-error X each run stops once mu is known to X (the spec's target_rel_error,
 checked every unit of strain; --strain is the cap): the calibration of the summaries then says
 whether "run until mu is known to X" delivers X, stopping on the error bar included.
@@ -193,7 +194,8 @@ def analyse(rows, out, check):
                            "conservative" if c["R"] < c["R_lo"] else "calibrated")
                 print(f"calib_{tag}_verdict={verdict.replace(' ', '_')}")
                 lines.append(f"| {pt} | {w} | {ob} | {c['k']} | {c['mean']:.4f} | {c['sd']:.2g} |"
-                             f" {c['rms_se']:.2g} | {c['R']:.2f} | {c['R_lo']:.2f}–{c['R_hi']:.2f} |"
+                             f" {c['rms_se']:.2g} | {c['R']:.2f} |"
+                             f" {c['R_lo']:.2f}–{c['R_hi']:.2f} |"
                              f" {c['chi2']:.2f} | {c['coverage']:.2f} | {verdict} |")
                 if c["R"] > c["R_hi"]:
                     failures.append(f"{tag}: R = {c['R']:.2f} above {c['R_hi']:.2f}: the error "
