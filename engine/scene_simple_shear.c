@@ -293,13 +293,6 @@ static void servo_step(lub_shear_system *s, double p_inst, double *p_f, double d
     lub_shear_set_gradient(s, L);
 }
 
-/* A ratio observable as the ratio of the time averages of its numerator and denominator
- * series, over the later of their two steady windows (lub_stats_analyse with min_start), with
- * its delta-method standard error (lub_stats_ratio). The mean of the sampled ratios would be
- * biased where the denominator fluctuates: at imposed volume P varies by 20-45 % (rms),
- * mean(sigma_xy/P) exceeded <sigma_xy>/<P> by up to 4.4 % and mean(gd/P) exceeded gd/<P> by
- * up to 18 % (README "Steady state and error bars"), and where P nears zero the mean of the
- * ratios means nothing. z, scratch: ser->n doubles each. */
 /* End of the transient: the first sample at or after transient_strain, moved later to the
  * latest MSER-5 truncation of the control-relevant series (phi and mu at imposed pressure,
  * P and eta_r at imposed volume), which are written to watch[] (terminated by -1). The
@@ -321,6 +314,13 @@ static size_t ss_steady_start(const ss_series *ser, int pressure, double transie
     return start > ser->n ? ser->n : start;
 }
 
+/* A ratio observable as the ratio of the time averages of its numerator and denominator
+ * series, over the later of their two steady windows (lub_stats_analyse with min_start), with
+ * its delta-method standard error (lub_stats_ratio). The mean of the sampled ratios would be
+ * biased where the denominator fluctuates: at imposed volume P varies by 20-45 % (rms),
+ * mean(sigma_xy/P) exceeded <sigma_xy>/<P> by up to 4.4 % and mean(gd/P) exceeded gd/<P> by
+ * up to 18 % (README "Steady state and error bars"), and where P nears zero the mean of the
+ * ratios means nothing. z, scratch: ser->n doubles each. */
 static void ss_ratio_stat(const ss_series *ser, int num, int den, size_t min_start, double *z,
                           double *scratch, lub_stats_result *r)
 {
