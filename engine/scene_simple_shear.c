@@ -295,19 +295,19 @@ static void servo_step(lub_shear_system *s, double p_inst, double *p_f, double d
 
 /* End of the transient: the first sample at or after transient_strain, moved later to the
  * latest MSER-5 truncation of the control-relevant series (phi and mu at imposed pressure,
- * P and eta_r at imposed volume), which are written to watch[] (terminated by -1). The
- * summary's steady window starts there; so does the target-error stop's. */
+ * P and eta_r at imposed volume), which are written to watch[] (terminated by -1) unless
+ * watch is NULL. The summary's steady window starts there; so does the target-error stop's. */
 static size_t ss_steady_start(const ss_series *ser, int pressure, double transient_strain,
                               int watch[3])
 {
     size_t start = 0;
     while (start < ser->n && ser->strain[start] < transient_strain)
         ++start;
-    watch[0] = pressure ? S_PHI : S_P;
-    watch[1] = pressure ? S_MU : S_ETA;
-    watch[2] = -1;
+    const int watched[3] = {pressure ? S_PHI : S_P, pressure ? S_MU : S_ETA, -1};
+    if (watch)
+        memcpy(watch, watched, sizeof watched);
     for (int w = 0; w < 2; ++w) {
-        size_t d = lub_stats_mser(ser->v[watch[w]], ser->n, 5, NULL);
+        size_t d = lub_stats_mser(ser->v[watched[w]], ser->n, 5, NULL);
         if (d > start)
             start = d;
     }
@@ -587,8 +587,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 next_check = strain + 1.0;
                 /* the headline as the summary written now would report it (same steady
                  * window, same estimator; steady: from the headline's drift test) ... */
-                int watch[3];
-                const size_t start = ss_steady_start(&ser, p.pressure, p.transient_strain, watch);
+                const size_t start = ss_steady_start(&ser, p.pressure, p.transient_strain, NULL);
                 lub_stats_result sr;
                 lub_stats_analyse(ser.v[headline], ser.n, start, scratch, &sr);
                 if (headline == S_MU)

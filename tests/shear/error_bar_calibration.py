@@ -112,7 +112,8 @@ def window_stats(out, windows):
         phi = o["phi/value"][:]
         sxy = o["stress/total/value"][:, 0, 1]  # sigma_xy = sum F_x l_y / V, as the summary
         p = o["pressure/value"][:]
-    s = summary(out)["results"]
+    full = summary(out)
+    s = full["results"]
 
     def stats(w):
         return {"phi": (float(np.mean(phi[w])), stats_sem(phi[w])), "mu": ratio(sxy[w], p[w])}
@@ -126,7 +127,6 @@ def window_stats(out, windows):
     d_mu = max(start, mser(sxy), mser(p))
     res["mirror"] = {"phi": stats(np.arange(g.size) >= d_phi)["phi"],
                      "mu": stats(np.arange(g.size) >= d_mu)["mu"]}
-    full = summary(out)
     res["run"] = {"strain_reached": (s["strain_reached"]["value"], 0.0),
                   "stopped_on_target": (float(bool(full.get("stopped_on_target_error"))), 0.0)}
     return res
