@@ -125,10 +125,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         return LUB_EXIT_NUMERICAL;
     }
     const int n = (int)p.points, nf = 8 * (n - 1) + 1;
-    double *y = malloc(sizeof(double) * (size_t)n * 5), *phi = y + n, *Phi = y + 2 * n;
-    double *eta_law = y + 3 * n, *eta_prof = y + 4 * n;
-    double *fy = malloc(sizeof(double) * (size_t)nf * 2), *fphi = fy ? fy + nf : NULL;
-    double *uy = malloc(sizeof(double) * (size_t)n * 2), *uphi = uy ? uy + n : NULL;
+    double *y = malloc(sizeof(double) * (size_t)n * 5);
+    double *fy = malloc(sizeof(double) * (size_t)nf * 2);
+    double *uy = malloc(sizeof(double) * (size_t)n * 2);
     if (!y || !fy || !uy) {
         free(y);
         free(fy);
@@ -136,6 +135,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory");
         return LUB_EXIT_INTERNAL;
     }
+    /* sub-arrays only once the blocks exist (arithmetic on a null pointer is undefined) */
+    double *phi = y + n, *Phi = y + 2 * n, *eta_law = y + 3 * n, *eta_prof = y + 4 * n;
+    double *fphi = fy + nf, *uphi = uy + n;
     lub_resusp_profile(&p.law, &r, n, y, phi);
     double acc = 0.0;
     eta_prof[n - 1] = 0.0;
