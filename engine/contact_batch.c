@@ -5,6 +5,8 @@
  * contact_torque.c for the regular case; branches of the scalar law become lane masks and
  * both sides are computed. Differences from the scalar code, all at round-off level:
  *  - exp/log from simd_math.h instead of libm;
+ *  - the normal solve starts from the state's x (u/a as the last step computed it) where the
+ *    scalar law recomputes e^delta: one exp fewer per pair, the same value to round-off;
  *  - nu_t for u > a uses ln(2 + x) - delta instead of log1p(2/x) (same value, x <= 8 here);
  *  - reciprocals shared between quantities (1/|d| and 1/a; 1/c1, 1/(1 + q) and 1/|F_s|^2 of
  *    the shear-force rotation) and the branch test of the normal root multiplied through by e;
@@ -147,26 +149,29 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
          * load of just-written scalars would stall on store forwarding) ---- */
         lub_pair_state *const *st = &b->state[g0];
 #define SD(l) st[l]->delta
+#define SX(l) st[l]->x
 #define SFX(l) st[l]->fs.x
 #define SFY(l) st[l]->fs.y
 #define SFZ(l) st[l]->fs.z
 #define SNX(l) st[l]->n_prev.x
 #define SNY(l) st[l]->n_prev.y
 #define SNZ(l) st[l]->n_prev.z
-#define SNEW(l) (int64_t) st[l]->is_new
         const lub_vd delta_prev = {LUB_LANES(SD)};
+        const lub_vd x_prev = {LUB_LANES(SX)};
         const vvec3 fs_prev = {{LUB_LANES(SFX)}, {LUB_LANES(SFY)}, {LUB_LANES(SFZ)}};
         const vvec3 n_prev = {{LUB_LANES(SNX)}, {LUB_LANES(SNY)}, {LUB_LANES(SNZ)}};
-        const lub_vi is_new = {LUB_LANES(SNEW)};
 #undef SD
+#undef SX
 #undef SFX
 #undef SFY
 #undef SFZ
 #undef SNX
 #undef SNY
 #undef SNZ
-#undef SNEW
-        lub_vi ok = (is_new == 0) & (delta_prev >= -700.0) & (delta_prev <= 700.0);
+        /* a new pair has x < 0; x_prev normal and finite is implied by the delta range for
+         * a state the law wrote, and asked anyway (it is the value the solve starts from) */
+        lub_vi ok = (x_prev >= DBL_MIN) & (x_prev <= 1e304) & (delta_prev >= -700.0) &
+                    (delta_prev <= 700.0);
 
         /* ---- geometry (contact_pair.c) ---- */
         const vvec3 br = w_load(b->bx, b->by, b->bz, g0);
@@ -189,7 +194,9 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         const lub_vd h = h_a * inv_a;
 
         /* ---- normal part (contact_normal.c, closed form) ---- */
-        const lub_vd xp = lub_v_exp(lub_v_sel(ok, delta_prev, zero));
+        /* x_prev = e^delta_prev as the law left it: no exp here (one of the three
+         * transcendental functions per pair) */
+        const lub_vd xp = lub_v_sel(ok, x_prev, one);
         lub_vi c = none;
         if (e > 0.0)
             c = ((h * (s - e) - 1.0) * e + xp) < 0.0; /* h (s - e) - 1 + xp/e < 0, times e */
@@ -317,6 +324,8 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         lub_v_store(o[9], fs.x), lub_v_store(o[10], fs.y), lub_v_store(o[11], fs.z);
         lub_v_store(o[12], nrm.x), lub_v_store(o[13], nrm.y), lub_v_store(o[14], nrm.z);
         lub_v_store(o[15], delta);
+        double xo[LUB_VW];
+        lub_v_store(xo, x);
         int64_t okl[LUB_VW], cl[LUB_VW];
         memcpy(okl, &ok, sizeof okl);
         memcpy(cl, &contact, sizeof cl);
@@ -334,9 +343,9 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
             b->done[q] = 1;
             lub_pair_state *out_state = b->state[q];
             out_state->delta = o[15][l];
+            out_state->x = xo[l];
             out_state->fs = v3(o[9][l], o[10][l], o[11][l]);
             out_state->n_prev = v3(o[12][l], o[13][l], o[14][l]);
-            out_state->is_new = 0;
             accepted++;
         }
     }

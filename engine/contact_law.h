@@ -70,15 +70,33 @@ typedef struct {
     unsigned terms; /* LUB_TERM_* mask */
 } lub_law_params;
 
-/* Persistent per-pair state. Zero-initialise and set is_new = 1 when a pair is created
- * (it must be created with a positive centre gap u_n, see notes §11 P3; a non-positive u_n
- * at creation is initialised at the static solution or a positive floor, never NaN). */
+/* Persistent per-pair state (64 bytes). Start every pair with lub_pair_state_reset() when it
+ * is created (it must be created with a positive centre gap u_n, see notes §11 P3; a
+ * non-positive u_n at creation is initialised at the static solution or a positive floor,
+ * never NaN). A state that is all zero bits is NOT a new pair: it is a pair at u = a whose
+ * x disagrees with delta; only lub_pair_step and lub_pair_step_batch write a non-new state
+ * (tests that build one by hand use lub_pair_state_set_gap). */
 typedef struct {
-    double delta; /* ln(u/a) at the end of the last step (u = true gap, > 0) */
+    double delta; /* ln(u/a) at the end of the last step (u = true gap, > 0): THE gap state */
+    double x;     /* u/a as the law computed it at the end of the last step (= e^delta to
+                     round-off; 0 or subnormal where delta < ~-708). The batched law starts its
+                     normal solve from it instead of recomputing e^delta. Negative
+                     (LUB_PAIR_STATE_NEW) until the pair's first evaluation: the new-pair mark */
     vec3 fs;      /* total shear force on body 1 at the end of the last step */
     vec3 n_prev;  /* unit normal at the end of the last step */
-    int is_new;   /* 1: first evaluation, history not yet defined */
 } lub_pair_state;
+
+_Static_assert(sizeof(lub_pair_state) == 64, "one pair state per cache line (README Throughput)");
+
+#define LUB_PAIR_STATE_NEW (-1.0)
+
+/* A new pair: first evaluation next, history not yet defined. */
+static inline void lub_pair_state_reset(lub_pair_state *s)
+{
+    *s = (lub_pair_state){.x = LUB_PAIR_STATE_NEW};
+}
+/* 1 while the pair has not been evaluated (x negative or NaN). */
+static inline int lub_pair_state_is_new(const lub_pair_state *s) { return !(s->x >= 0.0); }
 
 /* Kinematics of one pair for one step (leap-frog half-step velocities). */
 typedef struct {
@@ -126,11 +144,11 @@ typedef struct {
  *  - FRICTION off: no slider, i.e. mu = 0 / no tangential contact force: the tangential
  *    element is the Maxwell (no-contact) one even in contact; fs_contact = 0, slip = 0.
  *  - ROLL / TWIST off: the corresponding torque is 0. Both exist only for u < a (delta < 0).
- * A new pair (is_new) starts at delta = ln(u_n/a) (>= -745 for any positive double u_n/a), or,
- * if u_n <= 0, at the quasi-static solution (LUB_DELTA_STATIC_FLOOR if there is none), with
- * F_s = 0 and n_prev = n; the step then integrates from there. Everything stays finite for
- * any delta: x = e^delta underflowing to 0 gives gap = 0 exactly while delta < 0 stays the
- * (finite) state, nu_t and the torques grow like -delta. */
+ * A new pair (lub_pair_state_is_new) starts at delta = ln(u_n/a) (>= -745 for any positive double
+ * u_n/a), or, if u_n <= 0, at the quasi-static solution (LUB_DELTA_STATIC_FLOOR if there is none),
+ * with F_s = 0 and n_prev = n; the step then integrates from there. Everything stays finite for any
+ * delta: x = e^delta underflowing to 0 gives gap = 0 exactly while delta < 0 stays the (finite)
+ * state, nu_t and the torques grow like -delta. */
 int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_state *state,
                   lub_pair_output *out);
 
@@ -166,6 +184,10 @@ double lub_normal_rate(double delta, double s, double e, double alpha);
 /* Tangential lubrication coefficient nu_t(u) = (pi eta a / 2)[-2 + (2 + x)(ln(2 + x) - delta)],
  * evaluated from delta for any gap (notes §3.1). */
 double lub_shear_viscosity(double eta, double a, double delta);
+
+/* An evaluated state at gap delta (x = e^delta), for tests and tools that build states by
+ * hand; fs and n_prev are left as they are. */
+void lub_pair_state_set_gap(lub_pair_state *s, double delta);
 
 /* Human-readable names of the active terms, for summaries. Writes up to max names and
  * returns how many were written. */

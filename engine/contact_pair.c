@@ -35,7 +35,7 @@ int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_st
     const double h = normal_lub ? dt * g / (1.5 * LUB_PI * eta * a) : INFINITY;
 
     /* ---- new pair (notes §2.10, §11 P3) ---- */
-    if (state->is_new) {
+    if (lub_pair_state_is_new(state)) {
         if (s > 0.0) {
             state->delta = log(s); /* >= -745 even for a subnormal s: no floor needed */
         } else {
@@ -113,12 +113,18 @@ int lub_pair_step(const lub_law_params *p, const lub_pair_input *in, lub_pair_st
     state->delta = delta;
     state->fs = sh.fs;
     state->n_prev = n;
-    state->is_new = 0;
+    state->x = x;
 
     const int finite = v3_isfinite(out->force1) && v3_isfinite(out->torque1) &&
                        v3_isfinite(out->torque2) && isfinite(delta) && isfinite(fn_c) &&
                        isfinite(fn_l) && isfinite(out->gap);
     return finite ? 0 : 1;
+}
+
+void lub_pair_state_set_gap(lub_pair_state *s, double delta)
+{
+    s->delta = delta;
+    s->x = exp(delta);
 }
 
 int lub_terms_names(unsigned terms, const char **names, int max)

@@ -74,8 +74,7 @@ int lub_fb_step(lub_fb_system *s, double dt, char *diag, size_t diag_size)
         }
         if (!p->active) {
             p->active = 1;
-            memset(&p->state, 0, sizeof p->state);
-            p->state.is_new = 1;
+            lub_pair_state_reset(&p->state);
         }
         lub_pair_input in = {
             .branch = d,

@@ -101,8 +101,7 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
             carried += ps->oactive[o];
             ++o;
         } else {
-            memset(&ps->state[k], 0, sizeof ps->state[k]);
-            ps->state[k].is_new = 1;
+            lub_pair_state_reset(&ps->state[k]);
             ps->active[k] = 0;
         }
         ps->near[k] = 0;

@@ -4,7 +4,7 @@
  * persistent lub_pair_state of the contact law and an `active` flag:
  *   active = 1  the pair is inside the lubrication cut-off and its state carries history;
  *   active = 0  candidate only (outside the cut-off): no force, state meaningless.
- * The life cycle (notes §5): a candidate becomes active, with a fresh state (is_new = 1),
+ * The life cycle (notes §5): a candidate becomes active, with a fresh state (reset: new),
  * the first step its gap u_n <= cutoff*a; an active pair whose u_n exceeds cutoff*a is
  * deactivated (history erased). Candidates are listed with a Verlet skin, so pairs are created
  * with a positive gap well before they touch.
@@ -68,12 +68,11 @@ void lub_pairs_free(lub_pairs *ps);
 int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles);
 
 /* Pair k is inside the cut-off this step: an inactive pair becomes active with a fresh law
- * state (is_new = 1, notes §5 life cycle); an active pair keeps its history. */
+ * state (lub_pair_state_reset, notes §5 life cycle); an active pair keeps its history. */
 static inline void lub_pairs_enter(lub_pairs *ps, size_t k)
 {
     if (!ps->active[k]) {
-        memset(&ps->state[k], 0, sizeof ps->state[k]);
-        ps->state[k].is_new = 1;
+        lub_pair_state_reset(&ps->state[k]);
         ps->active[k] = 1;
     }
 }

@@ -55,7 +55,7 @@ int main(void)
                                  .inv_inertia1 = 6.0,
                                  .inv_inertia2 = 6.0,
                                  .dt = 1e-4};
-        st[i].is_new = 1;
+        lub_pair_state_reset(&st[i]);
     }
     int bad = 0;
     for (int i = 0; i < NP; ++i) /* warm-up: create the pairs */

@@ -38,8 +38,7 @@ int law_sim_step(law_sim *s)
                 ++s->erase_events;
             } else if (!s->exists[i][j] && un < s->create * a) {
                 s->exists[i][j] = 1;
-                memset(&s->st[i][j], 0, sizeof s->st[i][j]);
-                s->st[i][j].is_new = 1;
+                lub_pair_state_reset(&s->st[i][j]);
                 ++s->create_events;
             }
             if (s->exists[i][j]) {
@@ -69,7 +68,7 @@ int law_sim_step(law_sim *s)
                                  .inv_inertia2 = s->fixed[j] ? 0.0 : shj / s->I[j],
                                  .dt = s->dt};
             const double e = s->p.eps;
-            const int was_new = s->st[i][j].is_new;
+            const int was_new = lub_pair_state_is_new(&s->st[i][j]);
             const double x_prev = exp(s->st[i][j].delta);
             const int was_contact = !was_new && s->out[i][j].contact;
             lub_pair_output *o = &s->out[i][j];
@@ -138,7 +137,7 @@ double law_sim_elastic(const law_sim *s)
     const double g = s->p.k_bulk, kn = s->p.alpha * g, kt = s->p.k_t;
     for (int i = 0; i < s->n; ++i)
         for (int j = i + 1; j < s->n; ++j) {
-            if (!s->exists[i][j] || s->st[i][j].is_new)
+            if (!s->exists[i][j] || lub_pair_state_is_new(&s->st[i][j]))
                 continue;
             const lub_pair_output *o = &s->out[i][j];
             const double a = 0.5 * (s->r[i] + s->r[j]);

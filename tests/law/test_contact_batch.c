@@ -107,12 +107,11 @@ static pair_case random_case(law_rng *r, int regime)
         dprev = law_rng_range(r, -30.0, log(0.02));
     else
         dprev = log(fabs(s) + 1e-12) + law_rng_range(r, -0.3, 0.3);
-    c.st.delta = dprev;
+    lub_pair_state_set_gap(&c.st, dprev);
     const double fs_size = law_rng_uniform(r) < 0.05 ? law_rng_logrange(r, 1e-95, 1e95)
                                                      : law_rng_logrange(r, 1e-3, 1e3);
     c.st.fs = law_rng_uniform(r) < 0.1 ? v3(0, 0, 0) : rand_vec(r, fs_size);
     c.st.n_prev = unit(v3_axpy(n, law_rng_range(r, 0.0, 0.2), rand_vec(r, 1.0)));
-    c.st.is_new = 0;
     return c;
 }
 
@@ -206,7 +205,13 @@ static void test_batch_against_scalar(void)
                               b.contact[l], o.contact, x);
                     if (fabs(ss.delta) > 1e-12)
                         CHECK(b.near[l] == (o.delta < 0.0), "near flag");
-                    CHECK(ss.is_new == 0 && sb[l].is_new == 0, "is_new after the step");
+                    CHECK(!lub_pair_state_is_new(&ss) && !lub_pair_state_is_new(&sb[l]),
+                          "new after the step");
+                    /* the stored x is the solve's u/a: e^delta to round-off, as the scalar's */
+                    CHECK(fabs(sb[l].x - exp(sb[l].delta)) <= 1e-14 * sb[l].x &&
+                              fabs(sb[l].x - ss.x) <= 1e-9 * ss.x,
+                          "stored x %.17g, e^delta %.17g, scalar x %.17g", sb[l].x,
+                          exp(sb[l].delta), ss.x);
                     contacts += o.contact;
                     slips += o.slip;
                     nears += o.delta < 0.0;
@@ -242,11 +247,11 @@ static void test_declined(void)
     b.n = NL;
     for (int l = 0; l < NL; ++l)
         cs[l] = random_case(&r, 0);
-    cs[0].st.is_new = 1;     /* new pair: created by the scalar law */
-    cs[1].st.delta = -800.0; /* deep gap */
-    cs[2].st.delta = 701.0;  /* beyond the guard */
+    cs[0].st.x = LUB_PAIR_STATE_NEW;           /* new pair: created by the scalar law */
+    lub_pair_state_set_gap(&cs[1].st, -800.0); /* deep gap */
+    lub_pair_state_set_gap(&cs[2].st, 701.0);  /* beyond the guard */
     cs[3].in.branch = v3_scale(unit(cs[3].in.branch), cs[3].in.r1 + cs[3].in.r2 + 9.0); /* u/a>8 */
-    cs[3].st.delta = log(9.0 / (0.5 * (cs[3].in.r1 + cs[3].in.r2)));
+    lub_pair_state_set_gap(&cs[3].st, log(9.0 / (0.5 * (cs[3].in.r1 + cs[3].in.r2))));
     /* lane 4: regular. Outside the ranges of the kernel's shared division (1/c1, 1/(1 + qt),
      * 1/|F_s|^2 from one reciprocal): stored shear forces below 1e-100 and above 1e100, and a
      * spin about the normal so large that (dt (w1 + w2).n / 2)^2 / 4 > 1e50 */

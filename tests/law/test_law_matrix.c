@@ -9,7 +9,7 @@
  *              leave the cut-off 2a after the rebound;
  *   compress — constant external push 0.2 g a: heavy compression u_n ~ -0.2 a < -eps a
  *              (asperities crushed for alpha eps < 0.2: notes §11 P5), work input counted;
- *   overlap  — pair created overlapping (u_n = -0.05 a, is_new), then released;
+ *   overlap  — pair created overlapping (u_n = -0.05 a, a new state), then released;
  *   deep     — "aged" over-compressed pair: u_n = -0.1 a, pushed with 0.1 g a, with shear
  *              velocity and spins, and a stored gap delta = -1e4 (x = 0 in double; the law
  *              has no floor, notes §11 P5): nu_t and the roll coefficient are ~1e4 times
@@ -76,7 +76,7 @@ static run_result run_ex(law_sim *s, int nsteps, double preset_delta)
         const vec3 d = v3_sub(s->x[1], s->x[0]);
         s->exists[0][1] = 1;
         memset(&s->st[0][1], 0, sizeof s->st[0][1]);
-        s->st[0][1].delta = preset_delta;
+        lub_pair_state_set_gap(&s->st[0][1], preset_delta);
         s->st[0][1].n_prev = v3_scale(d, 1.0 / v3_norm(d));
     }
     double E0 = -1.0, kmax = 0.0, exmax = -INFINITY;

@@ -45,10 +45,12 @@ static void random_pair(law_rng *r, lub_law_params *p, lub_pair_input *in, lub_p
     in->inv_inertia2 = 1.0 / law_rng_range(r, 0.3, 0.5);
     in->dt = 1e-3;
     memset(st, 0, sizeof *st);
-    st->is_new = (law_rng_uniform(r) < 0.1);
+    const int fresh = (law_rng_uniform(r) < 0.1);
     /* 5 %: deep history (x_prev subnormal or 0 in double, no floor on delta) */
-    st->delta = (law_rng_uniform(r) < 0.05) ? -law_rng_logrange(r, 700.0, 1e5)
-                                            : log(law_rng_logrange(r, 1e-12, 1.5));
+    lub_pair_state_set_gap(st, (law_rng_uniform(r) < 0.05) ? -law_rng_logrange(r, 700.0, 1e5)
+                                                           : log(law_rng_logrange(r, 1e-12, 1.5)));
+    if (fresh)
+        st->x = LUB_PAIR_STATE_NEW;
     vec3 np = unit(v3_add(n, rand_vec(r, 0.01)));
     st->n_prev = np;
     vec3 f = rand_vec(r, 50.0);
@@ -156,8 +158,7 @@ static void test_rigid_motion(void)
         vec3 x1_0 = v3(0.1, 0.2, 0.3), n0 = unit(v3(1.0, 0.2, -0.1));
         vec3 x2_0 = v3_axpy(x1_0, r1 + r2 + cases[c].s * a, n0);
         lub_pair_state st;
-        memset(&st, 0, sizeof st);
-        st.is_new = 1;
+        lub_pair_state_reset(&st);
         lub_pair_output o;
         double max_force = 0.0, max_dev = 0.0, max_dir = 0.0;
         vec3 f0 = v3(0, 0, 0);
@@ -276,16 +277,14 @@ static void test_switches_and_torques(void)
 
     /* normal lubrication off: fn_lub = 0, contact part = total */
     p.terms = LUB_TERM_ALL & ~LUB_TERM_NORMAL_LUB;
-    memset(&st, 0, sizeof st);
-    st.is_new = 1;
+    lub_pair_state_reset(&st);
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
     CHECK(o.fn_lub == 0.0 && o.contact && o.fn_contact < 0.0 &&
               fabs(o.fn_contact - v3_dot(o.force1, o.n)) < 1e-9 * fabs(o.fn_contact),
           "normal lub off");
     /* smooth spheres, no normal lubrication, overlapping: hard-core floor, repulsive g a s */
     p.eps = 0.0;
-    memset(&st, 0, sizeof st);
-    st.is_new = 1;
+    lub_pair_state_reset(&st);
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
     CHECK(o.contact && o.delta == LUB_DELTA_STATIC_FLOOR &&
               fabs(o.fn_contact - p.k_bulk * (-0.01)) < 1e-9 * p.k_bulk,
@@ -297,8 +296,7 @@ static void test_switches_and_torques(void)
     for (int sw = 0; sw < 4; ++sw) {
         p.terms = LUB_TERM_ALL & ~(sw & 1 ? LUB_TERM_ROLL : 0u) & ~(sw & 2 ? LUB_TERM_TWIST : 0u);
         p.eta = 1e-3;
-        memset(&st, 0, sizeof st);
-        st.is_new = 1;
+        lub_pair_state_reset(&st);
         in = simple_input(0.05, w1, w2);
         CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
         const double x = exp(o.delta), L = -o.delta;
@@ -319,8 +317,7 @@ static void test_switches_and_torques(void)
             CHECK(v3_norm(v3_sub(o.torque_twist1, Tt)) < 1e-12 * v3_norm(Tt), "twist coefficient");
     }
     p = base_params();
-    memset(&st, 0, sizeof st);
-    st.is_new = 1;
+    lub_pair_state_reset(&st);
     in = simple_input(1.2, w1, w2); /* u > a */
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
     CHECK(v3_norm(o.torque_roll1) == 0.0 && v3_norm(o.torque_twist1) == 0.0, "torque for u > a");
@@ -329,8 +326,7 @@ static void test_switches_and_torques(void)
     double worst = 0.0;
     for (int i = 0; i < 40; ++i) {
         p.eta = pow(10.0, -6 + 0.4 * i); /* 1e-6 ... 1e10 */
-        memset(&st, 0, sizeof st);
-        st.is_new = 1;
+        lub_pair_state_reset(&st);
         in = simple_input(1e-9, w1, w2);
         CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
         vec3 T = v3_add(o.torque_roll1, o.torque_twist1);
@@ -356,8 +352,7 @@ static void test_new_pairs_and_errors(void)
     lub_pair_state st;
     lub_pair_output o;
     /* created overlapping (rough): static solution, no lubrication force at rest */
-    memset(&st, 0, sizeof st);
-    st.is_new = 1;
+    lub_pair_state_reset(&st);
     lub_pair_input in = simple_input(-0.004, v3(0, 0, 0), v3(0, 0, 0));
     in.v1 = in.v2 = v3(0, 0, 0);
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
@@ -367,8 +362,7 @@ static void test_new_pairs_and_errors(void)
     /* created overlapping (smooth, lubricated): starts at the static floor, then the first
      * step already decays below it (no floor with lubrication); finite, all lubrication */
     p.eps = 0.0;
-    memset(&st, 0, sizeof st);
-    st.is_new = 1;
+    lub_pair_state_reset(&st);
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
     {
         const double h = in.dt * p.k_bulk / (1.5 * LUB_PI * p.eta * 1.0);
@@ -377,8 +371,7 @@ static void test_new_pairs_and_errors(void)
               "smooth overlap creation delta=%.17g want %.17g", o.delta, want);
     }
     /* a brand-new pair at u_n = 1e-320 a (subnormal) is finite */
-    memset(&st, 0, sizeof st);
-    st.is_new = 1;
+    lub_pair_state_reset(&st);
     in.branch = v3(2.0 + 1e-320, 0, 0);
     CHECK(lub_pair_step(&p, &in, &st, &o) == 0 && isfinite(o.delta), "tiny gap creation");
     /* errors */
@@ -386,8 +379,7 @@ static void test_new_pairs_and_errors(void)
     CHECK(lub_pair_step(&p, &in, &st, &o) == 2, "zero branch must fail");
     in = simple_input(0.1, v3(0, 0, 0), v3(0, 0, 0));
     in.v1.x = NAN;
-    memset(&st, 0, sizeof st);
-    st.is_new = 1;
+    lub_pair_state_reset(&st);
     CHECK(lub_pair_step(&p, &in, &st, &o) != 0, "NaN velocity must be reported");
     /* names */
     const char *names[8];
@@ -447,8 +439,7 @@ static void test_compressed_decay(void)
         const vec3 Om = v3_sub(w2, w1);
         const double om_r = v3_norm(v3_axpy(Om, -Om.x, v3(1, 0, 0))); /* n = x */
         lub_pair_state st;
-        memset(&st, 0, sizeof st);
-        st.is_new = 1;
+        lub_pair_state_reset(&st);
         lub_pair_output o;
         double prev = INFINITY, max_dev = 0.0, max_flub = 0.0, max_nut = 0.0;
         double troll_prev = 0.0;

@@ -114,7 +114,7 @@ int main(void)
     vec3 *branch = malloc(nl.npairs * sizeof *branch);
     for (size_t k = 0; k < ps.n; ++k) {
         ps.state[k].delta = ps.i[k] * 10000.0 + ps.j[k];
-        ps.state[k].is_new = 0;
+        ps.state[k].x = 1.0; /* evaluated (not new) */
         ps.active[k] = (k % 3) != 0;
         branch[k] = v3_sub(v3_add(x[ps.j[k]], lub_cell_shift(&c, &ps.c[3 * k])), x[ps.i[k]]);
     }
@@ -155,7 +155,7 @@ int main(void)
                 branch_bad++;
         } else {
             fresh++;
-            if (!ps.state[k].is_new || ps.active[k])
+            if (!lub_pair_state_is_new(&ps.state[k]) || ps.active[k])
                 wrong++;
         }
     }
