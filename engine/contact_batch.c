@@ -20,6 +20,7 @@
 #include "simd_math.h"
 
 #include <float.h>
+#include <math.h>
 
 typedef struct {
     lub_vd x, y, z;
@@ -129,6 +130,7 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
     const int with_roll = (terms & LUB_TERM_ROLL) != 0, with_twist = (terms & LUB_TERM_TWIST) != 0;
     const lub_vd zero = lub_v_set1(0.0), one = lub_v_set1(1.0);
     const lub_vi none = {0};
+    const double x_lo = exp(-700.0), x_hi = exp(700.0); /* the delta guard, as gaps u/a */
 
     /* pad the last group with copies of lane 0 (read only, never stored) */
     const int ng = (n + LUB_VW - 1) / LUB_VW * LUB_VW;
@@ -148,7 +150,6 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         /* ---- state (gathered from the per-pair structs straight into registers: a vector
          * load of just-written scalars would stall on store forwarding) ---- */
         lub_pair_state *const *st = &b->state[g0];
-#define SD(l) st[l]->delta
 #define SX(l) st[l]->x
 #define SFX(l) st[l]->fs.x
 #define SFY(l) st[l]->fs.y
@@ -156,11 +157,9 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
 #define SNX(l) st[l]->n_prev.x
 #define SNY(l) st[l]->n_prev.y
 #define SNZ(l) st[l]->n_prev.z
-        const lub_vd delta_prev = {LUB_LANES(SD)};
         const lub_vd x_prev = {LUB_LANES(SX)};
         const vvec3 fs_prev = {{LUB_LANES(SFX)}, {LUB_LANES(SFY)}, {LUB_LANES(SFZ)}};
         const vvec3 n_prev = {{LUB_LANES(SNX)}, {LUB_LANES(SNY)}, {LUB_LANES(SNZ)}};
-#undef SD
 #undef SX
 #undef SFX
 #undef SFY
@@ -168,10 +167,9 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
 #undef SNX
 #undef SNY
 #undef SNZ
-        /* a new pair has x < 0; x_prev normal and finite is implied by the delta range for
-         * a state the law wrote, and asked anyway (it is the value the solve starts from) */
-        lub_vi ok = (x_prev >= DBL_MIN) & (x_prev <= 1e304) & (delta_prev >= -700.0) &
-                    (delta_prev <= 700.0);
+        /* the stored gap within the guard, e^-700 <= x <= e^700 (delta in [-700, 700]); a new
+         * pair has x < 0 and is declined here too */
+        lub_vi ok = (x_prev >= x_lo) & (x_prev <= x_hi);
 
         /* ---- geometry (contact_pair.c) ---- */
         const vvec3 br = w_load(b->bx, b->by, b->bz, g0);
@@ -194,8 +192,8 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         const lub_vd h = h_a * inv_a;
 
         /* ---- normal part (contact_normal.c, closed form) ---- */
-        /* x_prev = e^delta_prev as the law left it: no exp here (one of the three
-         * transcendental functions per pair) */
+        /* x_prev = e^delta as the law left it: no exp here (one of the three transcendental
+         * functions per pair); delta itself is not read */
         const lub_vd xp = lub_v_sel(ok, x_prev, one);
         lub_vi c = none;
         if (e > 0.0)

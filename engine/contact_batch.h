@@ -12,8 +12,8 @@
  * Lanes it declines (done[l] = 0; their state is NOT touched) must be evaluated by the
  * caller with lub_pair_step, which handles them exactly:
  *  - a new pair (lub_pair_state_is_new), coincident centres, non-finite input;
- *  - a deep gap: stored delta outside [-700, 700] (or a stored x that is not a normal double),
- *    or a result x+ = u/a not a normal double
+ *  - a deep gap: stored x = u/a outside [e^-700, e^700] (delta outside [-700, 700]), or a
+ *    result x+ = u/a not a normal double
  *    (permanently compressed contacts, notes §11 P5), or either closed-form term underflowing
  *    (the cases contact_normal.c sends to its bracketed solve);
  *  - u/a > 8 without shear-lubrication log form (only with cut-offs beyond 8a);
