@@ -5,8 +5,9 @@ The servo (README "Imposed pressure servo") sets L_yy = gain gd clamp((P_f - P)/
 the pressure low-passed over filter_strain. A servo that overshoots would make the pressure, the
 cell height and L_yy oscillate at its own frequency, and would move the steady state with its
 settings. The script runs one imposed-pressure spec (the physics suite's group-A delaunay spec,
-N = 300, with St 0.01 also at Iv = 0.01 where the suite uses 0.1) at Iv = 0.1 and 0.01 with the default servo (gain 1, filter 0.05 strain) and with the
-gain and the filter changed by factors of 4-5 each way, plus an imposed-volume run at the
+N = 300, with St 0.01 also at Iv = 0.01 where the suite uses 0.1) at Iv = 1, 0.1 and 0.01 with
+the default servo (gain 1, filter 0.05 strain) and with the gain and the filter changed by
+factors of 4-5 each way, plus an imposed-volume run at the
 default run's phi (no servo: the pressure's own fluctuations), and reports per run:
   - phi and mu with their standard errors, and their differences from the default servo in
     combined standard errors;
@@ -14,15 +15,21 @@ default run's phi (no servo: the pressure's own fluctuations), and reports per r
     the steady window, and its slow part (the same after a running mean over 0.2 strain);
   - the autocorrelation of P: its smallest value over lags up to 2 strain and that lag (a
     ringing loop shows a deep negative minimum at half its period), and the same for L_yy.
-  - the relative fluctuation of the sampled shear stress, std(sigma_xy)/<sigma_xy>.
+  - the relative fluctuation of the sampled shear stress, std(sigma_xy)/<sigma_xy>, and the
+    part of it that follows phi: the slope of ln sigma_xy on phi times std(phi), and the
+    correlation of phi and sigma_xy (imposed pressure: the volume is free to fluctuate).
 --check exits 1 if a run's phi or mu differs from the default servo's by more than 3 combined
-standard errors, or if a servo run's pressure or shear stress fluctuates more (relative std)
-than the imposed-volume run at the same phi: a servo may make the loop ring (the autocorrelation
-shows it) but must not add fluctuations to the stress.
+standard errors, or if a servo run's pressure fluctuates more (relative std) than the
+imposed-volume run at the same phi. The shear stress may fluctuate more under imposed pressure
+than at imposed volume: at fixed P the volume fluctuates, and where sigma_xy is steep in phi
+(Iv = 1) that alone makes it larger. What a servo that feeds its own oscillation would show is
+fluctuations that grow with its gain, so where a servo run's shear stress fluctuates more than
+the imposed-volume run's, --check requires that the gain*4 run's shear-stress fluctuation be at
+most SXY_GAIN_GROWTH times the gain/4 run's.
 Writes OUT/servo_study.md, OUT/servo_study.csv and, with matplotlib, OUT/servo_study.png.
 Prints name=value lines.
 usage: servo_study.py --lubdem PATH --out DIR [--strain S] [--jobs J] [--reuse] [--check]
-       [--from-csv CSV]
+       [--iv IV [IV ...]] [--from-csv CSV]
 """
 import argparse
 import concurrent.futures
@@ -37,7 +44,10 @@ from resuspension_consistency import run, summary  # noqa: E402
 
 import run_physics  # noqa: E402  (same folder: the suite's configurations and specs)
 
-IVS = (0.1, 0.01)
+IVS = (1.0, 0.1, 0.01)
+# a loop that rings grows its fluctuations with its gain; a 16-fold gain change may leave the
+# shear stress's relative fluctuation at most this factor larger (measured 0.55-1.23)
+SXY_GAIN_GROWTH = 1.5
 # (label, gain, filter_strain); the first is the default servo
 SERVOS = (("default", 1.0, 0.05), ("gain/4", 0.25, 0.05), ("gain*4", 4.0, 0.05),
           ("filter/5", 1.0, 0.01), ("filter*5", 1.0, 0.25), ("gain*4 filter*5", 4.0, 0.25))
@@ -98,6 +108,7 @@ def analyse(out, iv, label, control):
         p = o["pressure/value"][:]
         sxy = o["stress/total/value"][:, 0, 1]
         rate = o["servo_rate/value"][:] if "servo_rate" in o else None
+        phi = o["phi/value"][:]
     w = g >= start
     pw = p[w]
     dg = float(np.median(np.diff(g)))
@@ -111,6 +122,13 @@ def analyse(out, iv, label, control):
            "p_slow_rel_std": float(np.std(slow) / np.mean(pw)),
            "sxy_rel_std": float(np.std(sxy[w]) / abs(np.mean(sxy[w]))),
            "steady_from": start, "sample_strain": dg}
+    if control == "pressure" and np.std(phi[w]) > 0:
+        # the part of the shear stress's fluctuation that follows phi
+        slope = np.polyfit(phi[w], np.log(np.abs(sxy[w])), 1)[0]
+        row["sxy_phi_part"] = float(abs(slope) * np.std(phi[w]))
+        row["phi_sxy_corr"] = float(np.corrcoef(phi[w], sxy[w])[0, 1])
+    else:
+        row["sxy_phi_part"] = row["phi_sxy_corr"] = None
     lag2 = int(round(2.0 / dg))  # lags up to 2 strain
     m = autocorr_min(pw, lag2)
     row["p_acf_min"], row["p_acf_min_lag"] = (m[0], m[1] * dg) if m else (None, None)
@@ -129,7 +147,8 @@ def fmt(x, f):
 
 def write_outputs(rows, out):
     keys = ["Iv", "servo", "control", "phi", "phi_err", "mu", "mu_err", "Iv_measured",
-            "p_rel_std", "p_slow_rel_std", "sxy_rel_std", "p_acf_min", "p_acf_min_lag", "rate_rms",
+            "p_rel_std", "p_slow_rel_std", "sxy_rel_std", "sxy_phi_part", "phi_sxy_corr",
+            "p_acf_min", "p_acf_min_lag", "rate_rms",
             "rate_acf_min", "rate_acf_min_lag", "steady_from", "sample_strain",
             "z_phi", "z_mu"]
     with open(os.path.join(out, "servo_study.csv"), "w", newline="") as fh:
@@ -138,8 +157,8 @@ def write_outputs(rows, out):
         for r in rows:
             wr.writerow({k: r.get(k) for k in keys})
     lines = ["| Iv | servo (gain, filter) | phi | mu | z phi, z mu vs default | std(P)/<P> | "
-             "slow part | std(σxy)/<σxy> | ACF(P) min (lag, strain) | rms L_yy/gd | "
-             "ACF(L_yy) min (lag) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "slow part | std(σxy)/<σxy> | part following φ (corr) | ACF(P) min (lag, strain) | "
+             "rms L_yy/gd | ACF(L_yy) min (lag) |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lab = r["servo"] if r["control"] == "pressure" else "none: imposed volume at default phi"
         z = (f"{fmt(r.get('z_phi'), '+.1f')}, {fmt(r.get('z_mu'), '+.1f')}"
@@ -150,6 +169,7 @@ def write_outputs(rows, out):
         lines.append(
             f"| {r['Iv']:g} | {lab} | {phi_txt} | {mu_txt} | {z} | {r['p_rel_std']:.3f} | "
             f"{r['p_slow_rel_std']:.3f} | {fmt(r.get('sxy_rel_std'), '.3f')} | "
+            f"{fmt(r.get('sxy_phi_part'), '.3f')} ({fmt(r.get('phi_sxy_corr'), '.2f')}) | "
             f"{fmt(r['p_acf_min'], '+.2f')} "
             f"({fmt(r['p_acf_min_lag'], '.2f')}) | {fmt(r['rate_rms'], '.3f')} | "
             f"{fmt(r['rate_acf_min'], '+.2f')} ({fmt(r['rate_acf_min_lag'], '.2f')}) |")
@@ -181,8 +201,9 @@ def plot(rows, out, runs):
     except ImportError:
         print("servo_study_plot=skipped (matplotlib/h5py missing)")
         return
-    fig, ax = plt.subplots(2, 2, figsize=(11, 7))
-    for col, iv in enumerate(IVS):
+    ivs = sorted({k[0] for k in runs}, reverse=True)
+    fig, ax = plt.subplots(2, len(ivs), figsize=(5.5 * len(ivs), 7), squeeze=False)
+    for col, iv in enumerate(ivs):
         for (riv, label, control), path in runs.items():
             if riv != iv:
                 continue
@@ -219,6 +240,8 @@ def main():
     ap.add_argument("--reuse", action="store_true")
     ap.add_argument("--check", action="store_true")
     ap.add_argument("--from-csv")
+    ap.add_argument("--iv", type=float, nargs="+", default=list(IVS),
+                    help="the Iv values to run (default: %(default)s)")
     a = ap.parse_args()
     os.makedirs(a.out, exist_ok=True)
 
@@ -228,7 +251,7 @@ def main():
     else:
         jobs = {}
         with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
-            for iv in IVS:
+            for iv in a.iv:
                 for label, gain, filt in SERVOS:
                     d = os.path.join(a.out, f"iv{iv:g}_{tag_of(label)}")
                     jobs[(iv, label, "pressure")] = ex.submit(
@@ -238,7 +261,7 @@ def main():
         # imposed volume at the default servo's phi (needs those runs first)
         vjobs = {}
         with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as ex:
-            for iv in IVS:
+            for iv in a.iv:
                 phi = summary(runs[(iv, "default", "pressure")])["results"]["phi"]["value"]
                 vjobs[(iv, "none", "volume")] = ex.submit(
                     run, a.lubdem, volume_spec(iv, phi, a), os.path.join(a.out, f"iv{iv:g}_volume"),
@@ -250,7 +273,7 @@ def main():
                                  [s[0] for s in SERVOS].index(r["servo"])
                                  if r["servo"] in [s[0] for s in SERVOS] else 99))
     bad = []
-    for iv in IVS:
+    for iv in sorted({r["Iv"] for r in rows}, reverse=True):
         ref = next(r for r in rows if r["Iv"] == iv and r["servo"] == "default")
         for r in rows:
             if r["Iv"] != iv or r["control"] != "pressure":
@@ -266,15 +289,31 @@ def main():
         for r in rows:
             if r["Iv"] != iv or r["control"] != "pressure" or vol is None:
                 continue
-            for k, what in (("p_rel_std", "pressure"), ("sxy_rel_std", "shear stress")):
-                if r.get(k) is not None and vol.get(k) is not None and r[k] > vol[k]:
-                    bad.append(f"{what} fluctuates more under servo {r['servo']} at Iv {iv:g} "
-                               f"({r[k]:.3f}) than at imposed volume ({vol[k]:.3f})")
+            k = "p_rel_std"
+            if r.get(k) is not None and vol.get(k) is not None and r[k] > vol[k]:
+                bad.append(f"pressure fluctuates more under servo {r['servo']} at Iv {iv:g} "
+                           f"({r[k]:.3f}) than at imposed volume ({vol[k]:.3f})")
+        # shear stress: where it fluctuates more than at imposed volume, it must not grow with
+        # the gain
+        over = [r for r in rows if r["Iv"] == iv and r["control"] == "pressure" and vol
+                and r.get("sxy_rel_std") is not None and vol.get("sxy_rel_std") is not None
+                and r["sxy_rel_std"] > vol["sxy_rel_std"]]
+        lo = next((r for r in rows if r["Iv"] == iv and r["servo"] == "gain/4"), None)
+        hi = next((r for r in rows if r["Iv"] == iv and r["servo"] == "gain*4"), None)
+        if over and lo and hi:
+            growth = hi["sxy_rel_std"] / lo["sxy_rel_std"]
+            print(f"servo_iv{iv:g}_sxy_gain_growth={growth:.4g}")
+            if growth > SXY_GAIN_GROWTH:
+                bad.append(f"shear stress fluctuates more under the servo than at imposed volume "
+                           f"at Iv {iv:g} ({', '.join(r['servo'] for r in over)}) and grows "
+                           f"with the gain: {growth:.2f} times from gain/4 to gain*4 "
+                           f"(limit {SXY_GAIN_GROWTH})")
     for r in rows:
         tag = f"iv{r['Iv']:g}_{tag_of(r['servo'])}"
         if r["control"] == "volume":
             tag = f"iv{r['Iv']:g}_volume"
-        for k in ("phi", "mu", "p_rel_std", "p_slow_rel_std", "sxy_rel_std", "p_acf_min",
+        for k in ("phi", "mu", "p_rel_std", "p_slow_rel_std", "sxy_rel_std", "sxy_phi_part",
+                  "phi_sxy_corr", "p_acf_min",
                   "p_acf_min_lag",
                   "rate_rms", "rate_acf_min", "z_phi", "z_mu"):
             v = r.get(k)
