@@ -1,6 +1,7 @@
 /* shear_system.c — leap-frog dynamics of a sheared periodic suspension (see shear_system.h). */
 #include "shear_system.h"
 
+#include "bond_order.h"
 #include "pair_eval.h"
 
 #include <math.h>
@@ -178,6 +179,21 @@ double lub_shear_phi(const lub_shear_system *s)
     for (int i = 0; i < s->n; ++i)
         v += s->r[i] * s->r[i] * s->r[i];
     return 4.0 / 3.0 * PI * v / s->cell.volume;
+}
+
+double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor)
+{
+    lub_q6_accum acc;
+    lub_q6_zero(&acc);
+    const lub_pairs *ps = &s->pairs;
+    for (size_t k = 0; k < ps->n; ++k) {
+        const int i = ps->i[k], j = ps->j[k];
+        const vec3 d = v3_sub(v3_add(s->x[j], lub_cell_shift(&s->cell, &ps->c[3 * k])), s->x[i]);
+        const double reach = bond_factor * (s->r[i] + s->r[j]);
+        if (v3_norm2(d) < reach * reach)
+            lub_q6_add(&acc, d);
+    }
+    return lub_q6_value(&acc);
 }
 
 size_t lub_shear_memory_bytes(const lub_shear_system *s)

@@ -155,5 +155,10 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s);
 
 /* Solid fraction (sum of sphere volumes / cell volume). */
 double lub_shear_phi(const lub_shear_system *s);
+/* Global bond-orientational order Q6 (bond_order.h) of the listed pairs whose centre distance
+ * is below bond_factor (r_i + r_j), read from the current positions and image shifts; NaN
+ * without such a pair. Complete for bond_factor (r_i + r_j) below the neighbour list's reach
+ * ((2 + cutoff) a_ij + skin). Serial, no allocation. */
+double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor);
 
 #endif

@@ -46,7 +46,7 @@ s = json.load(open(d + "/summary.json"))
 bad = []
 if s["status"] != "complete": bad.append("status " + s["status"])
 for k in ["phi", "pressure", "mu", "eta_r", "Iv", "eta_11", "eta_22", "eta_33", "Z", "Z_contact",
-          "crushed_contact_fraction"]:
+          "crushed_contact_fraction", "bond_order_q6"]:
     v = s["results"][k]["value"]
     if v is None or not math.isfinite(v): bad.append(f"{k} not finite")
 r = s["results"]
@@ -54,7 +54,9 @@ if not (r["pressure"]["value"] > 0 and r["eta_r"]["value"] > 0): bad.append("no 
 if abs(r["phi"]["value"] - 0.55) > 1e-9: bad.append("phi not imposed")
 f = h5py.File(d + "/result.h5", "r")
 if f.attrs["status"] not in (b"complete", "complete"): bad.append("h5 status")
-for k in ["stress/total", "stress/normal_contact", "stress/kinetic", "mu", "pressure"]:
+if not 0.0 < r["bond_order_q6"]["value"] < 0.3: bad.append("bond order of a disordered packing")
+for k in ["stress/total", "stress/normal_contact", "stress/kinetic", "mu", "pressure",
+          "bond_order_q6"]:
     if f["observables/" + k + "/value"].shape[0] < 10: bad.append("few rows " + k)
 if f["observables/stress/total/value"].shape[1:] != (3, 3): bad.append("tensor shape")
 if "pdf_interaction_density" not in f["profiles"]: bad.append("microstructure missing")
