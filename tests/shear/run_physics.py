@@ -220,7 +220,7 @@ def make_row(case, spec, rc, s, wall):
     r["lost_pairs"], _ = val(s, "lost_pairs")
     for k in ("phi", "mu", "eta_r", "eta_22", "eta_33", "Z", "Z_contact",
               "sigma11_over_sigma22", "sigma33_over_sigma22", "crushed_contact_fraction",
-              "sliding_contact_fraction"):
+              "sliding_contact_fraction", "bond_order_q6"):
         v, e = val(s, k)
         r[k], r[k + "_err"] = v, e
     sxy = val(s, "sigma_xy")[0]
