@@ -511,9 +511,6 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         const double phi_here = lub_shear_phi(&sys);
         const double ly = sys.cell.h[1][1];
         const double rate = sys.cell.L[1][1];
-        /* bond order of the evaluated configuration (sampled steps only: one pass over the
-         * pair list) */
-        const double q6_here = sample ? lub_shear_bond_order_q6(&sys, SS_BOND_FACTOR) : NAN;
         int r = lub_shear_step(&sys, flags, &smp);
         if (r) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (step %lld, strain %.4f)",
@@ -529,6 +526,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             servo_step(&sys, -smp.syy, &p_f, dt, gd, &p);
         }
         if (sample) {
+            /* bond order after the step (one pass over the pair list, which the first step
+             * builds; image shifts stay consistent with the positions until the next rebuild) */
+            const double q6_here = lub_shear_bond_order_q6(&sys, SS_BOND_FACTOR);
             double tot[9];
             lub_stress_total(&smp.stress, tot);
             const double P = -tot[4];
