@@ -19,7 +19,7 @@ void lub_q6_zero(lub_q6_accum *a)
 
 void lub_q6_add(lub_q6_accum *a, vec3 d)
 {
-    const double len = sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+    const double len = v3_norm(d);
     if (!(len > 0.0) || !isfinite(len))
         return;
     const double x = d.x / len, y = d.y / len, z = d.z / len, z2 = z * z;
@@ -42,15 +42,6 @@ void lub_q6_add(lub_q6_accum *a, vec3 d)
         pr = nr;
     }
     a->n++;
-}
-
-void lub_q6_merge(lub_q6_accum *a, const lub_q6_accum *b)
-{
-    for (int m = 0; m < 7; ++m) {
-        a->re[m] += b->re[m];
-        a->im[m] += b->im[m];
-    }
-    a->n += b->n;
 }
 
 double lub_q6_value(const lub_q6_accum *a)

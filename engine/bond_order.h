@@ -5,7 +5,7 @@
  *
  * with Y_6m the orthonormal spherical harmonics. Q6 is invariant under rotations, 1 for bonds
  * all along one direction, 0.5745 for the 12 nearest-neighbour bonds of fcc, 0.3536 for the 6
- * of simple cubic, 0.5107 for the 8 of bcc, and about 1/sqrt(number of bonds) for random
+ * of simple cubic, 0.6285 for the 8 of bcc, and about 1/sqrt(number of bonds) for random
  * directions. A bond and its reverse contribute alike (l = 6 is even).
  * Pure functions on a caller-owned accumulator; no allocation, no globals.
  */
@@ -24,8 +24,6 @@ typedef struct {
 void lub_q6_zero(lub_q6_accum *a);
 /* Adds the bond direction d (any length > 0; a zero or non-finite vector is ignored). */
 void lub_q6_add(lub_q6_accum *a, vec3 d);
-/* a += b (per-thread accumulators). */
-void lub_q6_merge(lub_q6_accum *a, const lub_q6_accum *b);
 /* Q6 of the bonds added; NaN when there are none. */
 double lub_q6_value(const lub_q6_accum *a);
 
