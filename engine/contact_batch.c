@@ -20,6 +20,7 @@
 #include "simd_math.h"
 
 #include <float.h>
+#include <stddef.h>
 #include <math.h>
 
 typedef struct {
@@ -50,6 +51,43 @@ static inline vvec3 w_load(const double *x, const double *y, const double *z, in
 {
     return (vvec3){lub_v_load(x + g), lub_v_load(y + g), lub_v_load(z + g)};
 }
+
+#if LUB_VW == 4
+/* lanes of (a, b) picked by index, 0-3 from a and 4-7 from b (one shuffle instruction) */
+#if defined(__clang__)
+#define LUB_SHUF(a, b, i0, i1, i2, i3) __builtin_shufflevector(a, b, i0, i1, i2, i3)
+#else
+#define LUB_SHUF(a, b, i0, i1, i2, i3) __builtin_shuffle(a, b, (lub_vi){i0, i1, i2, i3})
+#endif
+/* 4 x 4 transpose: rows r0..r3 in, columns out (c_k[l] = r_l[k]). Moves data only. */
+static inline void transpose4(lub_vd r0, lub_vd r1, lub_vd r2, lub_vd r3, lub_vd *c0, lub_vd *c1,
+                              lub_vd *c2, lub_vd *c3)
+{
+    const lub_vd t0 = LUB_SHUF(r0, r1, 0, 4, 2, 6), t1 = LUB_SHUF(r0, r1, 1, 5, 3, 7);
+    const lub_vd t2 = LUB_SHUF(r2, r3, 0, 4, 2, 6), t3 = LUB_SHUF(r2, r3, 1, 5, 3, 7);
+    *c0 = LUB_SHUF(t0, t2, 0, 1, 4, 5);
+    *c1 = LUB_SHUF(t1, t3, 0, 1, 4, 5);
+    *c2 = LUB_SHUF(t0, t2, 2, 3, 6, 7);
+    *c3 = LUB_SHUF(t1, t3, 2, 3, 6, 7);
+}
+/* The pair state as two rows of 4 doubles: (delta, x, fs.x, fs.y) at byte 0 and
+ * (fs.z, n_prev.x, n_prev.y, n_prev.z) at byte 32, read or written through the struct's bytes. */
+_Static_assert(offsetof(lub_pair_state, delta) == 0 && offsetof(lub_pair_state, x) == 8 &&
+                   offsetof(lub_pair_state, fs.x) == 16 && offsetof(lub_pair_state, fs.z) == 32 &&
+                   offsetof(lub_pair_state, n_prev.x) == 40 &&
+                   offsetof(lub_pair_state, n_prev.z) == 56,
+               "lub_pair_state: the rows of transpose4");
+static inline lub_vd state_row(const lub_pair_state *s, size_t byte)
+{
+    lub_vd v;
+    memcpy(&v, (const unsigned char *)s + byte, sizeof v);
+    return v;
+}
+static inline void state_row_store(lub_pair_state *s, size_t byte, lub_vd v)
+{
+    memcpy((unsigned char *)s + byte, &v, sizeof v);
+}
+#endif
 
 /* The stable damping coefficient of contact_torque.c (lub_stable_damping):
  * D = c (1 - e^-k)/k, k = c dt inv_sum (D = c for k = 0). */
@@ -147,9 +185,22 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
 
     int accepted = 0;
     for (int g0 = 0; g0 < ng; g0 += LUB_VW) {
-        /* ---- state (gathered from the per-pair structs straight into registers: a vector
-         * load of just-written scalars would stall on store forwarding) ---- */
+        /* ---- state (from the per-pair structs straight into registers; each state was
+         * written a step ago, so its loads do not wait on store forwarding) ---- */
         lub_pair_state *const *st = &b->state[g0];
+#if LUB_VW == 4
+        /* four lanes: two 32-byte loads per state (delta, x, fs.x, fs.y | fs.z, n_prev) and a
+         * 4 x 4 transpose, instead of 28 scalar loads and inserts */
+        lub_vd x_prev;
+        vvec3 fs_prev, n_prev;
+        {
+            lub_vd unused_delta;
+            transpose4(state_row(st[0], 0), state_row(st[1], 0), state_row(st[2], 0),
+                       state_row(st[3], 0), &unused_delta, &x_prev, &fs_prev.x, &fs_prev.y);
+            transpose4(state_row(st[0], 32), state_row(st[1], 32), state_row(st[2], 32),
+                       state_row(st[3], 32), &fs_prev.z, &n_prev.x, &n_prev.y, &n_prev.z);
+        }
+#else
 #define SX(l) st[l]->x
 #define SFX(l) st[l]->fs.x
 #define SFY(l) st[l]->fs.y
@@ -167,6 +218,7 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
 #undef SNX
 #undef SNY
 #undef SNZ
+#endif
         /* the stored gap within the guard, e^-700 <= x <= e^700 (delta in [-700, 700]); a new
          * pair has x < 0 and is declined here too */
         lub_vi ok = (x_prev >= x_lo) & (x_prev <= x_hi);
@@ -314,36 +366,50 @@ int lub_pair_step_batch(const lub_law_params *p, double dt, lub_pair_batch *b)
         ok &= w_isfinite(force1) & w_isfinite(torque1) & w_isfinite(torque2) &
               lub_v_isfinite(delta) & w_isfinite(fs);
 
-        /* ---- store the accepted lanes ---- */
-        double o[16][LUB_VW];
-        lub_v_store(o[0], force1.x), lub_v_store(o[1], force1.y), lub_v_store(o[2], force1.z);
-        lub_v_store(o[3], torque1.x), lub_v_store(o[4], torque1.y), lub_v_store(o[5], torque1.z);
-        lub_v_store(o[6], torque2.x), lub_v_store(o[7], torque2.y), lub_v_store(o[8], torque2.z);
-        lub_v_store(o[9], fs.x), lub_v_store(o[10], fs.y), lub_v_store(o[11], fs.z);
-        lub_v_store(o[12], nrm.x), lub_v_store(o[13], nrm.y), lub_v_store(o[14], nrm.z);
-        lub_v_store(o[15], delta);
-        double xo[LUB_VW];
-        lub_v_store(xo, x);
+        /* ---- store: forces and torques of the whole group straight into the output arrays
+         * (ng <= LUB_BATCH; lanes that are padding or declined hold values nobody reads), the
+         * per-pair state of the accepted lanes one by one ---- */
+        lub_v_store(b->f1x + g0, force1.x), lub_v_store(b->f1y + g0, force1.y);
+        lub_v_store(b->f1z + g0, force1.z);
+        lub_v_store(b->t1x + g0, torque1.x), lub_v_store(b->t1y + g0, torque1.y);
+        lub_v_store(b->t1z + g0, torque1.z);
+        lub_v_store(b->t2x + g0, torque2.x), lub_v_store(b->t2y + g0, torque2.y);
+        lub_v_store(b->t2z + g0, torque2.z);
         int64_t okl[LUB_VW], cl[LUB_VW];
         memcpy(okl, &ok, sizeof okl);
         memcpy(cl, &contact, sizeof cl);
+#if LUB_VW == 4
+        /* the states as rows (delta, x, fs.x, fs.y | fs.z, n): two 32-byte stores per lane */
+        lub_vd ra[4], rb[4];
+        transpose4(delta, x, fs.x, fs.y, &ra[0], &ra[1], &ra[2], &ra[3]);
+        transpose4(fs.z, nrm.x, nrm.y, nrm.z, &rb[0], &rb[1], &rb[2], &rb[3]);
+#else
+        double o[7][LUB_VW];
+        lub_v_store(o[0], fs.x), lub_v_store(o[1], fs.y), lub_v_store(o[2], fs.z);
+        lub_v_store(o[3], nrm.x), lub_v_store(o[4], nrm.y), lub_v_store(o[5], nrm.z);
+        lub_v_store(o[6], x);
+#endif
+        double dl[LUB_VW];
+        lub_v_store(dl, delta);
         for (int l = 0; l < LUB_VW && g0 + l < n; ++l) {
             const int q = g0 + l;
             if (!okl[l]) {
                 b->done[q] = 0;
                 continue;
             }
-            b->f1x[q] = o[0][l], b->f1y[q] = o[1][l], b->f1z[q] = o[2][l];
-            b->t1x[q] = o[3][l], b->t1y[q] = o[4][l], b->t1z[q] = o[5][l];
-            b->t2x[q] = o[6][l], b->t2y[q] = o[7][l], b->t2z[q] = o[8][l];
             b->contact[q] = cl[l] != 0;
-            b->near[q] = o[15][l] < 0.0;
+            b->near[q] = dl[l] < 0.0;
             b->done[q] = 1;
             lub_pair_state *out_state = b->state[q];
-            out_state->delta = o[15][l];
-            out_state->x = xo[l];
-            out_state->fs = v3(o[9][l], o[10][l], o[11][l]);
-            out_state->n_prev = v3(o[12][l], o[13][l], o[14][l]);
+#if LUB_VW == 4
+            state_row_store(out_state, 0, ra[l]);
+            state_row_store(out_state, 32, rb[l]);
+#else
+            out_state->delta = dl[l];
+            out_state->x = o[6][l];
+            out_state->fs = v3(o[0][l], o[1][l], o[2][l]);
+            out_state->n_prev = v3(o[3][l], o[4][l], o[5][l]);
+#endif
             accepted++;
         }
     }
