@@ -20,8 +20,8 @@
 #include "simd_math.h"
 
 #include <float.h>
-#include <stddef.h>
 #include <math.h>
+#include <stddef.h>
 
 typedef struct {
     lub_vd x, y, z;

@@ -45,7 +45,9 @@ typedef struct {
     double r1[LUB_BATCH], r2[LUB_BATCH];
     double inv_i1[LUB_BATCH], inv_i2[LUB_BATCH]; /* as lub_pair_input.inv_inertia1/2 */
     lub_pair_state *state[LUB_BATCH];            /* borrowed; updated for accepted lanes */
-    /* outputs, valid where done[l] = 1 */
+    /* outputs, valid where done[l] = 1. The kernel may overwrite the force and torque
+     * entries of the other lanes, and it writes the inputs and outputs of the padding lanes
+     * n..(n rounded up to the vector width) - 1: their values carry no meaning. */
     double f1x[LUB_BATCH], f1y[LUB_BATCH], f1z[LUB_BATCH]; /* force on body 1 */
     double t1x[LUB_BATCH], t1y[LUB_BATCH], t1z[LUB_BATCH]; /* torque on body 1 */
     double t2x[LUB_BATCH], t2y[LUB_BATCH], t2z[LUB_BATCH]; /* torque on body 2 */
