@@ -32,6 +32,21 @@ static int re(void **p, size_t count, size_t elem)
     return 0;
 }
 
+/* *p replaced by an uninitialised array of count elements on a 64-byte boundary (the old
+ * contents are NOT kept). For the pair states: 64 bytes each, so that each sits in one cache
+ * line (malloc aligns to 16 only, and a state across two lines costs two). */
+static int re_lines(void **p, size_t count, size_t elem)
+{
+    size_t bytes = (count ? count : 1) * elem;
+    bytes = (bytes + 63) / 64 * 64; /* aligned_alloc wants a multiple of the alignment */
+    void *q = aligned_alloc(64, bytes);
+    if (!q)
+        return -1;
+    free(*p);
+    *p = q;
+    return 0;
+}
+
 /* The img code of the image shift c[3] (pair_store.h). */
 static unsigned char image_code(const int32_t *c)
 {
@@ -67,7 +82,7 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
     if (nn > ps->cap || !ps->i) {
         size_t cap = nn + nn / 4 + 64;
         if (re((void **)&ps->i, cap, sizeof *ps->i) || re((void **)&ps->j, cap, sizeof *ps->j) ||
-            re((void **)&ps->state, cap, sizeof *ps->state) ||
+            re_lines((void **)&ps->state, cap, sizeof *ps->state) || /* rewritten below */
             re((void **)&ps->active, cap, sizeof *ps->active))
             return -1;
         ps->cap = cap;
