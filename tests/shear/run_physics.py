@@ -648,7 +648,8 @@ def check(by, rows):
     def same(k, r1, r2, rel):
         return within(r2[k] - r1[k], rel * abs(r1[k]), err(r1, k), err(r2, k))
 
-    for base in ("ref_iv_0.01", "delaunay_iv_0.01", "ref_iv_0.001", "ref_phi_0.5", "ref_phi_0.55"):
+    for base in ("ref_iv_0.01", "delaunay_iv_0.01", "ref_iv_0.001", "ref_phi_0.5",
+                 "ref_phi_0.55"):
         s1, s2 = by.get(base), by.get(base + "_stiff2")
         if not (s1 and s2 and s1["phi"] and s2["phi"]):
             continue
@@ -762,7 +763,16 @@ def main():
             if unknown:
                 ap.error(f"--rerun: not in the plan: {','.join(sorted(unknown))}")
             have = {r["name"]: r for r in rows}
+            # kept rows must come from the same plan: a quick table read without --quick
+            # (or the reverse) would otherwise mix 10- and 20-strain rows
+            other = [c["name"] for c in cases if c["name"] in have and
+                     have[c["name"]].get("strain") != spec_for(c, a.n, a.quick)["strain"]]
+            if other:
+                ap.error(f"--rerun: the CSV's strain differs from this plan's for {other[0]} "
+                         f"and {len(other) - 1} more (--quick must match the sweep that "
+                         "wrote it)")
             todo = [c for c in cases if c["name"] in names or c["name"] not in have]
+            print("rerun_cases=" + ",".join(c["name"] for c in todo), flush=True)
             with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
                 fresh = {r["name"]: r for r in ex.map(work, todo)}
             rows = [fresh.get(c["name"]) or have[c["name"]] for c in cases]

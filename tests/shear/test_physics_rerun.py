@@ -8,7 +8,9 @@ missing), puts sentinel values into the row of ref_nlonly_iv_1 and asks for that
   * the output has the plan's rows in the committed order;
   * the two rerun rows hold the values of the summaries just written (phi, mu, eta_r);
   * every other row equals the committed one, cell for cell;
-  * an unknown case name is refused with exit 2 and names the case.
+  * an unknown case name is refused with exit 2 and names the case;
+  * the quick table read without --quick is refused with exit 2 (it would mix 10- and
+    20-strain rows and run the whole full plan).
 Prints rerun_rows=2 kept_rows=N on success.
 
 usage: test_physics_rerun.py --run-physics PATH --lubdem PATH --csv TABLE_CSV --out DIR
@@ -86,6 +88,12 @@ def main():
                        capture_output=True, text=True)
     if q.returncode != 2 or "no_such_case" not in q.stderr:
         fails.append(f"unknown case: exit {q.returncode}, stderr {q.stderr.strip()[-200:]!r}")
+    no_quick = [x for x in base if x != "--quick"]
+    q = subprocess.run(no_quick + ["--rerun", EXPLICIT, "--out", os.path.join(a.out, "full")],
+                       capture_output=True, text=True)
+    if q.returncode != 2 or "strain differs" not in q.stderr:
+        fails.append(f"quick table without --quick: exit {q.returncode}, "
+                     f"stderr {q.stderr.strip()[-200:]!r}")
     for f in fails:
         print("FAIL", f, file=sys.stderr)
     print(f"rerun_rows=2 kept_rows={kept}")
