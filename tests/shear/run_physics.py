@@ -176,10 +176,11 @@ def spec_for(case, n, quick):
                      "phi": round(min(0.56, max(0.3, phi_ref(iv, law["mu"]))), 3)})
     else:
         ph = case["phi"]
-        # eta gd-scaled stiffness: keep alpha g eps a well above the contact forces. Above
-        # phi = 0.5 the seed's 1e6 is not stiff enough: at phi = 0.55 (N = 1000, one packing,
-        # README) eta_r is 273 at 1e6 and 313-338 at 2e6, 4e6 and 8e6; group E doubles 4e6
-        stiff = 1e5 if ph <= 0.5 else 4e6
+        # eta gd-scaled stiffness, in the rigid limit (README, N = 1000 runs): at phi = 0.50
+        # eta_r is 28.1 at 1e5 and 30.2-30.6 at 2e5 and 4e5, so the seed's floor 1e6 is used;
+        # at phi = 0.55 it is 252-273 at 1e6 and 313-338 at 2e6-8e6 (two packings), hence
+        # 4e6 above phi = 0.5. Group E doubles both at phi = 0.50 and 0.55 (ref)
+        stiff = 1e6 if ph <= 0.5 else 4e6
         spec.update({"control": "volume", "phi": ph, "St": 0.01, "stiffness": stiff})
     spec["stiffness"] *= case.get("stiffness_factor", 1.0)
     if "dt_safety" in case:
