@@ -44,16 +44,14 @@ def main():
         if n not in names:
             sys.exit(f"FAIL the committed table has no row {n}")
     partial = os.path.join(a.out, "partial.csv")
-    with open(a.csv, newline="") as fh:
-        reader = csv.DictReader(fh)
-        with open(partial, "w", newline="") as out:
-            w = csv.DictWriter(out, fieldnames=reader.fieldnames)
-            w.writeheader()
-            for r in reader:
-                if r["name"] == EXPLICIT:  # a row the rerun must replace, not keep
-                    r = dict(r, phi="0.123", mu="9.87", eta_r="6.54")
-                if r["name"] != MISSING:
-                    w.writerow(r)
+    with open(partial, "w", newline="") as out:
+        w = csv.DictWriter(out, fieldnames=list(committed[0]))
+        w.writeheader()
+        for r in committed:
+            if r["name"] == EXPLICIT:  # a row the rerun must replace, not keep
+                r = dict(r, phi="0.123", mu="9.87", eta_r="6.54")
+            if r["name"] != MISSING:
+                w.writerow(r)
     run_dir = os.path.join(a.out, "rerun")
     base = [sys.executable, a.run_physics, "--from-csv", partial, "--lubdem", a.lubdem,
             "--quick", "--jobs", "2"]
