@@ -52,7 +52,10 @@ other rows stay as the earlier sweep wrote them.
 --check: exit 1 if a criterion fails that is not in KNOWN_MISSES (the committed table's misses,
 listed below the plan; printed with known_miss=1 and counted in physics_known_misses). A
 tolerance criterion outside KNOWN_MISSES fails only when missed by more than two standard
-errors (marginal=1 otherwise).
+errors (marginal=1 otherwise). With --from-csv it also fails (table_plan_mismatches=K) when
+the table is not the plan's: a case without a row, a row outside the plan, or a row run with
+another stiffness, St, strain, cut-off, eps or case setting than spec_for gives now (a quick
+table needs --quick).
 Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
   * every run exits 0 with finite results and no lost pair (summary lost_pairs = 0); trends:
     mu increases, phi decreases with Iv (also "default");
@@ -690,6 +693,38 @@ def check(by, rows):
     return fails, missed
 
 
+def plan_mismatches(rows, cases, n, quick):
+    """A table.csv against the plan --check judges it by: one row per case of the plan, no row
+    outside it, and every row run with the spec spec_for gives now (stiffness, St, strain,
+    cut-off, eps and the case's own settings; the imposed phi is not compared, the row holds
+    the measured one). Returns one message per difference (empty: the table is the plan's)."""
+    have = {r["name"]: r for r in rows}
+    planned = {c["name"] for c in cases}
+    msgs = [f"{r['name']}: row not in the plan" for r in rows if r["name"] not in planned]
+
+    def same(got, want):
+        if isinstance(want, (bool, str)) or want is None:
+            return got == want
+        return isinstance(got, (int, float)) and not isinstance(got, bool) and \
+            math.isclose(got, want, rel_tol=1e-6)
+
+    for c in cases:
+        r = have.get(c["name"])
+        if r is None:
+            msgs.append(f"{c['name']}: no row")
+            continue
+        spec = spec_for(c, n, quick)
+        want = {"stiffness": spec["stiffness"], "St": spec["St"], "strain": spec["strain"],
+                "cutoff": spec.get("cutoff", 2.0), "eps": spec["law"]["eps"]}
+        for k, v in c.items():
+            if k not in ("name", "terms", "cutoff", "phi"):
+                want.setdefault(k, v)
+        for k, v in want.items():
+            if not same(r.get(k), v):
+                msgs.append(f"{c['name']}: {k} is {r.get(k)} in the table, {v} in the plan")
+    return msgs
+
+
 def rows_from_csv(path):
     """The rows of a table.csv written by write_tables, typed as make_row returns them: empty
     cells are None, except the case keys whose absence means a default (mu_m, rot, and the
@@ -783,6 +818,12 @@ def main():
     by = write_tables(a.out, rows, a.n)
     plot(a.out, rows, a.n)
     fails, missed = check(by, rows) if a.check else ([], [])
+    if a.from_csv and a.check:
+        # the criteria judge the rows as the plan's: a row run with other settings (say the
+        # stiffness before spec_for changed) or a case missing from the table fails --check
+        mism = plan_mismatches(rows, cases, a.n, a.quick)
+        print(f"table_plan_mismatches={len(mism)}")
+        fails += [f"table against plan: {m}" for m in mism]
     for fl in fails:
         print("FAIL", fl, file=sys.stderr)
     if a.check:
