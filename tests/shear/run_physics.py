@@ -23,7 +23,8 @@ Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
      0.035 a, friction tan 30 deg, cut-off 1a, no roll/twist; with and without shear
      lubrication;
   E  asymptotic regime: stiffness doubled at Iv = 0.01 ("ref", "delaunay"), Iv = 1e-3 and
-     imposed phi = 0.50 and 0.55 ("ref"); at Iv = 1 and 0.1 ("ref", "delaunay") the P-scaled
+     imposed phi = 0.50 and 0.55 ("ref"), mu_m = 0 at Iv = 1e-4 ("ref", "delaunay") and
+     mu_m = 1 at Iv = 1e-3 ("ref"); at Iv = 1 and 0.1 ("ref", "delaunay") the P-scaled
      stiffness raised to the seed's k/(eta gd a) = 1e6 (x100 and x10); Stokes number divided
      by 10 at Iv = 0.1 and 0.01 ("ref", "delaunay"); time step divided by 3 (dt_safety 0.3 ->
      0.1) at Iv = 0.1 and 0.01 ("ref", "delaunay"): doubling the stiffness or dividing St keeps
@@ -69,7 +70,8 @@ Criteria (the issue's tolerances), for the "ref" and "delaunay" configurations:
   * negative test (G): |phi(0.02) - phi(0.3)| without shear lubrication < 1/2 of the same
     with it, and phi without shear lubrication above phi with it at every Iv (seed 004: "almost
     constant for Iv > 0.02", "significantly overestimate the solid fraction");
-  * stiffness doubled (Iv = 0.01 ref and delaunay, Iv = 1e-3 ref, phi = 0.50 and 0.55 ref):
+  * stiffness doubled (Iv = 0.01 ref and delaunay, Iv = 1e-3 ref, mu_m = 0 at Iv = 1e-4 ref
+    and delaunay, mu_m = 1 at Iv = 1e-3 ref, phi = 0.50 and 0.55 ref):
     |dphi| <= 0.005, and |dmu| (|d eta_r|) within 3 % (5 %) or three combined standard errors;
   * stiffness raised to k/(eta gd a) = 1e6 at Iv = 1 and 0.1 (ref and delaunay): |dphi| <=
     0.005 or three combined standard errors, |dmu| within 3 % or three combined standard errors;
@@ -170,11 +172,15 @@ def spec_for(case, n, quick):
     if case["control"] == "pressure":
         iv = case["Iv"]
         # St: inertial number I = sqrt(St Iv) <= 0.03; the time step in strain units scales as
-        # sqrt(St Iv / stiffness). Stiffness P-scaled: 1e4 (3e3 at Iv <= 1e-3, 1e3 at 1e-4):
-        # k/(eta gd a) = stiffness/Iv >= 1e6 as in the seed for Iv <= 0.01, deflections << eps a.
-        # At Iv = 0.1 and 1 it is 1e5 and 1e4; group E reruns those at 1e6 (asserted unchanged).
+        # sqrt(St Iv / stiffness). Stiffness P-scaled (the article's elastic number E/P,
+        # seed 000 l.962: 1e3-1e8) 1e4 at every Iv: the rigid limit is set by the pressure
+        # (README, Asymptotic regime): at 1e3, frictionless Iv = 1e-4 lost 0.005 in phi when
+        # doubled and 0.007 when quadrupled, a 1/stiffness approach, and the imposed-volume
+        # phi = 0.55 runs gained 17 % in eta_r from E/P = 1.6e3 to 2.7e3. k/(eta gd a) =
+        # stiffness/Iv is then >= 1e6 for Iv <= 0.01 as in the seed; at Iv = 0.1 and 1 it is 1e5
+        # and 1e4, and group E reruns those at 1e6 (asserted unchanged)
         st = 0.01 if iv > 0.01 else (0.1 if iv >= 1e-3 else 1.0)
-        stiff = 1e4 if iv >= 0.01 else (3e3 if iv >= 1e-3 else 1e3)
+        stiff = 1e4
         spec.update({"control": "pressure", "Iv": iv, "St": case.get("St", st), "stiffness": stiff,
                      "phi": round(min(0.56, max(0.3, phi_ref(iv, law["mu"]))), 3)})
     else:
@@ -296,6 +302,12 @@ def plan(quick):
                       "control": "pressure", "Iv": 0.01, "stiffness_factor": 2.0})
     cases.append({"name": "ref_iv_0.001_stiff2", "group": "E", "config": "ref",
                   "control": "pressure", "Iv": 0.001, "stiffness_factor": 2.0})
+    # the rows where a softer P-scaled stiffness had moved phi (README, Asymptotic regime)
+    for cfg in ("ref", "delaunay"):
+        cases.append({"name": f"{cfg}_mu0_iv_0.0001_stiff2", "group": "E", "config": cfg,
+                      "control": "pressure", "Iv": 1e-4, "mu_m": 0.0, "stiffness_factor": 2.0})
+    cases.append({"name": "ref_mu1_iv_0.001_stiff2", "group": "E", "config": "ref",
+                  "control": "pressure", "Iv": 0.001, "mu_m": 1.0, "stiffness_factor": 2.0})
     cases.append({"name": "ref_phi_0.5_stiff2", "group": "E", "config": "ref",
                   "control": "volume", "phi": 0.5, "stiffness_factor": 2.0})
     cases.append({"name": "ref_phi_0.55_stiff2", "group": "E", "config": "ref",
@@ -527,12 +539,16 @@ KNOWN_MISSES = {
     # within 0.009 at Iv <= 0.01: the frictionless dilatancy is too weak (+0.027-0.029 in both
     # at N = 1000; the ref N = 300 cell partly orders in some packing seeds, README)
     "phi_ref_mu0_iv_0.1", "phi_delaunay_mu0_iv_0.1",
+    # mu_m = 0 at Iv = 1e-4: phi 0.015-0.016 below the law in the rigid limit (stiffness 1e4,
+    # doubling moves it by <= 0.0007); the 1e3 used before put it 0.005 below by letting the
+    # contacts overlap. At the contact radius (phi_tip) it is 0.003 above (README)
+    "phi_ref_mu0_iv_0.0001", "phi_delaunay_mu0_iv_0.0001",
     # delaunay: phi right down to Iv = 0.1, mu 15-19 % high at Iv = 1 and 0.1; at 0.01 the
     # committed table has +9.1 % (now_passes=1), four 30-strain seeds +10.2 +- 0.25 % (README)
     "phi_delaunay_iv_1", "mu_delaunay_iv_1", "mu_delaunay_iv_0.1", "mu_delaunay_iv_0.01",
-    # phi = 0.55 = 0.96 phi_m: +74-75 % in the table (stiffness 4e6); at 1e6, 4 seeds x 30
-    # strain gave +28-30 %, N = 1000 and 4000 +17-25 %, but 1e6 is not rigid enough there
-    # (README): phi_m 0.004-0.006 below the law's
+    # phi = 0.55 = 0.96 phi_m: +74-75 % in the table (stiffness 4e6, N = 300); at 4e6,
+    # N = 1000 gives +48 % (ref) and +50 % (delaunay), four 30-strain N = 300 seeds +53 % and
+    # +78 %; the 1e6 runs (+17-30 %) were not rigid (README): phi_m 0.005 below the law's
     "eta_r_ref_phi_0.55", "eta_r_delaunay_phi_0.55",
 }
 
@@ -652,8 +668,8 @@ def check(by, rows):
     def same(k, r1, r2, rel):
         return within(r2[k] - r1[k], rel * abs(r1[k]), err(r1, k), err(r2, k))
 
-    for base in ("ref_iv_0.01", "delaunay_iv_0.01", "ref_iv_0.001", "ref_phi_0.5",
-                 "ref_phi_0.55"):
+    for base in ("ref_iv_0.01", "delaunay_iv_0.01", "ref_iv_0.001", "ref_mu0_iv_0.0001",
+                 "delaunay_mu0_iv_0.0001", "ref_mu1_iv_0.001", "ref_phi_0.5", "ref_phi_0.55"):
         s1, s2 = by.get(base), by.get(base + "_stiff2")
         if not (s1 and s2 and s1["phi"] and s2["phi"]):
             continue
