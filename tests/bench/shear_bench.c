@@ -10,7 +10,9 @@
  *   the clock the host gives this process just before and after the timed steps) and
  *   shear_cycles_per_particle_step (CPU seconds of all threads times their mean, per particle
  *   step: the cost of the code in cycles, which drifts far less than the host's speed)
- * usage: shear_bench N THREADS STEPS [scalar]   ("scalar": every step with lub_pair_step) */
+ * usage: shear_bench N THREADS STEPS [scalar] [warmup=K]
+ *   "scalar": every step with lub_pair_step; warmup=K: K untimed steps before the timed ones
+ *   (default 200; the strain they cover is printed as shear_warmup_strain) */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,7 +53,22 @@ int main(int argc, char **argv)
     int n = argc > 1 ? atoi(argv[1]) : 1000;
     int threads = argc > 2 ? atoi(argv[2]) : 1;
     int steps = argc > 3 ? atoi(argv[3]) : 500;
-    const int batch_law = !(argc > 4 && strcmp(argv[4], "scalar") == 0);
+    int batch_law = 1;
+    long warmup = 200;
+    for (int a = 4; a < argc; ++a) {
+        char *end = NULL;
+        if (strcmp(argv[a], "scalar") == 0)
+            batch_law = 0;
+        else if (strncmp(argv[a], "warmup=", 7) == 0 &&
+                 (warmup = strtol(argv[a] + 7, &end, 10)) >= 0 && end != argv[a] + 7 && !*end)
+            continue;
+        else {
+            fprintf(stderr,
+                    "shear_bench: bad argument '%s' (expected scalar or warmup=K, K >= 0)\n",
+                    argv[a]);
+            return 2;
+        }
+    }
     double *r = malloc((size_t)n * sizeof *r);
     vec3 *x = malloc((size_t)n * sizeof *x);
     lub_cell c;
@@ -76,7 +93,7 @@ int main(int argc, char **argv)
     }
     s.dt = 0.3 * lub_shear_elastic_dt(&s);
     s.batch_law = batch_law;
-    for (int k = 0; k < 200; ++k)
+    for (long k = 0; k < warmup; ++k)
         if (lub_shear_step(&s, 0, NULL)) {
             fprintf(stderr, "%s\n", s.fail_msg);
             return 1;
@@ -105,6 +122,7 @@ int main(int argc, char **argv)
     printf("shear_n=%d\nshear_threads=%d\nshear_steps=%d\nshear_wall_s=%.3f\n", n, threads, steps,
            wall);
     printf("shear_batch_law=%d\nshear_law_isa=%s\n", batch_law, lub_pair_batch_isa());
+    printf("shear_warmup_steps=%ld\nshear_warmup_strain=%.3f\n", warmup, (double)warmup * s.dt);
     printf("shear_particle_steps_per_s=%.4g\n", ps);
     printf("shear_cpu_s=%.3f\n", cpu);
     printf("shear_particle_steps_per_cpu_s=%.4g\n", (double)n * steps / cpu);
