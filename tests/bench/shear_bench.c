@@ -56,18 +56,22 @@ int main(int argc, char **argv)
     int batch_law = 1;
     long warmup = 200;
     for (int a = 4; a < argc; ++a) {
+        const char *arg = argv[a];
         char *end = NULL;
-        if (strcmp(argv[a], "scalar") == 0)
+        if (strcmp(arg, "scalar") == 0) {
             batch_law = 0;
-        else if (strncmp(argv[a], "warmup=", 7) == 0 &&
-                 (warmup = strtol(argv[a] + 7, &end, 10)) >= 0 && end != argv[a] + 7 && !*end)
             continue;
-        else {
-            fprintf(stderr,
-                    "shear_bench: bad argument '%s' (expected scalar or warmup=K, K >= 0)\n",
-                    argv[a]);
-            return 2;
         }
+        if (strncmp(arg, "warmup=", 7) == 0) {
+            const long k = strtol(arg + 7, &end, 10);
+            if (end != arg + 7 && *end == '\0' && k >= 0) {
+                warmup = k;
+                continue;
+            }
+        }
+        fprintf(stderr, "shear_bench: bad argument '%s' (expected scalar or warmup=K, K >= 0)\n",
+                arg);
+        return 2;
     }
     double *r = malloc((size_t)n * sizeof *r);
     vec3 *x = malloc((size_t)n * sizeof *x);
