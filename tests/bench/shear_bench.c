@@ -57,12 +57,12 @@ int main(int argc, char **argv)
     long warmup = 200;
     for (int a = 4; a < argc; ++a) {
         const char *arg = argv[a];
-        char *end = NULL;
         if (strcmp(arg, "scalar") == 0) {
             batch_law = 0;
             continue;
         }
         if (strncmp(arg, "warmup=", 7) == 0) {
+            char *end = NULL;
             const long k = strtol(arg + 7, &end, 10);
             if (end != arg + 7 && *end == '\0' && k >= 0) {
                 warmup = k;

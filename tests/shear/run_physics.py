@@ -155,7 +155,15 @@ def lambda33_ref(phi):
 
 
 def stokes_for(iv):
-    """The plan's Stokes number at imposed pressure (reasons in spec_for)."""
+    """The plan's Stokes number at imposed pressure.
+
+    Inertial number I = sqrt(St Iv) <= 0.03; the time step in strain units scales as
+    sqrt(St Iv / stiffness). The nominal contact damping ratio 58 sqrt(Iv/(St stiffness))
+    (README "Contact-scale inertia") is ~0.18 at Iv = 0.01 (St 0.1) and 1e-3 (St 0.01), 0.06
+    at 1e-4 (St 0.01; St 0.001 there moves nothing and would cost 3x more). At the earlier
+    St 0.1 and 1 for Iv = 1e-3 and 1e-4 it was 0.06 and 0.006 and the contacts rang
+    (frictionless phi at 1e-4 low by 0.004). Group E divides St by 10 at Iv = 0.1 and 0.01
+    (ref also at 1e-3)."""
     return 0.1 if 1e-3 < iv <= 0.01 else 0.01
 
 
@@ -176,13 +184,7 @@ def spec_for(case, n, quick):
         spec["lubrication_pairs"] = cfg["pairs"]
     if case["control"] == "pressure":
         iv = case["Iv"]
-        # St: inertial number I = sqrt(St Iv) <= 0.03; the time step in strain units scales as
-        # sqrt(St Iv / stiffness). The nominal contact damping ratio 58 sqrt(Iv/(St stiffness))
-        # (README "Contact-scale inertia") is ~0.18 at Iv = 0.01 (St 0.1) and 1e-3 (St 0.01),
-        # 0.06 at 1e-4 (St 0.01; St 0.001 there moves nothing and would cost 3x more). At the
-        # earlier St 0.1 and 1 for Iv = 1e-3 and 1e-4 it was 0.06 and 0.006 and the contacts
-        # rang (frictionless phi at 1e-4 low by 0.004). Group E divides St by 10 at Iv = 0.1,
-        # 0.01 and 1e-3. Stiffness P-scaled (the article's elastic number E/P,
+        # St: stokes_for (reasons there). Stiffness P-scaled (the article's elastic number E/P,
         # seed 000 l.962: 1e3-1e8) 1e4 at every Iv: the rigid limit is set by the pressure
         # (README, Asymptotic regime): at equal contact damping, frictionless Iv = 1e-4 loses
         # 0.007 in phi from 1e3 to 1e4 (contact overlap), and the imposed-volume phi = 0.55 runs
