@@ -607,7 +607,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                     ss_ratio_stat(&ser, S_SXY, S_P, start, ratio_z, scratch, &sr);
                 /* ... over at least target_min_strain of that window: shorter windows hold
                  * too few correlation times of phi, and a stop chosen by a low error of mu
-                 * then also picks a low error of phi (README "Run until mu is known") */
+                 * then also picks a low error of phi (tests/shear/README.md, "Run until mu is
+                 * known") */
                 const double averaged =
                     start < ser.n ? ser.strain[ser.n - 1] - ser.strain[start] : 0.0;
                 if (sr.steady && averaged >= p.target_min_strain && isfinite(sr.sem) &&

@@ -159,8 +159,9 @@ def stokes_for(iv):
 
     Inertial number I = sqrt(St Iv) <= 0.03; the time step in strain units scales as
     sqrt(St Iv / stiffness). The nominal contact damping ratio 58 sqrt(Iv/(St stiffness))
-    (README "Contact-scale inertia") is ~0.18 at Iv = 0.01 (St 0.1) and 1e-3 (St 0.01), 0.06
-    at 1e-4 (St 0.01; St 0.001 there moves nothing and would cost 3x more). At the earlier
+    (tests/shear/README.md, "Contact-scale inertia") is ~0.18 at Iv = 0.01 (St 0.1) and
+    1e-3 (St 0.01), 0.06 at 1e-4 (St 0.01; St 0.001 there moves nothing and would cost 3x
+    more). At the earlier
     St 0.1 and 1 for Iv = 1e-3 and 1e-4 it was 0.06 and 0.006 and the contacts rang
     (frictionless phi at 1e-4 low by 0.004). Group E divides St by 10 at Iv = 0.1 and 0.01
     (ref also at 1e-3)."""
@@ -186,8 +187,9 @@ def spec_for(case, n, quick):
         iv = case["Iv"]
         # St: stokes_for (reasons there). Stiffness P-scaled (the article's elastic number E/P,
         # seed 000 l.962: 1e3-1e8) 1e4 at every Iv: the rigid limit is set by the pressure
-        # (README, Asymptotic regime): at equal contact damping, frictionless Iv = 1e-4 loses
-        # 0.007 in phi from 1e3 to 1e4 (contact overlap), and the imposed-volume phi = 0.55 runs
+        # (tests/shear/README.md, Asymptotic regime): at equal contact damping, frictionless
+        # Iv = 1e-4 loses 0.007 in phi from 1e3 to 1e4 (contact overlap), and the imposed-volume
+        # phi = 0.55 runs
         # gained 17 % in eta_r from E/P = 1.6e3 to 2.7e3. k/(eta gd a) = stiffness/Iv is then
         # >= 1e6 for Iv <= 0.01 as in the seed; at Iv = 0.1 and 1 it is 1e5 and 1e4, and
         # group E reruns those at 1e6 (asserted unchanged)
@@ -197,10 +199,11 @@ def spec_for(case, n, quick):
                      "phi": round(min(0.56, max(0.3, phi_ref(iv, law["mu"]))), 3)})
     else:
         ph = case["phi"]
-        # eta gd-scaled stiffness, in the rigid limit (README, N = 1000 runs): at phi = 0.50
-        # eta_r is 28.1 at 1e5 and 30.2-30.6 at 2e5 and 4e5, so the seed's floor 1e6 is used;
-        # at phi = 0.55 it is 252-273 at 1e6 and 313-338 at 2e6-8e6 (two packings), hence
-        # 4e6 above phi = 0.5. Group E doubles both at phi = 0.50 and 0.55 (ref)
+        # eta gd-scaled stiffness, in the rigid limit (tests/shear/README.md, "eta_r(phi) within
+        # 15 %"): at phi = 0.50 eta_r is 28.1 at 1e5 and 30.2-30.6 at 2e5 and 4e5, so the
+        # seed's floor 1e6 is used; at phi = 0.55 it is 252-273 at 1e6 and 313-338 at 2e6-8e6
+        # (two packings), hence 4e6 above phi = 0.5. Group E doubles both at phi = 0.50 and
+        # 0.55 (ref)
         stiff = 1e6 if ph <= 0.5 else 4e6
         spec.update({"control": "volume", "phi": ph, "St": 0.01, "stiffness": stiff})
     spec["stiffness"] *= case.get("stiffness_factor", 1.0)
@@ -314,7 +317,8 @@ def plan(quick):
                       "control": "pressure", "Iv": 0.01, "stiffness_factor": 2.0})
     cases.append({"name": "ref_iv_0.001_stiff2", "group": "E", "config": "ref",
                   "control": "pressure", "Iv": 0.001, "stiffness_factor": 2.0})
-    # the rows where a softer P-scaled stiffness had moved phi (README, Asymptotic regime)
+    # the rows where a softer P-scaled stiffness had moved phi (tests/shear/README.md,
+    # Asymptotic regime)
     for cfg in ("ref", "delaunay"):
         cases.append({"name": f"{cfg}_mu0_iv_0.0001_stiff2", "group": "E", "config": cfg,
                       "control": "pressure", "Iv": 1e-4, "mu_m": 0.0, "stiffness_factor": 2.0})
@@ -535,7 +539,8 @@ def plot(out, rows, n):
     print(f"plot={os.path.join(out, 'servo.png')}")
 
 
-# Criteria of the issue that the engine misses (see README "simple_shear"): they are
+# Criteria of the issue that the engine misses (README "simple_shear"; evidence in
+# tests/shear/README.md, "How each criterion fares"): they are
 # evaluated and printed like the others (known_miss=1) but do not fail --check. Any other
 # criterion fails --check only if it misses its tolerance by more than two standard errors
 # (a miss within them is printed with marginal=1: the statistics of one 10-strain run cannot
@@ -550,14 +555,16 @@ KNOWN_MISSES = {
     # mu_m = 0 at Iv = 0.1: phi 0.041 (ref) and 0.028 (delaunay) above phi_m(0)/(1 + Iv^0.5);
     # 0.008-0.012 below it at Iv <= 1e-3: the frictionless dilatancy is too weak
     # (+0.027-0.029 in both at N = 1000; the ref N = 300 cell partly orders in some packing
-    # seeds, README)
+    # seeds, tests/shear/README.md)
     "phi_ref_mu0_iv_0.1", "phi_delaunay_mu0_iv_0.1",
     # delaunay: phi right down to Iv = 0.1, mu 15-19 % high at Iv = 1 and 0.1; at 0.01 the
-    # committed table has +9.1 % (now_passes=1), four 30-strain seeds +10.2 +- 0.25 % (README)
+    # committed table has +9.1 % (now_passes=1), four 30-strain seeds +10.2 +- 0.25 %
+    # (tests/shear/README.md)
     "phi_delaunay_iv_1", "mu_delaunay_iv_1", "mu_delaunay_iv_0.1", "mu_delaunay_iv_0.01",
     # phi = 0.55 = 0.96 phi_m: +74-75 % in the table (stiffness 4e6, N = 300); at 4e6,
     # N = 1000 gives +48 % (ref) and +50 % (delaunay), four 30-strain N = 300 seeds +53 % and
-    # +78 %; the 1e6 runs (+17-30 %) were not rigid (README): phi_m 0.005 below the law's
+    # +78 %; the 1e6 runs (+17-30 %) were not rigid (tests/shear/README.md): phi_m 0.005 below
+    # the law's
     "eta_r_ref_phi_0.55", "eta_r_delaunay_phi_0.55",
 }
 
@@ -614,8 +621,8 @@ def check(by, rows):
                      f"mu={r['mu']:.4f}+-{err(r, 'mu'):.4f} ref={r['mu_ref']:.4f}",
                      dev <= 0.10 + 2 * err(r, "mu") / r["mu_ref"])
     # group R: counted at the contact radius, phi does not depend on the roughness (the
-    # asperity shell is what moves phi; README "The PRF model is this law with the nominal
-    # radius at the asperity tips"): within 0.005 or three combined standard errors
+    # asperity shell is what moves phi; tests/shear/README.md "The PRF model is this law with
+    # the nominal radius at the asperity tips"): within 0.005 or three combined standard errors
     for iv in (1.0, 0.1, 0.01, 0.001):
         r2, r4 = by.get(f"delaunay_iv_{iv:g}"), by.get(f"delaunay_eps0.04_iv_{iv:g}")
         if r2 and r4 and r2["phi"] and r4["phi"]:
