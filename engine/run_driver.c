@@ -150,6 +150,17 @@ int lub_run_spec(const lub_run_request *req)
     if (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL)
         fprintf(req->diag, "error: %s\n",
                 ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
+    /* the scene's advisory warnings (summary "warnings"), one line each, for runs that did not
+     * fail: a failed run's last stderr line stays its error */
+    json_t *warnings = json_object_get(ctx.summary_extra, "warnings");
+    if (json_is_array(warnings) && (rc == LUB_EXIT_OK || rc == LUB_EXIT_INTERRUPTED)) {
+        size_t w;
+        json_t *text;
+        json_array_foreach (warnings, w, text) {
+            if (json_is_string(text))
+                fprintf(req->diag, "warning: %s\n", json_string_value(text));
+        }
+    }
 
     /* summary: fixed members, then whatever the scene added (active_terms, units, ...) */
     json_t *summary = json_object();

@@ -20,7 +20,8 @@
  * Stokes drag -6 pi eta_d eta r (v - L x) on every particle towards the affine flow (the shear drag
  * of the resuspension scene's gradient orientation), so that its effect on the stresses can be
  * measured in homogeneous shear; "affine_drag" is then listed in active_terms. The drag is a body
- * force: it is not part of the virial stress.
+ * force: it is not part of the virial stress. The summary's elastic_number (stiffness s0/<P>)
+ * and warnings come from the advisory checks of shear_run_checks.h.
  */
 #include <math.h>
 #include <stdio.h>
@@ -32,6 +33,7 @@
 #include "run_context.h"
 #include "scene.h"
 #include "scene_summary.h"
+#include "shear_run_checks.h"
 #include "shear_system.h"
 #include "stats.h"
 
@@ -131,7 +133,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
         return lub_fail(err, "/Iv", "only used with \"control\": \"pressure\"");
     }
     if (lub_spec_number(spec, "", "St", st_r, 1, 1e-2, &p->St, err) ||
-        lub_spec_number(spec, "", "stiffness", k_r, 1, p->pressure ? 1e4 : 1e5, &p->stiffness,
+        lub_spec_number(spec, "", "stiffness", k_r, 1, p->pressure ? 1e4 : 1e6, &p->stiffness,
                         err) ||
         lub_spec_number(spec, "", "cutoff", cut_r, 1, 2.0, &p->cutoff, err) ||
         lub_spec_number(spec, "", "skin", skin_r, 1, 0.5, &p->skin, err) ||
@@ -646,6 +648,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 worst_z = fabs(z);
         }
         lub_summary_put(ctx, "steady_drift_z", worst_z, NAN, "1");
+        double mean_of[S_COUNT]; /* steady-state means, for the advisory checks */
         for (int k = 0; k < S_COUNT; ++k) {
             /* only mean and sem are reported; ratio observables are ratios of time averages
              * (ss_ratio_stat), the others the mean of their series */
@@ -663,6 +666,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             } else {
                 lub_stats_analyse(ser.v[k], ser.n, start, scratch, &sr);
             }
+            mean_of[k] = sr.mean;
             const char *unit = "1";
             if (k == S_P || k == S_SXY || (k >= S_XY_NC && k <= S_YY_KIN))
                 unit = su;
@@ -701,6 +705,23 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                             json_boolean(steady && start < ser.n));
         json_object_set_new(ctx->summary_extra, "stopped_on_target_error",
                             json_boolean(stopped_early));
+        /* advisory checks: rigid limit, inertia, crushed asperities, ordering, lost pairs,
+         * steady state (shear_run_checks.h); S_P is the pressure in units of s0 */
+        const lub_shear_run_state checks = {
+            .elastic_number = p.stiffness / mean_of[S_P],
+            .kinetic_share = fabs(mean_of[S_XY_KIN]) / fabs(mean_of[S_SXY]),
+            .crushed_fraction = mean_of[S_CRUSHED],
+            .bond_order_q6 = mean_of[S_Q6],
+            .lost_pairs = (double)sys.lost_pairs,
+            .steady = steady && start < ser.n,
+        };
+        char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
+        const int n_warnings = lub_shear_run_warnings(&checks, warning_text);
+        json_t *warnings = json_array();
+        for (int w = 0; w < n_warnings; ++w)
+            json_array_append_new(warnings, json_string(warning_text[w]));
+        json_object_set_new(ctx->summary_extra, "warnings", warnings);
+        lub_summary_put(ctx, "elastic_number", checks.elastic_number, NAN, "1");
         json_t *terms = json_array();
         lub_law_terms_append(terms, p.law.params.terms);
         if (p.drag_viscosity > 0.0)

@@ -6,10 +6,13 @@
 #  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
 #     numbers, H5MD observables present; mu, Iv, sigma11/sigma22 and sigma33/sigma22 of the
 #     summary are ratios of time averages of the HDF5 stress series (over a suffix), which the
-#     mean of the sampled ratios is not (1e-3 away here);
+#     mean of the sampled ratios is not (1e-3 away here); its soft contacts (stiffness 1e4 at
+#     phi = 0.55) give elastic_number = stiffness/<P> below 5e3 and the warning about it, in
+#     the summary and on stderr;
 #  2b. the Delaunay interaction set: completes with its statistics and a Delaunay-like
 #      coordination (12-17, below the cut-off run's);
-#  3. imposed-pressure run -> measured pressure close to 1 after the transient;
+#  3. imposed-pressure run -> measured pressure close to 1 after the transient; its default
+#     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early;
 #  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5.
 # usage: test_scene_cli.sh LUBDEM PYTHON
@@ -37,8 +40,11 @@ check "[ $rc -eq 2 ] && grep -q '/delaunay_update_strain' $W/e6" "zero update st
 
 # 2. robustness run
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
-  | "$LUBDEM" run - --out "$W/run" --quiet; rc=$?
+  | "$LUBDEM" run - --out "$W/run" --quiet 2>"$W/run.err"; rc=$?
 check "[ $rc -eq 0 ]" "robustness run exit $rc"
+# stiffness 1e4 at phi = 0.55 is far below the rigid limit (El = 1e4/eta_22 ~ 10): the summary
+# and stderr say so and name /stiffness
+check "grep -q '^warning: elastic number .*/stiffness' $W/run.err" "no elastic-number warning on stderr"
 "$PY" - "$W/run" <<'PYEOF' || fail=1
 import json, math, sys, h5py, numpy
 d = sys.argv[1]
@@ -55,6 +61,11 @@ if abs(r["phi"]["value"] - 0.55) > 1e-9: bad.append("phi not imposed")
 f = h5py.File(d + "/result.h5", "r")
 if f.attrs["status"] not in (b"complete", "complete"): bad.append("h5 status")
 if not 0.0 < r["bond_order_q6"]["value"] < 0.3: bad.append("bond order of a disordered packing")
+el = r["elastic_number"]["value"]
+if not (abs(el - 1e4 / r["pressure"]["value"]) < 1e-6 * el and el < 5e3):
+    bad.append(f"elastic_number {el} is not stiffness/<P> or not below 5e3")
+if not any(w.startswith("elastic number") for w in s.get("warnings", [])):
+    bad.append("no elastic-number warning in the summary: " + repr(s.get("warnings")))
 for k in ["stress/total", "stress/normal_contact", "stress/kinetic", "mu", "pressure",
           "bond_order_q6"]:
     if f["observables/" + k + "/value"].shape[0] < 10: bad.append("few rows " + k)
@@ -116,6 +127,13 @@ iv = s["results"]["Iv"]
 print(f"servo pressure={p['value']:.4f}+-{p['stderr']} Iv={iv['value']:.4f}")
 ok = abs(p["value"] - 1.0) < 0.05 and abs(iv["value"] / 1.0 - 1.0) < 0.05
 if not ok: print("FAIL: servo did not hold P = 1", file=sys.stderr)
+# the default imposed-pressure stiffness 1e4 is El = 1e4 / <P>: no elastic-number warning
+el = s["results"]["elastic_number"]["value"]
+warn = [w for w in s.get("warnings", []) if w.startswith("elastic number")]
+print(f"servo elastic_number={el:.4g} warnings={s.get('warnings')}")
+if not (abs(el - 1e4 / p["value"]) < 1e-6 * el and not warn):
+    ok = False
+    print("FAIL: elastic number of the rigid default or its warning", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
 

@@ -1,0 +1,53 @@
+/* shear_run_checks.h — advisory checks of a finished simple_shear run.
+ *
+ * The summary of a run says whether its numbers can be read as the suspension's steady,
+ * rigid-particle, viscous-limit rheology. Each check compares one steady-state mean with the
+ * threshold that the measurements behind the README's simple_shear section (record:
+ * tests/shear/README.md) found necessary, and explains how to fix the spec. The checks are
+ * advisory: they never change a result or the exit code.
+ *
+ * Pure functions; no I/O, no allocation. */
+#ifndef LUBDEM_SHEAR_RUN_CHECKS_H
+#define LUBDEM_SHEAR_RUN_CHECKS_H
+
+#include <stddef.h>
+
+/* Steady-state means of one run (NaN where the run has no value; a NaN skips its check). */
+typedef struct {
+    double elastic_number;   /* El = g/(<P> a): bulk stiffness over the mean particle pressure,
+                                i.e. `stiffness` * s0 / <P> (s0 = eta gd or the imposed P) */
+    double kinetic_share;    /* |<sigma_xy kinetic>| / |<sigma_xy>| */
+    double crushed_fraction; /* <crushed_contact_fraction> */
+    double bond_order_q6;    /* <bond_order_q6> */
+    double lost_pairs;       /* active pair states lost at neighbour-list rebuilds (count) */
+    int steady;              /* 1 if the steady state was detected */
+} lub_shear_run_state;
+
+/* Thresholds and why (tests/shear/README.md, sections named):
+ * - El below 5e3: not the rigid limit. At imposed phi = 0.55, El = 1.6e3 gave eta_r 16 % low,
+ *   and the frictionless phi at Iv = 1e-4 was 0.007 high at El = 1e3; eta_r and phi are flat
+ *   from El ~ 5e3 on ("Asymptotic regime").
+ * - Kinetic stress above 1 % of sigma_xy: the seed's own bound on inertia (physics-reference
+ *   §2). Below it the contacts can still ring ("Contact-scale inertia"), so passing this check
+ *   does not prove the viscous limit; a rerun at St/10 does.
+ * - Crushed contacts above 1 % (u_n < -alpha eps a): the asperity model no longer holds and the
+ *   results depend on the stiffness (README "Stiffness"; the same bound as the resuspension
+ *   scene).
+ * - Bond order Q6 above 0.1: the cell orders. Disordered runs give 0.04-0.09, the small
+ *   frictionless cells that partly order 0.10-0.17 ("Frictionless dilatancy is too weak").
+ * - Any lost pair state: a contact restarted without its history ("Robustness").
+ * - No steady state detected: the means include the transient or a drift. */
+#define LUB_SHEAR_EL_MIN 5e3
+#define LUB_SHEAR_KINETIC_SHARE_MAX 1e-2
+#define LUB_SHEAR_CRUSHED_MAX 1e-2
+#define LUB_SHEAR_Q6_MAX 0.1
+
+enum { LUB_SHEAR_WARNINGS_MAX = 6, LUB_SHEAR_WARNING_LEN = 320 };
+
+/* Writes one message per failed check into out[0..], each naming the observable, its value,
+ * the threshold and the spec member to change (a JSON pointer). Returns the number written
+ * (0..LUB_SHEAR_WARNINGS_MAX). */
+int lub_shear_run_warnings(const lub_shear_run_state *st,
+                           char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN]);
+
+#endif
