@@ -2,44 +2,60 @@
 #include "shear_run_checks.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
+
+/* appends one formatted message to out[*n] */
+__attribute__((format(printf, 3, 4))) static void
+add_warning(char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN], int *n, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(out[(*n)++], LUB_SHEAR_WARNING_LEN, fmt, ap);
+    va_end(ap);
+}
+
+/* a NaN or infinite value (0/0, x/0 of an empty or zero series) fails no check */
+static int exceeds(double value, double limit) { return isfinite(value) && value > limit; }
+static int falls_below(double value, double limit) { return isfinite(value) && value < limit; }
 
 int lub_shear_run_warnings(const lub_shear_run_state *st,
                            char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN])
 {
     int n = 0;
-    if (isfinite(st->elastic_number) && st->elastic_number < LUB_SHEAR_EL_MIN)
-        snprintf(out[n++], LUB_SHEAR_WARNING_LEN,
-                 "elastic number k/(P a) = %.3g is below %.0e: the contacts are not rigid "
-                 "enough for rigid-sphere rheology (eta_r and phi still move with the "
-                 "stiffness there); raise /stiffness by %.2g or more",
-                 st->elastic_number, LUB_SHEAR_EL_MIN, LUB_SHEAR_EL_MIN / st->elastic_number);
-    if (isfinite(st->kinetic_share) && st->kinetic_share > LUB_SHEAR_KINETIC_SHARE_MAX)
-        snprintf(out[n++], LUB_SHEAR_WARNING_LEN,
-                 "the kinetic stress is %.2g %% of sigma_xy, above %.0f %%: particle inertia "
-                 "enters the rheology; lower /St",
-                 100.0 * st->kinetic_share, 100.0 * LUB_SHEAR_KINETIC_SHARE_MAX);
-    if (isfinite(st->crushed_fraction) && st->crushed_fraction > LUB_SHEAR_CRUSHED_MAX)
-        snprintf(out[n++], LUB_SHEAR_WARNING_LEN,
-                 "asperities crushed in %.2g %% of the contacts (crushed_contact_fraction, "
-                 "u_n < -alpha eps a), above %.0f %%: the results depend on the stiffness; "
-                 "raise /stiffness",
-                 100.0 * st->crushed_fraction, 100.0 * LUB_SHEAR_CRUSHED_MAX);
-    if (isfinite(st->bond_order_q6) && st->bond_order_q6 > LUB_SHEAR_Q6_MAX)
-        snprintf(out[n++], LUB_SHEAR_WARNING_LEN,
-                 "bond order Q6 = %.3f is above %.2g: the cell is ordering (disordered "
-                 "sheared packings give 0.04-0.09), a finite-size effect; raise /n_particles "
-                 "or /radius_std",
-                 st->bond_order_q6, LUB_SHEAR_Q6_MAX);
-    if (isfinite(st->lost_pairs) && st->lost_pairs > 0.0)
-        snprintf(out[n++], LUB_SHEAR_WARNING_LEN,
-                 "%.0f active pair states were lost at neighbour-list rebuilds (contacts "
-                 "restarted without their history); raise /skin or lower /dt_safety",
-                 st->lost_pairs);
+    const double el = st->elastic_number;
+    if (falls_below(el, LUB_SHEAR_EL_MIN))
+        add_warning(out, &n,
+                    "elastic number k/(P a) = %.3g is below %.0e: the contacts are not rigid "
+                    "enough for rigid-sphere rheology (eta_r and phi still move with the "
+                    "stiffness there); raise /stiffness by %.2g or more",
+                    el, LUB_SHEAR_EL_MIN, LUB_SHEAR_EL_MIN / el);
+    if (exceeds(st->kinetic_share, LUB_SHEAR_KINETIC_SHARE_MAX))
+        add_warning(out, &n,
+                    "the kinetic stress is %.2g %% of sigma_xy, above %.0f %%: particle "
+                    "inertia enters the rheology; lower /St",
+                    100.0 * st->kinetic_share, 100.0 * LUB_SHEAR_KINETIC_SHARE_MAX);
+    if (exceeds(st->crushed_fraction, LUB_SHEAR_CRUSHED_MAX))
+        add_warning(out, &n,
+                    "asperities crushed in %.2g %% of the contacts (u_n < -alpha eps a), "
+                    "above %.0f %%: the results depend on the stiffness; raise /stiffness",
+                    100.0 * st->crushed_fraction, 100.0 * LUB_SHEAR_CRUSHED_MAX);
+    if (exceeds(st->bond_order_q6, LUB_SHEAR_Q6_MAX))
+        add_warning(out, &n,
+                    "bond order Q6 = %.3f is above %.2g: the cell is ordering "
+                    "(disordered sheared packings give 0.04-0.09), a finite-size effect; "
+                    "raise /n_particles or /radius_std",
+                    st->bond_order_q6, LUB_SHEAR_Q6_MAX);
+    if (exceeds(st->lost_pairs, 0.0))
+        add_warning(out, &n,
+                    "%.0f active pair states were lost at neighbour-list rebuilds "
+                    "(contacts restarted without their history); raise /skin or lower "
+                    "/dt_safety",
+                    st->lost_pairs);
     if (!st->steady)
-        snprintf(out[n++], LUB_SHEAR_WARNING_LEN,
-                 "no steady state detected (the transient lasts into the second half of the "
-                 "run, or the watched series drift after it): the means are not steady-state "
-                 "values; raise /strain");
+        add_warning(out, &n, "%s",
+                    "no steady state detected (the transient lasts into the "
+                    "second half of the run, or the watched series drift after it): the means "
+                    "are not steady-state values; raise /strain");
     return n;
 }

@@ -12,7 +12,8 @@
 
 #include <stddef.h>
 
-/* Steady-state means of one run (NaN where the run has no value; a NaN skips its check). */
+/* Steady-state means of one run (NaN where the run has no value; a NaN or infinite value skips
+ * its check). */
 typedef struct {
     double elastic_number;   /* El = g/(<P> a): bulk stiffness over the mean particle pressure,
                                 i.e. `stiffness` * s0 / <P> (s0 = eta gd or the imposed P) */

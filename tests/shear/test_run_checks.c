@@ -2,6 +2,7 @@
  * just beyond its threshold, stays silent just inside it and for NaN, and names the spec
  * member to change. */
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "shear_run_checks.h"
@@ -30,58 +31,74 @@ static int count(const lub_shear_run_state *st, const char **first)
     return n;
 }
 
-int main(void)
+/* expects exactly one warning, containing `part1` and `part2` (NULL: not checked) */
+static void one(const char *label, const lub_shear_run_state *st, const char *part1,
+                const char *part2)
 {
     const char *w;
+    int n = count(st, &w);
+    ST_CHECK(n == 1 && strstr(w, part1) && (!part2 || strstr(w, part2)), "%s: %d warning(s): %s",
+             label, n, w);
+}
+
+/* expects no warning */
+static void none(const char *label, const lub_shear_run_state *st)
+{
+    const char *w;
+    int n = count(st, &w);
+    ST_CHECK(n == 0, "%s: %d warning(s): %s", label, n, w);
+}
+
+/* one threshold check: the field, a value just beyond the threshold (one warning containing
+ * part1 and part2), one just inside it (none) */
+typedef struct {
+    const char *label;
+    size_t field; /* offsetof a double member of lub_shear_run_state */
+    double beyond, inside;
+    const char *part1, *part2;
+} threshold_case;
+
+static void set_field(lub_shear_run_state *st, size_t field, double value)
+{
+    memcpy((char *)st + field, &value, sizeof value);
+}
+
+int main(void)
+{
     lub_shear_run_state st = clean();
-    ST_CHECK(count(&st, &w) == 0, "clean run warns: %s", w);
+    none("clean run", &st);
 
-    /* elastic number: 5e3 is the floor */
+    const threshold_case cases[] = {
+        {"El", offsetof(lub_shear_run_state, elastic_number), 4.9e3, 5.1e3, "/stiffness",
+         "4.9e+03"},
+        {"kinetic share", offsetof(lub_shear_run_state, kinetic_share), 0.011, 0.009, "/St",
+         "1.1 %"},
+        {"crushed", offsetof(lub_shear_run_state, crushed_fraction), 0.02, 0.005, "crushed in 2 %",
+         "/stiffness"},
+        {"Q6", offsetof(lub_shear_run_state, bond_order_q6), 0.153, 0.092, "0.153", "/n_particles"},
+        {"lost pairs", offsetof(lub_shear_run_state, lost_pairs), 1.0, 0.0, "1 active pair",
+         "/skin"},
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        const threshold_case *tc = &cases[c];
+        st = clean();
+        set_field(&st, tc->field, tc->beyond);
+        one(tc->label, &st, tc->part1, tc->part2);
+        set_field(&st, tc->field, tc->inside);
+        none(tc->label, &st);
+        set_field(&st, tc->field, NAN); /* a NaN or an infinity (0/0, x/0) fails no check */
+        none(tc->label, &st);
+        set_field(&st, tc->field, INFINITY);
+        none(tc->label, &st);
+    }
+    /* the factor to raise the stiffness by is 5e3/El */
     st = clean();
-    st.elastic_number = 4.9e3;
-    ST_CHECK(count(&st, &w) == 1 && strstr(w, "/stiffness") && strstr(w, "4.9e+03"), "El 4.9e3: %s",
-             w);
-    st.elastic_number = 5.1e3;
-    ST_CHECK(count(&st, &w) == 0, "El 5.1e3 warns: %s", w);
-    st.elastic_number = NAN;
-    ST_CHECK(count(&st, &w) == 0, "El NaN warns: %s", w);
-    /* the factor by which to raise it: 5e3 / 1e3 = 5 */
     st.elastic_number = 1e3;
-    ST_CHECK(count(&st, &w) == 1 && strstr(w, "by 5 or more"), "El 1e3: %s", w);
-
-    /* kinetic stress: 1 % of sigma_xy */
-    st = clean();
-    st.kinetic_share = 0.011;
-    ST_CHECK(count(&st, &w) == 1 && strstr(w, "/St") && strstr(w, "1.1 %"), "kinetic 1.1 %%: %s",
-             w);
-    st.kinetic_share = 0.009;
-    ST_CHECK(count(&st, &w) == 0, "kinetic 0.9 %% warns: %s", w);
-
-    /* crushed asperities: 1 % of the contacts */
-    st = clean();
-    st.crushed_fraction = 0.02;
-    ST_CHECK(count(&st, &w) == 1 && strstr(w, "crushed in 2 %") && strstr(w, "/stiffness"),
-             "crushed 2 %%: %s", w);
-    st.crushed_fraction = 0.005;
-    ST_CHECK(count(&st, &w) == 0, "crushed 0.5 %% warns: %s", w);
-
-    /* ordering: Q6 above 0.1 */
-    st = clean();
-    st.bond_order_q6 = 0.153;
-    ST_CHECK(count(&st, &w) == 1 && strstr(w, "0.153") && strstr(w, "/n_particles"), "Q6 0.153: %s",
-             w);
-    st.bond_order_q6 = 0.092;
-    ST_CHECK(count(&st, &w) == 0, "Q6 0.092 warns: %s", w);
-
-    /* lost pair states: any */
-    st = clean();
-    st.lost_pairs = 1.0;
-    ST_CHECK(count(&st, &w) == 1 && strstr(w, "1 active pair"), "1 lost pair: %s", w);
-
+    one("El 1e3", &st, "by 5 or more", NULL);
     /* no steady state */
     st = clean();
     st.steady = 0;
-    ST_CHECK(count(&st, &w) == 1 && strstr(w, "/strain"), "not steady: %s", w);
+    one("not steady", &st, "/strain", NULL);
 
     /* everything at once: six messages, each naming the spec member to change (a JSON
      * pointer after "; raise " or "; lower "), none truncated */
@@ -90,6 +107,7 @@ int main(void)
     st.crushed_fraction = 0.3;
     st.bond_order_q6 = 0.5;
     st.lost_pairs = 12345.0;
+    const char *w;
     int n = count(&st, &w);
     ST_CHECK(n == LUB_SHEAR_WARNINGS_MAX, "all checks: %d warnings", n);
     for (int k = 0; k < n; ++k) {
