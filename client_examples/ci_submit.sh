@@ -6,8 +6,11 @@
 #   LUBDEM_URL, LUBDEM_TOKEN as in walkthrough.sh.
 #   LUBDEM_IDEMPOTENCY_KEY  defaults to ci-$CI_JOB_ID-PROCESS (or a random key): a retried CI
 #                           step gets the same job back instead of a duplicate.
+#   LUBDEM_FAIL_ON_WARNINGS=1  exit 4 when the run's summary has warnings (its own validity
+#                           checks, e.g. simple_shear's elastic number); they are printed as
+#                           'warning: ...' lines either way.
 # Exit: 0 successful and verified, 1 job failed/dismissed/checksum mismatch, 2 rejected
-# submission, 3 timeout.
+# submission, 3 timeout, 4 successful and verified but with warnings (LUBDEM_FAIL_ON_WARNINGS=1).
 set -euo pipefail
 PROCESS=${1:?process id}
 INPUTS=${2:?inputs JSON object}
@@ -56,3 +59,13 @@ if [ -z "$WANT" ] || [ "$GOT" != "$WANT" ]; then
   echo "sha256 mismatch for $OUT_FILE: got $GOT, expected $WANT"; exit 1
 fi
 echo "job $JOB successful; $OUT_FILE sha256 $GOT verified"
+# the summary's warnings (inline in the results document): one JSON array of strings without
+# brackets or quotes inside them
+WARNINGS=$(tr -d '\n' < "$TMP/results.json" | grep -o '"warnings": *\[[^]]*\]' | head -n 1 \
+           | grep -o '"[^"]*"' | sed '1d; s/^"//; s/"$//' || true)
+if [ -n "$WARNINGS" ]; then
+  printf '%s\n' "$WARNINGS" | sed 's/^/warning: /'
+  if [ "${LUBDEM_FAIL_ON_WARNINGS:-0}" = 1 ]; then
+    echo "job $JOB has warnings (LUBDEM_FAIL_ON_WARNINGS=1)"; exit 4
+  fi
+fi

@@ -10,9 +10,11 @@
 
 Command line:
     lubdem_client.py [--url URL] [--token T] submit PROCESS '{"duration": 2}' [--wait]
-                     [--download FILE] [--timeout S] [--key KEY]
+                     [--download FILE] [--timeout S] [--key KEY] [--fail-on-warnings]
     lubdem_client.py status JOB | results JOB | list [--status S] | dismiss JOB
 Token: --token, $LUBDEM_TOKEN, or ./run/local-token.
+submit --wait/--download prints the run's warnings (its summary's own validity checks) as
+'warning: ...' lines on stderr; with --fail-on-warnings it then exits 4.
 """
 import argparse
 import hashlib
@@ -109,6 +111,11 @@ class Client:
     def results(self, job_id):
         return self._req("GET", "/jobs/%s/results" % job_id)
 
+    def warnings(self, job_id):
+        """The warnings of a successful job's summary (its advisory validity checks)."""
+        summary = self.results(job_id).get("summary") or {}
+        return list(summary.get("warnings") or [])
+
     def jobs(self, status=None, limit=100):
         path = "/jobs?limit=%d" % limit + ("&status=%s" % status if status else "")
         return self._req("GET", path)["jobs"]
@@ -164,6 +171,7 @@ def main(argv=None):
     s.add_argument("--download")
     s.add_argument("--timeout", type=float, default=600)
     s.add_argument("--key")
+    s.add_argument("--fail-on-warnings", action="store_true")
     for name in ("status", "results", "dismiss", "log"):
         sub.add_parser(name).add_argument("job")
     lst = sub.add_parser("list")
@@ -182,6 +190,11 @@ def main(argv=None):
                 if a.download:
                     c.download(job["jobID"], "result.h5", a.download)
                     print("downloaded", a.download)
+                warnings = c.warnings(job["jobID"])
+                for w in warnings:
+                    print("warning:", w, file=sys.stderr)
+                if warnings and a.fail_on_warnings:
+                    return 4
         elif a.cmd == "status":
             print(json.dumps(c.status(a.job), indent=1))
         elif a.cmd == "results":

@@ -1,6 +1,8 @@
 """The client examples against a live server: the curl walk-through, the CI script (success
 with sha256 check, a failing job -> exit 1, a rejected submission -> exit 2, a timeout ->
-exit 3, a retried CI step -> same job), and the Python client + h5py reader."""
+exit 3, a retried CI step -> same job, a run with warnings -> printed, exit 4 with
+LUBDEM_FAIL_ON_WARNINGS=1), and the Python client (exit 4 with --fail-on-warnings) + h5py
+reader."""
 import os
 import shutil
 import subprocess
@@ -37,8 +39,23 @@ def run():
         h5 = os.path.join(out_dir, "ci.h5")
         rc, out = sh("bash", ci, "two_spheres_shear", '{"duration": 5.0}', "300", h5,
                      extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-step-1"})
-        T.check(rc == 0 and "verified" in out, "ci_submit.sh success:\n" + out)
+        T.check(rc == 0 and "verified" in out and "warning:" not in out,
+                "ci_submit.sh success:\n" + out)
         job1 = out.split("job ", 1)[1].split()[0]
+        # A run whose own validity checks fail (soft contacts at phi = 0.55: elastic number far
+        # below 5e3): the warnings are printed, and LUBDEM_FAIL_ON_WARNINGS=1 turns them into
+        # exit 4 after the verified download.
+        soft = ('{"n_particles": 300, "phi": 0.55, "stiffness": 1e4, "strain": 0.3, '
+                '"transient_strain": 0.1, "sample_strain": 0.01, "snapshots": 0}')
+        rc, out = sh("bash", ci, "simple_shear", soft, "300", os.path.join(out_dir, "soft.h5"),
+                     extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-soft"})
+        T.check(rc == 0 and "verified" in out and "warning: elastic number" in out,
+                "ci_submit.sh warnings printed:\n" + out)
+        rc, out = sh("bash", ci, "simple_shear", soft, "300", os.path.join(out_dir, "soft.h5"),
+                     extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-soft",
+                                "LUBDEM_FAIL_ON_WARNINGS": "1"})
+        T.check(rc == 4 and "verified" in out and "warning: elastic number" in out,
+                "ci_submit.sh LUBDEM_FAIL_ON_WARNINGS=1:\n" + out)
         rc, out = sh("bash", ci, "two_spheres_shear", '{"duration": 5.0}', "300", h5,
                      extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-step-1"})
         T.check(rc == 0 and ("job %s" % job1) in out, "retried CI step made a new job:\n" + out)
@@ -66,6 +83,10 @@ def run():
                      "--download", pyh5, "--timeout", "300")
         T.check(rc == 0 and "downloaded" in out and os.path.exists(pyh5),
                 "python client:\n" + out)
+        rc, out = sh(py, client, "submit", "simple_shear", soft, "--wait", "--timeout", "300",
+                     "--fail-on-warnings")
+        T.check(rc == 4 and "warning: elastic number" in out,
+                "python client --fail-on-warnings:\n" + out)
         rc, out = sh(py, client, "list", "--status", "successful")
         T.check(rc == 0 and "falling_sphere successful" in out, "python list:\n" + out)
         rc, out = sh(py, client, "submit", "falling_sphere", '{"duration": -1}')
