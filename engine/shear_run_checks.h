@@ -10,8 +10,6 @@
 #ifndef LUBDEM_SHEAR_RUN_CHECKS_H
 #define LUBDEM_SHEAR_RUN_CHECKS_H
 
-#include <stddef.h>
-
 /* Steady-state means of one run (NaN where the run has no value; a NaN or infinite value skips
  * its check). */
 typedef struct {
@@ -45,9 +43,9 @@ typedef struct {
 
 enum { LUB_SHEAR_WARNINGS_MAX = 6, LUB_SHEAR_WARNING_LEN = 320 };
 
-/* Writes one message per failed check into out[0..], each naming the observable, its value,
- * the threshold and the spec member to change (a JSON pointer). Returns the number written
- * (0..LUB_SHEAR_WARNINGS_MAX). */
+/* Writes one message per failed check into out[0..], each naming what failed (with its value
+ * and threshold, where the check has them) and the spec member to change (a JSON pointer).
+ * Returns the number written (0..LUB_SHEAR_WARNINGS_MAX). */
 int lub_shear_run_warnings(const lub_shear_run_state *st,
                            char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN]);
 
