@@ -393,6 +393,15 @@ def fmt(x, f="{:.4g}"):
     return "—" if x is None else f.format(x)
 
 
+def elastic_number(r):
+    """El = k/(<P> a) = stiffness s0/<P> (the summary's elastic_number), from the CSV's columns:
+    Iv_meas = eta gd/<P>, with gd = Iv at imposed pressure (s0 = the imposed P) and 1 at imposed
+    volume (s0 = eta gd). None when the run has no measured Iv."""
+    if r.get("Iv_meas") is None or r.get("stiffness") is None:
+        return None
+    return r["stiffness"] * r["Iv_meas"] / (r["Iv"] if r["control"] == "pressure" else 1.0)
+
+
 def write_tables(out, rows, n):
     keys = sorted({k for r in rows for k in r})
     with open(os.path.join(out, "table.csv"), "w", newline="") as fh:
@@ -408,12 +417,15 @@ def write_tables(out, rows, n):
                  f"{phi_m(MU_M):.4f}. Config **ref** = cut-off 1a, no roll/twist torques; "
                  f"**default** = cut-off 2a, all terms; **delaunay** = lubrication on the "
                  f"Delaunay (power-diagram) neighbours within 2a, no roll/twist torques. "
-                 f"phi_tip = phi (1 + eps/2)^3 counts the spheres at their contact radius.\n\n")
+                 f"phi_tip = phi (1 + eps/2)^3 counts the spheres at their contact radius. "
+                 f"El = stiffness s0/<P> (s0 = eta gd at imposed volume, the imposed P at "
+                 f"imposed pressure) is the elastic number k/(P a); the rigid limit needs "
+                 f"El >= 5e3 (README, Stiffness).\n\n")
         fh.write("### Imposed pressure (mu_m = 0.5 unless stated)\n\n")
-        fh.write("| config | Iv | mu_m | St | stiffness | strain | phi | phi_ref | dphi | mu | "
+        fh.write("| config | Iv | mu_m | St | stiffness | El | strain | phi | phi_ref | dphi | mu | "
                  "mu_ref | mu/mu_ref | mu/mu_Boyer | eta_r/eta_r(phi) | contact/NL/SL share | "
                  "kinetic | Z | Z_c | contact mu: normal + tangential (mu_c §2) | sliding | "
-                 "phi_tip - phi_ref |\n" + "|---" * 21 + "|\n")
+                 "phi_tip - phi_ref |\n" + "|---" * 22 + "|\n")
         for r in rows:
             if r["control"] != "pressure" or r["phi"] is None or r["group"] == "S":
                 continue
@@ -430,7 +442,8 @@ def write_tables(out, rows, n):
             if r["group"] == "G":
                 tag = "seed-004 conditions, " + ("full" if "full" in r["name"] else "NL only")
             fh.write(f"| {tag} | {r['Iv']:g} | {r.get('mu_m', MU_M):g} | {r['St']:g} | "
-                     f"{r['stiffness']:g} | {r['strain']:g} | {r['phi']:.4f} ± "
+                     f"{r['stiffness']:g} | {fmt(elastic_number(r), '{:.2g}')} | "
+                     f"{r['strain']:g} | {r['phi']:.4f} ± "
                      f"{fmt(r['phi_err'], '{:.1g}')} | {r['phi_ref']:.4f} | {dphi:+.3f} | "
                      f"{r['mu']:.3f} ± {fmt(r['mu_err'], '{:.1g}')} | {fmt(r.get('mu_ref'))} | "
                      f"{fmt(ratio, '{:.3f}')} | {fmt(ratio_b, '{:.3f}')} | {fmt(er, '{:.2f}')} | "
@@ -442,16 +455,17 @@ def write_tables(out, rows, n):
                      f"{fmt(r.get('sliding_contact_fraction'), '{:.2f}')} | "
                      f"{r['phi_tip'] - r['phi_ref']:+.3f} |\n")
         fh.write("\n### Imposed volume (mu_m = 0.5)\n\n")
-        fh.write("| config | phi | stiffness | strain | eta_r | eta_r ref | ratio | mu | Iv (measured) | eta_22 | "
-                 "eta_22 ref (§3) | s11/s22 | s33/s22 | lambda_33 ref (§3) | Z_c | crushed |\n" +
-                 "|---" * 16 + "|\n")
+        fh.write("| config | phi | stiffness | El | strain | eta_r | eta_r ref | ratio | mu | "
+                 "Iv (measured) | eta_22 | eta_22 ref (§3) | s11/s22 | s33/s22 | "
+                 "lambda_33 ref (§3) | Z_c | crushed |\n" + "|---" * 17 + "|\n")
         for r in rows:
             if r["control"] != "volume" or r["eta_r"] is None:
                 continue
             er = eta_ref(r["phi"])
             tag = r["config"] + (f" {r['stiffness_factor']:g}x stiff"
                                  if r.get("stiffness_factor") else "")
-            fh.write(f"| {tag} | {r['phi']:g} | {r['stiffness']:g} | {r['strain']:g} | "
+            fh.write(f"| {tag} | {r['phi']:g} | {r['stiffness']:g} | "
+                     f"{fmt(elastic_number(r), '{:.2g}')} | {r['strain']:g} | "
                      f"{r['eta_r']:.4g} ± {fmt(r['eta_r_err'], '{:.2g}')} | {er:.4g} | "
                      f"{r['eta_r'] / er:.2f} | {fmt(r['mu'], '{:.3f}')} | {fmt(r['Iv_meas'])} | "
                      f"{fmt(r['eta_22'])} | {eta22_ref(r['phi']):.4g} | "
