@@ -422,8 +422,8 @@ def write_tables(out, rows, n):
                  f"imposed pressure) is the elastic number k/(P a); the rigid limit needs "
                  f"El >= 5e3 (README, Stiffness).\n\n")
         fh.write("### Imposed pressure (mu_m = 0.5 unless stated)\n\n")
-        fh.write("| config | Iv | mu_m | St | stiffness | El | strain | phi | phi_ref | dphi | mu | "
-                 "mu_ref | mu/mu_ref | mu/mu_Boyer | eta_r/eta_r(phi) | contact/NL/SL share | "
+        fh.write("| config | Iv | mu_m | St | stiffness | El | strain | phi | phi_ref | dphi | "
+                 "mu | mu_ref | mu/mu_ref | mu/mu_Boyer | eta_r/eta_r(phi) | contact/NL/SL share | "
                  "kinetic | Z | Z_c | contact mu: normal + tangential (mu_c §2) | sliding | "
                  "phi_tip - phi_ref |\n" + "|---" * 22 + "|\n")
         for r in rows:
