@@ -701,8 +701,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_summary_put(ctx, "cell_flips", (double)sys.flips, NAN, "1");
         lub_summary_put(ctx, "lost_pairs", (double)sys.lost_pairs, NAN, "1");
         lub_summary_put(ctx, "packing_min_gap", pinfo.min_gap, NAN, "a");
+        const int steady_detected = steady && start < ser.n;
         json_object_set_new(ctx->summary_extra, "steady_state_detected",
-                            json_boolean(steady && start < ser.n));
+                            json_boolean(steady_detected));
         json_object_set_new(ctx->summary_extra, "stopped_on_target_error",
                             json_boolean(stopped_early));
         /* advisory checks: rigid limit, inertia, crushed asperities, ordering, lost pairs,
@@ -713,7 +714,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .crushed_fraction = mean_of[S_CRUSHED],
             .bond_order_q6 = mean_of[S_Q6],
             .lost_pairs = (double)sys.lost_pairs,
-            .steady = steady && start < ser.n,
+            .steady = steady_detected,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

@@ -161,9 +161,8 @@ def stokes_for(iv):
     sqrt(St Iv / stiffness). The nominal contact damping ratio 58 sqrt(Iv/(St stiffness))
     (tests/shear/README.md, "Contact-scale inertia") is ~0.18 at Iv = 0.01 (St 0.1) and
     1e-3 (St 0.01), 0.06 at 1e-4 (St 0.01; St 0.001 there moves nothing and would cost 3x
-    more). At the earlier
-    St 0.1 and 1 for Iv = 1e-3 and 1e-4 it was 0.06 and 0.006 and the contacts rang
-    (frictionless phi at 1e-4 low by 0.004). Group E divides St by 10 at Iv = 0.1 and 0.01
+    more). At the earlier St 0.1 and 1 for Iv = 1e-3 and 1e-4 it was 0.06 and 0.006 and the
+    contacts rang (frictionless phi at 1e-4 low by 0.004). Group E divides St by 10 at Iv = 0.1 and 0.01
     (ref also at 1e-3)."""
     return 0.1 if 1e-3 < iv <= 0.01 else 0.01
 
@@ -189,8 +188,7 @@ def spec_for(case, n, quick):
         # seed 000 l.962: 1e3-1e8) 1e4 at every Iv: the rigid limit is set by the pressure
         # (tests/shear/README.md, Asymptotic regime): at equal contact damping, frictionless
         # Iv = 1e-4 loses 0.007 in phi from 1e3 to 1e4 (contact overlap), and the imposed-volume
-        # phi = 0.55 runs
-        # gained 17 % in eta_r from E/P = 1.6e3 to 2.7e3. k/(eta gd a) = stiffness/Iv is then
+        # phi = 0.55 runs gained 17 % in eta_r from E/P = 1.6e3 to 2.7e3. k/(eta gd a) = stiffness/Iv is then
         # >= 1e6 for Iv <= 0.01 as in the seed; at Iv = 0.1 and 1 it is 1e5 and 1e4, and
         # group E reruns those at 1e6 (asserted unchanged)
         stiff = 1e4
