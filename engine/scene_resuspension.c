@@ -43,6 +43,7 @@
 #include "run_context.h"
 #include "scene.h"
 #include "scene_summary.h"
+#include "shear_run_checks.h"
 #include "stats.h"
 
 #define RS_PI 3.14159265358979323846
@@ -680,7 +681,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                                 "/shear_drag_viscosity"));
     if (S.lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
-    if (crushed_fraction > 0.01)
+    if (crushed_fraction > LUB_CRUSHED_CONTACT_FRACTION_MAX) /* the message's "1 %" */
         json_array_append_new(warn,
                               json_string("asperities crushed in more than 1 % of the contacts "
                                           "(crushed_contact_fraction; u_n < -alpha eps a): "

@@ -35,11 +35,11 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "the kinetic stress is %.2g %% of sigma_xy, above %.0f %%: particle "
                     "inertia enters the rheology; lower /St",
                     100.0 * st->kinetic_share, 100.0 * LUB_SHEAR_KINETIC_SHARE_MAX);
-    if (exceeds(st->crushed_fraction, LUB_SHEAR_CRUSHED_MAX))
+    if (exceeds(st->crushed_fraction, LUB_CRUSHED_CONTACT_FRACTION_MAX))
         add_warning(out, &n,
                     "asperities crushed in %.2g %% of the contacts (u_n < -alpha eps a), "
                     "above %.0f %%: the results depend on the stiffness; raise /stiffness",
-                    100.0 * st->crushed_fraction, 100.0 * LUB_SHEAR_CRUSHED_MAX);
+                    100.0 * st->crushed_fraction, 100.0 * LUB_CRUSHED_CONTACT_FRACTION_MAX);
     if (exceeds(st->bond_order_q6, LUB_SHEAR_Q6_MAX))
         add_warning(out, &n,
                     "bond order Q6 = %.3f is above %.2g: the cell is ordering "

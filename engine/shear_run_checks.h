@@ -30,15 +30,15 @@ typedef struct {
  *   §2). Below it the contacts can still ring ("Contact-scale inertia"), so passing this check
  *   does not prove the viscous limit; a rerun at St/10 does.
  * - Crushed contacts above 1 % (u_n < -alpha eps a): the asperity model no longer holds and the
- *   results depend on the stiffness (README "Stiffness"; the same bound as the resuspension
- *   scene).
+ *   results depend on the stiffness (README "Stiffness"). The resuspension scene's warning
+ *   uses the same constant.
  * - Bond order Q6 above 0.1: the cell orders. Disordered runs give 0.04-0.09, the small
  *   frictionless cells that partly order 0.10-0.17 ("Frictionless dilatancy is too weak").
  * - Any lost pair state: a contact restarted without its history ("Robustness").
  * - No steady state detected: the means include the transient or a drift. */
 #define LUB_SHEAR_EL_MIN 5e3
 #define LUB_SHEAR_KINETIC_SHARE_MAX 1e-2
-#define LUB_SHEAR_CRUSHED_MAX 1e-2
+#define LUB_CRUSHED_CONTACT_FRACTION_MAX 1e-2
 #define LUB_SHEAR_Q6_MAX 0.1
 
 enum { LUB_SHEAR_WARNINGS_MAX = 6, LUB_SHEAR_WARNING_LEN = 320 };

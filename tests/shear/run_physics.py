@@ -14,8 +14,8 @@ Cases (N = 300 by default; --quick: 10 strain, the full plan 20):
   B  mu_m = 0 and mu_m = 1 at Iv = 0.1, 0.01, 0.001, and mu_m = 0 at 1e-4 ("ref",
      "delaunay"): phi_m moving as phi_m(mu_m); at Iv = 0.1, mu collapsing across mu_m (seed
      000 l.1007); at 1e-4, the frictionless contact mu (thesis l.1172: ~0.15; reported);
-  C  imposed volume phi = 0.35, 0.45, 0.50, 0.55 ("ref", "delaunay"): eta_r vs eta_r(phi); normal-stress
-     ratios sigma11/sigma22, sigma33/sigma22 and eta_22 vs §3;
+  C  imposed volume phi = 0.35, 0.45, 0.50, 0.55 ("ref", "delaunay"): eta_r vs eta_r(phi);
+     normal-stress ratios sigma11/sigma22, sigma33/sigma22 and eta_22 vs §3;
   D  normal lubrication only (no shear lubrication) at Iv = 0.1, 1 ("ref"; reported);
   G  negative test in seed 004's conditions (Marzougui et al. 2015, §3.3, Fig. 10): Iv = 0.02,
      0.1, 0.3 (their range: the full model reaches phi ~0.38 at their largest Iv), inertial
@@ -162,8 +162,8 @@ def stokes_for(iv):
     (tests/shear/README.md, "Contact-scale inertia") is ~0.18 at Iv = 0.01 (St 0.1) and
     1e-3 (St 0.01), 0.06 at 1e-4 (St 0.01; St 0.001 there moves nothing and would cost 3x
     more). At the earlier St 0.1 and 1 for Iv = 1e-3 and 1e-4 it was 0.06 and 0.006 and the
-    contacts rang (frictionless phi at 1e-4 low by 0.004). Group E divides St by 10 at Iv = 0.1 and 0.01
-    (ref also at 1e-3)."""
+    contacts rang (frictionless phi at 1e-4 low by 0.004). Group E divides St by 10 at Iv = 0.1
+    and 0.01 (ref also at 1e-3)."""
     return 0.1 if 1e-3 < iv <= 0.01 else 0.01
 
 
@@ -188,9 +188,9 @@ def spec_for(case, n, quick):
         # seed 000 l.962: 1e3-1e8) 1e4 at every Iv: the rigid limit is set by the pressure
         # (tests/shear/README.md, Asymptotic regime): at equal contact damping, frictionless
         # Iv = 1e-4 loses 0.007 in phi from 1e3 to 1e4 (contact overlap), and the imposed-volume
-        # phi = 0.55 runs gained 17 % in eta_r from E/P = 1.6e3 to 2.7e3. k/(eta gd a) = stiffness/Iv is then
-        # >= 1e6 for Iv <= 0.01 as in the seed; at Iv = 0.1 and 1 it is 1e5 and 1e4, and
-        # group E reruns those at 1e6 (asserted unchanged)
+        # phi = 0.55 runs gained 17 % in eta_r from E/P = 1.6e3 to 2.7e3. k/(eta gd a) =
+        # stiffness/Iv is then >= 1e6 for Iv <= 0.01 as in the seed; at Iv = 0.1 and 1 it is 1e5
+        # and 1e4, and group E reruns those at 1e6 (asserted unchanged)
         stiff = 1e4
         spec.update({"control": "pressure", "Iv": iv, "St": case.get("St", stokes_for(iv)),
                      "stiffness": stiff,
