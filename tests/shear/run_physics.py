@@ -374,18 +374,20 @@ def sensitivity_table(fh, rows):
         return None
     fh.write("\n### Sensitivity to the lubrication cut-off and the roll/twist torques "
              "(imposed pressure, mu_m = 0.5)\n\n")
-    fh.write("| cut-off | roll/twist | Iv | phi | dphi vs ref | mu | mu/mu_ref | "
-             "eta_r/eta_r(phi) | Z |\n" + "|---" * 9 + "|\n")
+    fh.write("| cut-off | roll/twist | Iv | St | stiffness | strain | phi | dphi vs ref | mu | "
+             "mu/mu_ref | eta_r/eta_r(phi) | kinetic | Z |\n" + "|---" * 13 + "|\n")
     for iv in (0.1, 0.01):
         for cut in (0.5, 1.0, 1.5, 2.0):
             for rot in (True, False):
                 r = find(cut, rot, iv)
                 if not r:
                     continue
-                fh.write(f"| {cut:g}a | {'on' if rot else 'off'} | {iv:g} | {r['phi']:.4f} | "
+                fh.write(f"| {cut:g}a | {'on' if rot else 'off'} | {iv:g} | {r['St']:g} | "
+                         f"{r['stiffness']:g} | {r['strain']:g} | {r['phi']:.4f} | "
                          f"{r['phi'] - r['phi_ref']:+.3f} | {r['mu']:.3f} | "
                          f"{r['mu'] / r['mu_ref']:.3f} | "
-                         f"{r['eta_r'] / r['eta_ref_at_phi']:.2f} | {fmt(r['Z'], '{:.1f}')} |\n")
+                         f"{r['eta_r'] / r['eta_ref_at_phi']:.2f} | "
+                         f"{fmt(r['kinetic_share'], '{:.1e}')} | {fmt(r['Z'], '{:.1f}')} |\n")
 
 
 def fmt(x, f="{:.4g}"):
@@ -419,7 +421,8 @@ def write_tables(out, rows, n):
                  f"phi_tip = phi (1 + eps/2)^3 counts the spheres at their contact radius. "
                  f"El = stiffness s0/<P> (s0 = eta gd at imposed volume, the imposed P at "
                  f"imposed pressure) is the elastic number k/(P a); the rigid limit needs "
-                 f"El >= 5e3 (README, Stiffness).\n\n")
+                 f"El >= 5e3 (README, Stiffness). St = rho gd a^2/eta; kinetic = the kinetic "
+                 f"(inertial) share of sigma_xy, which the seed bounds by 1 %.\n\n")
         fh.write("### Imposed pressure (mu_m = 0.5 unless stated)\n\n")
         fh.write("| config | Iv | mu_m | St | stiffness | El | strain | phi | phi_ref | dphi | "
                  "mu | mu_ref | mu/mu_ref | mu/mu_Boyer | eta_r/eta_r(phi) | contact/NL/SL share | "
@@ -454,23 +457,23 @@ def write_tables(out, rows, n):
                      f"{fmt(r.get('sliding_contact_fraction'), '{:.2f}')} | "
                      f"{r['phi_tip'] - r['phi_ref']:+.3f} |\n")
         fh.write("\n### Imposed volume (mu_m = 0.5)\n\n")
-        fh.write("| config | phi | stiffness | El | strain | eta_r | eta_r ref | ratio | mu | "
+        fh.write("| config | phi | St | stiffness | El | strain | eta_r | eta_r ref | ratio | mu | "
                  "Iv (measured) | eta_22 | eta_22 ref (§3) | s11/s22 | s33/s22 | "
-                 "lambda_33 ref (§3) | Z_c | crushed |\n" + "|---" * 17 + "|\n")
+                 "lambda_33 ref (§3) | kinetic | Z_c | crushed |\n" + "|---" * 19 + "|\n")
         for r in rows:
             if r["control"] != "volume" or r["eta_r"] is None:
                 continue
             er = eta_ref(r["phi"])
             tag = r["config"] + (f" {r['stiffness_factor']:g}x stiff"
                                  if r.get("stiffness_factor") else "")
-            fh.write(f"| {tag} | {r['phi']:g} | {r['stiffness']:g} | "
+            fh.write(f"| {tag} | {r['phi']:g} | {r['St']:g} | {r['stiffness']:g} | "
                      f"{fmt(elastic_number(r), '{:.2g}')} | {r['strain']:g} | "
                      f"{r['eta_r']:.4g} ± {fmt(r['eta_r_err'], '{:.2g}')} | {er:.4g} | "
                      f"{r['eta_r'] / er:.2f} | {fmt(r['mu'], '{:.3f}')} | {fmt(r['Iv_meas'])} | "
                      f"{fmt(r['eta_22'])} | {eta22_ref(r['phi']):.4g} | "
                      f"{fmt(r['sigma11_over_sigma22'], '{:.3f}')} | "
                      f"{fmt(r['sigma33_over_sigma22'], '{:.3f}')} | {lambda33_ref(r['phi']):.3f} | "
-                     f"{fmt(r['Z_contact'], '{:.2f}')} | "
+                     f"{fmt(r['kinetic_share'], '{:.1e}')} | {fmt(r['Z_contact'], '{:.2f}')} | "
                      f"{fmt(r['crushed_contact_fraction'], '{:.2g}')} |\n")
         sensitivity_table(fh, rows)
     return by
