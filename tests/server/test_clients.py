@@ -1,8 +1,10 @@
 """The client examples against a live server: the curl walk-through, the CI script (success
 with sha256 check, a failing job -> exit 1, a rejected submission -> exit 2, a timeout ->
 exit 3, a retried CI step -> same job, a run with warnings -> printed, exit 4 with
-LUBDEM_FAIL_ON_WARNINGS=1), and the Python client (exit 4 with --fail-on-warnings) + h5py
-reader."""
+LUBDEM_FAIL_ON_WARNINGS=1), the Python client (exit 4 with --fail-on-warnings) + h5py
+reader, and the flow_curve.py sweep (table and CSV, the same jobs on a second run, a rejected
+value, a timeout, a failed job)."""
+import csv
 import os
 import shutil
 import subprocess
@@ -68,15 +70,67 @@ def run():
         tok2 = slow.token("ci")
         slow.start()
         try:
+            slow_env = {"LUBDEM_URL": "http://127.0.0.1:%d" % slow.port, "LUBDEM_TOKEN": tok2}
             rc, out = sh("bash", ci, "falling_sphere", '{"duration": 1e9}', "120",
-                         extra_env={"LUBDEM_URL": "http://127.0.0.1:%d" % slow.port,
-                                    "LUBDEM_TOKEN": tok2})
+                         extra_env=slow_env)
+            T.check(rc == 1 and "failed" in out and "CPU time limit" in out,
+                    "failed job:\n" + out)
+            # flow_curve.py: a timeout, then a failed job (both 1e3 strain, which the 1 s CPU
+            # limit kills): exit 1 and the table lists the value with its status.
+            long_run = '{"control": "pressure", "n_particles": 300, "strain": 1000}'
+            rc, out = sh(sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
+                         "--values", "0.1", "--base", long_run, "--timeout", "0",
+                         extra_env=slow_env)
+            T.check(rc == 1 and "timeout" in out, "flow_curve.py timeout:\n" + out)
+            fc_fail = os.path.join(out_dir, "flow_curve_failed.csv")
+            rc, out = sh(sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
+                         "--values", "0.01", "--base", long_run, "--poll", "0.3",
+                         "--timeout", "120", "--out", fc_fail, extra_env=slow_env)
+            with open(fc_fail) as f:
+                rows = list(csv.DictReader(f))
+            T.check(rc == 1 and "CPU time limit" in out and len(rows) == 1 and
+                    rows[0]["status"] == "failed" and rows[0]["mu"] == "",
+                    "flow_curve.py failed job:\n%s\n%s" % (out, rows))
         finally:
             slow.stop()
-        T.check(rc == 1 and "failed" in out and "CPU time limit" in out,
-                "failed job:\n" + out)
 
+        # flow_curve.py: a sweep of two tiny imposed-pressure runs, then the same command
+        # again (same jobs) and a rejected value; the timeout and the failed job are above.
         py = sys.executable
+        fc = os.path.join(ce, "flow_curve.py")
+        fc_csv = os.path.join(out_dir, "flow_curve.csv")
+        base = ('{"control": "pressure", "n_particles": 300, "strain": 0.6, '
+                '"transient_strain": 0.2, "sample_strain": 0.01, "snapshots": 0}')
+        sweep = [py, fc, "--vary", "/Iv", "--values", "0.1,0.01", "--also", "/phi=0.44,0.52",
+                 "--base", base, "--key", "fc-test", "--poll", "0.3", "--out", fc_csv]
+        rc, out = sh(*sweep)
+        T.check(rc == 0 and "wrote" in out, "flow_curve.py sweep:\n" + out)
+        with open(fc_csv) as f:
+            rows = list(csv.DictReader(f))
+        T.check([r["/Iv"] for r in rows] == ["0.1", "0.01"] and
+                [r["/phi"] for r in rows] == ["0.44", "0.52"] and
+                all(r["status"] == "successful" for r in rows), "flow_curve rows: %s" % rows)
+        for r in rows:
+            mu, err, ref = float(r["mu"]), float(r["mu_stderr"]), float(r["mu_ref"])
+            T.check(0.2 < mu < 3 and 0 < err < mu and 0.5 < ref < 1.1 and
+                    abs(float(r["Iv"]) - float(r["/Iv"])) < 0.2 * float(r["/Iv"]),
+                    "flow_curve values: %s" % r)
+        jobs_first = [ln.split()[-1] for ln in out.splitlines() if ln.startswith("queued")]
+        rc, out = sh(*sweep)
+        jobs_again = [ln.split()[-1] for ln in out.splitlines() if ln.startswith("queued")]
+        T.check(rc == 0 and len(jobs_first) == 2 and jobs_again == jobs_first,
+                "flow_curve.py again found other jobs: %s / %s\n%s" % (jobs_first, jobs_again,
+                                                                       out))
+        rc, out = sh(py, fc, "--vary", "/Iv", "--values", "0.1,-1", "--base", base,
+                     "--key", "fc-test")
+        T.check(rc == 2 and "/inputs/Iv" in out and "keep running" in out,
+                "flow_curve.py rejected value:\n" + out)
+        rc, out = sh(py, fc, "--vary", "Iv", "--values", "0.1")
+        T.check(rc == 2 and "JSON pointer" in out, "flow_curve.py bad pointer:\n" + out)
+        rc, out = sh(py, fc, "--vary", "/Iv", "--values", "0.1", "--also", "/phi=0.4,0.5")
+        T.check(rc == 2 and "--also /phi has 2 values" in out,
+                "flow_curve.py --also length:\n" + out)
+
         client = os.path.join(ce, "lubdem_client.py")
         pyh5 = os.path.join(out_dir, "py.h5")
         rc, out = sh(py, client, "submit", "falling_sphere", '{"duration": 2.0}',

@@ -1,0 +1,248 @@
+#!/usr/bin/env python3
+"""flow_curve.py - a parameter sweep through the lubdem service: one job per value, all queued
+at once, then one table of the steady-state means with their standard errors (Python standard
+library only; uses lubdem_client.py from this directory).
+
+    flow_curve.py --vary /Iv --values 1e-3,1e-2,0.1,1 \\
+        --base '{"control": "pressure", "n_particles": 500, "target_rel_error": 0.02}' \\
+        --key my-flow-curve --out flow_curve.csv
+
+    --url URL        the service                       [$LUBDEM_URL, http://127.0.0.1:8080]
+    --vary POINTER   JSON pointer of the swept input (/Iv, /phi, /law/mu, ...)
+    --values LIST    comma-separated JSON values (numbers, or strings in double quotes;
+                     write --values=-1,2 when the list starts with a minus sign)
+    --also POINTER=LIST  one more input set per value, in step with --values (repeatable):
+                     e.g. the initial phi of each imposed-pressure run, --also /phi=0.3,0.44
+    --base JSON      the other inputs, as JSON text or @file             [{}]
+    --process ID     the process                                         [simple_shear]
+    --observables L  summary results to tabulate, comma-separated   [phi,mu,eta_r,Iv,...]
+    --key PREFIX     idempotency key prefix: running the same command again (after a crash,
+                     in a retried CI step) finds the same jobs instead of queueing new ones
+    --timeout S      give up waiting after S seconds in all                  [3600]
+    --poll S         seconds between status requests                            [2]
+    --out CSV        also write the table as CSV (one row per value, written even when some
+                     jobs failed; value, stderr and the seed's reference value `ref` when the
+                     summary gives one)
+    --fail-on-warnings  exit 4 when any run reports warnings (its own validity checks)
+
+Exit status: 0 all runs successful; 1 a job failed or the wait timed out (the table still
+lists every value, with its status); 2 bad arguments, or a submission was rejected (the
+message names the input by its JSON pointer; the values after it are not submitted, the jobs
+already queued keep running and are named); 4 warnings with --fail-on-warnings.
+Token: --token, $LUBDEM_TOKEN, or ./run/local-token.
+"""
+import argparse
+import csv
+import json
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from lubdem_client import ApiError, Client  # noqa: E402
+
+DEFAULT_OBSERVABLES = ("phi,mu,eta_r,Iv,pressure,Z_contact,sigma11_over_sigma22,"
+                       "sigma33_over_sigma22,elastic_number")
+
+
+def pointer_tokens(pointer):
+    """RFC 6901 tokens of a JSON pointer; ValueError unless it names a member ("/a/b")."""
+    if not pointer.startswith("/") or pointer == "/":
+        raise ValueError("a swept input must be a JSON pointer such as /Iv or /law/mu, not %r"
+                         % pointer)
+    return [t.replace("~1", "/").replace("~0", "~") for t in pointer[1:].split("/")]
+
+
+def with_value(base, tokens, value):
+    """A deep copy of `base` with the member at `tokens` set to `value` (objects created as
+    needed; an existing non-object on the way is an error)."""
+    inputs = json.loads(json.dumps(base))
+    node = inputs
+    for t in tokens[:-1]:
+        child = node.setdefault(t, {})
+        if not isinstance(child, dict):
+            raise ValueError("a swept input goes through /%s, which is not an object in --base"
+                             % t)
+        node = child
+    node[tokens[-1]] = value
+    return inputs
+
+
+def parse_values(text, what="--values"):
+    values = []
+    for item in text.split(","):
+        item = item.strip()
+        try:
+            values.append(json.loads(item))
+        except ValueError:
+            raise ValueError("%s: %r is not a JSON value" % (what, item)) from None
+    return values
+
+
+def parse_sweep(vary, values_text, also):
+    """[(pointer, tokens, values)]: --vary first, then each --also, all of one length."""
+    sweep = [(vary, pointer_tokens(vary), parse_values(values_text))]
+    for item in also:
+        pointer, sep, text = item.partition("=")
+        if not sep:
+            raise ValueError("--also must be POINTER=LIST, not %r" % item)
+        sweep.append((pointer, pointer_tokens(pointer), parse_values(text, "--also " + pointer)))
+        if len(sweep[-1][2]) != len(sweep[0][2]):
+            raise ValueError("--also %s has %d values, --values has %d" % (
+                pointer, len(sweep[-1][2]), len(sweep[0][2])))
+    return sweep
+
+
+def collect(client, job_id, observables):
+    """status, message, {name: (value, stderr, ref)}, steady flag and warnings of one job."""
+    job = client.status(job_id)
+    row = {"status": job["status"], "message": job.get("message", ""), "obs": {},
+           "steady": None, "warnings": []}
+    if job["status"] != "successful":
+        return row
+    summary = client.results(job_id).get("summary") or {}
+    results = summary.get("results") or {}
+    for name in observables:
+        r = results.get(name)
+        if isinstance(r, dict):
+            row["obs"][name] = (r.get("value"), r.get("stderr"), r.get("ref"))
+    row["steady"] = summary.get("steady_state_detected")
+    row["warnings"] = list(summary.get("warnings") or [])
+    return row
+
+
+def wait_all(client, job_ids, deadline, poll=2.0):
+    """Polls until every job has ended or the deadline passes; returns the ids still open."""
+    open_ids = list(job_ids)
+    while open_ids:
+        open_ids = [j for j in open_ids
+                    if client.status(j)["status"] not in ("successful", "failed", "dismissed")]
+        if not open_ids or time.time() > deadline:
+            break
+        time.sleep(poll)
+    return open_ids
+
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--url", default=os.environ.get("LUBDEM_URL", "http://127.0.0.1:8080"))
+    p.add_argument("--token", default=os.environ.get("LUBDEM_TOKEN"))
+    p.add_argument("--process", default="simple_shear")
+    p.add_argument("--vary", required=True)
+    p.add_argument("--values", required=True)
+    p.add_argument("--also", action="append", default=[])
+    p.add_argument("--base", default="{}")
+    p.add_argument("--observables", default=DEFAULT_OBSERVABLES)
+    p.add_argument("--key")
+    p.add_argument("--timeout", type=float, default=3600)
+    p.add_argument("--poll", type=float, default=2.0)
+    p.add_argument("--out")
+    p.add_argument("--fail-on-warnings", action="store_true")
+    a = p.parse_args(argv)
+    try:
+        sweep = parse_sweep(a.vary, a.values, a.also)
+        values = sweep[0][2]
+        base_text = open(a.base[1:]).read() if a.base.startswith("@") else a.base
+        base = json.loads(base_text)
+        if not isinstance(base, dict):
+            raise ValueError("--base must be a JSON object")
+        bodies = []
+        for i in range(len(values)):
+            body = base
+            for _, tokens, vals in sweep:
+                body = with_value(body, tokens, vals[i])
+            bodies.append(body)
+    except (ValueError, OSError) as e:
+        print("error:", e, file=sys.stderr)
+        return 2
+    observables = [o.strip() for o in a.observables.split(",") if o.strip()]
+    token = a.token
+    if not token and os.path.exists("run/local-token"):
+        token = open("run/local-token").read().strip()
+    client = Client(a.url, token)
+
+    job_ids = []
+    points = [",".join("%s=%s" % (ptr, json.dumps(vals[i])) for ptr, _, vals in sweep)
+              for i in range(len(values))]
+    for point, body in zip(points, bodies):
+        key = "%s:%s" % (a.key, point) if a.key else None
+        try:
+            job = client.submit(a.process, body, idempotency_key=key)
+        except ApiError as e:
+            print("error: %s rejected: %s" % (point, e), file=sys.stderr)
+            if job_ids:
+                print("the %d job(s) queued before it keep running (%s); %s" % (
+                    len(job_ids), " ".join(job_ids),
+                    "the same command with the same --key finds them again" if a.key else
+                    "dismiss them with lubdem_client.py dismiss JOB, or pass --key next time"),
+                    file=sys.stderr)
+            return 2
+        job_ids.append(job["jobID"])
+        print("queued %s job %s" % (point, job["jobID"]), flush=True)
+
+    still_open = wait_all(client, job_ids, time.time() + a.timeout, a.poll)
+    rows = [collect(client, j, observables) for j in job_ids]
+
+    # columns named by the pointers: an input may share its name with an observable (Iv)
+    header = [ptr for ptr, _, _ in sweep] + ["job", "status", "steady"]
+    for o in observables:
+        header += [o, o + "_stderr"]
+        if any(o in r["obs"] and r["obs"][o][2] is not None for r in rows):
+            header.append(o + "_ref")
+    header += ["warnings", "message"]
+    table = []
+    for i, (j, r) in enumerate(zip(job_ids, rows)):
+        line = {"job": j, "status": r["status"], "steady": r["steady"],
+                "warnings": " | ".join(r["warnings"]), "message": r["message"]}
+        for ptr, _, vals in sweep:
+            line[ptr] = json.dumps(vals[i]) if isinstance(vals[i], str) else vals[i]
+        for o in observables:
+            val, err, ref = r["obs"].get(o, (None, None, None))
+            line[o], line[o + "_stderr"] = val, err
+            if o + "_ref" in header:
+                line[o + "_ref"] = ref
+        table.append(line)
+
+    print("".join("%-10s " % ptr for ptr, _, _ in sweep) + "%-11s %-6s " % ("status", "steady")
+          + " ".join("%-26s" % o for o in observables))
+    for i, (line, r) in enumerate(zip(table, rows)):
+        cells = []
+        for o in observables:
+            val, err, ref = r["obs"].get(o, (None, None, None))
+            cell = "" if val is None else "%.4g" % val + ("" if err is None else " ± %.2g" % err)
+            cells.append("%-26s" % (cell + ("" if ref is None else " (%.4g)" % ref)))
+        steady = {True: "yes", False: "no"}.get(line["steady"], "")
+        print("".join("%-10s " % json.dumps(vals[i]) for _, _, vals in sweep)
+              + "%-11s %-6s " % (line["status"], steady) + " ".join(cells))
+    print("(value ± standard error, the seed's reference value in parentheses)")
+    if a.out:
+        tmp = a.out + ".tmp"
+        with open(tmp, "w", newline="") as fh:
+            w = csv.DictWriter(fh, fieldnames=header)
+            w.writeheader()
+            w.writerows(table)
+        os.replace(tmp, a.out)
+        print("wrote", a.out)
+
+    failed = [i for i, line in enumerate(table) if line["status"] in ("failed", "dismissed")]
+    for i in failed:
+        line = table[i]
+        print("error: %s job %s %s%s" % (points[i], line["job"], line["status"],
+                                         ": " + line["message"] if line["message"] else ""),
+              file=sys.stderr)
+    if still_open:
+        print("error: timeout after %g s with %d job(s) not finished" % (a.timeout,
+                                                                         len(still_open)),
+              file=sys.stderr)
+    warned = [i for i, line in enumerate(table) if line["warnings"]]
+    for i in warned:
+        print("warning: %s: %s" % (points[i], table[i]["warnings"]), file=sys.stderr)
+    if failed or still_open:
+        return 1
+    if warned and a.fail_on_warnings:
+        return 4
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
