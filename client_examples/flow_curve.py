@@ -26,7 +26,8 @@ library only; uses lubdem_client.py from this directory).
     --fail-on-warnings  exit 4 when any run reports warnings (its own validity checks)
 
 Exit status: 0 all runs successful; 1 a job failed or the wait timed out (the table still
-lists every value, with its status); 2 bad arguments, or a submission was rejected (the
+lists every value, with its status), or the service went away while waiting (the jobs are
+named, or found again by the same command with --key); 2 bad arguments, or a submission was rejected (the
 message names the input by its JSON pointer; the values after it are not submitted, the jobs
 already queued keep running and are named); 4 warnings with --fail-on-warnings.
 Token: --token, $LUBDEM_TOKEN, or ./run/local-token.
@@ -180,8 +181,14 @@ def main(argv=None):
         job_ids.append(job["jobID"])
         print("queued %s job %s" % (point, job["jobID"]), flush=True)
 
-    still_open = wait_all(client, job_ids, time.time() + a.timeout, a.poll)
-    rows = [collect(client, j, observables) for j in job_ids]
+    try:
+        still_open = wait_all(client, job_ids, time.time() + a.timeout, a.poll)
+        rows = [collect(client, j, observables) for j in job_ids]
+    except (ApiError, OSError) as e:
+        print("error: lost the service while waiting (%s); the jobs keep running: %s" % (
+            e, "the same command with the same --key collects them" if a.key else
+            " ".join(job_ids)), file=sys.stderr)
+        return 1
 
     # columns named by the pointers: an input may share its name with an observable (Iv)
     header = [ptr for ptr, _, _ in sweep] + ["job", "status", "steady"]

@@ -3,7 +3,7 @@ with sha256 check, a failing job -> exit 1, a rejected submission -> exit 2, a t
 exit 3, a retried CI step -> same job, a run with warnings -> printed, exit 4 with
 LUBDEM_FAIL_ON_WARNINGS=1), the Python client (exit 4 with --fail-on-warnings) + h5py
 reader, and the flow_curve.py sweep (table and CSV, the same jobs on a second run, a rejected
-value, a timeout, a failed job)."""
+value, a timeout, a failed job, the service gone while waiting)."""
 import csv
 import os
 import shutil
@@ -91,6 +91,18 @@ def run():
             T.check(rc == 1 and "CPU time limit" in out and len(rows) == 1 and
                     rows[0]["status"] == "failed" and rows[0]["mu"] == "",
                     "flow_curve.py failed job:\n%s\n%s" % (out, rows))
+            # the service goes away while flow_curve.py waits: exit 1, the job named
+            lost = subprocess.Popen(
+                [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
+                 "--values", "1e-3", "--base", long_run, "--poll", "0.2"],
+                env=dict(env, **slow_env), cwd=out_dir, stdout=subprocess.PIPE,
+                stderr=subprocess.STDOUT, text=True)
+            while not (lost.stdout.readline() or "queued").startswith("queued"):
+                pass
+            slow.stop()
+            out = lost.communicate(timeout=60)[0]
+            T.check(lost.returncode == 1 and "lost the service" in out,
+                    "flow_curve.py with the service gone:\n%s" % out)
         finally:
             slow.stop()
 
