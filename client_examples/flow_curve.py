@@ -27,9 +27,10 @@ library only; uses lubdem_client.py from this directory).
 
 Exit status: 0 all runs successful; 1 a job failed or the wait timed out (the table still
 lists every value, with its status), or the service went away while waiting (the jobs are
-named, or found again by the same command with --key); 2 bad arguments, or a submission was rejected (the
-message names the input by its JSON pointer; the values after it are not submitted, the jobs
-already queued keep running and are named); 4 warnings with --fail-on-warnings.
+named, or found again by the same command with --key); 2 bad arguments, or a submission was
+rejected (the message names the input by its JSON pointer; the values after it are not
+submitted, the jobs already queued keep running and are named); 4 warnings with
+--fail-on-warnings.
 Token: --token, $LUBDEM_TOKEN, or ./run/local-token.
 """
 import argparse
