@@ -24,6 +24,7 @@ void lub_nlist_free(lub_nlist *nl)
         free(nl->parts[t].pc);
     }
     free(nl->parts);
+    free(nl->split);
     free(nl->pi);
     free(nl->pj);
     free(nl->pc);
@@ -161,6 +162,33 @@ static int search_range(const search_ctx *sc, int i0, int i1, lub_nlist_part *ou
     return 0;
 }
 
+/* split[0..nt]: the first i of each of nt ranges. With prev_pairs > 0, first[0..n] holds the
+ * cumulative pair counts of the previous build and each range gets about prev_pairs/nt of
+ * them; otherwise n/nt indices each. */
+static void split_ranges(const size_t *first, int n, size_t prev_pairs, int nt, int *split)
+{
+    split[0] = 0;
+    int i = 0;
+    for (int t = 1; t < nt; ++t) {
+        if (prev_pairs == 0) {
+            split[t] = (int)((long)n * t / nt);
+            continue;
+        }
+        const size_t target = prev_pairs * (size_t)t / (size_t)nt;
+        while (i < n && first[i] < target)
+            ++i;
+        split[t] = i;
+    }
+    split[nt] = n;
+}
+
+/* First i of range t of a team of `team` threads: split[] when the runtime gave the nt threads
+ * asked for, equal ranges otherwise. */
+static int range_start(const int *split, int n, int nt, int t, int team)
+{
+    return team == nt ? split[t] : (int)((long)n * t / team);
+}
+
 int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const double *radius,
                     int n)
 {
@@ -177,6 +205,10 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
         if (w[a] < 2.0 * dmax * (1.0 + 1e-12))
             return LUB_NLIST_CELL_TOO_SMALL;
 
+    /* pairs of the previous build of the same n, the weights of the threads' ranges; first[]
+     * is rewritten from here on */
+    const size_t prev_pairs = nl->first_n == n ? nl->npairs : 0;
+    nl->first_n = 0;
     size_t un = (size_t)n;
     if (un > nl->part_cap) {
         if (grow((void **)&nl->first, NULL, un + 1, sizeof *nl->first) ||
@@ -270,6 +302,12 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
         nl->parts = q;
         nl->nparts = nt;
     }
+    if (nt + 1 > nl->split_cap) {
+        if (grow((void **)&nl->split, NULL, (size_t)nt + 1, sizeof *nl->split))
+            return LUB_NLIST_NOMEM;
+        nl->split_cap = nt + 1;
+    }
+    split_ranges(nl->first, n, prev_pairs, nt, nl->split);
     search_ctx sc = {nl, cell, radius, factor, nx, ny, nz, {{0}}, {0}};
     memcpy(sc.off, off, sizeof off);
     memcpy(sc.noff, noff, sizeof noff);
@@ -285,7 +323,8 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
 #endif
         if (t == 0)
             used = team;
-        const int i0 = (int)((long)n * t / team), i1 = (int)((long)n * (t + 1) / team);
+        const int i0 = range_start(nl->split, n, nt, t, team);
+        const int i1 = range_start(nl->split, n, nt, t + 1, team);
         bad |= search_range(&sc, i0, i1, t == 0 ? &own : &nl->parts[t]);
     }
     nl->pi = own.pi, nl->pj = own.pj, nl->pc = own.pc, nl->pair_cap = own.cap; /* may have moved */
@@ -304,11 +343,13 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
             memcpy(nl->pj + base, pt->pj, pt->n * sizeof *pt->pj);
             memcpy(nl->pc + 3 * base, pt->pc, 3 * pt->n * sizeof *pt->pc);
         }
-        const int i0 = (int)((long)n * t / used), i1 = (int)((long)n * (t + 1) / used);
+        const int i0 = range_start(nl->split, n, nt, t, used);
+        const int i1 = range_start(nl->split, n, nt, t + 1, used);
         for (int i = i0; i < i1; ++i)
             nl->first[i + 1] += base; /* search_range stored counts relative to its buffer */
         base += pt->n;
     }
     nl->npairs = np;
+    nl->first_n = n;
     return LUB_NLIST_OK;
 }

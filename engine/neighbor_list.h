@@ -22,7 +22,11 @@
  * Threads: with `threads` > 1 (set by the owner after lub_nlist_init) and OpenMP, the pair
  * search runs on that many threads over contiguous ranges of i; the first range is written
  * into the result arrays, the others into per-thread buffers appended in order: the result is
- * identical to the serial build.
+ * identical to the serial build. The ranges hold about equal numbers of pairs of the previous
+ * build of the same n (particle indices are the same from build to build), equal numbers of i
+ * at the first: i lists only j > i, so equal ranges of i load the first thread more (3/4 of
+ * the pairs in the first half of a random order, tests/shear/test_nlist.c; measured effect on
+ * the shear benchmark: tests/bench/README.md, "Balanced neighbour search").
  */
 
 #ifndef LUBDEM_NEIGHBOR_LIST_H
@@ -61,6 +65,9 @@ typedef struct {
     int threads;           /* pair-search threads (<= 1: serial); set by the owner */
     lub_nlist_part *parts; /* [nparts] buffers of threads 1.. of the parallel search ([0] unused) */
     int nparts;
+    int *split; /* [split_cap] first i of each thread's range, split[team] = n */
+    int split_cap;
+    int first_n; /* n of the last successful build (first[] counts its pairs), 0: none */
 } lub_nlist;
 
 void lub_nlist_init(lub_nlist *nl, double range, double skin);

@@ -87,20 +87,43 @@ int main(void)
         ST_CHECK(bad == 0, "tilt %g: %d mismatches vs brute force (%zu pairs)", tilts[t], bad,
                  nl.npairs);
         printf("nlist tilt=%.2f pairs=%zu mismatches=%d\n", tilts[t], nl.npairs, bad);
-        /* the threaded search gives the same list, in the same order */
+        /* the threaded search gives the same list, in the same order, at its first build
+         * (equal ranges of i) and at a second one (ranges balanced by the first's pairs) */
         for (int th = 2; th <= 3; ++th) {
             lub_nlist par;
             lub_nlist_init(&par, 2.0, 0.4);
             par.threads = th;
-            ST_CHECK(lub_nlist_build(&par, &c, x, r, n) == LUB_NLIST_OK, "threaded build");
-            int same = par.npairs == nl.npairs;
-            for (size_t k = 0; same && k < nl.npairs; ++k)
-                same = par.pi[k] == nl.pi[k] && par.pj[k] == nl.pj[k] &&
-                       par.pc[3 * k] == nl.pc[3 * k] && par.pc[3 * k + 1] == nl.pc[3 * k + 1] &&
-                       par.pc[3 * k + 2] == nl.pc[3 * k + 2];
-            for (int i = 0; same && i <= n; ++i)
-                same = par.first[i] == nl.first[i];
-            ST_CHECK(same, "tilt %g: %d-thread list differs from the serial one", tilts[t], th);
+            for (int build = 0; build < 2; ++build) {
+                ST_CHECK(lub_nlist_build(&par, &c, x, r, n) == LUB_NLIST_OK, "threaded build");
+                int same = par.npairs == nl.npairs;
+                for (size_t k = 0; same && k < nl.npairs; ++k)
+                    same = par.pi[k] == nl.pi[k] && par.pj[k] == nl.pj[k] &&
+                           par.pc[3 * k] == nl.pc[3 * k] && par.pc[3 * k + 1] == nl.pc[3 * k + 1] &&
+                           par.pc[3 * k + 2] == nl.pc[3 * k + 2];
+                for (int i = 0; same && i <= n; ++i)
+                    same = par.first[i] == nl.first[i];
+                ST_CHECK(same, "tilt %g: %d-thread list (build %d) differs from the serial one",
+                         tilts[t], th, build + 1);
+            }
+            /* second build: each range holds npairs/th pairs to within one i's pairs (equal
+             * ranges of i fail this: i lists j > i only, so in this random order the first
+             * half of i holds about 3/4 of the pairs) */
+            ST_CHECK(par.split[0] == 0 && par.split[th] == n, "split ends");
+            size_t most = 0;
+            for (int i = 0; i < n; ++i)
+                if (nl.first[i + 1] - nl.first[i] > most)
+                    most = nl.first[i + 1] - nl.first[i];
+            for (int k = 0; k < th && par.split[th] == n; ++k) {
+                const double held = (double)(nl.first[par.split[k + 1]] - nl.first[par.split[k]]);
+                ST_CHECK(fabs(held - (double)nl.npairs / th) <= (double)most + 1.0,
+                         "tilt %g, %d threads: range %d holds %.0f of %zu pairs", tilts[t], th, k,
+                         held, nl.npairs);
+                if (t == 0 && th == 2)
+                    printf("nlist 2-thread range %d: %.0f of %zu pairs (equal ranges of i: "
+                           "%zu)\n",
+                           k, held, nl.npairs,
+                           k == 0 ? nl.first[n / 2] : nl.npairs - nl.first[n / 2]);
+            }
             lub_nlist_free(&par);
         }
     }
