@@ -195,6 +195,12 @@ def spec_for(case, n, quick):
         spec.update({"control": "pressure", "Iv": iv, "St": case.get("St", stokes_for(iv)),
                      "stiffness": stiff,
                      "phi": round(min(0.56, max(0.3, phi_ref(iv, law["mu"]))), 3)})
+        if iv >= 1 and "strain" not in case:
+            # at Iv = 1 phi and mu approach their steady values over ~6 strain (32-seed means,
+            # tests/shear/README.md "At Iv = 1"; a 10-strain run from strain 2 was 0.002-0.003
+            # low in phi): 20 strain, averaged from strain 6 at the earliest
+            spec["strain"] = max(strain, 20.0)
+            spec["transient_strain"] = 6.0
     else:
         ph = case["phi"]
         # eta gd-scaled stiffness, in the rigid limit (tests/shear/README.md, "eta_r(phi) within
@@ -849,8 +855,8 @@ def main():
             have = {r["name"]: r for r in rows}
             # kept rows must come from the same plan: a quick table read without --quick
             # (or the reverse) would otherwise mix 10- and 20-strain rows
-            other = [c["name"] for c in cases if c["name"] in have and
-                     have[c["name"]].get("strain") != spec_for(c, a.n, a.quick)["strain"]]
+            other = [c["name"] for c in cases if c["name"] in have and c["name"] not in names
+                     and have[c["name"]].get("strain") != spec_for(c, a.n, a.quick)["strain"]]
             if other:
                 ap.error(f"--rerun: the CSV's strain differs from this plan's for {other[0]} "
                          f"and {len(other) - 1} more (--quick must match the sweep that "
