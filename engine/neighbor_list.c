@@ -74,6 +74,14 @@ static inline int round_half_away(double x)
     return k;
 }
 
+/* Bins are at least 1/LUB_NLIST_BIN_SPLIT of the listing distance wide (in each fractional
+ * direction) and the search visits LUB_NLIST_BIN_SPLIT bins on each side: with 2, the
+ * 5 x 5 x 5 stencil covers (5/8)^3 of the volume the 3 x 3 x 3 stencil of bins one listing
+ * distance wide covers (in the limit of many bins), and at N = 1000 (about 4 listing
+ * distances across, 3 bins) it no longer visits every particle. */
+#define LUB_NLIST_BIN_SPLIT 2
+#define LUB_NLIST_STENCIL (2 * LUB_NLIST_BIN_SPLIT + 1)
+
 static int wrap_index(int k, int n)
 {
     k %= n;
@@ -86,7 +94,7 @@ typedef struct {
     const double *radius;
     double factor;
     int nx, ny, nz;
-    int off[3][3], noff[3];
+    int off[3][LUB_NLIST_STENCIL], noff[3];
 } search_ctx;
 
 /* Pairs (i, j > i) for i0 <= i < i1 into *out (from its start), sorted by (i, j); sets
@@ -99,7 +107,7 @@ static int search_range(const search_ctx *sc, int i0, int i1, lub_nlist_part *ou
     const double *radius = sc->radius;
     const double factor = sc->factor;
     const int nx = sc->nx, ny = sc->ny, nz = sc->nz;
-    const int(*off)[3] = sc->off;
+    const int(*off)[LUB_NLIST_STENCIL] = sc->off;
     const int *noff = sc->noff;
     size_t np = 0;
     for (int i = i0; i < i1; ++i) {
@@ -224,7 +232,7 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
     }
     size_t nb = 1;
     for (int a = 0; a < 3; ++a) {
-        int k = (int)floor(w[a] / dmax);
+        int k = (int)floor(LUB_NLIST_BIN_SPLIT * w[a] / dmax);
         if (k < 1)
             k = 1;
         if (k > 1024)
@@ -267,22 +275,19 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
         nl->bin_start[b] = nl->bin_start[b - 1];
     nl->bin_start[0] = 0;
 
-    /* stencil offsets per direction, de-duplicated when a direction has < 3 bins */
-    int off[3][3], noff[3];
+    /* stencil offsets per direction: -S..S (S = LUB_NLIST_BIN_SPLIT), or every bin once when
+     * a direction has fewer than 2S + 1 bins */
+    int off[3][LUB_NLIST_STENCIL], noff[3];
     for (int a = 0; a < 3; ++a) {
-        int k = nl->ncell[a];
-        if (k >= 3) {
-            off[a][0] = -1;
-            off[a][1] = 0;
-            off[a][2] = 1;
-            noff[a] = 3;
-        } else if (k == 2) {
-            off[a][0] = 0;
-            off[a][1] = 1;
-            noff[a] = 2;
+        const int k = nl->ncell[a];
+        if (k >= LUB_NLIST_STENCIL) {
+            for (int o = 0; o < LUB_NLIST_STENCIL; ++o)
+                off[a][o] = o - LUB_NLIST_BIN_SPLIT;
+            noff[a] = LUB_NLIST_STENCIL;
         } else {
-            off[a][0] = 0;
-            noff[a] = 1;
+            for (int o = 0; o < k; ++o)
+                off[a][o] = o;
+            noff[a] = k;
         }
     }
 

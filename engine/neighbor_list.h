@@ -12,8 +12,8 @@
  * Validity: the nearest image is found exactly when the listing distance is below half of
  * every perpendicular cell width (lub_nlist_build returns LUB_NLIST_CELL_TOO_SMALL
  * otherwise). Cells are searched in fractional space (works for any tilt), each bin at least
- * one listing distance wide; when a direction has fewer than 3 bins the stencil is
- * de-duplicated.
+ * half a listing distance wide and the search two bins to each side (5 x 5 x 5); when a
+ * direction has fewer than 5 bins every bin of it is visited once.
  *
  * Memory: all arrays are owned by the lub_nlist and grow (realloc) only inside
  * lub_nlist_build; repeated builds with similar sizes do not allocate. Free with

@@ -128,6 +128,40 @@ int main(void)
         }
     }
 
+    /* small and mid-size boxes: 4 to 7 bins per direction (bins half a listing distance wide,
+     * engine/neighbor_list.c), i.e. the every-bin stencil (fewer than 5 bins) and the 5-wide
+     * one, sheared and not, against brute force */
+    {
+        const double sides[4] = {10.2, 11.5, 13.0, 17.8};
+        for (int b = 0; b < 4; ++b) {
+            lub_cell sc;
+            lub_cell_init_box(&sc, sides[b], sides[b] * 1.02, sides[b] * 0.99);
+            const int m = (int)(0.09 * sides[b] * sides[b] * sides[b]);
+            for (int tilt = 0; tilt < 2; ++tilt) {
+                sc.h[0][1] = tilt ? 0.45 * sc.h[0][0] : 0.0;
+                lub_cell_refresh(&sc);
+                vec3 *y = malloc((size_t)m * sizeof *y);
+                for (int i = 0; i < m; ++i)
+                    y[i] = lub_mat_vec(sc.h, v3(1.2 * lub_rng_uniform(&rng) - 0.1,
+                                                lub_rng_uniform(&rng), lub_rng_uniform(&rng)));
+                lub_nlist sn;
+                lub_nlist_init(&sn, 2.0, 0.4);
+                int rc = lub_nlist_build(&sn, &sc, y, r, m);
+                ST_CHECK(rc == LUB_NLIST_OK || rc == LUB_NLIST_CELL_TOO_SMALL, "small rc %d", rc);
+                if (rc == LUB_NLIST_OK) {
+                    int bad = check_against_brute(&sn, &sc, y, r, m);
+                    ST_CHECK(bad == 0, "side %g tilt %d: %d mismatches (%d bins in x)", sides[b],
+                             tilt, bad, sn.ncell[0]);
+                    printf("nlist small box side=%.1f tilt=%d bins=%dx%dx%d pairs=%zu "
+                           "mismatches=%d\n",
+                           sides[b], tilt, sn.ncell[0], sn.ncell[1], sn.ncell[2], sn.npairs, bad);
+                }
+                lub_nlist_free(&sn);
+                free(y);
+            }
+        }
+    }
+
     /* persistence: mark each pair's state with a key, move, wrap, shear+flip, rebuild */
     c.h[0][1] = 0.0;
     lub_cell_refresh(&c);
