@@ -76,9 +76,10 @@ static inline int round_half_away(double x)
 
 /* Bins are at least 1/LUB_NLIST_BIN_SPLIT of the listing distance wide (in each fractional
  * direction) and the search visits LUB_NLIST_BIN_SPLIT bins on each side: with 2, the
- * 5 x 5 x 5 stencil covers (5/8)^3 of the volume the 3 x 3 x 3 stencil of bins one listing
- * distance wide covers (in the limit of many bins), and at N = 1000 (about 4 listing
- * distances across, 3 bins) it no longer visits every particle. */
+ * 5 x 5 x 5 stencil spans 2.5 listing distances per direction where 3 x 3 x 3 bins one listing
+ * distance wide span 3, (5/6)^3 = 0.58 of the volume (in the limit of many bins); and at
+ * N = 1000 (about 4 listing distances across: 3 wide bins, 7 half-width ones) it no longer
+ * visits every particle. */
 #define LUB_NLIST_BIN_SPLIT 2
 #define LUB_NLIST_STENCIL (2 * LUB_NLIST_BIN_SPLIT + 1)
 

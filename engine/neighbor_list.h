@@ -65,7 +65,7 @@ typedef struct {
     int threads;           /* pair-search threads (<= 1: serial); set by the owner */
     lub_nlist_part *parts; /* [nparts] buffers of threads 1.. of the parallel search ([0] unused) */
     int nparts;
-    int *split; /* [split_cap] first i of each thread's range, split[team] = n */
+    int *split; /* [split_cap] first i of each thread's range; split[threads asked for] = n */
     int split_cap;
     int first_n; /* n of the last successful build (first[] counts its pairs), 0: none */
 } lub_nlist;
