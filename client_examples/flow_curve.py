@@ -41,7 +41,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from lubdem_client import ApiError, Client  # noqa: E402
+from lubdem_client import ENDED, ApiError, Client, default_token  # noqa: E402
 
 DEFAULT_OBSERVABLES = ("phi,mu,eta_r,Iv,pressure,Z_contact,sigma11_over_sigma22,"
                        "sigma33_over_sigma22,elastic_number")
@@ -95,9 +95,10 @@ def parse_sweep(vary, values_text, also):
     return sweep
 
 
-def collect(client, job_id, observables):
-    """status, message, {name: (value, stderr, ref)}, steady flag and warnings of one job."""
-    job = client.status(job_id)
+def collect(client, job, observables):
+    """status, message, {name: (value, stderr, ref)}, steady flag and warnings of one job, from
+    its last status document `job` (and its results, when successful)."""
+    job_id = job["jobID"]
     row = {"status": job["status"], "message": job.get("message", ""), "obs": {},
            "steady": None, "warnings": []}
     if job["status"] != "successful":
@@ -114,15 +115,18 @@ def collect(client, job_id, observables):
 
 
 def wait_all(client, job_ids, deadline, poll=2.0):
-    """Polls until every job has ended or the deadline passes; returns the ids still open."""
+    """Polls until every job has ended or the deadline passes; returns the last status document
+    of each job, in order, and the ids still open."""
+    last = {}
     open_ids = list(job_ids)
     while open_ids:
-        open_ids = [j for j in open_ids
-                    if client.status(j)["status"] not in ("successful", "failed", "dismissed")]
+        for j in open_ids:
+            last[j] = client.status(j)
+        open_ids = [j for j in open_ids if last[j]["status"] not in ENDED]
         if not open_ids or time.time() > deadline:
             break
         time.sleep(poll)
-    return open_ids
+    return [last[j] for j in job_ids], open_ids
 
 
 def main(argv=None):
@@ -158,10 +162,7 @@ def main(argv=None):
         print("error:", e, file=sys.stderr)
         return 2
     observables = [o.strip() for o in a.observables.split(",") if o.strip()]
-    token = a.token
-    if not token and os.path.exists("run/local-token"):
-        token = open("run/local-token").read().strip()
-    client = Client(a.url, token)
+    client = Client(a.url, default_token(a.token))
 
     job_ids = []
     points = [",".join("%s=%s" % (ptr, json.dumps(vals[i])) for ptr, _, vals in sweep)
@@ -183,8 +184,8 @@ def main(argv=None):
         print("queued %s job %s" % (point, job["jobID"]), flush=True)
 
     try:
-        still_open = wait_all(client, job_ids, time.time() + a.timeout, a.poll)
-        rows = [collect(client, j, observables) for j in job_ids]
+        jobs, still_open = wait_all(client, job_ids, time.time() + a.timeout, a.poll)
+        rows = [collect(client, job, observables) for job in jobs]
     except (ApiError, OSError) as e:
         print("error: lost the service while waiting (%s); the jobs keep running: %s" % (
             e, "the same command with the same --key collects them" if a.key else

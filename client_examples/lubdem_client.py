@@ -26,6 +26,17 @@ import urllib.error
 import urllib.request
 
 
+ENDED = ("successful", "failed", "dismissed")  # job states that do not change any more
+
+
+def default_token(token):
+    """token, or else the contents of ./run/local-token (the --init-defaults admin token)."""
+    if not token and os.path.exists("run/local-token"):
+        with open("run/local-token") as f:
+            token = f.read().strip()
+    return token
+
+
 class ApiError(Exception):
     """An HTTP error with the service's problem+json body."""
 
@@ -102,7 +113,7 @@ class Client:
             job = self.status(job_id)
             if job["status"] == "successful":
                 return job
-            if job["status"] in ("failed", "dismissed"):
+            if job["status"] in ENDED:
                 raise JobFailed("job %s %s: %s" % (job_id, job["status"], job.get("message")))
             if time.time() > deadline:
                 raise TimeoutError("job %s still %s after %s s" % (job_id, job["status"], timeout))
@@ -177,10 +188,7 @@ def main(argv=None):
     lst = sub.add_parser("list")
     lst.add_argument("--status")
     a = p.parse_args(argv)
-    token = a.token
-    if not token and os.path.exists("run/local-token"):
-        token = open("run/local-token").read().strip()
-    c = Client(a.url, token)
+    c = Client(a.url, default_token(a.token))
     try:
         if a.cmd == "submit":
             job = c.submit(a.process, json.loads(a.inputs), idempotency_key=a.key)

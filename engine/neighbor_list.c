@@ -171,6 +171,9 @@ static int search_range(const search_ctx *sc, int i0, int i1, lub_nlist_part *ou
     return 0;
 }
 
+/* First i of range t when n indices are split into `team` equal ranges. */
+static int equal_start(int n, int t, int team) { return (int)((long)n * t / team); }
+
 /* split[0..nt]: the first i of each of nt ranges. With prev_pairs > 0, first[0..n] holds the
  * cumulative pair counts of the previous build and each range gets about prev_pairs/nt of
  * them; otherwise n/nt indices each. */
@@ -180,7 +183,7 @@ static void split_ranges(const size_t *first, int n, size_t prev_pairs, int nt, 
     int i = 0;
     for (int t = 1; t < nt; ++t) {
         if (prev_pairs == 0) {
-            split[t] = (int)((long)n * t / nt);
+            split[t] = equal_start(n, t, nt);
             continue;
         }
         const size_t target = prev_pairs * (size_t)t / (size_t)nt;
@@ -195,7 +198,7 @@ static void split_ranges(const size_t *first, int n, size_t prev_pairs, int nt, 
  * asked for, equal ranges otherwise. */
 static int range_start(const int *split, int n, int nt, int t, int team)
 {
-    return team == nt ? split[t] : (int)((long)n * t / team);
+    return team == nt ? split[t] : equal_start(n, t, team);
 }
 
 int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const double *radius,
