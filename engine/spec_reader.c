@@ -127,11 +127,16 @@ int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long mi
         return 0;
     }
     long long x;
+    const int written_as_real = json_is_real(v);
     if (json_is_integer(v)) {
         x = json_integer_value(v);
-    } else if (json_is_real(v) && json_real_value(v) == floor(json_real_value(v)) &&
-               fabs(json_real_value(v)) < 9e15) {
-        x = (long long)json_real_value(v); /* 1e3 written as a real is still an integer */
+    } else if (written_as_real && json_real_value(v) == floor(json_real_value(v))) {
+        const double r = json_real_value(v); /* 1e3 written as a real is still an integer */
+        if (r < (double)min)
+            return lub_fail(err, p, "must be >= %lld (got %.17g)", min, r);
+        if (r > (double)max)
+            return lub_fail(err, p, "must be <= %lld (got %.17g)", max, r);
+        x = (long long)r;
     } else {
         return lub_fail(err, p, "must be an integer (got %s)", json_type_name(v));
     }
@@ -139,6 +144,8 @@ int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long mi
         return lub_fail(err, p, "must be >= %lld (got %lld)", min, x);
     if (x > max)
         return lub_fail(err, p, "must be <= %lld (got %lld)", max, x);
+    if (written_as_real) /* the resolved spec states the integer as an integer */
+        json_object_set_new(obj, key, json_integer(x));
     *out = x;
     return 0;
 }

@@ -19,7 +19,8 @@ int main(void)
     lub_error err;
     json_error_t je;
     json_t *o = json_loads("{\"eps\": -0.1, \"n\": 2.5, \"flag\": 1, \"mode\": \"x\", "
-                           "\"v\": [1, 2], \"a/b\": 3, \"ok\": 0.5, \"big\": 1e3}",
+                           "\"v\": [1, 2], \"a/b\": 3, \"ok\": 0.5, \"big\": 1e3, "
+                           "\"huge\": 1e30}",
                            0, &je);
     double d;
     long long i;
@@ -43,6 +44,11 @@ int main(void)
     CHECK(lub_spec_integer(o, "", "n", 0, 10, 0, 0, &i, &err) == -1);
     CHECK(strstr(err.message, "integer") != NULL);
     CHECK(lub_spec_integer(o, "", "big", 0, 10000, 0, 0, &i, &err) == 0 && i == 1000);
+    /* the resolved spec states it as an integer, not 1000.0 */
+    CHECK(json_is_integer(json_object_get(o, "big")));
+    /* an integral real beyond the range names the range, not the type */
+    CHECK(lub_spec_integer(o, "", "huge", 0, 10, 0, 0, &i, &err) == -1);
+    CHECK(strstr(err.message, "<= 10 (got 1e+30)") != NULL);
     CHECK(lub_spec_integer(o, "", "big", 0, 999, 0, 0, &i, &err) == -1);
 
     CHECK(lub_spec_bool(o, "", "flag", 0, 0, &b, &err) == -1);
