@@ -82,6 +82,23 @@ assert s["status"] == "complete" and s["exit_code"] == 0 and s["active_terms"]
 PYEOF
 $PY "$CHECK" "$work/run1/result.h5" --status complete > /dev/null && ok || bad "H5MD structure"
 
+# more threads than processors: the run uses the processors, says so, and still succeeds
+procs=$(nproc)
+"$LUBDEM" run "$work/short.json" --out "$work/run3" --threads $((procs + 1)) --quiet \
+  2> "$work/run3.err"
+rc=$?
+[ $rc -eq 0 ] && ok || bad "run with too many threads: exit $rc"
+grep -q "^warning: --threads $((procs + 1)) asked for more threads than the $procs processor" \
+  "$work/run3.err" && ok || bad "no warning for too many threads: $(cat "$work/run3.err")"
+$PY - "$work/run3/summary.json" "$SCHEMA_DIR/summary.schema.json" "$procs" <<'PYEOF' \
+  && ok || bad "summary threads of a capped run"
+import json, sys, jsonschema
+s = json.load(open(sys.argv[1])); jsonschema.validate(s, json.load(open(sys.argv[2])))
+procs = int(sys.argv[3])
+assert s["threads"] == procs and s["threads_requested"] == procs + 1, s
+assert any("--threads" in w for w in s["warnings"]), s.get("warnings")
+PYEOF
+
 # SIGTERM: stops within seconds with a valid partial result and exit code 5
 "$LUBDEM" run "$work/long.json" --out "$work/run2" > "$work/run2.out" 2> "$work/run2.err" &
 pid=$!
