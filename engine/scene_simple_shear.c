@@ -715,6 +715,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .bond_order_q6 = mean_of[S_Q6],
             .lost_pairs = (double)sys.lost_pairs,
             .steady = steady_detected,
+            .steady_samples = (double)(ser.n - start),
+            .strain_reached = strain,
+            .transient_strain = p.transient_strain,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

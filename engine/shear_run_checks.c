@@ -52,7 +52,13 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "(contacts restarted without their history); raise /skin or lower "
                     "/dt_safety",
                     st->lost_pairs);
-    if (!st->steady)
+    if (!st->steady && st->steady_samples == 0.0)
+        add_warning(out, &n,
+                    "no steady-state samples: the run ended at strain %.3g, inside the "
+                    "transient (/transient_strain %.3g), and the steady-state results are null; "
+                    "raise /strain above /transient_strain",
+                    st->strain_reached, st->transient_strain);
+    else if (!st->steady)
         add_warning(out, &n, "%s",
                     "no steady state detected (the transient lasts into the "
                     "second half of the run, or the watched series drift after it): the means "

@@ -20,6 +20,10 @@ typedef struct {
     double bond_order_q6;    /* <bond_order_q6> */
     double lost_pairs;       /* active pair states lost at neighbour-list rebuilds (count) */
     int steady;              /* 1 if the steady state was detected */
+    double steady_samples;   /* samples in the steady window (0: the run ended inside the
+                                transient) */
+    double strain_reached;   /* strain at the end of the run */
+    double transient_strain; /* the spec's /transient_strain */
 } lub_shear_run_state;
 
 /* Thresholds and why (tests/shear/README.md, sections named):
@@ -35,7 +39,8 @@ typedef struct {
  * - Bond order Q6 above 0.1: the cell orders. Disordered runs give 0.04-0.09, the small
  *   frictionless cells that partly order 0.10-0.17 ("Frictionless dilatancy is too weak").
  * - Any lost pair state: a contact restarted without its history ("Robustness").
- * - No steady state detected: the means include the transient or a drift. */
+ * - No steady state detected: the means include the transient or a drift; or the run ended
+ *   before /transient_strain and has no steady-state means at all (null in the summary). */
 #define LUB_SHEAR_EL_MIN 5e3
 #define LUB_SHEAR_KINETIC_SHARE_MAX 1e-2
 #define LUB_CRUSHED_CONTACT_FRACTION_MAX 1e-2

@@ -16,7 +16,10 @@ static lub_shear_run_state clean(void)
                               .crushed_fraction = 0.0,
                               .bond_order_q6 = 0.05,
                               .lost_pairs = 0.0,
-                              .steady = 1};
+                              .steady = 1,
+                              .steady_samples = 400.0,
+                              .strain_reached = 10.0,
+                              .transient_strain = 2.0};
     return st;
 }
 
@@ -98,10 +101,17 @@ int main(void)
     /* no steady state */
     st = clean();
     st.steady = 0;
-    one("not steady", &st, "/strain", NULL);
+    one("not steady", &st, "/strain", "drift");
+    /* ended inside the transient: no steady-state means at all, and the message says why */
+    st.steady_samples = 0.0;
+    st.strain_reached = 1.0;
+    one("ended in the transient", &st, "ended at strain 1, inside the transient",
+        "raise /strain above /transient_strain");
 
     /* everything at once: six messages, each naming the spec member to change (a JSON
      * pointer after "; raise " or "; lower "), none truncated */
+    st.steady_samples = 400.0;
+    st.strain_reached = 10.0;
     st.elastic_number = 1e2;
     st.kinetic_share = 0.5;
     st.crushed_fraction = 0.3;
