@@ -2,6 +2,8 @@
 #include "run_context.h"
 
 #include <math.h>
+#include <stdio.h>
+#include <string.h>
 
 void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double stderr_value,
                      const char *unit)
@@ -14,4 +16,16 @@ void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double st
                                                                       : json_null());
     json_object_set_new(e, "unit", json_string(unit ? unit : "1"));
     json_object_set_new(ctx->summary_results, name, e);
+}
+
+void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_bound,
+                            const char *bound_name)
+{
+    if (!(dt_spec > 0.0) || !(dt_spec > dt_bound))
+        return;
+    const size_t used = strlen(ctx->diagnostic);
+    snprintf(ctx->diagnostic + used, sizeof ctx->diagnostic - used,
+             "; the spec fixes /dt = %.3g, %.3g times the stability bound %s = %.3g: leave /dt "
+             "at 0 so that /dt_safety sets the step",
+             dt_spec, dt_spec / dt_bound, bound_name, dt_bound);
 }

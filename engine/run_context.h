@@ -19,12 +19,20 @@ typedef struct lub_run_ctx {
     json_t *summary_results;               /* object: scene puts headline numbers here, each as
                                               {"value": v, "stderr": e (or null), "unit": "...", "ref": ...} */
     json_t *summary_extra; /* object: anything else (active_terms, units, diagnostics) */
-    int threads;           /* OpenMP threads requested (>= 1) */
+    int threads;           /* OpenMP threads to use (>= 1): --threads, at most the processors
+                              the process may run on */
     char diagnostic[1024]; /* on LUB_EXIT_NUMERICAL: what failed, where, when */
 } lub_run_ctx;
 
 /* Helpers for summary entries. stderr_value < 0 or NaN means "no error bar" (null). */
 void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double stderr_value,
                      const char *unit);
+
+/* After a numerical failure: when the spec fixed the time step (/dt > 0) above the scene's
+ * stability bound dt_bound (same units; summary name bound_name), appends to ctx->diagnostic
+ * why the run most likely failed and what to change. Does nothing otherwise, or when the
+ * diagnostic is full. */
+void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_bound,
+                            const char *bound_name);
 
 #endif

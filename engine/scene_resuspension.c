@@ -522,6 +522,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             lub_progress_update(ctx->progress, (double)step / (double)nsteps, S.step);
     }
     lub_progress_final(ctx->progress, S.step);
+    if (rc == LUB_EXIT_NUMERICAL)
+        lub_diagnostic_dt_hint(ctx, p.dt, dt_crit, "dt_critical");
 
     /* ---- steady-state analysis (also for a partial run: whatever was averaged) ---- */
     int steady = 0;
@@ -681,6 +683,15 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                                 "/shear_drag_viscosity"));
     if (S.lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
+    if (p.dt > dt_crit) {
+        char text[256];
+        snprintf(text, sizeof text,
+                 "the spec fixes /dt at %.3g times dt_critical, beyond the largest step "
+                 "/dt_safety allows (1): the contacts are not resolved; lower /dt, or set it "
+                 "to 0 so that /dt_safety sets the step",
+                 p.dt / dt_crit);
+        json_array_append_new(warn, json_string(text));
+    }
     if (crushed_fraction > LUB_CRUSHED_CONTACT_FRACTION_MAX) /* the message's "1 %" */
         json_array_append_new(warn,
                               json_string("asperities crushed in more than 1 % of the contacts "

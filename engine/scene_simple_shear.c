@@ -630,6 +630,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_progress_update(ctx->progress, (double)(step + 1) / (double)nsteps, step + 1);
     }
     lub_progress_final(ctx->progress, step);
+    if (exit_code == LUB_EXIT_NUMERICAL)
+        lub_diagnostic_dt_hint(ctx, p.dt, dt_el, "dt_elastic");
     if (p.snapshots > 0 && exit_code != LUB_EXIT_IO)
         ss_snapshot(ctx, &sys);
 
@@ -718,6 +720,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .steady_samples = (double)(ser.n - start),
             .strain_reached = strain,
             .transient_strain = p.transient_strain,
+            .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

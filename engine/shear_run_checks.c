@@ -46,13 +46,24 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "(disordered sheared packings give 0.04-0.09), a finite-size effect; "
                     "raise /n_particles or /radius_std",
                     st->bond_order_q6, LUB_SHEAR_Q6_MAX);
+    const int dt_fixed = st->dt_over_elastic > 0.0;
+    if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
+        add_warning(out, &n,
+                    "the spec fixes /dt at %.3g times dt_elastic, beyond the largest step "
+                    "/dt_safety allows (1): the contacts are not resolved and the results are "
+                    "not the law's; lower /dt, or set it to 0 so that /dt_safety sets the step",
+                    st->dt_over_elastic);
     if (exceeds(st->lost_pairs, 0.0))
         add_warning(out, &n,
                     "%.0f active pair states were lost at neighbour-list rebuilds "
-                    "(contacts restarted without their history); raise /skin or lower "
-                    "/dt_safety",
-                    st->lost_pairs);
-    if (!st->steady && st->steady_samples == 0.0)
+                    "(contacts restarted without their history); raise /skin or lower %s",
+                    st->lost_pairs, dt_fixed ? "/dt" : "/dt_safety");
+    if (!st->steady && st->steady_samples == 0.0 && !(st->strain_reached < st->transient_strain))
+        add_warning(out, &n,
+                    "no steady-state samples after /transient_strain %.3g (the run ended at "
+                    "strain %.3g), and the steady-state results are null; raise /strain",
+                    st->transient_strain, st->strain_reached);
+    else if (!st->steady && st->steady_samples == 0.0)
         add_warning(out, &n,
                     "no steady-state samples: the run ended at strain %.3g, inside the "
                     "transient (/transient_strain %.3g), and the steady-state results are null; "

@@ -63,6 +63,35 @@ import h5py, numpy as np
 f = h5py.File('$work/run2/result.h5', 'r')
 assert np.all(np.isfinite(f['profiles/phi'][:]))" && ok || bad "partial profiles"
 
+# a time step fixed far above the elastic bound: numerical failure (exit 3, status failed) whose
+# diagnostic says that /dt caused it and how to fix it
+cat > "$work/bigdt.json" <<'JEOF'
+{"scene": "resuspension", "n": 100, "dt": 0.5, "strain": 1, "average_from": 0.5,
+ "snapshots": 0}
+JEOF
+"$LUBDEM" run "$work/bigdt.json" --out "$work/run3" --threads 1 > /dev/null 2> "$work/run3.err"
+rc=$?
+[ $rc -eq 3 ] && ok || bad "fixed dt 0.5: exit code $rc (expected 3)"
+grep -q "^error: .*the spec fixes /dt = 0.5, .* times the stability bound dt_critical" \
+  "$work/run3.err" && ok || bad "fixed dt 0.5: diagnostic lacks the /dt hint: $(cat "$work/run3.err")"
+$PY -c "
+import json; s = json.load(open('$work/run3/summary.json'))
+assert s['status'] == 'failed' and '/dt_safety' in s['diagnostic'], s" \
+  && ok || bad "fixed dt 0.5: summary"
+
+# a fixed /dt 1.5x the bound that still completes: a warning naming /dt
+cat > "$work/dt15.json" <<'JEOF'
+{"scene": "resuspension", "n": 100, "dt": 1e-4, "strain": 0.3, "average_from": 0.1,
+ "snapshots": 0}
+JEOF
+"$LUBDEM" run "$work/dt15.json" --out "$work/run4" --threads 1 > /dev/null 2> "$work/run4.err"
+rc=$?
+[ $rc -eq 0 ] && ok || bad "fixed dt 1e-4: exit code $rc"
+$PY -c "
+import json; s = json.load(open('$work/run4/summary.json'))
+assert any('fixes /dt at 1.5' in w and 'lower /dt' in w for w in s['warnings']), s['warnings']" \
+  && ok || bad "fixed dt 1e-4: no /dt warning"
+
 echo "resuspension_cli_checks=$((pass + fail))"
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]

@@ -80,7 +80,9 @@ int main(void)
          "/stiffness"},
         {"Q6", offsetof(lub_shear_run_state, bond_order_q6), 0.153, 0.092, "0.153", "/n_particles"},
         {"lost pairs", offsetof(lub_shear_run_state, lost_pairs), 1.0, 0.0, "1 active pair",
-         "/skin"},
+         "lower /dt_safety"},
+        {"fixed dt", offsetof(lub_shear_run_state, dt_over_elastic), 1.5, 0.9, "1.5 times",
+         "lower /dt"},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         const threshold_case *tc = &cases[c];
@@ -102,13 +104,30 @@ int main(void)
     st = clean();
     st.steady = 0;
     one("not steady", &st, "/strain", "drift");
+    /* with a fixed /dt, lost pairs ask for a smaller /dt (dt_safety does not apply) */
+    st = clean();
+    st.lost_pairs = 3.0;
+    st.dt_over_elastic = 0.5;
+    {
+        const char *w;
+        const int n = count(&st, &w);
+        ST_CHECK(n == 1 && strstr(w, "3 active pair") && strstr(w, "lower /dt") &&
+                     !strstr(w, "/dt_safety"),
+                 "lost pairs, fixed dt: %d warning(s): %s", n, w);
+    }
+    st = clean();
+    st.steady = 0;
     /* ended inside the transient: no steady-state means at all, and the message says why */
     st.steady_samples = 0.0;
     st.strain_reached = 1.0;
     one("ended in the transient", &st, "ended at strain 1, inside the transient",
         "raise /strain above /transient_strain");
+    /* beyond the transient but no sample there (one huge fixed step): not "inside" it */
+    st.strain_reached = 1e3;
+    one("no sample after the transient", &st, "no steady-state samples after /transient_strain 2",
+        "strain 1e+03");
 
-    /* everything at once: six messages, each naming the spec member to change (a JSON
+    /* everything at once: seven messages, each naming the spec member to change (a JSON
      * pointer after "; raise " or "; lower "), none truncated */
     st.steady_samples = 400.0;
     st.strain_reached = 10.0;
@@ -117,6 +136,7 @@ int main(void)
     st.crushed_fraction = 0.3;
     st.bond_order_q6 = 0.5;
     st.lost_pairs = 12345.0;
+    st.dt_over_elastic = 70.0;
     const char *w;
     int n = count(&st, &w);
     ST_CHECK(n == LUB_SHEAR_WARNINGS_MAX, "all checks: %d warnings", n);
