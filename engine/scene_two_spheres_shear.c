@@ -247,6 +247,40 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "normal_h", dt_pair * p.law.params.k_bulk / (1.5 * LUB_PI * eta * a), NAN,
                     "1");
 
+    /* a run whose results are not those of an encounter: say which and what to change (the
+     * pair never entered the cut-off: min_gap null; still inside it at the end: the final
+     * offset is not the far-field one) */
+    json_t *warnings = json_array();
+    if (rc == LUB_EXIT_OK && !separated) {
+        char text[320];
+        text[0] = '\0';
+        if (!was_active && !(y0 > 0.0))
+            snprintf(text, sizeof text,
+                     "the spheres start on the same streamline (d0 sin theta = 0) and never "
+                     "approach: min_gap is null; raise /d0 or move /theta_deg away from 0 "
+                     "and 180");
+        else if (!was_active && rel.x <= 0.0)
+            snprintf(text, sizeof text,
+                     "the spheres had not reached each other when the run ended at /duration "
+                     "%.3g (x = %.3g a): min_gap is null and the offset is the initial one; "
+                     "raise /duration (the approach takes about x0/(d0 sin theta) = %.3g) or "
+                     "lower /x0",
+                     p.duration, rel.x, p.x0 / y0);
+        else if (!was_active)
+            snprintf(text, sizeof text,
+                     "the spheres passed each other without coming within the cut-off (offset "
+                     "%.3g a, above 2 a + cut-off = %.3g a): no lubrication interaction, "
+                     "min_gap is null; lower /d0 or raise /cutoff",
+                     hypot(y0, z0), 2.0 * a + p.cutoff * a);
+        else
+            snprintf(text, sizeof text,
+                     "the pair was still within the cut-off when the run ended at /duration "
+                     "%.3g: the final offset is not the far-field one; raise /duration",
+                     p.duration);
+        json_array_append_new(warnings, json_string(text));
+    }
+    json_object_set_new(ctx->summary_extra, "warnings", warnings);
+
     json_t *terms = json_array();
     json_array_append_new(terms, json_string("stokes_drag"));
     json_array_append_new(terms, json_string("stokes_drag_torque"));

@@ -70,6 +70,26 @@ with tempfile.TemporaryDirectory() as tmp:
         check(r.shape[1] == 3 and r[0, 0] == -10.0 and r[-1, 0] > 6.0,
               f"relative trajectory from x=-10 to x={r[-1, 0]:.2f} ({r.shape[0]} samples)")
 
+    check(s.get("warnings") == [], f"a complete encounter warns of nothing: {s.get('warnings')}")
+
+    # runs whose results are not an encounter's say so, and name what to change
+    for label, spec, expect in [
+        ("ends before the approach", {"duration": 5}, ("had not reached", "raise /duration")),
+        ("ends inside the cut-off", {"duration": 21}, ("still within the cut-off",
+                                                       "raise /duration")),
+        ("same streamline", {"d0": 0, "duration": 50}, ("same streamline", "raise /d0")),
+        ("passes beyond the cut-off", {"d0": 7, "duration": 50},
+         ("without coming within the cut-off", "2 a + cut-off = 6 a")),
+    ]:
+        d = os.path.join(tmp, "warn_" + label.replace(" ", "_"))
+        os.makedirs(d)
+        p = run(dict({"scene": "two_spheres_shear"}, **spec), d)
+        s = json.load(open(os.path.join(d, "summary.json")))
+        w = s.get("warnings") or [""]
+        check(p.returncode == 0 and len(w) == 1 and all(e in w[0] for e in expect)
+              and "warning: " + w[0] in p.stderr,
+              f"two_spheres_shear {label}: exit {p.returncode}, warning {w}")
+
     # SIGTERM: stop at the next step, partial result, exit 5
     d = os.path.join(tmp, "stop")
     os.makedirs(d)
