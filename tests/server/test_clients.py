@@ -39,7 +39,7 @@ def run():
 
         ci = os.path.join(ce, "ci_submit.sh")
         h5 = os.path.join(out_dir, "ci.h5")
-        rc, out = sh("bash", ci, "two_spheres_shear", '{"duration": 5.0}', "300", h5,
+        rc, out = sh("bash", ci, "two_spheres_shear", '{"duration": 30.0}', "300", h5,
                      extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-step-1"})
         T.check(rc == 0 and "verified" in out and "warning:" not in out,
                 "ci_submit.sh success:\n" + out)
@@ -58,7 +58,7 @@ def run():
                                 "LUBDEM_FAIL_ON_WARNINGS": "1"})
         T.check(rc == 4 and "verified" in out and "warning: elastic number" in out,
                 "ci_submit.sh LUBDEM_FAIL_ON_WARNINGS=1:\n" + out)
-        rc, out = sh("bash", ci, "two_spheres_shear", '{"duration": 5.0}', "300", h5,
+        rc, out = sh("bash", ci, "two_spheres_shear", '{"duration": 30.0}', "300", h5,
                      extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-step-1"})
         T.check(rc == 0 and ("job %s" % job1) in out, "retried CI step made a new job:\n" + out)
         rc, out = sh("bash", ci, "falling_sphere", '{"duration": "x"}', "60")
