@@ -132,9 +132,10 @@ int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long mi
         x = json_integer_value(v);
     } else if (written_as_real && json_real_value(v) == floor(json_real_value(v))) {
         const double r = json_real_value(v); /* 1e3 written as a real is still an integer */
-        if (r < (double)min)
+        /* range first, and never convert beyond +-9e15 (exact in a double, no overflow) */
+        if (r < (double)min || r <= -9e15)
             return lub_fail(err, p, "must be >= %lld (got %.17g)", min, r);
-        if (r > (double)max)
+        if (r > (double)max || r >= 9e15)
             return lub_fail(err, p, "must be <= %lld (got %.17g)", max, r);
         x = (long long)r;
     } else {
