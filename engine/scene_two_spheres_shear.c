@@ -272,6 +272,13 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
                      "%.3g a, above 2 a + cut-off = %.3g a): no lubrication interaction, "
                      "min_gap is null; lower /d0 or raise /cutoff",
                      hypot(y0, z0), 2.0 * a + p.cutoff * a);
+        else if (hypot(p.x0, p.d0) < 2.0 + p.cutoff) /* started inside the cut-off */
+            snprintf(text, sizeof text,
+                     "the pair was still within the cut-off when the run ended at /duration "
+                     "%.3g: the final offset is not the far-field one. It started within the "
+                     "cut-off, where a pair can orbit on a closed trajectory of Stokes flow "
+                     "for ever; raise /x0 above 2 + /cutoff, or raise /duration",
+                     p.duration);
         else
             snprintf(text, sizeof text,
                      "the pair was still within the cut-off when the run ended at /duration "

@@ -80,6 +80,9 @@ with tempfile.TemporaryDirectory() as tmp:
         ("same streamline", {"d0": 0, "duration": 50}, ("same streamline", "raise /d0")),
         ("passes beyond the cut-off", {"d0": 7, "duration": 50},
          ("without coming within the cut-off", "2 a + cut-off = 6 a")),
+        # started 3 a apart: the pair orbits (a closed trajectory); more time would not help
+        ("orbits from a start inside the cut-off", {"x0": 3, "duration": 40},
+         ("still within the cut-off", "closed trajectory", "raise /x0")),
     ]:
         d = os.path.join(tmp, "warn_" + label.replace(" ", "_"))
         os.makedirs(d)
