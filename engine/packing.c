@@ -117,6 +117,97 @@ static void spatial_sort(const lub_cell *cell, vec3 *pos, double *radius, vec3 *
     free(key);
 }
 
+/* Bins of the sequential placement: a cube of nb^3 bins at least `reach` wide (the largest
+ * sum of radii times 1 + margin), each a linked list of the spheres placed in it, so that a
+ * trial position is tested against the spheres of its 27 neighbouring bins instead of every
+ * sphere placed (O(n) placement instead of O(n^2): 20 000 spheres took 16 s, 50 000 95 s).
+ * With fewer than 3 bins per direction every sphere is tested, as before. The accept/reject
+ * decisions, hence the packing, are the same either way: the distance test is the same
+ * expression and the bins hold every sphere within reach. */
+typedef struct {
+    int nb; /* bins per direction; 0: test every sphere */
+    double side;
+    int *head; /* nb^3: first sphere of each bin, -1 if empty */
+    int *next; /* n: next sphere of the same bin */
+} placement_grid;
+
+static int grid_init(placement_grid *g, double side, double reach, int all_pairs, int n)
+{
+    g->side = side;
+    g->nb = (int)floor(side / reach);
+    g->head = g->next = NULL;
+    if (g->nb < 3 || all_pairs) {
+        g->nb = 0;
+        return 0;
+    }
+    if (g->nb > 512) /* 1.3e8 bins at most (n = 1e7 needs ~240 per direction); wider bins
+                        are still correct */
+        g->nb = 512;
+    const size_t nbins = (size_t)g->nb * (size_t)g->nb * (size_t)g->nb;
+    g->head = malloc(nbins * sizeof *g->head);
+    g->next = malloc((size_t)n * sizeof *g->next);
+    if (!g->head || !g->next) {
+        free(g->head);
+        free(g->next);
+        return -1;
+    }
+    for (size_t b = 0; b < nbins; ++b)
+        g->head[b] = -1;
+    return 0;
+}
+
+static void grid_free(placement_grid *g)
+{
+    free(g->head);
+    free(g->next);
+}
+
+static int grid_coord(const placement_grid *g, double x)
+{
+    int b = (int)(x / g->side * g->nb);
+    return b < 0 ? 0 : (b >= g->nb ? g->nb - 1 : b);
+}
+
+static void grid_insert(placement_grid *g, vec3 x, int i)
+{
+    if (g->nb == 0)
+        return;
+    const size_t b =
+        ((size_t)grid_coord(g, x.z) * g->nb + grid_coord(g, x.y)) * g->nb + grid_coord(g, x.x);
+    g->next[i] = g->head[b];
+    g->head[b] = i;
+}
+
+/* 1 if sphere i at x overlaps none of the spheres 0..i-1 (radii times 1 + margin) */
+static int placement_is_free(const placement_grid *g, const lub_cell *cell, const vec3 *pos,
+                             const double *radius, int i, vec3 x, double margin)
+{
+    if (g->nb == 0) {
+        for (int j = 0; j < i; ++j) {
+            vec3 d = min_image(cell, v3_sub(pos[j], x));
+            double s = (radius[i] + radius[j]) * (1.0 + margin);
+            if (v3_norm2(d) < s * s)
+                return 0;
+        }
+        return 1;
+    }
+    const int c[3] = {grid_coord(g, x.x), grid_coord(g, x.y), grid_coord(g, x.z)};
+    for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int bx = (c[0] + dx + g->nb) % g->nb, by = (c[1] + dy + g->nb) % g->nb,
+                          bz = (c[2] + dz + g->nb) % g->nb;
+                for (int j = g->head[((size_t)bz * g->nb + by) * g->nb + bx]; j >= 0;
+                     j = g->next[j]) {
+                    vec3 d = min_image(cell, v3_sub(pos[j], x));
+                    double s = (radius[i] + radius[j]) * (1.0 + margin);
+                    if (v3_norm2(d) < s * s)
+                        return 0;
+                }
+            }
+    return 1;
+}
+
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info)
 {
@@ -139,23 +230,22 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
     double phi0 = fmin(p->phi, 0.25);
     double side = cbrt(vs / phi0);
     lub_cell_init_box(cell, side, side, side);
+    placement_grid grid;
+    if (grid_init(&grid, side, 2.0 * hi / mean * (1.0 + p->margin), p->placement_all_pairs, n))
+        return -1;
     for (int i = 0; i < n; ++i) {
         for (long attempt = 0;; ++attempt) {
             vec3 x = v3(side * lub_rng_uniform(&rng), side * lub_rng_uniform(&rng),
                         side * lub_rng_uniform(&rng));
-            int ok = 1;
-            for (int j = 0; j < i && ok; ++j) {
-                vec3 d = min_image(cell, v3_sub(pos[j], x));
-                double s = (radius[i] + radius[j]) * (1.0 + p->margin);
-                if (v3_norm2(d) < s * s)
-                    ok = 0;
-            }
+            const int ok = placement_is_free(&grid, cell, pos, radius, i, x, p->margin);
             if (ok || attempt > 100000) {
                 pos[i] = x; /* overlaps left (extremely unlikely) are relaxed below */
+                grid_insert(&grid, x, i);
                 break;
             }
         }
     }
+    grid_free(&grid);
 
     /* 3. compression + relaxation */
     lub_nlist nl;

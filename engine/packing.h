@@ -3,7 +3,8 @@
  * Algorithm (documented in the README section of the simple_shear scene):
  *  1. radii r_i = 1 + std * N(0,1), clipped to [1 - 3 std, 1 + 3 std] (and > 0.2), then scaled
  *     so that their mean is exactly 1 (the length unit a);
- *  2. random sequential placement without overlap in a dilute cube (phi_0 = min(phi, 0.25));
+ *  2. random sequential placement without overlap in a dilute cube (phi_0 = min(phi, 0.25)),
+ *     each trial position tested against the spheres in the neighbouring bins of a grid;
  *  3. compression by affine rescaling in volume steps of at most 3 %, each followed by an
  *     overlap-removal relaxation (Jacobi displacement iterations on radii inflated by `margin`),
  *     until phi is reached and every inflated overlap is below margin/2 of the pair radius sum;
@@ -26,8 +27,11 @@ typedef struct {
     double phi;        /* target solid fraction, (0, 0.62] */
     double radius_std; /* relative standard deviation of radii, [0, 0.3] */
     uint64_t seed;
-    double margin;  /* relative radius inflation during relaxation (e.g. 0.01), > 0 */
-    int max_sweeps; /* safety cap on relaxation sweeps in total (e.g. 200000) */
+    double margin;           /* relative radius inflation during relaxation (e.g. 0.01), > 0 */
+    int max_sweeps;          /* safety cap on relaxation sweeps in total (e.g. 200000) */
+    int placement_all_pairs; /* 0 (default): step 2 tests a trial position against the spheres
+                                of its neighbouring bins, O(n); 1: against every sphere placed,
+                                O(n^2). Same packing either way (tests compare them) */
 } lub_packing_params;
 
 typedef struct {
