@@ -16,6 +16,13 @@ static double sphere_volume_sum(const double *r, int n)
     return 4.0 / 3.0 * 3.14159265358979323846 * s;
 }
 
+/* bin of fractional coordinate f in [0, 1) among nb, clamped to 0..nb-1 */
+static int clamped_bin(double f, int nb)
+{
+    const int b = (int)(f * nb);
+    return b < 0 ? 0 : (b >= nb ? nb - 1 : b);
+}
+
 static vec3 min_image(const lub_cell *cell, vec3 d)
 {
     vec3 s = lub_cell_to_frac(cell, d);
@@ -91,13 +98,8 @@ static void spatial_sort(const lub_cell *cell, vec3 *pos, double *radius, vec3 *
         vec3 s = lub_cell_to_frac(cell, pos[i]);
         double f[3] = {s.x, s.y, s.z};
         int b[3];
-        for (int a = 0; a < 3; ++a) {
-            b[a] = (int)(f[a] * nb[a]);
-            if (b[a] < 0)
-                b[a] = 0;
-            if (b[a] >= nb[a])
-                b[a] = nb[a] - 1;
-        }
+        for (int a = 0; a < 3; ++a)
+            b[a] = clamped_bin(f[a], nb[a]);
         key[i] = (b[2] * nb[1] + b[1]) * nb[0] + b[0];
         start[key[i] + 1]++;
     }
@@ -162,11 +164,7 @@ static void grid_free(placement_grid *g)
     free(g->next);
 }
 
-static int grid_coord(const placement_grid *g, double x)
-{
-    int b = (int)(x / g->side * g->nb);
-    return b < 0 ? 0 : (b >= g->nb ? g->nb - 1 : b);
-}
+static int grid_coord(const placement_grid *g, double x) { return clamped_bin(x / g->side, g->nb); }
 
 static void grid_insert(placement_grid *g, vec3 x, int i)
 {
@@ -178,17 +176,23 @@ static void grid_insert(placement_grid *g, vec3 x, int i)
     g->head[b] = i;
 }
 
-/* 1 if sphere i at x overlaps none of the spheres 0..i-1 (radii times 1 + margin) */
+/* 1 if sphere i at x overlaps placed sphere j (radii times 1 + margin) */
+static int overlaps(const lub_cell *cell, const vec3 *pos, const double *radius, int i, int j,
+                    vec3 x, double margin)
+{
+    const vec3 d = min_image(cell, v3_sub(pos[j], x));
+    const double s = (radius[i] + radius[j]) * (1.0 + margin);
+    return v3_norm2(d) < s * s;
+}
+
+/* 1 if sphere i at x overlaps none of the spheres 0..i-1 */
 static int placement_is_free(const placement_grid *g, const lub_cell *cell, const vec3 *pos,
                              const double *radius, int i, vec3 x, double margin)
 {
     if (g->nb == 0) {
-        for (int j = 0; j < i; ++j) {
-            vec3 d = min_image(cell, v3_sub(pos[j], x));
-            double s = (radius[i] + radius[j]) * (1.0 + margin);
-            if (v3_norm2(d) < s * s)
+        for (int j = 0; j < i; ++j)
+            if (overlaps(cell, pos, radius, i, j, x, margin))
                 return 0;
-        }
         return 1;
     }
     const int c[3] = {grid_coord(g, x.x), grid_coord(g, x.y), grid_coord(g, x.z)};
@@ -198,12 +202,9 @@ static int placement_is_free(const placement_grid *g, const lub_cell *cell, cons
                 const int bx = (c[0] + dx + g->nb) % g->nb, by = (c[1] + dy + g->nb) % g->nb,
                           bz = (c[2] + dz + g->nb) % g->nb;
                 for (int j = g->head[((size_t)bz * g->nb + by) * g->nb + bx]; j >= 0;
-                     j = g->next[j]) {
-                    vec3 d = min_image(cell, v3_sub(pos[j], x));
-                    double s = (radius[i] + radius[j]) * (1.0 + margin);
-                    if (v3_norm2(d) < s * s)
+                     j = g->next[j])
+                    if (overlaps(cell, pos, radius, i, j, x, margin))
                         return 0;
-                }
             }
     return 1;
 }

@@ -684,12 +684,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (S.lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
     if (p.dt > dt_crit) {
-        char text[256];
-        snprintf(text, sizeof text,
-                 "the spec fixes /dt at %.3g times dt_critical, beyond the largest step "
-                 "/dt_safety allows (1): the contacts are not resolved; lower /dt, or set it "
-                 "to 0 so that /dt_safety sets the step",
-                 p.dt / dt_crit);
+        char text[LUB_SHEAR_WARNING_LEN];
+        lub_fixed_dt_warning(text, sizeof text, p.dt / dt_crit, "dt_critical");
         json_array_append_new(warn, json_string(text));
     }
     if (crushed_fraction > LUB_CRUSHED_CONTACT_FRACTION_MAX) /* the message's "1 %" */

@@ -19,6 +19,15 @@ add_warning(char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN], int *n, con
 static int exceeds(double value, double limit) { return isfinite(value) && value > limit; }
 static int falls_below(double value, double limit) { return isfinite(value) && value < limit; }
 
+void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name)
+{
+    snprintf(out, len,
+             "the spec fixes /dt at %.3g times %s, beyond the largest step /dt_safety allows "
+             "(1): the contacts are not resolved and the results are not the law's; lower /dt, "
+             "or set it to 0 so that /dt_safety sets the step",
+             ratio, bound_name);
+}
+
 int lub_shear_run_warnings(const lub_shear_run_state *st,
                            char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN])
 {
@@ -48,11 +57,7 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     st->bond_order_q6, LUB_SHEAR_Q6_MAX);
     const int dt_fixed = st->dt_over_elastic > 0.0;
     if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
-        add_warning(out, &n,
-                    "the spec fixes /dt at %.3g times dt_elastic, beyond the largest step "
-                    "/dt_safety allows (1): the contacts are not resolved and the results are "
-                    "not the law's; lower /dt, or set it to 0 so that /dt_safety sets the step",
-                    st->dt_over_elastic);
+        lub_fixed_dt_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_elastic, "dt_elastic");
     if (exceeds(st->lost_pairs, 0.0))
         add_warning(out, &n,
                     "%.0f active pair states were lost at neighbour-list rebuilds "
