@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "build_info.h"
+#include "json_text.h"
 #include "processors.h"
 #include "run_context.h"
 #include "scene.h"
@@ -53,7 +54,7 @@ int lub_validate_spec(const char *spec_text, FILE *out, FILE *diag, int json_err
     json_t *resolved = parse_and_resolve(spec_text, diag, json_errors);
     if (!resolved)
         return LUB_EXIT_BAD_SPEC;
-    char *s = json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS | JSON_REAL_PRECISION(17));
+    char *s = lub_json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS);
     fprintf(out, "%s\n", s);
     free(s);
     json_decref(resolved);
@@ -196,8 +197,7 @@ int lub_run_spec(const lub_run_request *req)
     json_object_set_new(summary, "git_commit", json_string(lub_build_git()));
     json_object_set(summary, "spec", resolved);
 
-    char *resolved_text =
-        json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS | JSON_REAL_PRECISION(17));
+    char *resolved_text = lub_json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS);
     json_t *units = json_object_get(ctx.summary_extra, "units");
     char *units_text = units ? json_dumps(units, JSON_COMPACT | JSON_SORT_KEYS) : NULL;
     int io = lub_h5_write_parameters(h5, req->spec_text, resolved_text, units_text);

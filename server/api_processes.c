@@ -5,6 +5,7 @@
 
 #include "api.h"
 #include "exec_request.h"
+#include "json_text.h"
 #include "queue.h"
 #include "scene.h"
 #include "status_json.h"
@@ -121,7 +122,7 @@ enum MHD_Result lubd_api_execute(lubd_request *r, const char *id)
                   "only admins may submit with priority > 0 (got %d)", req.priority);
         return lubd_reply_fault(r, &f);
     }
-    char *spec = json_dumps(req.spec, JSON_COMPACT | JSON_SORT_KEYS);
+    char *spec = lub_json_dumps(req.spec, JSON_COMPACT | JSON_SORT_KEYS);
     lubd_submit in = {r->user.id,
                       r->user.max_active >= 0 ? (int)r->user.max_active : r->srv->cfg->user_cap,
                       id,

@@ -9,6 +9,7 @@
 #include <strings.h>
 
 #include "api.h"
+#include "json_text.h"
 
 typedef struct {
     char *body;
@@ -21,7 +22,7 @@ typedef struct {
 
 struct MHD_Response *lubd_json_response(json_t *body, const char *content_type)
 {
-    char *text = json_dumps(body, JSON_INDENT(1) | JSON_PRESERVE_ORDER);
+    char *text = lub_json_dumps(body, JSON_INDENT(1) | JSON_PRESERVE_ORDER);
     json_decref(body);
     if (!text)
         return NULL;
