@@ -1,15 +1,14 @@
-/* json_text.h — JSON text whose reals are exact and as short as the document allows.
+/* json_text.h — JSON text whose reals are exact and as short as possible.
  *
  * jansson prints every real with a fixed number of significant digits (17 by default), so a
  * value read as 0.3 comes back as 0.29999999999999999 and one read from a 10-digit summary as
- * 0.88912216990000004. lub_json_dumps() prints the whole document with the smallest precision
- * (1..17 significant digits) at which every real in it reads back to the same double: each real
- * then prints as its shortest exact decimal, except that a document holding a real that needs
- * 16 or 17 digits prints all its reals at that precision (exact, not always shortest).
+ * 0.88912216990000004. lub_json_dumps() prints each real with the fewest significant digits
+ * (1..17) that read back to the same double, in jansson's style otherwise (always a '.' or an
+ * exponent; 20.0 and 1e6 as 20.0 and 1000000.0, exponents from 1e15 and below 1e-4).
  *
- * flags: jansson's json_dumps flags without JSON_REAL_PRECISION (which is replaced).
- * Returns what json_dumps returns: a NUL-terminated string the caller frees with free(), or
- * NULL (v NULL, or out of memory). Thread-safe; does not modify v. */
+ * flags: jansson's json_dumps flags; a JSON_REAL_PRECISION among them is ignored.
+ * Returns a NUL-terminated string the caller frees with free(), or NULL (v NULL, or out of
+ * memory). Thread-safe; does not modify v. */
 #ifndef LUBDEM_JSON_TEXT_H
 #define LUBDEM_JSON_TEXT_H
 
