@@ -266,6 +266,28 @@ static void affine_map(const lub_shear_system *s, const lub_cell *cell, double A
         }
 }
 
+/* A blown-up motion with finite numbers: the largest non-affine displacement since the last
+ * rebuild (at most half the skin before this step) exceeds half the narrowest cell width, so
+ * one step moved a particle past particles it never met. Writes fail_msg when it did. */
+static int runaway(lub_shear_system *s, const double A[3][3], double umax2)
+{
+    double w[3];
+    lub_cell_widths(&s->cell, w);
+    const double half_width = 0.5 * fmin(w[0], fmin(w[1], w[2]));
+    if (umax2 <= half_width * half_width)
+        return 0;
+    int worst = 0;
+    for (int p = 0; p < s->n; ++p)
+        if (v3_norm2(v3_sub(s->x[p], mat_vec(A, s->x_ref[p]))) >= umax2)
+            worst = p;
+    snprintf(s->fail_msg, sizeof s->fail_msg,
+             "particle %d moved %.3g a in one step (speed %.3g against the flow), more than half "
+             "the cell's narrowest width %.3g a: the motion is unstable",
+             worst, sqrt(umax2), v3_norm(v3_sub(s->v[worst], mat_vec(s->cell.L, s->x[worst]))),
+             2.0 * half_width);
+    return 1;
+}
+
 void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
 {
     s->topology_interval = interval < 1 ? 1 : interval;
@@ -473,6 +495,8 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
                      "non-finite particle position at step %ld, t=%.6g", s->step, s->time);
             return LUB_SHEAR_NONFINITE;
         }
+        if (umax2 > s->nl.skin * s->nl.skin && runaway(s, A, umax2))
+            return LUB_SHEAR_RUNAWAY;
         s->skin_used = 2.0 * sqrt(umax2) + sqrt(e2) * s->nl.max_dist;
         if (s->skin_used > s->nl.skin)
             s->need_rebuild = 1;

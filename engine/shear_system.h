@@ -59,7 +59,8 @@ enum {
     LUB_SHEAR_NOMEM = -1,
     LUB_SHEAR_CELL_TOO_SMALL = -2, /* the cell is narrower than twice the listing distance */
     LUB_SHEAR_NONFINITE = -3,      /* a pair law or a particle became non-finite */
-    LUB_SHEAR_DEGENERATE = -4      /* det H <= 0 */
+    LUB_SHEAR_DEGENERATE = -4,     /* det H <= 0 */
+    LUB_SHEAR_RUNAWAY = -5 /* a particle moved more than half the cell's width in one step */
 };
 
 enum {

@@ -14,7 +14,10 @@
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient; its default
 #     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early;
-#  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5.
+#  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5;
+#  5. a blow-up with finite numbers (a fixed /dt 69 times dt_elastic flings a particle 8 a in
+#     its first step) -> exit 3, status "failed", a diagnostic naming the displacement and /dt
+#     (such runs used to complete with exit 0 and stresses of 1e32).
 # usage: test_scene_cli.sh LUBDEM PYTHON
 set -u
 LUBDEM=$1
@@ -170,6 +173,20 @@ ok = s["status"] == "partial" and f.attrs["status"] in (b"partial", "partial")
 ok = ok and f["observables/mu/value"].shape[0] > 0 and s["results"]["strain_reached"]["value"] > 0
 print(f"sigterm status={s['status']} rows={f['observables/mu/value'].shape[0]} strain={s['results']['strain_reached']['value']:.3f}")
 if not ok: print("FAIL: partial result invalid", file=sys.stderr)
+sys.exit(0 if ok else 1)
+PYEOF
+
+# 5. runaway particle: a numerical failure, not a result
+echo '{"scene":"simple_shear","n_particles":300,"strain":1,"snapshots":0,"dt":0.01}' \
+  | "$LUBDEM" run - --out "$W/runaway" --quiet 2>"$W/runaway.err"; rc=$?
+check "[ $rc -eq 3 ] && grep -q 'in one step' $W/runaway.err && grep -q '/dt' $W/runaway.err" \
+  "runaway particle: rc=$rc ($(head -c 300 "$W/runaway.err"))"
+"$PY" - "$W/runaway" <<'PYEOF' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1] + "/summary.json"))
+ok = s["status"] == "failed" and "in one step" in s.get("diagnostic", "")
+print(f"runaway status={s['status']} diagnostic={s.get('diagnostic', '')[:120]}")
+if not ok: print("FAIL: runaway run not reported as failed", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
 exit $fail
