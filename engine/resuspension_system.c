@@ -160,6 +160,32 @@ static int rebuild(lub_rs_system *s)
     return LUB_RS_OK;
 }
 
+/* A blown-up motion with finite numbers: the largest non-affine displacement since the last
+ * rebuild (at most half the skin before this step) exceeds half the narrower periodic width, so
+ * one step moved a particle past particles it never met. Writes fail_msg when it did. */
+static int runaway(lub_rs_system *s, double umax2, double tau, int nmob)
+{
+    double w[3];
+    lub_cell_widths(&s->cell, w);
+    const double half_width = 0.5 * fmin(w[0], w[2]);
+    if (umax2 <= half_width * half_width)
+        return 0;
+    int worst = 0;
+    for (int p = 0; p < nmob; ++p) {
+        const vec3 xr = s->x_ref[p];
+        const vec3 aff =
+            v3_axpy(xr, tau, lub_mat_vec(s->L_flow, v3(xr.x, xr.y - s->p.y_floor, xr.z)));
+        if (v3_norm2(v3_sub(s->x[p], aff)) >= umax2)
+            worst = p;
+    }
+    snprintf(s->fail_msg, sizeof s->fail_msg,
+             "particle %d moved %.3g a in one step (speed %.3g against the flow), more than half "
+             "the cell's narrower periodic width %.3g a: the motion is unstable at step %ld",
+             worst, sqrt(umax2), v3_norm(v3_sub(s->v[worst], lub_rs_mean_velocity(s, s->x[worst]))),
+             2.0 * half_width, s->step);
+    return 1;
+}
+
 int lub_rs_step(lub_rs_system *s)
 {
     if (s->need_rebuild) {
@@ -287,6 +313,8 @@ int lub_rs_step(lub_rs_system *s)
                  s->time);
         return LUB_RS_NONFINITE;
     }
+    if (umax2 > s->p.skin * s->p.skin && runaway(s, umax2, tau, nmob))
+        return LUB_RS_RUNAWAY;
     if (s->p.orientation == LUB_RS_VORTICITY && lub_cell_update(&s->cell, dt)) {
         snprintf(s->fail_msg, sizeof s->fail_msg, "cell degenerate at step %ld", s->step);
         return LUB_RS_NONFINITE;

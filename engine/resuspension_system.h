@@ -52,7 +52,8 @@ enum {
     LUB_RS_NOMEM = -1,
     LUB_RS_CELL_TOO_SMALL = -2,
     LUB_RS_NONFINITE = -3,
-    LUB_RS_ESCAPED = -4 /* a free particle left [floor, top of the cell] (floor breached) */
+    LUB_RS_ESCAPED = -4, /* a free particle left [floor, top of the cell] (floor breached) */
+    LUB_RS_RUNAWAY = -5  /* a particle moved more than half the cell's width in one step */
 };
 
 typedef struct {

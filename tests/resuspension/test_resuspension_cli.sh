@@ -64,7 +64,8 @@ f = h5py.File('$work/run2/result.h5', 'r')
 assert np.all(np.isfinite(f['profiles/phi'][:]))" && ok || bad "partial profiles"
 
 # a time step fixed far above the elastic bound: numerical failure (exit 3, status failed) whose
-# diagnostic says that /dt caused it and how to fix it
+# diagnostic names the particle flung across the cell in one step, says that /dt caused it and
+# how to fix it
 cat > "$work/bigdt.json" <<'JEOF'
 {"scene": "resuspension", "n": 100, "dt": 0.5, "strain": 1, "average_from": 0.5,
  "snapshots": 0}
@@ -74,6 +75,8 @@ rc=$?
 [ $rc -eq 3 ] && ok || bad "fixed dt 0.5: exit code $rc (expected 3)"
 grep -q "^error: .*the spec fixes /dt = 0.5, .* times the stability bound dt_critical" \
   "$work/run3.err" && ok || bad "fixed dt 0.5: diagnostic lacks the /dt hint: $(cat "$work/run3.err")"
+grep -q "^error: particle [0-9]* moved .* a in one step" "$work/run3.err" && ok \
+  || bad "fixed dt 0.5: the runaway particle is not named: $(cat "$work/run3.err")"
 $PY -c "
 import json; s = json.load(open('$work/run3/summary.json'))
 assert s['status'] == 'failed' and '/dt_safety' in s['diagnostic'], s" \
