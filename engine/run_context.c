@@ -18,6 +18,15 @@ void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double st
     json_object_set_new(ctx->summary_results, name, e);
 }
 
+void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name)
+{
+    snprintf(out, len,
+             "the spec fixes /dt at %.3g times %s, beyond the largest step /dt_safety allows "
+             "(1): the contacts are not resolved and the results are not the law's; lower /dt, "
+             "or set it to 0 so that /dt_safety sets the step",
+             ratio, bound_name);
+}
+
 void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_bound,
                             const char *bound_name)
 {

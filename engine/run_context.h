@@ -28,6 +28,11 @@ typedef struct lub_run_ctx {
 void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double stderr_value,
                      const char *unit);
 
+/* The warning for a time step fixed by /dt at `ratio` times the scene's stability bound
+ * `bound_name` (simple_shear: dt_elastic; resuspension and the two-sphere scenes: dt_critical)
+ * into out[len]. */
+void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name);
+
 /* After a numerical failure: when the spec fixed the time step (/dt > 0) above the scene's
  * stability bound dt_bound (same units; summary name bound_name), appends to ctx->diagnostic
  * why the run most likely failed and what to change. Does nothing otherwise, or when the

@@ -345,6 +345,16 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
      * resolves the gap dynamics only where h |u_n/a| <~ 1 (high St, soft spheres) */
     lub_summary_put(ctx, "normal_h", dt * p.law.params.k_bulk / (1.5 * LUB_PI * eta * a), NAN, "1");
 
+    json_t *warnings = json_array();
+    if (rc == LUB_EXIT_NUMERICAL)
+        lub_diagnostic_dt_hint(ctx, p.dt, dt_crit, "dt_critical");
+    if (rc == LUB_EXIT_OK && p.dt > dt_crit) {
+        char text[320];
+        lub_fixed_dt_warning(text, sizeof text, p.dt / dt_crit, "dt_critical");
+        json_array_append_new(warnings, json_string(text));
+    }
+    json_object_set_new(ctx->summary_extra, "warnings", warnings);
+
     json_t *terms = json_array();
     json_array_append_new(terms, json_string("gravity"));
     lub_law_terms_append(terms, s.law.terms);

@@ -5,6 +5,8 @@
 #include <stdarg.h>
 #include <stdio.h>
 
+#include "run_context.h"
+
 /* appends one formatted message to out[*n] */
 __attribute__((format(printf, 3, 4))) static void
 add_warning(char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN], int *n, const char *fmt, ...)
@@ -18,15 +20,6 @@ add_warning(char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN], int *n, con
 /* a NaN or infinite value (0/0, x/0 of an empty or zero series) fails no check */
 static int exceeds(double value, double limit) { return isfinite(value) && value > limit; }
 static int falls_below(double value, double limit) { return isfinite(value) && value < limit; }
-
-void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name)
-{
-    snprintf(out, len,
-             "the spec fixes /dt at %.3g times %s, beyond the largest step /dt_safety allows "
-             "(1): the contacts are not resolved and the results are not the law's; lower /dt, "
-             "or set it to 0 so that /dt_safety sets the step",
-             ratio, bound_name);
-}
 
 int lub_shear_run_warnings(const lub_shear_run_state *st,
                            char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN])

@@ -56,10 +56,6 @@ typedef struct {
 
 enum { LUB_SHEAR_WARNINGS_MAX = 7, LUB_SHEAR_WARNING_LEN = 320 };
 
-/* The warning for a time step fixed by /dt at `ratio` times the scene's stability bound
- * `bound_name` (simple_shear: dt_elastic, resuspension: dt_critical) into out[len]. */
-void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name);
-
 /* Writes one message per failed check into out[0..], each naming what failed (with its value
  * and threshold, where the check has them) and the spec member to change (a JSON pointer).
  * Returns the number written (0..LUB_SHEAR_WARNINGS_MAX). */

@@ -43,6 +43,7 @@ with tempfile.TemporaryDirectory() as tmp:
     check(s.get("active_terms") == ["gravity", "normal_lubrication", "normal_contact"],
           f"falling_sphere active_terms {s.get('active_terms')}")
     check("tau_c" in s.get("units", {}).get("time", ""), "falling_sphere units.time = tau_c")
+    check(s.get("warnings") == [], f"falling_sphere warns of nothing: {s.get('warnings')}")
     check(abs(s["results"]["exp_rate"]["value"] / (8 / 9) - 1) < 1e-3,
           f"exp_rate {s['results']['exp_rate']['value']:.6f} vs 8/9")
     with h5py.File(os.path.join(d, "result.h5"), "r") as h:
@@ -92,6 +93,21 @@ with tempfile.TemporaryDirectory() as tmp:
         check(p.returncode == 0 and len(w) == 1 and all(e in w[0] for e in expect)
               and "warning: " + w[0] in p.stderr,
               f"two_spheres_shear {label}: exit {p.returncode}, warning {w}")
+
+    # a time step fixed above the elastic bound dt_critical: both scenes warn (before, the
+    # two-sphere pair of dt 0.05 came out 766 a apart with status complete and no word);
+    # the falling sphere's viscous run of the first check (dt from /dt_safety) warned of nothing
+    for label, spec in [("falling_sphere", {"scene": "falling_sphere", "dt": 0.01}),
+                        ("two_spheres_shear", {"scene": "two_spheres_shear", "dt": 0.05})]:
+        d = os.path.join(tmp, "dt_" + label)
+        os.makedirs(d)
+        p = run(spec, d)
+        s = json.load(open(os.path.join(d, "summary.json")))
+        w = [x for x in s.get("warnings", []) if "fixes /dt at" in x]
+        check(p.returncode == 0 and len(w) == 1 and "times dt_critical" in w[0]
+              and "warning: " + w[0] in p.stderr,
+              f"{label} at a fixed dt above dt_critical warns: exit {p.returncode}, "
+              f"warnings {s.get('warnings')}")
 
     # SIGTERM: stop at the next step, partial result, exit 5
     d = os.path.join(tmp, "stop")
