@@ -19,12 +19,18 @@ int lub_real_digits(double x)
     return 17; /* always exact for an IEEE 754 double */
 }
 
+const char *lub_real_text(double x, char out[40])
+{
+    snprintf(out, 40, "%.*g", lub_real_digits(x), x);
+    return out;
+}
+
 /* x in jansson's style with lub_real_digits(x) digits: a '.' or an exponent always (so that it
  * reads back as a real), no '+' and no leading zeros in the exponent. Returns the length. */
 static size_t format_real(double x, char out[40])
 {
     char buf[40];
-    snprintf(buf, sizeof buf, "%.*g", lub_real_digits(x), x);
+    lub_real_text(x, buf);
     size_t n = 0;
     for (const char *c = buf; *c; ++c) {
         out[n++] = *c;

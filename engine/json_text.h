@@ -1,4 +1,4 @@
-/* json_text.h — JSON text whose reals are exact and as short as possible.
+/* json_text.h — text of reals that is exact and as short as possible (JSON and messages).
  *
  * jansson prints every real with a fixed number of significant digits (17 by default), so a
  * value read as 0.3 comes back as 0.29999999999999999 and one read from a 10-digit summary as
@@ -15,6 +15,10 @@
 #include <jansson.h>
 
 char *lub_json_dumps(const json_t *v, size_t flags);
+
+/* x as its shortest exact decimal ("%.*g" with lub_real_digits(x) digits: 0.6, 1e+30,
+ * 1000000) into out, for messages that quote a spec's numbers; returns out. */
+const char *lub_real_text(double x, char out[40]);
 
 /* The smallest number of significant digits (1..17) at which "%.*g" of x reads back as x and
  * does not write a number below 1e15 in exponent form (20.0 needs 2 digits, not the 1 of

@@ -29,6 +29,7 @@
 
 #include "continuum_protocol.h"
 #include "continuum_texture_laws.h"
+#include "json_text.h"
 #include "run_context.h"
 #include "scene.h"
 
@@ -46,10 +47,11 @@ static int table_phi(json_t *obj, const char *ptr, double *phi, lub_error *err)
     for (int i = 0; i < 5; ++i)
         if (*phi == TABLE_PHIS[i])
             return 0;
+    char got[40];
     return lub_fail(err, p,
                     "must be one of the tabulated fractions 0.3, 0.4, 0.44, 0.47, 0.5 "
-                    "(got %.17g)",
-                    *phi);
+                    "(got %s)",
+                    lub_real_text(*phi, got));
 }
 
 /* Reads the "parameters" object into model parameters (also used by run on the resolved spec). */

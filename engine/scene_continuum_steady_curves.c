@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "continuum_steady_curves.h"
+#include "json_text.h"
 #include "run_context.h"
 #include "scene.h"
 
@@ -56,9 +57,10 @@ static int sc_read(json_t *spec, sc_params *p, lub_error *err)
                         err) ||
         lub_spec_number(mm, "/mm", "phi_m", OPEN01, 1, 0.68, &p->mm.phi_m, err))
         return -1;
+    char hi[40], lo[40];
     if (!(p->psi_max > p->psi_min))
-        return lub_fail(err, "/psi_max", "must be > psi_min (got %.17g <= %.17g)", p->psi_max,
-                        p->psi_min);
+        return lub_fail(err, "/psi_max", "must be > psi_min (got %s <= %s)",
+                        lub_real_text(p->psi_max, hi), lub_real_text(p->psi_min, lo));
     return 0;
 }
 

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "few_body.h"
+#include "json_text.h"
 #include "law_spec.h"
 #include "run_context.h"
 #include "scene.h"
@@ -84,11 +85,12 @@ static int fs_read(json_t *spec, fs_params *p, lub_error *err)
         if (jG) {
             if (lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 0, 0.0, &p->G, err))
                 return -1;
+            char need[40], got[40];
             if (fabs(p->G - G) > 1e-9 * G)
                 return lub_fail(err, "/stiffness",
                                 "inconsistent with /K: K = alpha*stiffness*eps requires "
-                                "stiffness = %.17g (got %.17g)",
-                                G, p->G);
+                                "stiffness = %s (got %s)",
+                                lub_real_text(G, need), lub_real_text(p->G, got));
         } else {
             json_object_set_new(spec, "stiffness", json_real(G));
             p->G = G;

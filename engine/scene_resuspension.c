@@ -35,6 +35,7 @@
 #include <string.h>
 
 #include "floor_wall.h"
+#include "json_text.h"
 #include "law_spec.h"
 #include "resuspension_analysis.h"
 #include "resuspension_bed.h"
@@ -135,10 +136,11 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
         lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 2, &p->snapshots, err))
         return -1;
     p->orientation = strcmp(o, "vorticity") == 0 ? LUB_RS_VORTICITY : LUB_RS_GRADIENT;
+    char strain[40], from[40];
     if (p->average_from >= p->strain)
         return lub_fail(err, "/average_from",
-                        "must be below /strain (%.17g) so that something is averaged (got %.17g)",
-                        p->strain, p->average_from);
+                        "must be below /strain (%s) so that something is averaged (got %s)",
+                        lub_real_text(p->strain, strain), lub_real_text(p->average_from, from));
 
     json_t *dd = lub_spec_object(spec, "", "dilute_drag", err);
     if (!dd)

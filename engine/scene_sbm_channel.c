@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "continuum_sbm_channel.h"
+#include "json_text.h"
 #include "run_context.h"
 #include "scene.h"
 
@@ -88,9 +89,10 @@ static int ch_read(json_t *spec, ch_params *p, lub_error *err)
         lub_spec_enum(spec, "", "inventory", invs, "area", &inv, err) ||
         lub_spec_integer(spec, "", "cells", 4, 1000000, 1, 1000, &cells, err))
         return -1;
+    char star[40], mean[40];
     if (!(S->psi_mean < S->psi_star))
-        return lub_fail(err, "/psi_mean", "must be < psi_star = %.17g (got %.17g)", S->psi_star,
-                        S->psi_mean);
+        return lub_fail(err, "/psi_mean", "must be < psi_star = %s (got %s)",
+                        lub_real_text(S->psi_star, star), lub_real_text(S->psi_mean, mean));
     S->geom = strcmp(p->geom, "pipe") == 0 ? LUB_GEOM_PIPE : LUB_GEOM_CHANNEL;
     S->flux_weighted = strcmp(inv, "flux") == 0;
     S->n = (int)cells;

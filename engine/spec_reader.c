@@ -6,6 +6,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "json_text.h"
+
 int lub_fail(lub_error *err, const char *pointer, const char *fmt, ...)
 {
     if (err) {
@@ -84,10 +86,15 @@ static int range_check(double v, lub_range r, const char *p, lub_error *err)
 {
     if (!isfinite(v))
         return lub_fail(err, p, "must be a finite number");
+    char bound[40], got[40];
     if (!isnan(r.min) && (r.min_excl ? !(v > r.min) : !(v >= r.min)))
-        return lub_fail(err, p, "must be %s %.17g (got %.17g)", r.min_excl ? ">" : ">=", r.min, v);
+        return lub_fail(err, p, "must be %s %s (got %s)",
+                        r.min_excl ? ">" : ">=", lub_real_text(r.min, bound),
+                        lub_real_text(v, got));
     if (!isnan(r.max) && (r.max_excl ? !(v < r.max) : !(v <= r.max)))
-        return lub_fail(err, p, "must be %s %.17g (got %.17g)", r.max_excl ? "<" : "<=", r.max, v);
+        return lub_fail(err, p, "must be %s %s (got %s)",
+                        r.max_excl ? "<" : "<=", lub_real_text(r.max, bound),
+                        lub_real_text(v, got));
     return 0;
 }
 
@@ -133,10 +140,11 @@ int lub_spec_integer(json_t *obj, const char *ptr, const char *key, long long mi
     } else if (written_as_real && json_real_value(v) == floor(json_real_value(v))) {
         const double r = json_real_value(v); /* 1e3 written as a real is still an integer */
         /* range first, and never convert beyond +-9e15 (exact in a double, no overflow) */
+        char got[40];
         if (r < (double)min || r <= -9e15)
-            return lub_fail(err, p, "must be >= %lld (got %.17g)", min, r);
+            return lub_fail(err, p, "must be >= %lld (got %s)", min, lub_real_text(r, got));
         if (r > (double)max || r >= 9e15)
-            return lub_fail(err, p, "must be <= %lld (got %.17g)", max, r);
+            return lub_fail(err, p, "must be <= %lld (got %s)", max, lub_real_text(r, got));
         x = (long long)r;
     } else {
         return lub_fail(err, p, "must be an integer (got %s)", json_type_name(v));

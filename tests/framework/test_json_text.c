@@ -60,6 +60,11 @@ int main(void)
     CHECK(lub_real_digits(1e14) == 15);
     CHECK(lub_real_digits(1e15) == 1);
     CHECK(lub_real_digits(1e-5) == 1);
+    char t[40];
+    CHECK(strcmp(lub_real_text(0.6, t), "0.6") == 0);
+    CHECK(strcmp(lub_real_text(0.1 + 0.2, t), "0.30000000000000004") == 0);
+    CHECK(strcmp(lub_real_text(1e30, t), "1e+30") == 0);
+    CHECK(strcmp(lub_real_text(1e7, t), "10000000") == 0);
 
     /* Values a user types, and a summary's 10-digit values read back, print as written
      * (jansson alone prints 0.29999999999999999 and 0.88912216990000004); the caller's

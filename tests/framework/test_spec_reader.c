@@ -35,6 +35,11 @@ int main(void)
     CHECK(d == 0.5);
     CHECK(lub_spec_number(o, "", "ok", (lub_range){0.5, 1, 1, 0}, 0, 0, &d, &err) == -1);
     CHECK(strstr(err.message, "> 0.5") != NULL);
+    /* bounds and values quoted as the user wrote them, not as 17-digit doubles */
+    CHECK(lub_spec_number(o, "", "eps", (lub_range){0.1, 0.6, 0, 0}, 0, 0, &d, &err) == -1);
+    CHECK(strcmp(err.message, "must be >= 0.1 (got -0.1)") == 0);
+    CHECK(lub_spec_number(o, "", "ok", (lub_range){0, 0.3, 0, 0}, 0, 0, &d, &err) == -1);
+    CHECK(strcmp(err.message, "must be <= 0.3 (got 0.5)") == 0);
 
     CHECK(lub_spec_number(o, "", "missing", LUB_POSITIVE, 1, 7.0, &d, &err) == 0);
     CHECK(d == 7.0 && json_number_value(json_object_get(o, "missing")) == 7.0);
