@@ -27,14 +27,26 @@ void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound
              ratio, bound_name);
 }
 
-void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_bound,
+void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_safety, double dt_bound,
                             const char *bound_name)
 {
-    if (!(dt_spec > 0.0) || !(dt_spec > dt_bound))
-        return;
     const size_t used = strlen(ctx->diagnostic);
-    snprintf(ctx->diagnostic + used, sizeof ctx->diagnostic - used,
-             "; the spec fixes /dt = %.3g, %.3g times the stability bound %s = %.3g: leave /dt "
-             "at 0 so that /dt_safety sets the step",
-             dt_spec, dt_spec / dt_bound, bound_name, dt_bound);
+    char *out = ctx->diagnostic + used;
+    const size_t room = sizeof ctx->diagnostic - used;
+    if (dt_spec > 0.0 && dt_spec > dt_bound)
+        snprintf(out, room,
+                 "; the spec fixes /dt = %.3g, %.3g times the stability bound %s = %.3g: leave "
+                 "/dt at 0 so that /dt_safety sets the step",
+                 dt_spec, dt_spec / dt_bound, bound_name, dt_bound);
+    else if (dt_spec > 0.0)
+        snprintf(out, room,
+                 "; the spec fixes /dt = %.3g, %.3g times the single-pair stability bound %s = "
+                 "%.3g, which many stiffly coupled neighbours lower: lower /dt",
+                 dt_spec, dt_spec / dt_bound, bound_name, dt_bound);
+    else
+        snprintf(out, room,
+                 "; the step was /dt_safety = %.3g times the single-pair stability bound %s = "
+                 "%.3g, which many stiffly coupled neighbours lower (a large /cutoff, light or "
+                 "soft particles): lower /dt_safety",
+                 dt_safety, bound_name, dt_bound);
 }

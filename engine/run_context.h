@@ -33,11 +33,13 @@ void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double st
  * into out[len]. */
 void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name);
 
-/* After a numerical failure: when the spec fixed the time step (/dt > 0) above the scene's
- * stability bound dt_bound (same units; summary name bound_name), appends to ctx->diagnostic
- * why the run most likely failed and what to change. Does nothing otherwise, or when the
- * diagnostic is full. */
-void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_bound,
+/* After a numerical failure: appends to ctx->diagnostic what set the time step and what to
+ * change. The spec fixed it (/dt = dt_spec > 0): how it compares with the scene's stability
+ * bound dt_bound (same units; summary name bound_name) and to lower /dt or leave it at 0;
+ * otherwise the step was dt_safety * dt_bound and a smaller /dt_safety is the remedy (the
+ * single-pair bound does not see how many neighbours act on a particle at once). Does nothing
+ * when the diagnostic is full. */
+void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_safety, double dt_bound,
                             const char *bound_name);
 
 #endif

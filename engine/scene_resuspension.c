@@ -272,6 +272,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_rs_system S;
     memset(&S, 0, sizeof S);
     int rc = LUB_EXIT_OK;
+    int step_unstable =
+        0; /* the failure is one the time step causes (non-finite, escape, runaway) */
     B.radius = malloc((size_t)N * sizeof *B.radius);
     B.pos = malloc((size_t)N * sizeof *B.pos);
     if (!B.radius || !B.pos) {
@@ -518,14 +520,15 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         if (e != LUB_RS_OK) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (code %d)", S.fail_msg, e);
             rc = e == LUB_RS_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
+            step_unstable = e == LUB_RS_NONFINITE || e == LUB_RS_ESCAPED || e == LUB_RS_RUNAWAY;
             break;
         }
         if ((step & 255) == 0)
             lub_progress_update(ctx->progress, (double)step / (double)nsteps, S.step);
     }
     lub_progress_final(ctx->progress, S.step);
-    if (rc == LUB_EXIT_NUMERICAL)
-        lub_diagnostic_dt_hint(ctx, p.dt, dt_crit, "dt_critical");
+    if (rc == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_crit))
+        lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_crit, "dt_critical");
 
     /* ---- steady-state analysis (also for a partial run: whatever was averaged) ---- */
     int steady = 0;

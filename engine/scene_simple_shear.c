@@ -392,6 +392,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     memset(&sys, 0, sizeof sys);
     double *scratch = NULL, *ratio_z = NULL;
     int exit_code = LUB_EXIT_OK;
+    int step_unstable = 0; /* the failure is one the time step causes (non-finite, runaway) */
     if (!radius || !pos) {
         free(radius);
         free(pos);
@@ -519,6 +520,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                      sys.fail_msg[0] ? sys.fail_msg : "simulation failure", (long long)step,
                      strain_here);
             exit_code = (r == LUB_SHEAR_NOMEM) ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
+            step_unstable = r == LUB_SHEAR_NONFINITE || r == LUB_SHEAR_RUNAWAY;
             break;
         }
         strain += gd * dt;
@@ -595,6 +597,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                          "non-finite stress at step %lld (strain %.4f)", (long long)step,
                          strain_here);
                 exit_code = LUB_EXIT_NUMERICAL;
+                step_unstable = 1;
                 break;
             }
             /* "run until the headline is known to target_rel_error" */
@@ -630,8 +633,10 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_progress_update(ctx->progress, (double)(step + 1) / (double)nsteps, step + 1);
     }
     lub_progress_final(ctx->progress, step);
-    if (exit_code == LUB_EXIT_NUMERICAL)
-        lub_diagnostic_dt_hint(ctx, p.dt, dt_el, "dt_elastic");
+    /* the step's advice where the step is the likely cause (not for a cell squeezed below
+     * the listing distance, unless /dt was fixed above the bound) */
+    if (exit_code == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_el))
+        lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_el, "dt_elastic");
     if (p.snapshots > 0 && exit_code != LUB_EXIT_IO)
         ss_snapshot(ctx, &sys);
 

@@ -252,7 +252,7 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
      * offset is not the far-field one) */
     json_t *warnings = json_array();
     if (rc == LUB_EXIT_NUMERICAL)
-        lub_diagnostic_dt_hint(ctx, p.dt, dt_crit, "dt_critical");
+        lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_crit, "dt_critical");
     if (rc == LUB_EXIT_OK && p.dt > dt_crit) {
         char text[320];
         lub_fixed_dt_warning(text, sizeof text, p.dt / dt_crit, "dt_critical");

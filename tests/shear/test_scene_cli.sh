@@ -17,7 +17,10 @@
 #  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5;
 #  5. a blow-up with finite numbers (a fixed /dt 69 times dt_elastic flings a particle 8 a in
 #     its first step) -> exit 3, status "failed", a diagnostic naming the displacement and /dt
-#     (such runs used to complete with exit 0 and stresses of 1e32).
+#     (such runs used to complete with exit 0 and stresses of 1e32);
+#  5b. the same with the automatic step: light, soft spheres with a 3 a cut-off at dt_safety 0.3
+#     (the single-pair bound does not see ~37 stiffly coupled partners) -> exit 3 and the advice
+#     to lower /dt_safety (the previous build completed it: eta_r -2.4e24 in its series).
 # usage: test_scene_cli.sh LUBDEM PYTHON
 set -u
 LUBDEM=$1
@@ -189,4 +192,12 @@ print(f"runaway status={s['status']} diagnostic={s.get('diagnostic', '')[:120]}"
 if not ok: print("FAIL: runaway run not reported as failed", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
+
+# 5b. runaway with the automatic step: the advice names /dt_safety
+echo '{"scene":"simple_shear","n_particles":300,"strain":0.1,"snapshots":0,"phi":0.3,
+  "stiffness":1e3,"St":0.01,"cutoff":3.0}' \
+  | "$LUBDEM" run - --out "$W/runaway_auto" --quiet 2>"$W/runaway_auto.err"; rc=$?
+check "[ $rc -eq 3 ] && grep -q 'in one step' $W/runaway_auto.err \
+  && grep -q 'the step was /dt_safety = 0.3 times .*: lower /dt_safety' $W/runaway_auto.err" \
+  "runaway with the automatic step: rc=$rc ($(head -c 400 "$W/runaway_auto.err"))"
 exit $fail
