@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "scene.h"
+
 void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double stderr_value,
                      const char *unit)
 {
@@ -49,4 +51,16 @@ void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_safety, 
                  "%.3g, which many stiffly coupled neighbours lower (a large /cutoff, light or "
                  "soft particles): lower /dt_safety",
                  dt_safety, bound_name, dt_bound);
+}
+
+void lub_report_time_step(lub_run_ctx *ctx, int exit_code, double dt_spec, double dt_safety,
+                          double dt_bound, const char *bound_name, json_t *warnings)
+{
+    if (exit_code == LUB_EXIT_NUMERICAL)
+        lub_diagnostic_dt_hint(ctx, dt_spec, dt_safety, dt_bound, bound_name);
+    if (exit_code == LUB_EXIT_OK && dt_spec > dt_bound) {
+        char text[320];
+        lub_fixed_dt_warning(text, sizeof text, dt_spec / dt_bound, bound_name);
+        json_array_append_new(warnings, json_string(text));
+    }
 }

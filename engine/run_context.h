@@ -42,4 +42,10 @@ void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound
 void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_safety, double dt_bound,
                             const char *bound_name);
 
+/* Both of the above for a scene that finished with exit_code: the hint after a numerical
+ * failure, the warning (appended to the JSON array `warnings`) after a completed run whose
+ * fixed /dt exceeds dt_bound. */
+void lub_report_time_step(lub_run_ctx *ctx, int exit_code, double dt_spec, double dt_safety,
+                          double dt_bound, const char *bound_name, json_t *warnings);
+
 #endif

@@ -348,13 +348,7 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "normal_h", dt * p.law.params.k_bulk / (1.5 * LUB_PI * eta * a), NAN, "1");
 
     json_t *warnings = json_array();
-    if (rc == LUB_EXIT_NUMERICAL)
-        lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_crit, "dt_critical");
-    if (rc == LUB_EXIT_OK && p.dt > dt_crit) {
-        char text[320];
-        lub_fixed_dt_warning(text, sizeof text, p.dt / dt_crit, "dt_critical");
-        json_array_append_new(warnings, json_string(text));
-    }
+    lub_report_time_step(ctx, rc, p.dt, p.dt_safety, dt_crit, "dt_critical", warnings);
     json_object_set_new(ctx->summary_extra, "warnings", warnings);
 
     json_t *terms = json_array();

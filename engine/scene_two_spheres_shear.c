@@ -251,13 +251,7 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
      * pair never entered the cut-off: min_gap null; still inside it at the end: the final
      * offset is not the far-field one) */
     json_t *warnings = json_array();
-    if (rc == LUB_EXIT_NUMERICAL)
-        lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_crit, "dt_critical");
-    if (rc == LUB_EXIT_OK && p.dt > dt_crit) {
-        char text[320];
-        lub_fixed_dt_warning(text, sizeof text, p.dt / dt_crit, "dt_critical");
-        json_array_append_new(warnings, json_string(text));
-    }
+    lub_report_time_step(ctx, rc, p.dt, p.dt_safety, dt_crit, "dt_critical", warnings);
     if (rc == LUB_EXIT_OK && !separated) {
         char text[320];
         text[0] = '\0';

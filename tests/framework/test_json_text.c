@@ -1,19 +1,11 @@
-/* Unit tests of json_text.c: reals print exact and as short as the document allows. */
+/* Unit tests of json_text.c: reals print exact and as short as each one allows. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "framework_check.h"
 #include "json_text.h"
-
-static int failures = 0;
-#define CHECK(cond)                                                                                \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);               \
-            ++failures;                                                                            \
-        }                                                                                          \
-    } while (0)
 
 /* Dumps v compact and compares with the expected text. */
 static void check_text(json_t *v, const char *expected)

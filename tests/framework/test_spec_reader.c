@@ -3,16 +3,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "framework_check.h"
 #include "spec_reader.h"
-
-static int failures = 0;
-#define CHECK(cond)                                                                                \
-    do {                                                                                           \
-        if (!(cond)) {                                                                             \
-            fprintf(stderr, "%s:%d: CHECK failed: %s\n", __FILE__, __LINE__, #cond);               \
-            ++failures;                                                                            \
-        }                                                                                          \
-    } while (0)
 
 int main(void)
 {
