@@ -272,8 +272,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_rs_system S;
     memset(&S, 0, sizeof S);
     int rc = LUB_EXIT_OK;
-    int step_unstable =
-        0; /* the failure is one the time step causes (non-finite, escape, runaway) */
+    /* the failure is one the time step causes (non-finite, escape, runaway) */
+    int step_unstable = 0;
     B.radius = malloc((size_t)N * sizeof *B.radius);
     B.pos = malloc((size_t)N * sizeof *B.pos);
     if (!B.radius || !B.pos) {
