@@ -29,6 +29,15 @@ void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound
              ratio, bound_name);
 }
 
+void lub_warn_fixed_dt(json_t *warnings, double dt_spec, double dt_bound, const char *bound_name)
+{
+    if (!(dt_spec > dt_bound))
+        return;
+    char text[320];
+    lub_fixed_dt_warning(text, sizeof text, dt_spec / dt_bound, bound_name);
+    json_array_append_new(warnings, json_string(text));
+}
+
 void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_safety, double dt_bound,
                             const char *bound_name)
 {
@@ -58,9 +67,6 @@ void lub_report_time_step(lub_run_ctx *ctx, int exit_code, double dt_spec, doubl
 {
     if (exit_code == LUB_EXIT_NUMERICAL)
         lub_diagnostic_dt_hint(ctx, dt_spec, dt_safety, dt_bound, bound_name);
-    if (exit_code == LUB_EXIT_OK && dt_spec > dt_bound) {
-        char text[320];
-        lub_fixed_dt_warning(text, sizeof text, dt_spec / dt_bound, bound_name);
-        json_array_append_new(warnings, json_string(text));
-    }
+    if (exit_code == LUB_EXIT_OK)
+        lub_warn_fixed_dt(warnings, dt_spec, dt_bound, bound_name);
 }

@@ -33,6 +33,10 @@ void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double st
  * into out[len]. */
 void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name);
 
+/* The same warning appended to the JSON array `warnings` when dt_spec > dt_bound (a fixed /dt
+ * above the bound); nothing otherwise. */
+void lub_warn_fixed_dt(json_t *warnings, double dt_spec, double dt_bound, const char *bound_name);
+
 /* After a numerical failure: appends to ctx->diagnostic what set the time step and what to
  * change. The spec fixed it (/dt = dt_spec > 0): how it compares with the scene's stability
  * bound dt_bound (same units; summary name bound_name) and to lower /dt or leave it at 0;

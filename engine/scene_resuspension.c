@@ -688,11 +688,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                                 "/shear_drag_viscosity"));
     if (S.lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
-    if (p.dt > dt_crit) {
-        char text[LUB_SHEAR_WARNING_LEN];
-        lub_fixed_dt_warning(text, sizeof text, p.dt / dt_crit, "dt_critical");
-        json_array_append_new(warn, json_string(text));
-    }
+    lub_warn_fixed_dt(warn, p.dt, dt_crit, "dt_critical");
     if (crushed_fraction > LUB_CRUSHED_CONTACT_FRACTION_MAX) /* the message's "1 %" */
         json_array_append_new(warn,
                               json_string("asperities crushed in more than 1 % of the contacts "
