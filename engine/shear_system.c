@@ -3,6 +3,7 @@
 
 #include "bond_order.h"
 #include "pair_eval.h"
+#include "step_stiffness.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -49,6 +50,7 @@ void lub_shear_free(lub_shear_system *s)
     free(s->inv_m);
     free(s->inv_i);
     free(s->inv_i_share);
+    free(s->row_scratch);
     free(s->tstress);
     free(s->tsyy);
     free(s->tcount);
@@ -91,12 +93,14 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
     s->inv_m = malloc(un * sizeof *s->inv_m);
     s->inv_i = malloc(un * sizeof *s->inv_i);
     s->inv_i_share = malloc(un * sizeof *s->inv_i_share);
+    s->row_scratch = malloc(2 * un * sizeof *s->row_scratch);
     s->tstress = calloc((size_t)threads, sizeof *s->tstress);
     s->tsyy = calloc((size_t)threads, sizeof *s->tsyy);
     s->tcount = calloc(LUB_COUNT_N * (size_t)threads, sizeof *s->tcount);
     s->acc = calloc((size_t)threads, sizeof *s->acc);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
-        !s->inv_i || !s->inv_i_share || !s->tstress || !s->tsyy || !s->tcount || !s->acc) {
+        !s->inv_i || !s->inv_i_share || !s->row_scratch || !s->tstress || !s->tsyy || !s->tcount ||
+        !s->acc) {
         lub_shear_free(s);
         return LUB_SHEAR_NOMEM;
     }
@@ -196,10 +200,28 @@ double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor)
     return lub_q6_value(&acc);
 }
 
+double lub_shear_stiffness_dt(lub_shear_system *s, double dt, int *body)
+{
+    return lub_pairs_stiffness_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt,
+                                  s->row_scratch, body);
+}
+
+double lub_shear_stable_dt(lub_shear_system *s, double dt_max, double safety)
+{
+    return lub_pairs_stable_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt_max, safety,
+                               s->row_scratch);
+}
+
+double lub_shear_adapted_dt(lub_shear_system *s, double dt, double dt_base, double safety)
+{
+    return lub_pairs_adapted_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt, dt_base,
+                                safety, s->row_scratch);
+}
+
 size_t lub_shear_memory_bytes(const lub_shear_system *s)
 {
     size_t n = (size_t)s->n;
-    size_t b = n * (6 * sizeof(vec3) + 5 * sizeof(double));
+    size_t b = n * (6 * sizeof(vec3) + 7 * sizeof(double));
     const lub_nlist *nl = &s->nl;
     for (int t = 0; t < nl->nparts; ++t) /* per-thread buffers of the parallel search */
         b += nl->parts[t].cap * 5 * sizeof(int32_t);

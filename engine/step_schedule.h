@@ -1,0 +1,64 @@
+/* step_schedule.h — the step count and the periodic events (samples, snapshots, ...) of a run
+ * whose time step may change while it runs.
+ *
+ * A run of duration t_end at step dt has nsteps = ceil(t_end/dt - 1e-9) steps. An event with
+ * period `every` steps and first step `first` is due at steps first, first + every, ... (the
+ * form `(step + 1) % every == 0` is first = every - 1; `step % every == 0` is first = 0). When
+ * An occurrence at step k stands for the start of that step (time t_k). When
+ * the step changes to dt' after `done` steps at time t:
+ *   - nsteps becomes done + ceil((t_end - t)/dt' - 1e-9): the run still ends at t_end;
+ *   - each event keeps its spacing in time: every = max(1, floor(spacing/dt' + 1/2)), and its
+ *     next occurrence stays at the same time to within half a step: the steps left before it,
+ *     next - done, are scaled by dt/dt'.
+ * With a constant step the schedule is exactly the modulo form above.
+ *
+ * Units: any time unit. Pure bookkeeping: no allocation, no global state.
+ */
+#ifndef LUBDEM_STEP_SCHEDULE_H
+#define LUBDEM_STEP_SCHEDULE_H
+
+#include <stdint.h>
+
+enum { LUB_SCHEDULE_MAX_EVENTS = 8 };
+
+typedef struct {
+    int64_t every;  /* period in steps (>= 1) */
+    int64_t next;   /* step index of the next occurrence */
+    double spacing; /* period in time, kept across step changes */
+} lub_schedule_event;
+
+typedef struct {
+    double dt;      /* current step (> 0) */
+    double t_end;   /* duration of the run */
+    int64_t nsteps; /* the run ends before step index nsteps */
+    int n_events;
+    lub_schedule_event ev[LUB_SCHEDULE_MAX_EVENTS];
+} lub_schedule;
+
+/* A run of duration t_end >= 0 at step dt > 0. */
+void lub_schedule_init(lub_schedule *s, double dt, double t_end);
+
+/* Adds an event with period `every` >= 1 steps (its spacing in time is `spacing`) first due
+ * at step `first`; returns its id, or -1 when LUB_SCHEDULE_MAX_EVENTS are in use. */
+int lub_schedule_add(lub_schedule *s, int64_t every, int64_t first, double spacing);
+
+/* The period in steps of a spacing in time at step dt: max(1, floor(spacing/dt + 1/2)),
+ * at most 2^62. */
+int64_t lub_schedule_period(double spacing, double dt);
+
+/* 1 if event `id` is due at step `step` (then its next occurrence is scheduled), else 0.
+ * Call once per step, with increasing steps. */
+static inline int lub_schedule_due(lub_schedule *s, int id, int64_t step)
+{
+    lub_schedule_event *e = &s->ev[id];
+    if (step < e->next)
+        return 0;
+    e->next += e->every;
+    return 1;
+}
+
+/* The step becomes dt_new > 0 after `done` steps, at time `time`: nsteps and every event are
+ * rescheduled as described above. */
+void lub_schedule_set_dt(lub_schedule *s, int64_t done, double time, double dt_new);
+
+#endif

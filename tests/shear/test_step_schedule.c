@@ -1,0 +1,71 @@
+/* test_step_schedule.c — step count and periodic events under a changing step
+ * (engine/step_schedule.h).
+ *
+ *  1. constant step: the events are due exactly where the modulo forms (step + 1) % every == 0
+ *     and step % every == 0 put them, and nsteps = ceil(t_end/dt - 1e-9);
+ *  2. the step falls by 5.3 and then rises by 2 during a run: the run still ends at t_end
+ *     (within one step), and successive occurrences of each event stay spacing apart in time
+ *     (within one step of the step in force) across both changes.
+ */
+#include "step_schedule.h"
+
+#include <math.h>
+
+#include "shear_test.h"
+
+static void check_constant(void)
+{
+    lub_schedule s;
+    const double dt = 0.013, t_end = 7.0;
+    lub_schedule_init(&s, dt, t_end);
+    ST_CHECK(s.nsteps == (int64_t)ceil(t_end / dt - 1e-9), "nsteps %lld", (long long)s.nsteps);
+    const int a = lub_schedule_add(&s, 17, 16, 17 * dt);
+    const int b = lub_schedule_add(&s, 5, 0, 5 * dt);
+    int bad = 0;
+    for (int64_t k = 0; k < s.nsteps; ++k) {
+        bad += lub_schedule_due(&s, a, k) != ((k + 1) % 17 == 0);
+        bad += lub_schedule_due(&s, b, k) != (k % 5 == 0);
+    }
+    ST_CHECK(bad == 0, "%d steps disagree with the modulo forms", bad);
+    ST_CHECK(lub_schedule_period(0.02, 0.003) == 7 && lub_schedule_period(1e-9, 1.0) == 1,
+             "period");
+}
+
+static void check_changes(void)
+{
+    lub_schedule s;
+    const double t_end = 10.0, spacing = 0.25;
+    double dt = 1e-3, t = 0.0;
+    lub_schedule_init(&s, dt, t_end);
+    const int ev = lub_schedule_add(&s, lub_schedule_period(spacing, dt),
+                                    lub_schedule_period(spacing, dt) - 1, spacing);
+    double last = -1.0, worst = 0.0;
+    int64_t k;
+    int n = 0;
+    for (k = 0; k < s.nsteps; ++k) {
+        if (lub_schedule_due(&s, ev, k)) { /* at the start of step k, time t */
+            if (last >= 0.0)
+                worst = fmax(worst, fabs(t - last - spacing) / dt);
+            last = t;
+            n++;
+        }
+        t += dt;
+        if (k == 3000) { /* t = 3.001: mid-period */
+            dt /= 5.3;
+            lub_schedule_set_dt(&s, k + 1, t, dt);
+        } else if (k == 3000 + 20000) {
+            dt *= 2.0;
+            lub_schedule_set_dt(&s, k + 1, t, dt);
+        }
+    }
+    ST_CHECK(fabs(t - t_end) <= dt, "the run ends at t = %.9g, not %g", t, t_end);
+    ST_CHECK(worst <= 1.0 + 1e-9, "spacing off by %.3g steps", worst);
+    ST_CHECK(n >= 39 && n <= 40, "%d occurrences in %g at spacing %g", n, t_end, spacing);
+}
+
+int main(void)
+{
+    check_constant();
+    check_changes();
+    ST_DONE();
+}
