@@ -62,6 +62,19 @@ void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_safety, 
                  dt_safety, bound_name, dt_bound);
 }
 
+void lub_diagnostic_adapted_dt_hint(lub_run_ctx *ctx, double dt, double dt_safety, double dt_bound,
+                                    const char *bound_name, long changes, double stiffness_safety,
+                                    double ratio_max)
+{
+    const size_t used = strlen(ctx->diagnostic);
+    snprintf(ctx->diagnostic + used, sizeof ctx->diagnostic - used,
+             "; the step was %.3g: /dt_safety = %.3g times %s = %.3g, lowered %ld times to keep "
+             "it within /dt_stiffness_safety = %.3g times the step the pairs' summed stiffness "
+             "allows (checked at each neighbour-list rebuild, where it was at most %.3g times "
+             "that step): lower /dt_stiffness_safety",
+             dt, dt_safety, bound_name, dt_bound, changes, stiffness_safety, ratio_max);
+}
+
 void lub_report_time_step(lub_run_ctx *ctx, int exit_code, double dt_spec, double dt_safety,
                           double dt_bound, const char *bound_name, json_t *warnings)
 {

@@ -46,6 +46,14 @@ void lub_warn_fixed_dt(json_t *warnings, double dt_spec, double dt_bound, const 
 void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_safety, double dt_bound,
                             const char *bound_name);
 
+/* The same for a step that followed the pairs' summed stiffness (step_stiffness.h): appends the
+ * step in use dt, how it came from /dt_safety times the bound and how many times it changed,
+ * /dt_stiffness_safety and the largest ratio met, and the advice to lower
+ * /dt_stiffness_safety. */
+void lub_diagnostic_adapted_dt_hint(lub_run_ctx *ctx, double dt, double dt_safety, double dt_bound,
+                                    const char *bound_name, long changes, double stiffness_safety,
+                                    double ratio_max);
+
 /* Both of the above for a scene that finished with exit_code: the hint after a numerical
  * failure, the warning (appended to the JSON array `warnings`) after a completed run whose
  * fixed /dt exceeds dt_bound. */

@@ -36,6 +36,8 @@
 #include "shear_run_checks.h"
 #include "shear_system.h"
 #include "stats.h"
+#include "step_schedule.h"
+#include "step_stiffness.h"
 
 #define SS_PI 3.14159265358979323846
 /* bond_order_q6: bonds are pairs with centre distance below this factor times r_i + r_j
@@ -45,6 +47,7 @@
 typedef struct {
     long long n, seed, snapshots;
     double radius_std, phi, Iv, St, stiffness, cutoff, skin, dt, dt_safety, strain;
+    double dt_stiffness_safety; /* largest dt / lub_shear_stiffness_dt of the automatic step */
     double target_rel_error, target_min_strain, transient_strain, sample_strain;
     double drag_viscosity;  /* drag towards the affine flow, units of eta (0: none) */
     int delaunay;           /* lubrication_pairs "delaunay" (1) or "cutoff" (0) */
@@ -90,6 +93,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                                  "skin",
                                  "dt",
                                  "dt_safety",
+                                 "dt_stiffness_safety",
                                  "strain",
                                  "target_rel_error",
                                  "target_min_strain",
@@ -139,6 +143,8 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
         lub_spec_number(spec, "", "skin", skin_r, 1, 0.5, &p->skin, err) ||
         lub_spec_number(spec, "", "dt", LUB_NONNEGATIVE, 1, 0.0, &p->dt, err) ||
         lub_spec_number(spec, "", "dt_safety", saf_r, 1, 0.3, &p->dt_safety, err) ||
+        lub_spec_number(spec, "", "dt_stiffness_safety", (lub_range){0.0, 2.0, 0, 0}, 1,
+                        LUB_DT_STIFFNESS_SAFETY, &p->dt_stiffness_safety, err) ||
         lub_spec_number(spec, "", "strain", (lub_range){0.0, 1e6, 1, 0}, 1, 20.0, &p->strain,
                         err) ||
         lub_spec_number(spec, "", "target_rel_error", rel_r, 1, 0.0, &p->target_rel_error, err) ||
@@ -276,6 +282,30 @@ typedef struct {
     double *strain;
     size_t n, cap;
 } ss_series;
+
+/* Grows the series (and the statistics' scratch arrays) to hold cap samples; 0 or -1 (no
+ * memory: the arrays keep their contents). Called before the time loop and when the step
+ * changes. */
+static int ss_series_reserve(ss_series *ser, double **scratch, double **ratio_z, size_t cap)
+{
+    if (cap <= ser->cap)
+        return 0;
+    double **arrays[S_COUNT + 3];
+    int n = 0;
+    for (int k = 0; k < S_COUNT; ++k)
+        arrays[n++] = &ser->v[k];
+    arrays[n++] = &ser->strain;
+    arrays[n++] = scratch;
+    arrays[n++] = ratio_z;
+    for (int k = 0; k < n; ++k) {
+        double *grown = realloc(*arrays[k], cap * sizeof(double));
+        if (!grown)
+            return -1;
+        *arrays[k] = grown;
+    }
+    ser->cap = cap;
+    return 0;
+}
 
 /* Servo (imposed pressure). P_f is an exponential low-pass of the instantaneous pressure
  * -sigma_yy with time constant filter_strain/gd; the gradient-direction dilation rate is
@@ -431,25 +461,34 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     }
     sys.drag_viscosity = p.drag_viscosity; /* eta = 1 */
     const double dt_el = lub_shear_elastic_dt(&sys);
-    const double dt = p.dt > 0 ? p.dt : p.dt_safety * dt_el;
+    /* the step: fixed (/dt), or /dt_safety of the single-pair bound, lowered while the pairs'
+     * summed stiffness needs it (/dt_stiffness_safety; step_stiffness.h, checked at every
+     * neighbour-list rebuild) */
+    const double dt_base = p.dt > 0 ? p.dt : p.dt_safety * dt_el;
+    const int dt_adapts = p.dt <= 0.0 && p.dt_stiffness_safety > 0.0;
+    double dt = dt_base;
     sys.dt = dt;
     if (p.delaunay) { /* contacts (u_n < eps a) are never cut off between updates */
         const double every = fmin(1e6, fmax(1.0, floor(p.delaunay_strain / (gd * dt) + 0.5)));
         lub_shear_use_delaunay(&sys, (int)every, fmax(0.05, 2.0 * p.law.params.eps));
     }
     const double t_end = p.strain / gd;
-    const int64_t nsteps = (int64_t)ceil(t_end / dt - 1e-9);
+    lub_schedule sched;
+    lub_schedule_init(&sched, dt, t_end);
     const int64_t sample_every = (int64_t)fmax(1.0, floor(p.sample_strain / (gd * dt) + 0.5));
     const int64_t pdf_every = (int64_t)fmax(1.0, floor(p.pdf_interval / (gd * dt) + 0.5));
-    const int64_t snap_every = p.snapshots > 0 ? (nsteps + p.snapshots - 1) / p.snapshots : 0;
+    const int64_t snap_every = p.snapshots > 0 ? (sched.nsteps + p.snapshots - 1) / p.snapshots : 0;
+    const int ev_sample =
+        lub_schedule_add(&sched, sample_every, sample_every - 1, p.sample_strain / gd);
+    const int ev_pdf = lub_schedule_add(&sched, pdf_every, 0, p.pdf_interval / gd);
+    const int ev_snap = snap_every > 0 ? lub_schedule_add(&sched, snap_every, snap_every - 1,
+                                                          (double)snap_every * dt)
+                                       : -1;
+    double dt_min = dt, stiff_ratio_max = 0.0;
+    long dt_changes = 0, rebuilds_seen = 0;
 
-    ser.cap = (size_t)(nsteps / sample_every) + 4;
-    ser.strain = malloc(ser.cap * sizeof(double));
-    scratch = malloc(ser.cap * sizeof(double));
-    ratio_z = malloc(ser.cap * sizeof(double));
-    int mem_ok = ser.strain && scratch && ratio_z;
-    for (int k = 0; k < S_COUNT && mem_ok; ++k)
-        mem_ok = (ser.v[k] = malloc(ser.cap * sizeof(double))) != NULL;
+    int mem_ok =
+        ss_series_reserve(&ser, &scratch, &ratio_z, (size_t)(sched.nsteps / sample_every) + 4) == 0;
     if (!mem_ok) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
         exit_code = LUB_EXIT_INTERNAL;
@@ -500,14 +539,15 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     double next_check = fmax(p.transient_strain + 1.0, 1.0);
     double row[10 + 6 * 9 + 1];
     int64_t step;
-    for (step = 0; step < nsteps; ++step) {
+    for (step = 0; step < sched.nsteps; ++step) {
         if (ctx->stop_requested && *ctx->stop_requested) {
             exit_code = LUB_EXIT_INTERRUPTED;
             break;
         }
-        const int sample = ((step + 1) % sample_every) == 0;
+        const int sample = lub_schedule_due(&sched, ev_sample, step);
         const double strain_here = strain; /* strain of the evaluated configuration */
-        const int pdf = p.pdf_on && strain_here >= p.pdf_start && (step % pdf_every) == 0;
+        const int pdf_due = lub_schedule_due(&sched, ev_pdf, step);
+        const int pdf = p.pdf_on && strain_here >= p.pdf_start && pdf_due;
         unsigned flags = (sample ? LUB_SAMPLE_STRESS : 0u) | (p.pressure ? LUB_SAMPLE_SYY : 0u) |
                          (pdf ? LUB_SAMPLE_PDF : 0u);
         lub_shear_sample smp;
@@ -528,6 +568,32 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             if (step == 0)
                 p_f = -smp.syy;
             servo_step(&sys, -smp.syy, &p_f, dt, gd, &p);
+        }
+        const double dt_of_step = dt; /* the step just taken (time of its sample row) */
+        if (sys.rebuilds != rebuilds_seen) {
+            rebuilds_seen = sys.rebuilds;
+            if (dt_adapts) {
+                const double want = lub_shear_adapted_dt(&sys, dt, dt_base, p.dt_stiffness_safety);
+                if (want != dt) {
+                    dt = want;
+                    sys.dt = dt;
+                    lub_schedule_set_dt(&sched, step + 1, sys.time, dt);
+                    if (sys.topology_interval > 0)
+                        sys.topology_interval =
+                            (int)fmin(1e6, (double)lub_schedule_period(p.delaunay_strain / gd, dt));
+                    const size_t more =
+                        (size_t)((sched.nsteps - step) / sched.ev[ev_sample].every) + 4;
+                    if (ss_series_reserve(&ser, &scratch, &ratio_z, ser.n + more)) {
+                        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
+                        exit_code = LUB_EXIT_INTERNAL;
+                        break;
+                    }
+                    dt_min = fmin(dt_min, dt);
+                    dt_changes++;
+                }
+            }
+            const double ratio = dt / lub_shear_stiffness_dt(&sys, dt, NULL);
+            stiff_ratio_max = fmax(stiff_ratio_max, ratio);
         }
         if (sample) {
             /* bond order after the step (one pass over the pair list, which the first step
@@ -586,7 +652,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 for (int k = 0; k < 9; ++k)
                     row[19 + 9 * part + k] = smp.stress.part[part][k] / s0;
             row[19 + 9 * LUB_SP_N] = q6_here;
-            if (lub_h5_table_append(tab, step, sys.time - dt, row)) {
+            if (lub_h5_table_append(tab, step, sys.time - dt_of_step, row)) {
                 snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
                          lub_h5_last_error(ctx->out));
                 exit_code = LUB_EXIT_IO;
@@ -624,19 +690,23 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 }
             }
         }
-        if (snap_every > 0 && (step + 1) % snap_every == 0 && step + 1 < nsteps) {
+        if (ev_snap >= 0 && lub_schedule_due(&sched, ev_snap, step) && step + 1 < sched.nsteps) {
             if (ss_snapshot(ctx, &sys)) {
                 exit_code = LUB_EXIT_IO;
                 break;
             }
         }
-        lub_progress_update(ctx->progress, (double)(step + 1) / (double)nsteps, step + 1);
+        lub_progress_update(ctx->progress, (double)(step + 1) / (double)sched.nsteps, step + 1);
     }
     lub_progress_final(ctx->progress, step);
     /* the step's advice where the step is the likely cause (not for a cell squeezed below
      * the listing distance, unless /dt was fixed above the bound) */
-    if (exit_code == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_el))
+    if (exit_code == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable) {
+        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_el, "dt_elastic", dt_changes,
+                                       p.dt_stiffness_safety, stiff_ratio_max);
+    } else if (exit_code == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_el)) {
         lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_el, "dt_elastic");
+    }
     if (p.snapshots > 0 && exit_code != LUB_EXIT_IO)
         ss_snapshot(ctx, &sys);
 
@@ -704,6 +774,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_summary_put(ctx, "strain_reached", strain, NAN, "1");
         lub_summary_put(ctx, "dt", dt, NAN, p.pressure ? "eta/P" : "1/gd");
         lub_summary_put(ctx, "dt_elastic", dt_el, NAN, p.pressure ? "eta/P" : "1/gd");
+        lub_summary_put(ctx, "dt_min", dt_min, NAN, p.pressure ? "eta/P" : "1/gd");
+        lub_summary_put(ctx, "dt_changes", (double)dt_changes, NAN, "1");
+        lub_summary_put(ctx, "dt_stiffness_ratio", stiff_ratio_max, NAN, "1");
         lub_summary_put(ctx, "neighbor_rebuilds", (double)sys.rebuilds, NAN, "1");
         lub_summary_put(ctx, "cell_flips", (double)sys.flips, NAN, "1");
         lub_summary_put(ctx, "lost_pairs", (double)sys.lost_pairs, NAN, "1");
@@ -726,6 +799,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .strain_reached = strain,
             .transient_strain = p.transient_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,
+            .dt_over_stiffness = p.dt > 0.0 ? stiff_ratio_max : 0.0,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

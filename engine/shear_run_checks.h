@@ -15,19 +15,22 @@
 /* Steady-state means of one run (NaN where the run has no value; a NaN or infinite value skips
  * its check). */
 typedef struct {
-    double elastic_number;   /* El = g/(<P> a): bulk stiffness over the mean particle pressure,
-                                i.e. `stiffness` * s0 / <P> (s0 = eta gd or the imposed P) */
-    double kinetic_share;    /* |<sigma_xy kinetic>| / |<sigma_xy>| */
-    double crushed_fraction; /* <crushed_contact_fraction> */
-    double bond_order_q6;    /* <bond_order_q6> */
-    double lost_pairs;       /* active pair states lost at neighbour-list rebuilds (count) */
-    int steady;              /* 1 if the steady state was detected */
-    double steady_samples;   /* samples in the steady window (0: the run ended inside the
-                                transient) */
-    double strain_reached;   /* strain at the end of the run */
-    double transient_strain; /* the spec's /transient_strain */
-    double dt_over_elastic;  /* a time step fixed by the spec's /dt, over dt_elastic
-                                (sqrt(min(m/g, I/(k_t r^2)))); 0 when /dt_safety set it */
+    double elastic_number;    /* El = g/(<P> a): bulk stiffness over the mean particle pressure,
+                                 i.e. `stiffness` * s0 / <P> (s0 = eta gd or the imposed P) */
+    double kinetic_share;     /* |<sigma_xy kinetic>| / |<sigma_xy>| */
+    double crushed_fraction;  /* <crushed_contact_fraction> */
+    double bond_order_q6;     /* <bond_order_q6> */
+    double lost_pairs;        /* active pair states lost at neighbour-list rebuilds (count) */
+    int steady;               /* 1 if the steady state was detected */
+    double steady_samples;    /* samples in the steady window (0: the run ended inside the
+                                 transient) */
+    double strain_reached;    /* strain at the end of the run */
+    double transient_strain;  /* the spec's /transient_strain */
+    double dt_over_elastic;   /* a time step fixed by the spec's /dt, over dt_elastic
+                                 (sqrt(min(m/g, I/(k_t r^2)))); 0 when /dt_safety set it */
+    double dt_over_stiffness; /* a time step fixed by the spec's /dt, over the smallest
+                                 many-partner bound lub_shear_stiffness_dt met at a neighbour-list
+                                 rebuild (step_stiffness.h); 0 when the step was automatic */
 } lub_shear_run_state;
 
 /* Thresholds and why (tests/shear/README.md, sections named):
@@ -46,6 +49,10 @@ typedef struct {
  * - A fixed /dt above dt_elastic: beyond what /dt_safety (at most 1) allows; the contacts are
  *   not resolved. dt = 0.01 (70 dt_elastic, N = 300, phi 0.5) completed without a NaN but
  *   lost 17 793 pair states in 2 strain.
+ * - A fixed /dt within dt_elastic but above LUB_SHEAR_DT_STIFFNESS_MAX times the
+ *   many-partner bound of step_stiffness.h: the automatic step never goes there
+ *   (/dt_stiffness_safety, default LUB_DT_STIFFNESS_SAFETY), and runs blew up from 1.22
+ *   (light, soft spheres; README simple_shear, Method).
  * - No steady state detected: the means include the transient or a drift; or the run ended
  *   before /transient_strain and has no steady-state means at all (null in the summary). */
 #define LUB_SHEAR_EL_MIN 5e3
@@ -53,6 +60,7 @@ typedef struct {
 #define LUB_CRUSHED_CONTACT_FRACTION_MAX 1e-2
 #define LUB_SHEAR_Q6_MAX 0.1
 #define LUB_SHEAR_DT_OVER_ELASTIC_MAX 1.0
+#define LUB_SHEAR_DT_STIFFNESS_MAX 1.0
 
 enum { LUB_SHEAR_WARNINGS_MAX = 7, LUB_SHEAR_WARNING_LEN = 320 };
 

@@ -7,8 +7,9 @@
  * 3000 more steps with the scene's sampling pattern (sigma_yy every step, a full stress sample
  * every 50 steps, a microstructure snapshot every 100) and asserts that these steps
  * allocated nothing, and that they crossed at least 10 neighbour-list rebuilds, so the
- * rebuilds, the pair-state carry-over and (Delaunay case) the triangulation updates are inside
- * the measured window. Cases: cut-off 2a at phi 0.50 on 1 and 2 threads; the Delaunay set on
+ * rebuilds, the pair-state carry-over, (Delaunay case) the triangulation updates and the
+ * scene's step control after each rebuild (lub_shear_adapted_dt) are inside the measured
+ * window. Cases: cut-off 2a at phi 0.50 on 1 and 2 threads; the Delaunay set on
  * 2 threads; a cell whose gradient dimension breathes by +-2 % (a stand-in for the imposed-
  * pressure servo, which moves L_yy), so the bin grid and the pair count change.
  *
@@ -94,11 +95,15 @@ static void run_case(const char *name, int kind, int threads)
             flags |= LUB_SAMPLE_STRESS;
         if (k % 100 == 0)
             flags |= LUB_SAMPLE_PDF;
+        const long rebuilds_before = s.rebuilds;
         const int src = lub_shear_step(&s, flags, &smp);
         if (src != LUB_SHEAR_OK) {
             ST_CHECK(src == LUB_SHEAR_OK, "%s: step %d rc %d (%s)", name, k, src, s.fail_msg);
             failed = 1;
         }
+        /* the scene's step control at each rebuild (step_stiffness.h; the step is kept) */
+        if (s.rebuilds != rebuilds_before)
+            (void)lub_shear_adapted_dt(&s, s.dt, s.dt, 1.0);
     }
     const long allocs = atomic_load(&alloc_calls) - before;
     const long rebuilds = s.rebuilds - rebuilds0;

@@ -83,6 +83,8 @@ int main(void)
          "lower /dt_safety"},
         {"fixed dt", offsetof(lub_shear_run_state, dt_over_elastic), 1.5, 0.9, "1.5 times",
          "lower /dt"},
+        {"fixed dt, many partners", offsetof(lub_shear_run_state, dt_over_stiffness), 1.2, 0.95,
+         "1.2 times the step the pairs' summed stiffness allows", "lower /dt"},
     };
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         const threshold_case *tc = &cases[c];

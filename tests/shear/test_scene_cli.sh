@@ -18,9 +18,12 @@
 #  5. a blow-up with finite numbers (a fixed /dt 69 times dt_elastic flings a particle 8 a in
 #     its first step) -> exit 3, status "failed", a diagnostic naming the displacement and /dt
 #     (such runs used to complete with exit 0 and stresses of 1e32);
-#  5b. the same with the automatic step: light, soft spheres with a 3 a cut-off at dt_safety 0.3
-#     (the single-pair bound does not see ~37 stiffly coupled partners) -> exit 3 and the advice
-#     to lower /dt_safety (the previous build completed it: eta_r -2.4e24 in its series).
+#  5b. light, soft spheres with a 3 a cut-off (St 0.01, stiffness 1e3, phi 0.3): 0.3 of the
+#     single-pair bound does not see ~37 stiffly coupled partners. With /dt_stiffness_safety 0
+#     (the single-pair step throughout) -> exit 3 and the advice to lower /dt_safety (a build
+#     without the runaway check completed it: eta_r -2.4e24 in its series); with the default the
+#     step is lowered at the first rebuild and the run completes: finite series evenly spaced in
+#     strain, dt_min below the single-pair step, dt_stiffness_ratio within the safety.
 # usage: test_scene_cli.sh LUBDEM PYTHON
 set -u
 LUBDEM=$1
@@ -77,18 +80,19 @@ for k in ["stress/total", "stress/normal_contact", "stress/kinetic", "mu", "pres
     if f["observables/" + k + "/value"].shape[0] < 10: bad.append("few rows " + k)
 if f["observables/stress/total/value"].shape[1:] != (3, 3): bad.append("tensor shape")
 if "pdf_interaction_density" not in f["profiles"]: bad.append("microstructure missing")
-# ratio observables are ratios of time averages over a steady window (a suffix of the series),
-# not means of the sampled ratios: the summary value must equal <num>/<den> over some suffix
+# ratio observables are ratios of time averages over the steady window (the last
+# steady_samples rows), not means of the sampled ratios: the summary value must equal <num>/<den>
+# over that suffix
 S = f["observables/stress/total/value"][:]
+k0 = len(S) - int(r["steady_samples"]["value"])
 def suffix_mismatch(num, den, v):
-    return min(abs(num[k:].mean() / den[k:].mean() / v - 1) for k in range(len(den) - 31))
+    return abs(num[k0:].mean() / den[k0:].mean() / v - 1)
 for key, num, den in (("mu", S[:, 0, 1], -S[:, 1, 1]), ("Iv", numpy.ones(len(S)), -S[:, 1, 1]),
                       ("sigma11_over_sigma22", S[:, 0, 0], S[:, 1, 1]),
                       ("sigma33_over_sigma22", S[:, 2, 2], S[:, 1, 1])):
     m = suffix_mismatch(num, den, r[key]["value"])
     print(f"ratio_of_means {key} mismatch={m:.1e}")
     if m > 1e-8: bad.append(f"{key} is not a ratio of time averages (mismatch {m:.1e})")
-k0 = len(S) - int(r["steady_samples"]["value"])
 old = (S[k0:, 0, 1] / -S[k0:, 1, 1]).mean()
 m_old = suffix_mismatch(S[:, 0, 1], -S[:, 1, 1], old)
 print(f"ratio_of_means mean_of_sampled_mu={old:.4f} mismatch={m_old:.1e}")
@@ -193,11 +197,39 @@ if not ok: print("FAIL: runaway run not reported as failed", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
 
-# 5b. runaway with the automatic step: the advice names /dt_safety
-echo '{"scene":"simple_shear","n_particles":300,"strain":0.1,"snapshots":0,"phi":0.3,
-  "stiffness":1e3,"St":0.01,"cutoff":3.0}' \
+# 5b. many stiffly coupled partners: the single-pair step blows up, the adapted one does not
+SOFT='"scene":"simple_shear","n_particles":300,"strain":0.1,"snapshots":0,"phi":0.3,
+  "stiffness":1e3,"St":0.01,"cutoff":3.0,"sample_strain":0.005'
+echo "{$SOFT,\"dt_stiffness_safety\":0}" \
   | "$LUBDEM" run - --out "$W/runaway_auto" --quiet 2>"$W/runaway_auto.err"; rc=$?
 check "[ $rc -eq 3 ] && grep -q 'in one step' $W/runaway_auto.err \
   && grep -q 'the step was /dt_safety = 0.3 times .*: lower /dt_safety' $W/runaway_auto.err" \
-  "runaway with the automatic step: rc=$rc ($(head -c 400 "$W/runaway_auto.err"))"
+  "runaway with the single-pair step: rc=$rc ($(head -c 400 "$W/runaway_auto.err"))"
+echo "{$SOFT}" | "$LUBDEM" run - --out "$W/adapted" --quiet 2>"$W/adapted.err"; rc=$?
+check "[ $rc -eq 0 ]" "adapted step: rc=$rc ($(head -c 400 "$W/adapted.err"))"
+"$PY" - "$W/adapted" <<'PYEOF' || fail=1
+import json, sys, h5py, numpy
+d = sys.argv[1]
+s = json.load(open(d + "/summary.json"))
+r = {k: v["value"] for k, v in s["results"].items()}
+bad = []
+if s["status"] != "complete": bad.append("status " + s["status"])
+if not r["dt_changes"] >= 1: bad.append(f"dt_changes {r['dt_changes']}")
+if not r["dt_min"] < 0.3 * r["dt_elastic"]: bad.append(f"dt_min {r['dt_min']}")
+if not r["dt_stiffness_ratio"] <= 1.01: bad.append(f"ratio {r['dt_stiffness_ratio']}")
+with h5py.File(d + "/result.h5") as f:
+    strain = f["observables/strain/value"][:]
+    eta = f["observables/eta_r/value"][:]
+gaps = numpy.diff(strain)
+if not numpy.all(numpy.isfinite(eta)) or numpy.max(numpy.abs(eta)) > 1e3:
+    bad.append(f"eta_r series {numpy.min(eta)}..{numpy.max(eta)}")
+# samples 0.005 apart to within one single-pair step (every sample period is a whole number
+# of steps), also across the change of step
+if len(strain) < 19 or numpy.max(numpy.abs(gaps - 0.005)) > 0.3 * r["dt_elastic"]:
+    bad.append(f"{len(strain)} samples, spacing {gaps.min()}..{gaps.max()}")
+print(f"adapted step: dt_min/dt_elastic={r['dt_min'] / r['dt_elastic']:.3f} "
+      f"changes={r['dt_changes']:.0f} ratio={r['dt_stiffness_ratio']:.3f} samples={len(strain)}")
+for b in bad: print("FAIL: adapted step:", b, file=sys.stderr)
+sys.exit(1 if bad else 0)
+PYEOF
 exit $fail
