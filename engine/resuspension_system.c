@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "pair_eval.h"
+#include "step_stiffness.h"
 #include "velocity_gradient.h"
 
 #ifdef _OPENMP
@@ -47,6 +48,7 @@ void lub_rs_free(lub_rs_system *s)
     free(s->weight);
     free(s->nint);
     free(s->inv_i_share);
+    free(s->row_scratch);
     free(s->img);
     if (s->acc) {
         for (int k = 0; k < (s->p.threads > 0 ? s->p.threads : 1); ++k)
@@ -83,6 +85,7 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
     s->weight = calloc(nn, sizeof *s->weight);
     s->nint = calloc(nn, sizeof *s->nint);
     s->inv_i_share = calloc(nn, sizeof *s->inv_i_share);
+    s->row_scratch = calloc(2 * nn, sizeof *s->row_scratch);
     s->img = calloc(3 * nn, sizeof *s->img);
     const int nthreads = p->threads > 0 ? p->threads : 1;
     s->acc = calloc((size_t)nthreads, sizeof *s->acc);
@@ -90,7 +93,8 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
     s->nl.threads = nthreads;
     lub_pairs_init(&s->pairs);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
-        !s->inv_i || !s->weight || !s->nint || !s->inv_i_share || !s->img || !s->acc) {
+        !s->inv_i || !s->weight || !s->nint || !s->inv_i_share || !s->row_scratch || !s->img ||
+        !s->acc) {
         lub_rs_free(s);
         return LUB_RS_NOMEM;
     }
@@ -374,4 +378,16 @@ double lub_rs_lowest(const lub_rs_system *s, int *below_floor)
     if (below_floor)
         *below_floor = below;
     return low;
+}
+
+double lub_rs_stiffness_dt(lub_rs_system *s, double dt)
+{
+    return lub_pairs_stiffness_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt,
+                                  s->row_scratch, NULL);
+}
+
+double lub_rs_adapted_dt(lub_rs_system *s, double dt, double dt_base, double safety)
+{
+    return lub_pairs_adapted_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt, dt_base,
+                                safety, s->row_scratch);
 }

@@ -46,6 +46,8 @@
 #include "scene_summary.h"
 #include "shear_run_checks.h"
 #include "stats.h"
+#include "step_schedule.h"
+#include "step_stiffness.h"
 
 #define RS_PI 3.14159265358979323846
 
@@ -53,8 +55,8 @@ typedef struct {
     long long n, seed, snapshots, dilute_max;
     double width, radius_std, Sh, I, density_ratio, stiffness, eta_shear, eta_dilute;
     double floor_radius, floor_jitter, lid_height, strain, average_from, sample_strain, bin_width,
-        interface_width, floor_skip, phi_min, phi_m, phi_window, dt, dt_safety, cutoff, skin,
-        initial_phi;
+        interface_width, floor_skip, phi_min, phi_m, phi_window, dt, dt_safety, dt_stiffness_safety,
+        cutoff, skin, initial_phi;
     int orientation;
     lub_law_spec law;
 } rs_params;
@@ -91,6 +93,7 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
                                  "analysis",
                                  "dt",
                                  "dt_safety",
+                                 "dt_stiffness_safety",
                                  "cutoff",
                                  "skin",
                                  "initial_phi",
@@ -128,6 +131,8 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
                         err) ||
         lub_spec_number(spec, "", "dt", LUB_NONNEGATIVE, 1, 0.0, &p->dt, err) ||
         lub_spec_number(spec, "", "dt_safety", unit_half, 1, 0.3, &p->dt_safety, err) ||
+        lub_spec_number(spec, "", "dt_stiffness_safety", (lub_range){0.0, 2.0, 0, 0}, 1,
+                        LUB_DT_STIFFNESS_SAFETY, &p->dt_stiffness_safety, err) ||
         lub_spec_number(spec, "", "cutoff", (lub_range){0.0, 4.0, 1, 0}, 1, 2.0, &p->cutoff, err) ||
         lub_spec_number(spec, "", "skin", (lub_range){0.0, 2.0, 1, 0}, 1, 0.3, &p->skin, err) ||
         lub_spec_number(spec, "", "initial_phi", (lub_range){0.05, 0.55, 0, 0}, 1, 0.5,
@@ -240,6 +245,38 @@ static void rs_buffers_free(rs_buffers *b)
     free(b->floor_pos);
     free(b->keep);
     memset(b, 0, sizeof *b);
+}
+
+/* Grows the sample buffers so that the series holds `total` height samples and the average
+ * `avg` profiles (the statistics' scratch max(total, avg) + 1); 0 or -1 (no memory: the buffers
+ * keep their contents). Called when the step changes. */
+static int rs_samples_reserve(rs_buffers *b, int nb, int64_t total, int64_t avg,
+                              int64_t *nsamp_total, int64_t *nsamp_avg)
+{
+    if (total > *nsamp_total) {
+        double *h = realloc(b->series_h, (size_t)total * sizeof *h);
+        if (!h)
+            return -1;
+        b->series_h = h;
+        *nsamp_total = total;
+    }
+    if (avg > *nsamp_avg) {
+        double *sm = realloc(b->samples, (size_t)(avg * nb) * sizeof *sm);
+        if (!sm)
+            return -1;
+        b->samples = sm;
+        *nsamp_avg = avg;
+    }
+    const size_t scratch = (size_t)(*nsamp_avg > *nsamp_total ? *nsamp_avg : *nsamp_total) + 1;
+    double *s1 = realloc(b->scratch, scratch * sizeof *s1);
+    if (!s1)
+        return -1;
+    b->scratch = s1;
+    double *s2 = realloc(b->scratch2, scratch * sizeof *s2);
+    if (!s2)
+        return -1;
+    b->scratch2 = s2;
+    return 0;
 }
 
 static int write_profiles(lub_h5 *h5, const char *name, int n, const double *data, const char *unit)
@@ -365,17 +402,25 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         rs_buffers_free(&B);
         return LUB_EXIT_INTERNAL;
     }
-    const double dt = sp.dt;
+    /* the step: fixed (/dt), or /dt_safety of the single-pair bound, lowered while the pairs'
+     * summed stiffness needs it (/dt_stiffness_safety; step_stiffness.h, checked at every
+     * neighbour-list rebuild) */
+    const double dt_base = sp.dt;
+    const int dt_adapts = p.dt <= 0.0 && p.dt_stiffness_safety > 0.0;
+    double dt = dt_base, dt_min = dt_base;
+    long dt_changes = 0;
     const double area = lub_rs_area(&S);
 
     /* profile bins from the floor centre plane to the lid */
     const double dy = p.bin_width;
     const int nb = (int)ceil((y_lid - y_floor) / dy);
-    const int64_t nsteps = (int64_t)ceil(p.strain / (gd * dt) - 1e-9);
+    lub_schedule sched; /* nsteps = ceil(strain/(gd dt) - 1e-9); gd = 1 */
+    lub_schedule_init(&sched, dt, p.strain / gd);
     const int64_t sample_every = (int64_t)fmax(1.0, floor(p.sample_strain / (gd * dt) + 0.5));
-    const int64_t nsamp_total = nsteps / sample_every + 2;
-    const int64_t avg_start_step = (int64_t)ceil(p.average_from / (gd * dt) - 1e-9);
-    const int64_t nsamp_avg = (nsteps - avg_start_step) / sample_every + 2;
+    const int ev_sample = lub_schedule_add(&sched, sample_every, 0, p.sample_strain / gd);
+    int64_t nsamp_total = sched.nsteps / sample_every + 2;
+    int64_t avg_start_step = (int64_t)ceil(p.average_from / (gd * dt) - 1e-9);
+    int64_t nsamp_avg = (sched.nsteps - avg_start_step) / sample_every + 2;
     B.samples = calloc((size_t)(nsamp_avg * nb), sizeof *B.samples);
     B.scratch =
         calloc((size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1, sizeof *B.scratch);
@@ -426,16 +471,22 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         return LUB_EXIT_IO;
     }
     const int64_t snap_every =
-        p.snapshots > 1 ? (nsteps + p.snapshots - 2) / (p.snapshots - 1) : nsteps + 1;
+        p.snapshots > 1 ? (sched.nsteps + p.snapshots - 2) / (p.snapshots - 1) : sched.nsteps + 1;
+    const int ev_snap =
+        p.snapshots > 0 ? lub_schedule_add(&sched, snap_every, 0, (double)snap_every * dt) : -1;
 
     int64_t nh = 0, navg = 0;
     double max_ke = 0.0, min_lowest = INFINITY;
     int below_floor_max = 0;
     double contacts_sum = 0.0, crushed_sum = 0.0; /* over the averaged samples */
-    for (int64_t step = 0; step <= nsteps; ++step) {
+    long rebuilds_seen = 0;
+    double stiff_ratio_max = 0.0;
+    for (int64_t step = 0; step <= sched.nsteps; ++step) {
         const double t = S.time;
-        const int sample = (step % sample_every == 0) || step == nsteps;
-        if (sample || (p.snapshots > 0 && (step % snap_every == 0 || step == nsteps))) {
+        const int sample = lub_schedule_due(&sched, ev_sample, step) || step == sched.nsteps;
+        const int snap =
+            ev_snap >= 0 && (lub_schedule_due(&sched, ev_snap, step) || step == sched.nsteps);
+        if (sample || snap) {
             int below = 0;
             double low = lub_rs_lowest(&S, &below);
             min_lowest = fmin(min_lowest, low - y_floor);
@@ -490,7 +541,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 navg++;
             }
         }
-        if (p.snapshots > 0 && (step % snap_every == 0 || step == nsteps)) {
+        if (snap) {
             for (int i = 0; i < N; ++i) {
                 vec3 xu, vu;
                 lub_rs_unwrapped(&S, i, &xu, &vu);
@@ -510,7 +561,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 break;
             }
         }
-        if (step == nsteps)
+        if (step == sched.nsteps)
             break;
         if (ctx->stop_requested && *ctx->stop_requested) {
             rc = LUB_EXIT_INTERRUPTED;
@@ -523,11 +574,36 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             step_unstable = e == LUB_RS_NONFINITE || e == LUB_RS_ESCAPED || e == LUB_RS_RUNAWAY;
             break;
         }
+        if (S.rebuilds != rebuilds_seen) {
+            rebuilds_seen = S.rebuilds;
+            const double want =
+                dt_adapts ? lub_rs_adapted_dt(&S, dt, dt_base, p.dt_stiffness_safety) : dt;
+            if (want != dt) {
+                dt = want;
+                S.p.dt = dt;
+                lub_schedule_set_dt(&sched, step + 1, S.time, dt);
+                if (avg_start_step > step + 1)
+                    avg_start_step =
+                        step + 1 + (int64_t)ceil((p.average_from / gd - S.time) / dt - 1e-9);
+                const int64_t left = (sched.nsteps - step) / sched.ev[ev_sample].every + 2;
+                if (rs_samples_reserve(&B, nb, nh + left, navg + left, &nsamp_total, &nsamp_avg)) {
+                    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (samples)");
+                    rc = LUB_EXIT_INTERNAL;
+                    break;
+                }
+                dt_min = fmin(dt_min, dt);
+                dt_changes++;
+            }
+            stiff_ratio_max = fmax(stiff_ratio_max, dt / lub_rs_stiffness_dt(&S, dt));
+        }
         if ((step & 255) == 0)
-            lub_progress_update(ctx->progress, (double)step / (double)nsteps, S.step);
+            lub_progress_update(ctx->progress, (double)step / (double)sched.nsteps, S.step);
     }
     lub_progress_final(ctx->progress, S.step);
-    if (rc == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_crit))
+    if (rc == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable)
+        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", dt_changes,
+                                       p.dt_stiffness_safety, stiff_ratio_max);
+    else if (rc == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_crit))
         lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_crit, "dt_critical");
 
     /* ---- steady-state analysis (also for a partial run: whatever was averaged) ---- */
@@ -647,8 +723,11 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "lid_height", y_lid - y_floor, NAN, "a");
     lub_summary_put(ctx, "initial_height", h_init, NAN, "a");
     lub_summary_put(ctx, "dt", dt, NAN, "1/gd");
+    lub_summary_put(ctx, "dt_min", dt_min, NAN, "1/gd");
+    lub_summary_put(ctx, "dt_changes", (double)dt_changes, NAN, "1");
     lub_summary_put(ctx, "dt_critical", dt_crit, NAN, "1/gd");
     lub_summary_put(ctx, "rebuilds", (double)S.rebuilds, NAN, "1");
+    lub_summary_put(ctx, "dt_stiffness_ratio", stiff_ratio_max, NAN, "1");
     lub_summary_put(ctx, "solid_volume", vsum, NAN, "a^3");
     lub_summary_put(ctx, "initial_phi", binfo.layer_phi, NAN, "1");
 

@@ -95,6 +95,34 @@ import json; s = json.load(open('$work/run4/summary.json'))
 assert any('fixes /dt at 1.5' in w and 'lower /dt' in w for w in s['warnings']), s['warnings']" \
   && ok || bad "fixed dt 1e-4: no /dt warning"
 
+# light, soft spheres with a 3 a cut-off (I = 0.01, stiffness 1e4): the single-pair step
+# (/dt_stiffness_safety 0) blows up within 100 steps at a stiffness ratio of 1.35; the default
+# lowers the step at the first neighbour-list rebuild and completes, its height series evenly
+# spaced in strain
+SOFT='"scene": "resuspension", "n": 150, "strain": 0.3, "average_from": 0.1, "snapshots": 0,
+ "sample_strain": 0.01, "stiffness": 1e4, "inertial_number": 0.01, "cutoff": 3.0'
+echo "{$SOFT, \"dt_stiffness_safety\": 0}" \
+  | "$LUBDEM" run - --out "$work/run5" --threads 1 > /dev/null 2> "$work/run5.err"
+rc=$?
+[ $rc -eq 3 ] && grep -q "in one step.*lower /dt_safety" "$work/run5.err" && ok \
+  || bad "single-pair step, soft spheres: exit $rc: $(cat "$work/run5.err")"
+echo "{$SOFT}" | "$LUBDEM" run - --out "$work/run6" --threads 1 > /dev/null 2> "$work/run6.err"
+rc=$?
+[ $rc -eq 0 ] && ok || bad "adapted step, soft spheres: exit $rc: $(cat "$work/run6.err")"
+$PY - "$work/run6" <<'PYEOF' && ok || bad "adapted step, soft spheres: summary/series"
+import json, sys
+import h5py, numpy as np
+d = sys.argv[1]
+r = {k: v["value"] for k, v in json.load(open(d + "/summary.json"))["results"].items()}
+assert r["dt_changes"] >= 1 and r["dt_min"] < 0.3 * r["dt_critical"], r
+assert r["dt_stiffness_ratio"] <= 1.01, r["dt_stiffness_ratio"]
+t = h5py.File(d + "/result.h5")["observables/suspension_height/time"][:]
+# every sample period is a whole number of steps: 0.01 apart within one single-pair step (the
+# last sample is the end of the run)
+assert len(t) >= 30 and np.max(np.abs(np.diff(t[:-1]) - 0.01)) <= 0.3 * r["dt_critical"], t
+assert abs(t[-1] - 0.3) <= 0.3 * r["dt_critical"], t[-1]
+PYEOF
+
 echo "resuspension_cli_checks=$((pass + fail))"
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
