@@ -16,7 +16,9 @@
  *     sqrt(2 m/g));
  *  4. on a sheared 200-particle packing: lub_shear_stable_dt returns dt_max when the pairs allow
  *     it, and otherwise a step whose ratio to lub_shear_stiffness_dt is the requested safety to
- *     within 1 %; light, soft spheres with a 3 a cut-off need less than the single-pair step.
+ *     within 1 %; light, soft spheres with a 3 a cut-off need less than the single-pair step;
+ *     lub_shear_adapted_dt lowers a step beyond the bound to 0.9 of the admissible one, raises
+ *     one below 1/1.25 of the safety back to it (or to dt_base), and keeps one in between.
  */
 #include "step_stiffness.h"
 
@@ -261,6 +263,18 @@ static void check_system(void)
              "stable step %g (single-pair %g): ratio %g", stable, dt_pair, ratio);
     ST_CHECK(lub_shear_stable_dt(&s, 0.5 * stable, 0.9) == 0.5 * stable,
              "an admissible dt_max is returned unchanged");
+    /* the scene's rule: lowered to 0.9 of the admissible step, raised back from far below it,
+     * kept in between, and dt_base restored when the pairs allow it */
+    const double down = lub_shear_adapted_dt(&s, dt_pair, dt_pair, 0.9);
+    ST_CHECK(fabs(down - 0.9 * stable) <= 1e-12 * stable, "lowered to %g, expected %g", down,
+             0.9 * stable);
+    const double up = lub_shear_adapted_dt(&s, 0.3 * stable, dt_pair, 0.9);
+    ST_CHECK(fabs(up - 0.9 * stable) <= 1e-12 * stable, "raised to %g, expected %g", up,
+             0.9 * stable);
+    ST_CHECK(lub_shear_adapted_dt(&s, 0.85 * stable, dt_pair, 0.9) == 0.85 * stable,
+             "a step within the margins is kept");
+    ST_CHECK(lub_shear_adapted_dt(&s, 0.3 * stable, 0.5 * stable, 0.9) == 0.5 * stable,
+             "raised back to dt_base when the pairs allow it");
     lub_shear_free(&s);
 }
 
