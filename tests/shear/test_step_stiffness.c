@@ -31,15 +31,11 @@
 #include "shear_fixture.h"
 #include "shear_test.h"
 
+/* the fixture's law (g = 1e4, k_t = g/2, eps 0.02, mu 0.5) with the given terms */
 static lub_law_params law_with(unsigned terms)
 {
-    lub_law_params p = {.eta = 1.0,
-                        .k_bulk = 1e4,
-                        .alpha = 1.0,
-                        .k_t = 5e3,
-                        .eps = 0.02,
-                        .mu = 0.5,
-                        .terms = terms};
+    lub_law_params p = shear_fixture_law(1e4);
+    p.terms = terms;
     return p;
 }
 
