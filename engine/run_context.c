@@ -29,6 +29,16 @@ void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound
              ratio, bound_name);
 }
 
+void lub_fixed_dt_stiffness_warning(char *out, size_t len, double ratio, double limit)
+{
+    snprintf(out, len,
+             "the spec fixes /dt at %.3g times the step the pairs' summed stiffness allows (many "
+             "stiffly coupled partners: a large /cutoff, light or soft particles), above %.3g: "
+             "the motion may be unstable; lower /dt, or set it to 0 so that the step follows "
+             "the pairs (/dt_stiffness_safety)",
+             ratio, limit);
+}
+
 void lub_warn_fixed_dt(json_t *warnings, double dt_spec, double dt_bound, const char *bound_name)
 {
     if (!(dt_spec > dt_bound))

@@ -33,6 +33,10 @@ void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double st
  * into out[len]. */
 void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name);
 
+/* The warning for a fixed /dt within the single-pair bound but `ratio` (> limit) times the
+ * step the pairs' summed stiffness allows (step_stiffness.h), into out (len bytes). */
+void lub_fixed_dt_stiffness_warning(char *out, size_t len, double ratio, double limit);
+
 /* The same warning appended to the JSON array `warnings` when dt_spec > dt_bound (a fixed /dt
  * above the bound); nothing otherwise. */
 void lub_warn_fixed_dt(json_t *warnings, double dt_spec, double dt_bound, const char *bound_name);

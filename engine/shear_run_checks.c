@@ -52,12 +52,8 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
     if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
         lub_fixed_dt_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_elastic, "dt_elastic");
     else if (exceeds(st->dt_over_stiffness, LUB_SHEAR_DT_STIFFNESS_MAX))
-        add_warning(out, &n,
-                    "the spec fixes /dt at %.3g times the step the pairs' summed stiffness "
-                    "allows (many stiffly coupled partners: a large /cutoff, light or soft "
-                    "particles), above %.3g: the motion may be unstable; lower /dt, or set it to "
-                    "0 so that the step follows the pairs (/dt_stiffness_safety)",
-                    st->dt_over_stiffness, LUB_SHEAR_DT_STIFFNESS_MAX);
+        lub_fixed_dt_stiffness_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_stiffness,
+                                       LUB_SHEAR_DT_STIFFNESS_MAX);
     if (exceeds(st->lost_pairs, 0.0))
         add_warning(out, &n,
                     "%.0f active pair states were lost at neighbour-list rebuilds "

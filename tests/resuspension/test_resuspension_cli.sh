@@ -122,6 +122,14 @@ t = h5py.File(d + "/result.h5")["observables/suspension_height/time"][:]
 assert len(t) >= 30 and np.max(np.abs(np.diff(t[:-1]) - 0.01)) <= 0.3 * r["dt_critical"], t
 assert abs(t[-1] - 0.3) <= 0.3 * r["dt_critical"], t[-1]
 PYEOF
+# the same bed at a fixed /dt 0.25 of the single-pair bound, 1.12 times the step its pairs'
+# summed stiffness allows: completes (0.1 strain), with a warning naming /dt
+echo '{"scene": "resuspension", "n": 150, "strain": 0.1, "average_from": 0.05, "snapshots": 0,
+ "sample_strain": 0.01, "stiffness": 1e4, "inertial_number": 0.01, "cutoff": 3.0, "dt": 5.5e-5}' \
+  | "$LUBDEM" run - --out "$work/run7" --threads 1 > /dev/null 2> "$work/run7.err"
+rc=$?
+[ $rc -eq 0 ] && grep -q "fixes /dt at 1.1.* summed stiffness .*lower /dt" "$work/run7.err" && ok \
+  || bad "fixed dt above the stiffness bound: exit $rc, no warning: $(cat "$work/run7.err")"
 
 echo "resuspension_cli_checks=$((pass + fail))"
 echo "$pass passed, $fail failed"
