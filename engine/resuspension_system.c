@@ -380,14 +380,8 @@ double lub_rs_lowest(const lub_rs_system *s, int *below_floor)
     return low;
 }
 
-double lub_rs_stiffness_dt(lub_rs_system *s, double dt)
-{
-    return lub_pairs_stiffness_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt,
-                                  s->row_scratch, NULL);
-}
-
-double lub_rs_adapted_dt(lub_rs_system *s, double dt, double dt_base, double safety)
+double lub_rs_adapted_dt(lub_rs_system *s, double dt, double dt_base, double safety, double *ratio)
 {
     return lub_pairs_adapted_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt, dt_base,
-                                safety, s->row_scratch);
+                                safety, s->row_scratch, ratio);
 }

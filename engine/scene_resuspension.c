@@ -576,8 +576,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         }
         if (S.rebuilds != rebuilds_seen) {
             rebuilds_seen = S.rebuilds;
+            double ratio;
             const double want =
-                dt_adapts ? lub_rs_adapted_dt(&S, dt, dt_base, p.dt_stiffness_safety) : dt;
+                lub_rs_adapted_dt(&S, dt, dt_base, dt_adapts ? p.dt_stiffness_safety : 0.0, &ratio);
             if (want != dt) {
                 dt = want;
                 S.p.dt = dt;
@@ -594,7 +595,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 dt_min = fmin(dt_min, dt);
                 dt_changes++;
             }
-            stiff_ratio_max = fmax(stiff_ratio_max, dt / lub_rs_stiffness_dt(&S, dt));
+            stiff_ratio_max = fmax(stiff_ratio_max, ratio);
         }
         if ((step & 255) == 0)
             lub_progress_update(ctx->progress, (double)step / (double)sched.nsteps, S.step);

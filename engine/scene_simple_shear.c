@@ -47,7 +47,7 @@
 typedef struct {
     long long n, seed, snapshots;
     double radius_std, phi, Iv, St, stiffness, cutoff, skin, dt, dt_safety, strain;
-    double dt_stiffness_safety; /* largest dt / lub_shear_stiffness_dt of the automatic step */
+    double dt_stiffness_safety; /* largest dt / lub_pairs_stiffness_dt of the automatic step */
     double target_rel_error, target_min_strain, transient_strain, sample_strain;
     double drag_viscosity;  /* drag towards the affine flow, units of eta (0: none) */
     int delaunay;           /* lubrication_pairs "delaunay" (1) or "cutoff" (0) */
@@ -572,27 +572,25 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         const double dt_of_step = dt; /* the step just taken (time of its sample row) */
         if (sys.rebuilds != rebuilds_seen) {
             rebuilds_seen = sys.rebuilds;
-            if (dt_adapts) {
-                const double want = lub_shear_adapted_dt(&sys, dt, dt_base, p.dt_stiffness_safety);
-                if (want != dt) {
-                    dt = want;
-                    sys.dt = dt;
-                    lub_schedule_set_dt(&sched, step + 1, sys.time, dt);
-                    if (sys.topology_interval > 0)
-                        sys.topology_interval =
-                            (int)fmin(1e6, (double)lub_schedule_period(p.delaunay_strain / gd, dt));
-                    const size_t more =
-                        (size_t)((sched.nsteps - step) / sched.ev[ev_sample].every) + 4;
-                    if (ss_series_reserve(&ser, &scratch, &ratio_z, ser.n + more)) {
-                        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
-                        exit_code = LUB_EXIT_INTERNAL;
-                        break;
-                    }
-                    dt_min = fmin(dt_min, dt);
-                    dt_changes++;
+            double ratio;
+            const double want = lub_shear_adapted_dt(
+                &sys, dt, dt_base, dt_adapts ? p.dt_stiffness_safety : 0.0, &ratio);
+            if (want != dt) {
+                dt = want;
+                sys.dt = dt;
+                lub_schedule_set_dt(&sched, step + 1, sys.time, dt);
+                if (sys.topology_interval > 0)
+                    sys.topology_interval =
+                        (int)fmin(1e6, (double)lub_schedule_period(p.delaunay_strain / gd, dt));
+                const size_t more = (size_t)((sched.nsteps - step) / sched.ev[ev_sample].every) + 4;
+                if (ss_series_reserve(&ser, &scratch, &ratio_z, ser.n + more)) {
+                    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
+                    exit_code = LUB_EXIT_INTERNAL;
+                    break;
                 }
+                dt_min = fmin(dt_min, dt);
+                dt_changes++;
             }
-            const double ratio = dt / lub_shear_stiffness_dt(&sys, dt, NULL);
             stiff_ratio_max = fmax(stiff_ratio_max, ratio);
         }
         if (sample) {

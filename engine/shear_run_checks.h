@@ -29,7 +29,7 @@ typedef struct {
     double dt_over_elastic;   /* a time step fixed by the spec's /dt, over dt_elastic
                                  (sqrt(min(m/g, I/(k_t r^2)))); 0 when /dt_safety set it */
     double dt_over_stiffness; /* a time step fixed by the spec's /dt, over the smallest
-                                 many-partner bound lub_shear_stiffness_dt met at a neighbour-list
+                                 many-partner bound lub_pairs_stiffness_dt met at a neighbour-list
                                  rebuild (step_stiffness.h); 0 when the step was automatic */
 } lub_shear_run_state;
 

@@ -200,22 +200,11 @@ double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor)
     return lub_q6_value(&acc);
 }
 
-double lub_shear_stiffness_dt(lub_shear_system *s, double dt, int *body)
-{
-    return lub_pairs_stiffness_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt,
-                                  s->row_scratch, body);
-}
-
-double lub_shear_stable_dt(lub_shear_system *s, double dt_max, double safety)
-{
-    return lub_pairs_stable_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt_max, safety,
-                               s->row_scratch);
-}
-
-double lub_shear_adapted_dt(lub_shear_system *s, double dt, double dt_base, double safety)
+double lub_shear_adapted_dt(lub_shear_system *s, double dt, double dt_base, double safety,
+                            double *ratio)
 {
     return lub_pairs_adapted_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt, dt_base,
-                                safety, s->row_scratch);
+                                safety, s->row_scratch, ratio);
 }
 
 size_t lub_shear_memory_bytes(const lub_shear_system *s)

@@ -86,7 +86,7 @@ typedef struct {
     double *r, *m, *inv_m, *inv_i;
     double *inv_i_share; /* lub_inertia_share(inv_i, close (u < a) neighbours at the last
                             step): the inverse inertia the pair law is given */
-    double *row_scratch; /* [2n] Gershgorin row sums of lub_shear_stiffness_dt */
+    double *row_scratch; /* [2n] Gershgorin row sums of lub_shear_adapted_dt */
     lub_cell cell;
     double h_ref[3][3];
     lub_nlist nl;
@@ -152,19 +152,11 @@ static inline void lub_shear_request_rebuild(lub_shear_system *s) { s->need_rebu
  * notes §7). */
 double lub_shear_elastic_dt(const lub_shear_system *s);
 
-/* The step the pairs' current stiffness allows: 2/sqrt(omega_max^2) with omega_max^2 the
- * Gershgorin bound of step_stiffness.h, from the active pairs' stored gaps, for a step dt
- * (the films' stiffness depends on it). INFINITY without an active evaluated pair; *body
- * (may be NULL) is the body with the largest row sum. Serial, O(pairs), no allocation. */
-double lub_shear_stiffness_dt(lub_shear_system *s, double dt, int *body);
-
-/* The largest step dt <= dt_max with dt <= safety * lub_shear_stiffness_dt(s, dt) (to 1 %:
- * the films stiffen as dt falls, so the bound is iterated to its fixed point). dt_max when
- * the pairs allow it. safety > 0. Serial, a few passes over the pairs, no allocation. */
-double lub_shear_stable_dt(lub_shear_system *s, double dt_max, double safety);
-
-/* lub_pairs_adapted_dt (step_stiffness.h) for this system's pairs. */
-double lub_shear_adapted_dt(lub_shear_system *s, double dt, double dt_base, double safety);
+/* lub_pairs_adapted_dt (step_stiffness.h) for this system's pairs, bodies and scratch: the
+ * step after a neighbour-list rebuild, and in *ratio (may be NULL) that step over the step the
+ * pairs' summed stiffness allows. Serial, a few passes over the pairs, no allocation. */
+double lub_shear_adapted_dt(lub_shear_system *s, double dt, double dt_base, double safety,
+                            double *ratio);
 
 /* Heap bytes held by the system (particle arrays, neighbour list, pair store, scratch). */
 size_t lub_shear_memory_bytes(const lub_shear_system *s);

@@ -103,15 +103,20 @@ double lub_pairs_stable_dt(const lub_pairs *ps, const lub_law_params *law, const
 
 double lub_pairs_adapted_dt(const lub_pairs *ps, const lub_law_params *law, const double *r,
                             const double *inv_m, const double *inv_i, int n, double dt,
-                            double dt_base, double safety, double *rows)
+                            double dt_base, double safety, double *rows, double *ratio)
 {
-    const double ratio = dt / lub_pairs_stiffness_dt(ps, law, r, inv_m, inv_i, n, dt, rows, NULL);
-    if (ratio > safety)
-        return 0.9 * lub_pairs_stable_dt(ps, law, r, inv_m, inv_i, n, dt, safety, rows);
-    if (dt < dt_base && ratio < safety / 1.25) {
+    const double now = dt / lub_pairs_stiffness_dt(ps, law, r, inv_m, inv_i, n, dt, rows, NULL);
+    double next = dt;
+    if (safety > 0.0 && now > safety) {
+        next = 0.9 * lub_pairs_stable_dt(ps, law, r, inv_m, inv_i, n, dt, safety, rows);
+    } else if (safety > 0.0 && dt < dt_base && now < safety / 1.25) {
         /* dt / bound(dt) grows at most linearly in dt, so 1.25 dt is admissible */
         const double up = lub_pairs_stable_dt(ps, law, r, inv_m, inv_i, n, dt_base, safety, rows);
-        return up >= dt_base ? dt_base : fmax(dt, 0.9 * up);
+        next = up >= dt_base ? dt_base : fmax(dt, 0.9 * up);
     }
-    return dt;
+    if (ratio)
+        *ratio = next == dt
+                     ? now
+                     : next / lub_pairs_stiffness_dt(ps, law, r, inv_m, inv_i, n, next, rows, NULL);
+    return next;
 }

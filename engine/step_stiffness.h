@@ -82,9 +82,12 @@ double lub_pairs_stable_dt(const lub_pairs *ps, const lub_law_params *law, const
  * dt_base the spec's single-pair rule gives: lowered to 0.9 of lub_pairs_stable_dt(..., dt,
  * safety) when dt exceeds safety times the pairs' bound; raised back to
  * min(dt_base, 0.9 lub_pairs_stable_dt(..., dt_base, safety)) once the pairs allow 1.25 times
- * dt; otherwise dt unchanged (the margins keep changes rare). Same arguments as above. */
+ * dt; otherwise dt unchanged (the margins keep changes rare). safety <= 0: dt is kept (a fixed
+ * step, or the single-pair step throughout). *ratio (may be NULL) gets the returned step over
+ * the bound at that step (one pass over the pairs when the step stays). Same arguments as
+ * above. */
 double lub_pairs_adapted_dt(const lub_pairs *ps, const lub_law_params *law, const double *r,
                             const double *inv_m, const double *inv_i, int n, double dt,
-                            double dt_base, double safety, double *rows);
+                            double dt_base, double safety, double *rows, double *ratio);
 
 #endif

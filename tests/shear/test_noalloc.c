@@ -103,7 +103,7 @@ static void run_case(const char *name, int kind, int threads)
         }
         /* the scene's step control at each rebuild (step_stiffness.h; the step is kept) */
         if (s.rebuilds != rebuilds_before)
-            (void)lub_shear_adapted_dt(&s, s.dt, s.dt, 1.0);
+            (void)lub_shear_adapted_dt(&s, s.dt, s.dt, 1.0, NULL);
     }
     const long allocs = atomic_load(&alloc_calls) - before;
     const long rebuilds = s.rebuilds - rebuilds0;

@@ -1,5 +1,5 @@
 /* test_step_stiffness.c — the pairs' incremental stiffness and the many-partner step bound
- * (engine/step_stiffness.h, lub_shear_stiffness_dt / lub_shear_stable_dt of shear_system.h).
+ * (engine/step_stiffness.h; lub_shear_adapted_dt of shear_system.h).
  *
  *  1. k_n of lub_pair_step_stiffness is the law's own dF_n/du_n: a central finite difference of
  *     the backward-Euler normal solve (lub_normal_solve) at a stationary film, in and out of
@@ -14,11 +14,12 @@
  *     lever arms of contact_shear.h) for 40 random clusters of 2-7 bodies, and equal it for a
  *     single pair of equal spheres with normal stiffness only (2 g/m: the single-pair bound
  *     sqrt(2 m/g));
- *  4. on a sheared 200-particle packing: lub_shear_stable_dt returns dt_max when the pairs allow
- *     it, and otherwise a step whose ratio to lub_shear_stiffness_dt is the requested safety to
+ *  4. on a sheared 200-particle packing: lub_pairs_stable_dt returns dt_max when the pairs allow
+ *     it, and otherwise a step whose ratio to lub_pairs_stiffness_dt is the requested safety to
  *     within 1 %; light, soft spheres with a 3 a cut-off need less than the single-pair step;
  *     lub_shear_adapted_dt lowers a step beyond the bound to 0.9 of the admissible one, raises
- *     one below 1/1.25 of the safety back to it (or to dt_base), and keeps one in between.
+ *     one below 1/1.25 of the safety back to it (or to dt_base), keeps one in between or any
+ *     with safety 0, and reports the ratio at the step it returns.
  */
 #include "step_stiffness.h"
 
@@ -239,6 +240,18 @@ static void check_gershgorin(void)
 }
 
 /* ---- 4: on a packing ---- */
+static double bound_of(lub_shear_system *s, double dt)
+{
+    return lub_pairs_stiffness_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt,
+                                  s->row_scratch, NULL);
+}
+
+static double stable_of(lub_shear_system *s, double dt_max, double safety)
+{
+    return lub_pairs_stable_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt_max, safety,
+                               s->row_scratch);
+}
+
 static void check_system(void)
 {
     /* light, soft spheres with a 3 a cut-off: St * stiffness = 1 (runs at 0.3 of the
@@ -250,27 +263,33 @@ static void check_system(void)
     const double dt_pair = s.dt; /* 0.3 of the single-pair step */
     double no_rows[2];
     lub_shear_system empty = {.n = 0, .row_scratch = no_rows};
-    ST_CHECK(isinf(lub_shear_stiffness_dt(&empty, dt_pair, NULL)), "no pairs: no bound");
-    const double bound = lub_shear_stiffness_dt(&s, dt_pair, NULL);
+    ST_CHECK(isinf(bound_of(&empty, dt_pair)), "no pairs: no bound");
+    const double bound = bound_of(&s, dt_pair);
     ST_CHECK(dt_pair / bound > 1.0, "dt/bound %g: this configuration needs a smaller step",
              dt_pair / bound);
-    const double stable = lub_shear_stable_dt(&s, dt_pair, 0.9);
-    const double ratio = stable / lub_shear_stiffness_dt(&s, stable, NULL);
+    const double stable = stable_of(&s, dt_pair, 0.9);
+    const double ratio = stable / bound_of(&s, stable);
     ST_CHECK(stable < dt_pair && ratio <= 0.9 * 1.01 && ratio >= 0.9 * 0.98,
              "stable step %g (single-pair %g): ratio %g", stable, dt_pair, ratio);
-    ST_CHECK(lub_shear_stable_dt(&s, 0.5 * stable, 0.9) == 0.5 * stable,
+    ST_CHECK(stable_of(&s, 0.5 * stable, 0.9) == 0.5 * stable,
              "an admissible dt_max is returned unchanged");
     /* the scene's rule: lowered to 0.9 of the admissible step, raised back from far below it,
      * kept in between, and dt_base restored when the pairs allow it */
-    const double down = lub_shear_adapted_dt(&s, dt_pair, dt_pair, 0.9);
+    double down_ratio;
+    const double down = lub_shear_adapted_dt(&s, dt_pair, dt_pair, 0.9, &down_ratio);
     ST_CHECK(fabs(down - 0.9 * stable) <= 1e-12 * stable, "lowered to %g, expected %g", down,
              0.9 * stable);
-    const double up = lub_shear_adapted_dt(&s, 0.3 * stable, dt_pair, 0.9);
+    ST_CHECK(down_ratio == down / bound_of(&s, down), "ratio %g at the returned step", down_ratio);
+    double kept_ratio;
+    ST_CHECK(lub_shear_adapted_dt(&s, dt_pair, dt_pair, 0.0, &kept_ratio) == dt_pair &&
+                 kept_ratio == dt_pair / bound,
+             "safety 0 keeps the step (ratio %g)", kept_ratio);
+    const double up = lub_shear_adapted_dt(&s, 0.3 * stable, dt_pair, 0.9, NULL);
     ST_CHECK(fabs(up - 0.9 * stable) <= 1e-12 * stable, "raised to %g, expected %g", up,
              0.9 * stable);
-    ST_CHECK(lub_shear_adapted_dt(&s, 0.85 * stable, dt_pair, 0.9) == 0.85 * stable,
+    ST_CHECK(lub_shear_adapted_dt(&s, 0.85 * stable, dt_pair, 0.9, NULL) == 0.85 * stable,
              "a step within the margins is kept");
-    ST_CHECK(lub_shear_adapted_dt(&s, 0.3 * stable, 0.5 * stable, 0.9) == 0.5 * stable,
+    ST_CHECK(lub_shear_adapted_dt(&s, 0.3 * stable, 0.5 * stable, 0.9, NULL) == 0.5 * stable,
              "raised back to dt_base when the pairs allow it");
     lub_shear_free(&s);
 }
