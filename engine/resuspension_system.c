@@ -10,7 +10,6 @@
 #include <string.h>
 
 #include "pair_eval.h"
-#include "step_stiffness.h"
 #include "velocity_gradient.h"
 
 #ifdef _OPENMP
@@ -380,8 +379,8 @@ double lub_rs_lowest(const lub_rs_system *s, int *below_floor)
     return low;
 }
 
-double lub_rs_adapted_dt(lub_rs_system *s, double dt, double dt_base, double safety, double *ratio)
+int lub_rs_step_control(lub_rs_system *s, lub_step_control *c)
 {
-    return lub_pairs_adapted_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt, dt_base,
-                                safety, s->row_scratch, ratio);
+    return lub_step_control_at_rebuild(c, s->rebuilds, &s->pairs, &s->law, s->r, s->inv_m, s->inv_i,
+                                       s->n, s->row_scratch);
 }

@@ -44,6 +44,7 @@
 #include "pair_accum.h"
 #include "pair_store.h"
 #include "periodic_cell.h"
+#include "step_stiffness.h"
 
 enum { LUB_RS_GRADIENT = 0, LUB_RS_VORTICITY = 1 };
 
@@ -79,7 +80,7 @@ typedef struct {
     double *r, *m, *inv_m, *inv_i, *weight;
     int *nint;           /* active pairs of each body at the last step */
     double *inv_i_share; /* lub_inertia_share(inv_i, nint): what the pair law is given */
-    double *row_scratch; /* [2n] Gershgorin row sums of lub_rs_adapted_dt */
+    double *row_scratch; /* [2n] Gershgorin row sums of lub_rs_step_control */
     int *img;            /* [3n] cell images removed by wrapping so far (x_unwrapped = x + H img) */
     lub_cell cell;       /* cell (deforms only in the vorticity orientation) */
     double L_flow[3][3]; /* gradient of the mean flow u */
@@ -121,11 +122,11 @@ void lub_rs_unwrapped(const lub_rs_system *s, int i, vec3 *x, vec3 *v);
 /* Fluctuating kinetic energy sum 1/2 m |v - u|^2 over free particles. */
 double lub_rs_kinetic_energy(const lub_rs_system *s);
 
-/* lub_pairs_adapted_dt (step_stiffness.h) for this system's pairs (floor spheres, whose motion
- * is prescribed, have no row of the bound): the step after a neighbour-list rebuild, and in
- * *ratio (may be NULL) that step over the step the pairs' summed stiffness allows. Serial, a
- * few passes over the pairs, no allocation. */
-double lub_rs_adapted_dt(lub_rs_system *s, double dt, double dt_base, double safety, double *ratio);
+/* lub_step_control_at_rebuild (step_stiffness.h) for this system's pairs (floor spheres, whose
+ * motion is prescribed, have no row of the bound): after a step, 1 when a rebuild since the
+ * last call changed c->dt (set s->p.dt to it and reschedule). Serial, a few passes over the
+ * pairs at a rebuild, no allocation. */
+int lub_rs_step_control(lub_rs_system *s, lub_step_control *c);
 
 /* Horizontal cross-section of the cell (x-z area = volume / Ly). */
 double lub_rs_area(const lub_rs_system *s);

@@ -405,10 +405,10 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     /* the step: fixed (/dt), or /dt_safety of the single-pair bound, lowered while the pairs'
      * summed stiffness needs it (/dt_stiffness_safety; step_stiffness.h, checked at every
      * neighbour-list rebuild) */
-    const double dt_base = sp.dt;
     const int dt_adapts = p.dt <= 0.0 && p.dt_stiffness_safety > 0.0;
-    double dt = dt_base, dt_min = dt_base;
-    long dt_changes = 0;
+    lub_step_control ctl;
+    lub_step_control_init(&ctl, sp.dt, dt_adapts ? p.dt_stiffness_safety : 0.0);
+    double dt = ctl.dt;
     const double area = lub_rs_area(&S);
 
     /* profile bins from the floor centre plane to the lid */
@@ -479,8 +479,6 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     double max_ke = 0.0, min_lowest = INFINITY;
     int below_floor_max = 0;
     double contacts_sum = 0.0, crushed_sum = 0.0; /* over the averaged samples */
-    long rebuilds_seen = 0;
-    double stiff_ratio_max = 0.0;
     for (int64_t step = 0; step <= sched.nsteps; ++step) {
         const double t = S.time;
         const int sample = lub_schedule_due(&sched, ev_sample, step) || step == sched.nsteps;
@@ -574,36 +572,27 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             step_unstable = e == LUB_RS_NONFINITE || e == LUB_RS_ESCAPED || e == LUB_RS_RUNAWAY;
             break;
         }
-        if (S.rebuilds != rebuilds_seen) {
-            rebuilds_seen = S.rebuilds;
-            double ratio;
-            const double want =
-                lub_rs_adapted_dt(&S, dt, dt_base, dt_adapts ? p.dt_stiffness_safety : 0.0, &ratio);
-            if (want != dt) {
-                dt = want;
-                S.p.dt = dt;
-                lub_schedule_set_dt(&sched, step + 1, S.time, dt);
-                if (avg_start_step > step + 1)
-                    avg_start_step =
-                        step + 1 + (int64_t)ceil((p.average_from / gd - S.time) / dt - 1e-9);
-                const int64_t left = (sched.nsteps - step) / sched.ev[ev_sample].every + 2;
-                if (rs_samples_reserve(&B, nb, nh + left, navg + left, &nsamp_total, &nsamp_avg)) {
-                    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (samples)");
-                    rc = LUB_EXIT_INTERNAL;
-                    break;
-                }
-                dt_min = fmin(dt_min, dt);
-                dt_changes++;
+        if (lub_rs_step_control(&S, &ctl)) {
+            dt = ctl.dt;
+            S.p.dt = dt;
+            lub_schedule_set_dt(&sched, step + 1, S.time, dt);
+            if (avg_start_step > step + 1)
+                avg_start_step =
+                    step + 1 + (int64_t)ceil((p.average_from / gd - S.time) / dt - 1e-9);
+            const int64_t left = (sched.nsteps - step) / sched.ev[ev_sample].every + 2;
+            if (rs_samples_reserve(&B, nb, nh + left, navg + left, &nsamp_total, &nsamp_avg)) {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (samples)");
+                rc = LUB_EXIT_INTERNAL;
+                break;
             }
-            stiff_ratio_max = fmax(stiff_ratio_max, ratio);
         }
         if ((step & 255) == 0)
             lub_progress_update(ctx->progress, (double)step / (double)sched.nsteps, S.step);
     }
     lub_progress_final(ctx->progress, S.step);
     if (rc == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable)
-        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", dt_changes,
-                                       p.dt_stiffness_safety, stiff_ratio_max);
+        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", ctl.changes,
+                                       p.dt_stiffness_safety, ctl.ratio_max);
     else if (rc == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_crit))
         lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_crit, "dt_critical");
 
@@ -724,11 +713,11 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "lid_height", y_lid - y_floor, NAN, "a");
     lub_summary_put(ctx, "initial_height", h_init, NAN, "a");
     lub_summary_put(ctx, "dt", dt, NAN, "1/gd");
-    lub_summary_put(ctx, "dt_min", dt_min, NAN, "1/gd");
-    lub_summary_put(ctx, "dt_changes", (double)dt_changes, NAN, "1");
+    lub_summary_put(ctx, "dt_min", ctl.dt_min, NAN, "1/gd");
+    lub_summary_put(ctx, "dt_changes", (double)ctl.changes, NAN, "1");
     lub_summary_put(ctx, "dt_critical", dt_crit, NAN, "1/gd");
     lub_summary_put(ctx, "rebuilds", (double)S.rebuilds, NAN, "1");
-    lub_summary_put(ctx, "dt_stiffness_ratio", stiff_ratio_max, NAN, "1");
+    lub_summary_put(ctx, "dt_stiffness_ratio", ctl.ratio_max, NAN, "1");
     lub_summary_put(ctx, "solid_volume", vsum, NAN, "a^3");
     lub_summary_put(ctx, "initial_phi", binfo.layer_phi, NAN, "1");
 
@@ -769,9 +758,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (S.lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
     lub_warn_fixed_dt(warn, p.dt, dt_crit, "dt_critical");
-    if (p.dt > 0.0 && p.dt <= dt_crit && stiff_ratio_max > LUB_SHEAR_DT_STIFFNESS_MAX) {
+    if (p.dt > 0.0 && p.dt <= dt_crit && ctl.ratio_max > LUB_SHEAR_DT_STIFFNESS_MAX) {
         char text[LUB_SHEAR_WARNING_LEN];
-        lub_fixed_dt_stiffness_warning(text, sizeof text, stiff_ratio_max,
+        lub_fixed_dt_stiffness_warning(text, sizeof text, ctl.ratio_max,
                                        LUB_SHEAR_DT_STIFFNESS_MAX);
         json_array_append_new(warn, json_string(text));
     }

@@ -464,9 +464,11 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     /* the step: fixed (/dt), or /dt_safety of the single-pair bound, lowered while the pairs'
      * summed stiffness needs it (/dt_stiffness_safety; step_stiffness.h, checked at every
      * neighbour-list rebuild) */
-    const double dt_base = p.dt > 0 ? p.dt : p.dt_safety * dt_el;
     const int dt_adapts = p.dt <= 0.0 && p.dt_stiffness_safety > 0.0;
-    double dt = dt_base;
+    lub_step_control ctl;
+    lub_step_control_init(&ctl, p.dt > 0 ? p.dt : p.dt_safety * dt_el,
+                          dt_adapts ? p.dt_stiffness_safety : 0.0);
+    double dt = ctl.dt;
     sys.dt = dt;
     if (p.delaunay) { /* contacts (u_n < eps a) are never cut off between updates */
         const double every = fmin(1e6, fmax(1.0, floor(p.delaunay_strain / (gd * dt) + 0.5)));
@@ -484,8 +486,6 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     const int ev_snap = snap_every > 0 ? lub_schedule_add(&sched, snap_every, snap_every - 1,
                                                           (double)snap_every * dt)
                                        : -1;
-    double dt_min = dt, stiff_ratio_max = 0.0;
-    long dt_changes = 0, rebuilds_seen = 0;
 
     int mem_ok =
         ss_series_reserve(&ser, &scratch, &ratio_z, (size_t)(sched.nsteps / sample_every) + 4) == 0;
@@ -570,28 +570,19 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             servo_step(&sys, -smp.syy, &p_f, dt, gd, &p);
         }
         const double dt_of_step = dt; /* the step just taken (time of its sample row) */
-        if (sys.rebuilds != rebuilds_seen) {
-            rebuilds_seen = sys.rebuilds;
-            double ratio;
-            const double want = lub_shear_adapted_dt(
-                &sys, dt, dt_base, dt_adapts ? p.dt_stiffness_safety : 0.0, &ratio);
-            if (want != dt) {
-                dt = want;
-                sys.dt = dt;
-                lub_schedule_set_dt(&sched, step + 1, sys.time, dt);
-                if (sys.topology_interval > 0)
-                    sys.topology_interval =
-                        (int)fmin(1e6, (double)lub_schedule_period(p.delaunay_strain / gd, dt));
-                const size_t more = (size_t)((sched.nsteps - step) / sched.ev[ev_sample].every) + 4;
-                if (ss_series_reserve(&ser, &scratch, &ratio_z, ser.n + more)) {
-                    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
-                    exit_code = LUB_EXIT_INTERNAL;
-                    break;
-                }
-                dt_min = fmin(dt_min, dt);
-                dt_changes++;
+        if (lub_shear_step_control(&sys, &ctl)) {
+            dt = ctl.dt;
+            sys.dt = dt;
+            lub_schedule_set_dt(&sched, step + 1, sys.time, dt);
+            if (sys.topology_interval > 0)
+                sys.topology_interval =
+                    (int)fmin(1e6, (double)lub_schedule_period(p.delaunay_strain / gd, dt));
+            const size_t more = (size_t)((sched.nsteps - step) / sched.ev[ev_sample].every) + 4;
+            if (ss_series_reserve(&ser, &scratch, &ratio_z, ser.n + more)) {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
+                exit_code = LUB_EXIT_INTERNAL;
+                break;
             }
-            stiff_ratio_max = fmax(stiff_ratio_max, ratio);
         }
         if (sample) {
             /* bond order after the step (one pass over the pair list, which the first step
@@ -700,8 +691,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     /* the step's advice where the step is the likely cause (not for a cell squeezed below
      * the listing distance, unless /dt was fixed above the bound) */
     if (exit_code == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable) {
-        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_el, "dt_elastic", dt_changes,
-                                       p.dt_stiffness_safety, stiff_ratio_max);
+        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_el, "dt_elastic", ctl.changes,
+                                       p.dt_stiffness_safety, ctl.ratio_max);
     } else if (exit_code == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_el)) {
         lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_el, "dt_elastic");
     }
@@ -772,9 +763,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_summary_put(ctx, "strain_reached", strain, NAN, "1");
         lub_summary_put(ctx, "dt", dt, NAN, p.pressure ? "eta/P" : "1/gd");
         lub_summary_put(ctx, "dt_elastic", dt_el, NAN, p.pressure ? "eta/P" : "1/gd");
-        lub_summary_put(ctx, "dt_min", dt_min, NAN, p.pressure ? "eta/P" : "1/gd");
-        lub_summary_put(ctx, "dt_changes", (double)dt_changes, NAN, "1");
-        lub_summary_put(ctx, "dt_stiffness_ratio", stiff_ratio_max, NAN, "1");
+        lub_summary_put(ctx, "dt_min", ctl.dt_min, NAN, p.pressure ? "eta/P" : "1/gd");
+        lub_summary_put(ctx, "dt_changes", (double)ctl.changes, NAN, "1");
+        lub_summary_put(ctx, "dt_stiffness_ratio", ctl.ratio_max, NAN, "1");
         lub_summary_put(ctx, "neighbor_rebuilds", (double)sys.rebuilds, NAN, "1");
         lub_summary_put(ctx, "cell_flips", (double)sys.flips, NAN, "1");
         lub_summary_put(ctx, "lost_pairs", (double)sys.lost_pairs, NAN, "1");
@@ -797,7 +788,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .strain_reached = strain,
             .transient_strain = p.transient_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,
-            .dt_over_stiffness = p.dt > 0.0 ? stiff_ratio_max : 0.0,
+            .dt_over_stiffness = p.dt > 0.0 ? ctl.ratio_max : 0.0,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

@@ -3,7 +3,6 @@
 
 #include "bond_order.h"
 #include "pair_eval.h"
-#include "step_stiffness.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -200,11 +199,10 @@ double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor)
     return lub_q6_value(&acc);
 }
 
-double lub_shear_adapted_dt(lub_shear_system *s, double dt, double dt_base, double safety,
-                            double *ratio)
+int lub_shear_step_control(lub_shear_system *s, lub_step_control *c)
 {
-    return lub_pairs_adapted_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt, dt_base,
-                                safety, s->row_scratch, ratio);
+    return lub_step_control_at_rebuild(c, s->rebuilds, &s->pairs, &s->law, s->r, s->inv_m, s->inv_i,
+                                       s->n, s->row_scratch);
 }
 
 size_t lub_shear_memory_bytes(const lub_shear_system *s)

@@ -49,6 +49,7 @@
 #include "pair_store.h"
 #include "pair_topology.h"
 #include "periodic_cell.h"
+#include "step_stiffness.h"
 #include "stress.h"
 
 /* Per-thread pair counts of a stress sample (lub_shear_system.tcount). */
@@ -86,7 +87,7 @@ typedef struct {
     double *r, *m, *inv_m, *inv_i;
     double *inv_i_share; /* lub_inertia_share(inv_i, close (u < a) neighbours at the last
                             step): the inverse inertia the pair law is given */
-    double *row_scratch; /* [2n] Gershgorin row sums of lub_shear_adapted_dt */
+    double *row_scratch; /* [2n] Gershgorin row sums of lub_shear_step_control */
     lub_cell cell;
     double h_ref[3][3];
     lub_nlist nl;
@@ -152,11 +153,10 @@ static inline void lub_shear_request_rebuild(lub_shear_system *s) { s->need_rebu
  * notes §7). */
 double lub_shear_elastic_dt(const lub_shear_system *s);
 
-/* lub_pairs_adapted_dt (step_stiffness.h) for this system's pairs, bodies and scratch: the
- * step after a neighbour-list rebuild, and in *ratio (may be NULL) that step over the step the
- * pairs' summed stiffness allows. Serial, a few passes over the pairs, no allocation. */
-double lub_shear_adapted_dt(lub_shear_system *s, double dt, double dt_base, double safety,
-                            double *ratio);
+/* lub_step_control_at_rebuild (step_stiffness.h) for this system's pairs, bodies and scratch:
+ * after a step, 1 when a rebuild since the last call changed c->dt (set s->dt to it and
+ * reschedule). Serial, a few passes over the pairs at a rebuild, no allocation. */
+int lub_shear_step_control(lub_shear_system *s, lub_step_control *c);
 
 /* Heap bytes held by the system (particle arrays, neighbour list, pair store, scratch). */
 size_t lub_shear_memory_bytes(const lub_shear_system *s);

@@ -101,6 +101,30 @@ double lub_pairs_stable_dt(const lub_pairs *ps, const lub_law_params *law, const
     return dt;
 }
 
+void lub_step_control_init(lub_step_control *c, double dt_base, double safety)
+{
+    *c = (lub_step_control){.dt = dt_base, .dt_base = dt_base, .safety = safety, .dt_min = dt_base};
+}
+
+int lub_step_control_at_rebuild(lub_step_control *c, long rebuilds, const lub_pairs *ps,
+                                const lub_law_params *law, const double *r, const double *inv_m,
+                                const double *inv_i, int n, double *rows)
+{
+    if (rebuilds == c->rebuilds)
+        return 0;
+    c->rebuilds = rebuilds;
+    double ratio;
+    const double next = lub_pairs_adapted_dt(ps, law, r, inv_m, inv_i, n, c->dt, c->dt_base,
+                                             c->safety, rows, &ratio);
+    c->ratio_max = fmax(c->ratio_max, ratio);
+    if (next == c->dt)
+        return 0;
+    c->dt = next;
+    c->dt_min = fmin(c->dt_min, next);
+    c->changes++;
+    return 1;
+}
+
 double lub_pairs_adapted_dt(const lub_pairs *ps, const lub_law_params *law, const double *r,
                             const double *inv_m, const double *inv_i, int n, double dt,
                             double dt_base, double safety, double *rows, double *ratio)

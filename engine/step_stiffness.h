@@ -90,4 +90,26 @@ double lub_pairs_adapted_dt(const lub_pairs *ps, const lub_law_params *law, cons
                             const double *inv_m, const double *inv_i, int n, double dt,
                             double dt_base, double safety, double *rows, double *ratio);
 
+/* The step of a run that follows its pairs (the scenes' /dt_stiffness_safety): the step in
+ * use and what the summary reports of it. */
+typedef struct {
+    double dt;        /* step in use */
+    double dt_base;   /* the spec's step: /dt, or /dt_safety times the single-pair bound */
+    double safety;    /* /dt_stiffness_safety; 0: dt stays dt_base (fixed /dt, or off) */
+    double dt_min;    /* smallest step used */
+    double ratio_max; /* largest dt / lub_pairs_stiffness_dt met at a rebuild */
+    long changes;     /* times the step changed */
+    long rebuilds;    /* neighbour-list rebuilds seen */
+} lub_step_control;
+
+void lub_step_control_init(lub_step_control *c, double dt_base, double safety);
+
+/* After a step: when the system has rebuilt its neighbour list since the last call
+ * (`rebuilds` is its rebuild count), applies lub_pairs_adapted_dt and records the ratio.
+ * Returns 1 when c->dt changed (the caller reschedules), else 0. Same pair and body arguments
+ * as lub_pairs_adapted_dt. */
+int lub_step_control_at_rebuild(lub_step_control *c, long rebuilds, const lub_pairs *ps,
+                                const lub_law_params *law, const double *r, const double *inv_m,
+                                const double *inv_i, int n, double *rows);
+
 #endif

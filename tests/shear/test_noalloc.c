@@ -8,7 +8,7 @@
  * every 50 steps, a microstructure snapshot every 100) and asserts that these steps
  * allocated nothing, and that they crossed at least 10 neighbour-list rebuilds, so the
  * rebuilds, the pair-state carry-over, (Delaunay case) the triangulation updates and the
- * scene's step control after each rebuild (lub_shear_adapted_dt) are inside the measured
+ * scene's step control after each rebuild (lub_shear_step_control) are inside the measured
  * window. Cases: cut-off 2a at phi 0.50 on 1 and 2 threads; the Delaunay set on
  * 2 threads; a cell whose gradient dimension breathes by +-2 % (a stand-in for the imposed-
  * pressure servo, which moves L_yy), so the bin grid and the pair count change.
@@ -74,6 +74,8 @@ static void run_case(const char *name, int kind, int threads)
     const int warm = 1500, measured = 3000;
     long before = 0, rebuilds0 = 0;
     lub_shear_sample smp;
+    lub_step_control control;
+    lub_step_control_init(&control, s.dt, 1.0);
     int failed = 0;
     for (int k = 0; k < warm + measured && !failed; ++k) {
         if (k == warm) {
@@ -95,15 +97,13 @@ static void run_case(const char *name, int kind, int threads)
             flags |= LUB_SAMPLE_STRESS;
         if (k % 100 == 0)
             flags |= LUB_SAMPLE_PDF;
-        const long rebuilds_before = s.rebuilds;
         const int src = lub_shear_step(&s, flags, &smp);
         if (src != LUB_SHEAR_OK) {
             ST_CHECK(src == LUB_SHEAR_OK, "%s: step %d rc %d (%s)", name, k, src, s.fail_msg);
             failed = 1;
         }
-        /* the scene's step control at each rebuild (step_stiffness.h; the step is kept) */
-        if (s.rebuilds != rebuilds_before)
-            (void)lub_shear_adapted_dt(&s, s.dt, s.dt, 1.0, NULL);
+        /* the scene's step control at each rebuild (step_stiffness.h; here it keeps the step) */
+        (void)lub_shear_step_control(&s, &control);
     }
     const long allocs = atomic_load(&alloc_calls) - before;
     const long rebuilds = s.rebuilds - rebuilds0;

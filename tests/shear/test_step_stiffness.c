@@ -1,5 +1,5 @@
 /* test_step_stiffness.c — the pairs' incremental stiffness and the many-partner step bound
- * (engine/step_stiffness.h; lub_shear_adapted_dt of shear_system.h).
+ * (engine/step_stiffness.h; lub_shear_step_control of shear_system.h).
  *
  *  1. k_n of lub_pair_step_stiffness is the law's own dF_n/du_n: a central finite difference of
  *     the backward-Euler normal solve (lub_normal_solve) at a stationary film, in and out of
@@ -17,9 +17,10 @@
  *  4. on a sheared 200-particle packing: lub_pairs_stable_dt returns dt_max when the pairs allow
  *     it, and otherwise a step whose ratio to lub_pairs_stiffness_dt is the requested safety to
  *     within 1 %; light, soft spheres with a 3 a cut-off need less than the single-pair step;
- *     lub_shear_adapted_dt lowers a step beyond the bound to 0.9 of the admissible one, raises
+ *     lub_pairs_adapted_dt lowers a step beyond the bound to 0.9 of the admissible one, raises
  *     one below 1/1.25 of the safety back to it (or to dt_base), keeps one in between or any
- *     with safety 0, and reports the ratio at the step it returns.
+ *     with safety 0, and reports the ratio at the step it returns; lub_shear_step_control
+ *     applies it once per rebuild and keeps the summary's record.
  */
 #include "step_stiffness.h"
 
@@ -252,6 +253,13 @@ static double stable_of(lub_shear_system *s, double dt_max, double safety)
                                s->row_scratch);
 }
 
+static double adapted_of(lub_shear_system *s, double dt, double dt_base, double safety,
+                         double *ratio)
+{
+    return lub_pairs_adapted_dt(&s->pairs, &s->law, s->r, s->inv_m, s->inv_i, s->n, dt, dt_base,
+                                safety, s->row_scratch, ratio);
+}
+
 static void check_system(void)
 {
     /* light, soft spheres with a 3 a cut-off: St * stiffness = 1 (runs at 0.3 of the
@@ -276,21 +284,32 @@ static void check_system(void)
     /* the scene's rule: lowered to 0.9 of the admissible step, raised back from far below it,
      * kept in between, and dt_base restored when the pairs allow it */
     double down_ratio;
-    const double down = lub_shear_adapted_dt(&s, dt_pair, dt_pair, 0.9, &down_ratio);
+    const double down = adapted_of(&s, dt_pair, dt_pair, 0.9, &down_ratio);
     ST_CHECK(fabs(down - 0.9 * stable) <= 1e-12 * stable, "lowered to %g, expected %g", down,
              0.9 * stable);
     ST_CHECK(down_ratio == down / bound_of(&s, down), "ratio %g at the returned step", down_ratio);
     double kept_ratio;
-    ST_CHECK(lub_shear_adapted_dt(&s, dt_pair, dt_pair, 0.0, &kept_ratio) == dt_pair &&
+    ST_CHECK(adapted_of(&s, dt_pair, dt_pair, 0.0, &kept_ratio) == dt_pair &&
                  kept_ratio == dt_pair / bound,
              "safety 0 keeps the step (ratio %g)", kept_ratio);
-    const double up = lub_shear_adapted_dt(&s, 0.3 * stable, dt_pair, 0.9, NULL);
+    const double up = adapted_of(&s, 0.3 * stable, dt_pair, 0.9, NULL);
     ST_CHECK(fabs(up - 0.9 * stable) <= 1e-12 * stable, "raised to %g, expected %g", up,
              0.9 * stable);
-    ST_CHECK(lub_shear_adapted_dt(&s, 0.85 * stable, dt_pair, 0.9, NULL) == 0.85 * stable,
+    ST_CHECK(adapted_of(&s, 0.85 * stable, dt_pair, 0.9, NULL) == 0.85 * stable,
              "a step within the margins is kept");
-    ST_CHECK(lub_shear_adapted_dt(&s, 0.3 * stable, 0.5 * stable, 0.9, NULL) == 0.5 * stable,
+    ST_CHECK(adapted_of(&s, 0.3 * stable, 0.5 * stable, 0.9, NULL) == 0.5 * stable,
              "raised back to dt_base when the pairs allow it");
+    /* the system's control: nothing between rebuilds, one change at a rebuild, its record */
+    lub_step_control ctl;
+    lub_step_control_init(&ctl, dt_pair, 0.9);
+    ctl.rebuilds = s.rebuilds;
+    ST_CHECK(lub_shear_step_control(&s, &ctl) == 0 && ctl.dt == dt_pair && ctl.ratio_max == 0.0,
+             "no rebuild since: no change");
+    ctl.rebuilds = s.rebuilds - 1;
+    ST_CHECK(lub_shear_step_control(&s, &ctl) == 1 && ctl.dt == down && ctl.dt_min == down &&
+                 ctl.changes == 1 && ctl.ratio_max == down_ratio,
+             "a rebuild: dt %g, min %g, changes %ld, ratio %g", ctl.dt, ctl.dt_min, ctl.changes,
+             ctl.ratio_max);
     lub_shear_free(&s);
 }
 
