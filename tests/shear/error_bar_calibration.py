@@ -23,12 +23,20 @@ MSER-5 truncation is later: for mu, sigma_xy's or P's), is checked against it (l
 difference of value and stderr, printed).
 Verdict per row: "calibrated" (R inside its interval), "conservative" (below: the error bars are
 larger than the scatter says) or "too small" (above: they promise a precision the runs do not
-have). --check fails on any "too small", on R below the interval's lower end divided by
+have). --check fails on R above the interval's upper end times MAX_OPTIMISM (error bars more
+than 25 % too small beyond chance), on R below the interval's lower end divided by
 MAX_CONSERVATISM (error bars more than twice too large beyond chance: runs stopped on
 target_rel_error would then run over four times longer than needed), and if the mirror differs
-from the engine by more than 1e-6. Too-large error bars within that factor are reported, not
-failed: they never make a result look more precise than it is (measured: 1.5-2x for mu at
-delaunay Iv = 0.1, README "Steady state and error bars"). Prints name=value lines; writes
+from the engine by more than 1e-6. Both margins are on the true ratio, on top of chance: an
+estimator is never exact, and the interval is that of exact error bars. With error bars 15 %
+too small, which the project counts as calibrated (within 25 %), R leaves the exact interval
+in 2.1 % (16 seeds) to 4.6 % (32) of the windows by chance (chi-square; it happened: ref
+Iv = 0.01, phi over 2-20 strain, R 1.62 for 16 seeds where 32 seeds of the same engine give
+1.16); beyond MAX_OPTIMISM times it, in 1.2e-4 / 5.7e-5. Error bars halved from R = 0.9 fail a
+window with probability 0.25 (16 seeds) / 0.55 (32), hence 32 seeds in the physics ctest.
+Too-small error bars within MAX_OPTIMISM and too-large ones within MAX_CONSERVATISM are
+reported in the verdict column, not failed (measured: 1.5-2x too large for mu at delaunay
+Iv = 0.1, README "Steady state and error bars"). Prints name=value lines; writes
 OUT/calibration.md and OUT/calibration.csv (one row per point, seed, window and observable, plus
 each run's strain reached and stop flag), from which --from-csv rebuilds the table without
 running anything.
@@ -59,6 +67,7 @@ import run_physics  # noqa: E402  (same folder: the suite's configurations and s
 OBSERVABLES = ("phi", "mu")
 Z_999 = 3.090232  # standard normal quantile at 0.999: the interval is the central 99.8 %
 MAX_CONSERVATISM = 2.0  # --check: R may fall below its interval by at most this factor
+MAX_OPTIMISM = 1.25  # --check: R may rise above its interval by at most this factor
 
 
 def spec_for(point, seed, args):
@@ -198,9 +207,9 @@ def analyse(rows, out, check):
                              f" {c['rms_se']:.2g} | {c['R']:.2f} |"
                              f" {c['R_lo']:.2f}–{c['R_hi']:.2f} |"
                              f" {c['chi2']:.2f} | {c['coverage']:.2f} | {verdict} |")
-                if c["R"] > c["R_hi"]:
-                    failures.append(f"{tag}: R = {c['R']:.2f} above {c['R_hi']:.2f}: the error "
-                                    "bars are too small")
+                if c["R"] > c["R_hi"] * MAX_OPTIMISM:
+                    failures.append(f"{tag}: R = {c['R']:.2f} above {c['R_hi']:.2f}*"
+                                    f"{MAX_OPTIMISM:g}: the error bars are too small")
                 elif c["R"] < c["R_lo"] / MAX_CONSERVATISM:
                     failures.append(f"{tag}: R = {c['R']:.2f} below {c['R_lo']:.2f}/"
                                     f"{MAX_CONSERVATISM:g}: the error bars are far too large")
