@@ -48,6 +48,16 @@ void lub_warn_fixed_dt(json_t *warnings, double dt_spec, double dt_bound, const 
     json_array_append_new(warnings, json_string(text));
 }
 
+void lub_warn_fixed_dt_stiffness(json_t *warnings, double dt_spec, double dt_bound, double ratio,
+                                 double limit)
+{
+    if (!(dt_spec > 0.0 && dt_spec <= dt_bound && ratio > limit))
+        return;
+    char text[320];
+    lub_fixed_dt_stiffness_warning(text, sizeof text, ratio, limit);
+    json_array_append_new(warnings, json_string(text));
+}
+
 void lub_diagnostic_dt_hint(lub_run_ctx *ctx, double dt_spec, double dt_safety, double dt_bound,
                             const char *bound_name)
 {

@@ -41,6 +41,12 @@ void lub_fixed_dt_stiffness_warning(char *out, size_t len, double ratio, double 
  * above the bound); nothing otherwise. */
 void lub_warn_fixed_dt(json_t *warnings, double dt_spec, double dt_bound, const char *bound_name);
 
+/* lub_fixed_dt_stiffness_warning appended to the JSON array `warnings` when a fixed /dt
+ * (dt_spec > 0) within the single-pair bound dt_bound ran at more than `limit` times the pairs'
+ * summed-stiffness step (`ratio`, the largest met); nothing otherwise. */
+void lub_warn_fixed_dt_stiffness(json_t *warnings, double dt_spec, double dt_bound, double ratio,
+                                 double limit);
+
 /* After a numerical failure: appends to ctx->diagnostic what set the time step and what to
  * change. The spec fixed it (/dt = dt_spec > 0): how it compares with the scene's stability
  * bound dt_bound (same units; summary name bound_name) and to lower /dt or leave it at 0;

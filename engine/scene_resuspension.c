@@ -758,12 +758,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (S.lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
     lub_warn_fixed_dt(warn, p.dt, dt_crit, "dt_critical");
-    if (p.dt > 0.0 && p.dt <= dt_crit && ctl.ratio_max > LUB_SHEAR_DT_STIFFNESS_MAX) {
-        char text[LUB_SHEAR_WARNING_LEN];
-        lub_fixed_dt_stiffness_warning(text, sizeof text, ctl.ratio_max,
-                                       LUB_SHEAR_DT_STIFFNESS_MAX);
-        json_array_append_new(warn, json_string(text));
-    }
+    lub_warn_fixed_dt_stiffness(warn, p.dt, dt_crit, ctl.ratio_max, LUB_SHEAR_DT_STIFFNESS_MAX);
     if (crushed_fraction > LUB_CRUSHED_CONTACT_FRACTION_MAX) /* the message's "1 %" */
         json_array_append_new(warn,
                               json_string("asperities crushed in more than 1 % of the contacts "
