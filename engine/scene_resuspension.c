@@ -50,6 +50,9 @@
 #include "step_stiffness.h"
 
 #define RS_PI 3.14159265358979323846
+/* Most samples a run may take (strain / sample_strain): each one from /average_from on keeps
+ * a profile of every bin in memory until the end of the run. */
+#define RS_MAX_SAMPLES 1e6
 
 typedef struct {
     long long n, seed, snapshots, dilute_max;
@@ -123,7 +126,8 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
                         &p->eta_shear, err) ||
         lub_spec_number(spec, "", "lid_height", (lub_range){1.0, 100.0, 0, 0}, 1, 3.0,
                         &p->lid_height, err) ||
-        lub_spec_number(spec, "", "strain", LUB_POSITIVE, 1, 40.0, &p->strain, err) ||
+        lub_spec_number(spec, "", "strain", (lub_range){0.0, 1e6, 1, 0}, 1, 40.0, &p->strain,
+                        err) ||
         lub_spec_number(spec, "", "average_from", LUB_NONNEGATIVE, 1, 20.0, &p->average_from,
                         err) ||
         lub_spec_number(spec, "", "sample_strain", LUB_POSITIVE, 1, 0.1, &p->sample_strain, err) ||
@@ -142,6 +146,16 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
         return -1;
     p->orientation = strcmp(o, "vorticity") == 0 ? LUB_RS_VORTICITY : LUB_RS_GRADIENT;
     char strain[40], from[40];
+    if (p->strain / p->sample_strain > RS_MAX_SAMPLES) {
+        char least[40], got[40];
+        return lub_fail(err, "/sample_strain",
+                        "the run would take strain / sample_strain = %.3g samples, more than "
+                        "%.0e (each keeps a profile of every bin in memory from /average_from "
+                        "on): raise /sample_strain to at least %s or lower /strain (got %s)",
+                        p->strain / p->sample_strain, RS_MAX_SAMPLES,
+                        lub_real_text(p->strain / RS_MAX_SAMPLES, least),
+                        lub_real_text(p->sample_strain, got));
+    }
     if (p->average_from >= p->strain)
         return lub_fail(err, "/average_from",
                         "must be below /strain (%s) so that something is averaged (got %s)",
@@ -416,7 +430,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     const int nb = (int)ceil((y_lid - y_floor) / dy);
     lub_schedule sched; /* nsteps = ceil(strain/(gd dt) - 1e-9); gd = 1 */
     lub_schedule_init(&sched, dt, p.strain / gd);
-    const int64_t sample_every = (int64_t)fmax(1.0, floor(p.sample_strain / (gd * dt) + 0.5));
+    const int64_t sample_every = lub_schedule_period(p.sample_strain / gd, dt);
     const int ev_sample = lub_schedule_add(&sched, sample_every, 0, p.sample_strain / gd);
     int64_t nsamp_total = sched.nsteps / sample_every + 2;
     int64_t avg_start_step = (int64_t)ceil(p.average_from / (gd * dt) - 1e-9);
@@ -450,7 +464,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         !B.series_h || !B.phi_inst || !B.vol || !B.phi || !B.phi_err || !B.eta || !B.eta_err ||
         !B.ybin || !B.keepd || !B.law || !B.pairs_out || !B.keep || !B.snap_x || !B.snap_v ||
         !B.snap_w || !B.phi_cg || !B.phi_cg_err) {
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (%d bins x %lld samples)",
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "out of memory for the profiles (%d bins x %lld samples): raise /bin_width or "
+                 "/sample_strain, or lower /strain - /average_from",
                  nb, (long long)nsamp_avg);
         lub_rs_free(&S);
         rs_buffers_free(&B);

@@ -28,6 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "json_text.h"
 #include "law_spec.h"
 #include "packing.h"
 #include "run_context.h"
@@ -69,6 +70,13 @@ static const lub_law_spec_opts ss_law_opts = {
     .default_kt_ratio = 0.5,
     .default_mu = 0.5,
 };
+
+/* Most samples of the time series a run may keep (strain / sample_strain): each costs
+ * SS_SAMPLE_BYTES of memory, reserved before the time loop for the whole /strain (also when
+ * /target_rel_error stops the run earlier), and a row of SS_ROW_BYTES in result.h5. */
+#define SS_MAX_SAMPLES 1e6
+#define SS_SAMPLE_BYTES 232 /* (S_COUNT + 3) doubles: series, strain, two scratch arrays */
+#define SS_ROW_BYTES 520    /* the 65 doubles of one time-series row */
 
 /* Smallest admissible cube side for the neighbour search (with margin for tilt/servo). */
 static double ss_min_side(double radius_std, double cutoff, double skin)
@@ -157,6 +165,17 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
         lub_spec_number(spec, "", "drag_viscosity", (lub_range){0.0, 1e3, 0, 0}, 1, 0.0,
                         &p->drag_viscosity, err))
         return -1;
+    if (p->strain / p->sample_strain > SS_MAX_SAMPLES) {
+        char s_text[40], min_text[40];
+        return lub_fail(err, "/sample_strain",
+                        "the run would keep strain / sample_strain = %.3g samples of the time "
+                        "series, more than %.0e (%d bytes of memory each, reserved for the "
+                        "whole /strain, and %d bytes of result.h5): raise /sample_strain to at "
+                        "least %s or lower /strain (got %s)",
+                        p->strain / p->sample_strain, SS_MAX_SAMPLES, SS_SAMPLE_BYTES, SS_ROW_BYTES,
+                        lub_real_text(p->strain / SS_MAX_SAMPLES, min_text),
+                        lub_real_text(p->sample_strain, s_text));
+    }
     const char *pair_set = NULL;
     if (lub_spec_enum(spec, "", "lubrication_pairs", pair_sets, "cutoff", &pair_set, err))
         return -1;
@@ -250,6 +269,8 @@ enum {
     S_Q6,
     S_COUNT
 };
+_Static_assert((S_COUNT + 3) * sizeof(double) == SS_SAMPLE_BYTES,
+               "SS_SAMPLE_BYTES: the series, their strain and the two scratch arrays");
 static const char *s_names[S_COUNT] = {"phi",
                                        "pressure",
                                        "mu",
@@ -477,8 +498,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     const double t_end = p.strain / gd;
     lub_schedule sched;
     lub_schedule_init(&sched, dt, t_end);
-    const int64_t sample_every = (int64_t)fmax(1.0, floor(p.sample_strain / (gd * dt) + 0.5));
-    const int64_t pdf_every = (int64_t)fmax(1.0, floor(p.pdf_interval / (gd * dt) + 0.5));
+    const int64_t sample_every = lub_schedule_period(p.sample_strain / gd, dt);
+    const int64_t pdf_every = lub_schedule_period(p.pdf_interval / gd, dt);
     const int64_t snap_every = p.snapshots > 0 ? (sched.nsteps + p.snapshots - 1) / p.snapshots : 0;
     const int ev_sample =
         lub_schedule_add(&sched, sample_every, sample_every - 1, p.sample_strain / gd);
@@ -538,6 +559,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     const int headline = p.pressure ? S_MU : S_ETA;
     double next_check = fmax(p.transient_strain + 1.0, 1.0);
     double row[10 + 6 * 9 + 1];
+    _Static_assert(sizeof row == SS_ROW_BYTES, "SS_ROW_BYTES: one row of the time series");
     int64_t step;
     for (step = 0; step < sched.nsteps; ++step) {
         if (ctx->stop_requested && *ctx->stop_requested) {
@@ -789,6 +811,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .transient_strain = p.transient_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,
             .dt_over_stiffness = p.dt > 0.0 ? ctl.ratio_max : 0.0,
+            .phi_imposed = p.pressure ? NAN : p.phi,
+            .phi_jamming = ref_phi_m(p.law.params.mu),
+            .mu_m = p.law.params.mu,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

@@ -26,7 +26,17 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
 {
     int n = 0;
     const double el = st->elastic_number;
-    if (falls_below(el, LUB_SHEAR_EL_MIN))
+    const int jammed = isfinite(st->phi_imposed) && isfinite(st->phi_jamming) &&
+                       st->phi_jamming > 0.0 && st->phi_imposed >= st->phi_jamming;
+    if (jammed)
+        add_warning(out, &n,
+                    "phi = %.4g is at or above the jamming fraction phi_m(mu_m = %.3g) = %.3f "
+                    "of the seed's law (physics-reference section 2, +-0.01): rigid spheres "
+                    "cannot flow there and the stress follows the stiffness (El = %.3g, "
+                    "%.2g %% of the contacts crushed; a stiffer run is not more rigid); lower "
+                    "/phi or impose the pressure (/control)",
+                    st->phi_imposed, st->mu_m, st->phi_jamming, el, 100.0 * st->crushed_fraction);
+    if (!jammed && falls_below(el, LUB_SHEAR_EL_MIN))
         add_warning(out, &n,
                     "elastic number k/(P a) = %.3g is below %.0e: the contacts are not rigid "
                     "enough for rigid-sphere rheology (eta_r and phi still move with the "
@@ -37,7 +47,7 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "the kinetic stress is %.2g %% of sigma_xy, above %.0f %%: particle "
                     "inertia enters the rheology; lower /St",
                     100.0 * st->kinetic_share, 100.0 * LUB_SHEAR_KINETIC_SHARE_MAX);
-    if (exceeds(st->crushed_fraction, LUB_CRUSHED_CONTACT_FRACTION_MAX))
+    if (!jammed && exceeds(st->crushed_fraction, LUB_CRUSHED_CONTACT_FRACTION_MAX))
         add_warning(out, &n,
                     "asperities crushed in %.2g %% of the contacts (u_n < -alpha eps a), "
                     "above %.0f %%: the results depend on the stiffness; raise /stiffness",

@@ -31,6 +31,11 @@ typedef struct {
     double dt_over_stiffness; /* a time step fixed by the spec's /dt, over the smallest
                                  many-partner bound lub_pairs_stiffness_dt met at a neighbour-list
                                  rebuild (step_stiffness.h); 0 when the step was automatic */
+    double phi_imposed;       /* the imposed solid fraction (control volume; NaN or 0 under
+                                 pressure control, where phi is free and cannot jam) */
+    double phi_jamming;       /* the seed's jamming fraction phi_m(mu_m) of physics-reference §2
+                                 for the spec's friction (0 or NaN: not checked) */
+    double mu_m;              /* the spec's friction coefficient (for the message) */
 } lub_shear_run_state;
 
 /* Thresholds and why (tests/shear/README.md, sections named):
@@ -54,7 +59,13 @@ typedef struct {
  *   (/dt_stiffness_safety, default LUB_DT_STIFFNESS_SAFETY), and runs blew up from 1.22
  *   (light, soft spheres; README simple_shear, Method).
  * - No steady state detected: the means include the transient or a drift; or the run ended
- *   before /transient_strain and has no steady-state means at all (null in the summary). */
+ *   before /transient_strain and has no steady-state means at all (null in the summary).
+ * - An imposed phi at or above the seed's phi_m(mu_m) (uncertain by ~0.01; this engine's phi
+ *   at Iv = 1e-3 is 0.003-0.005 below the law at mu_m = 0.5, README simple_shear, so it jams
+ *   below phi_m too): rigid spheres cannot flow, the stress
+ *   follows the stiffness, and the El and crushed-contact warnings would advise a stiffer run,
+ *   which only raises the stress (phi = 0.6, mu_m = 0.5, N = 300: El 80, 64 % crushed). This
+ *   warning replaces those two and quotes their values. */
 #define LUB_SHEAR_EL_MIN 5e3
 #define LUB_SHEAR_KINETIC_SHARE_MAX 1e-2
 #define LUB_CRUSHED_CONTACT_FRACTION_MAX 1e-2

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # CLI-level checks of the resuspension scene: a short complete run (summary schema, H5MD
-# structure, profiles and time series present and consistent), and SIGTERM during a long run
-# (exit code 5, status "partial", valid H5MD with the profiles averaged so far).
+# structure, profiles and time series present and consistent), SIGTERM during a long run
+# (exit code 5, status "partial", valid H5MD with the profiles averaged so far), fixed and
+# adapted time steps, and specs refused for their length or sample count (exit 2).
 # usage: test_resuspension_cli.sh LUBDEM PYTHON CHECK_H5MD SCHEMA_DIR
 set -u
 LUBDEM=$1 PY=$2 CHECK=$3 SCHEMA_DIR=$4
@@ -130,6 +131,20 @@ echo '{"scene": "resuspension", "n": 150, "strain": 0.1, "average_from": 0.05, "
 rc=$?
 [ $rc -eq 0 ] && grep -q "fixes /dt at 1.1.* summed stiffness .*lower /dt" "$work/run7.err" && ok \
   || bad "fixed dt above the stiffness bound: exit $rc, no warning: $(cat "$work/run7.err")"
+
+# runs too long or sampled too finely for memory are refused up front (exit 2, nothing written,
+# the member named); strain 1e12 used to fail after the set-up with "out of memory (188 bins x
+# 9999764702598 samples)" and exit 1
+echo '{"scene": "resuspension", "strain": 1e12}' \
+  | "$LUBDEM" run - --out "$work/bad1" > /dev/null 2> "$work/bad1.err"
+rc=$?
+[ $rc -eq 2 ] && [ ! -e "$work/bad1" ] && grep -q "^error: /strain: must be <= 1000000" \
+  "$work/bad1.err" && ok || bad "strain 1e12: exit $rc: $(cat "$work/bad1.err")"
+echo '{"scene": "resuspension", "strain": 1000, "sample_strain": 1e-4}' \
+  | "$LUBDEM" validate - > /dev/null 2> "$work/bad2.err"
+rc=$?
+[ $rc -eq 2 ] && grep -q "^error: /sample_strain: .* 1e+07 samples.*at least 0.001 " \
+  "$work/bad2.err" && ok || bad "1e7 samples: exit $rc: $(cat "$work/bad2.err")"
 
 echo "resuspension_cli_checks=$((pass + fail))"
 echo "$pass passed, $fail failed"

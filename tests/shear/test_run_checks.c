@@ -1,6 +1,7 @@
 /* test_run_checks.c — the advisory checks of a finished simple_shear run: each check fires
  * just beyond its threshold, stays silent just inside it and for NaN, and names the spec
- * member to change. */
+ * member to change; an imposed phi at or above the jamming fraction replaces the advice to
+ * stiffen the contacts. */
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
@@ -68,6 +69,7 @@ static void set_field(lub_shear_run_state *st, size_t field, double value)
 
 int main(void)
 {
+    const char *w0;
     lub_shear_run_state st = clean();
     none("clean run", &st);
 
@@ -117,6 +119,32 @@ int main(void)
                      !strstr(w, "/dt_safety"),
                  "lost pairs, fixed dt: %d warning(s): %s", n, w);
     }
+    /* imposed phi at or above the seed's phi_m(mu_m): one warning that quotes El and the
+     * crushed fraction instead of the two warnings advising a stiffer run (phi 0.6, mu_m 0.5
+     * gave El 80 and 64 % crushed) */
+    st = clean();
+    st.elastic_number = 79.7;
+    st.crushed_fraction = 0.64;
+    st.phi_imposed = 0.6;
+    st.phi_jamming = 0.5737;
+    st.mu_m = 0.5;
+    one("jammed", &st, "phi = 0.6 is at or above the jamming fraction phi_m(mu_m = 0.5) = 0.574",
+        "El = 79.7, 64 % of the contacts crushed");
+    ST_CHECK(strstr(text[0], "lower /phi") && !strstr(text[0], "raise /stiffness"),
+             "jammed advice: %s", text[0]);
+    ST_CHECK(strlen(text[0]) + 1 < LUB_SHEAR_WARNING_LEN, "jammed warning may be truncated");
+    st.phi_imposed = 0.5737; /* at phi_m: jammed */
+    one("at phi_m", &st, "at or above the jamming fraction", NULL);
+    st.phi_imposed = 0.57; /* below: the El and crushed warnings, each asking for /stiffness */
+    ST_CHECK(count(&st, &w0) == 2 && strstr(text[0], "raise /stiffness") &&
+                 strstr(text[1], "raise /stiffness"),
+             "below phi_m: %s", w0);
+    st.phi_imposed = NAN; /* imposed pressure: phi is free */
+    ST_CHECK(count(&st, &w0) == 2, "pressure control: %s", w0);
+    st.phi_imposed = 0.6;
+    st.phi_jamming = 0.0; /* not given: no check */
+    ST_CHECK(count(&st, &w0) == 2, "no phi_m: %s", w0);
+
     st = clean();
     st.steady = 0;
     /* ended inside the transient: no steady-state means at all, and the message says why */

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # CLI-level checks of the simple_shear scene (fast suite):
 #  1. spec errors: Iv without pressure control, too few particles, negative drag viscosity,
-#     unknown lubrication_pairs, delaunay_update_strain without "delaunay" or zero
+#     unknown lubrication_pairs, delaunay_update_strain without "delaunay" or zero, more than
+#     1e6 samples of the time series (strain / sample_strain; exactly 1e6 passes)
 #     -> exit 2, nothing written;
 #  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
 #     numbers, H5MD observables present; mu, Iv, sigma11/sigma22 and sigma33/sigma22 of the
@@ -11,6 +12,8 @@
 #     the summary and on stderr;
 #  2b. the Delaunay interaction set: completes with its statistics and a Delaunay-like
 #      coordination (12-17, below the cut-off run's);
+#  2c. imposed phi = 0.6 above phi_m(mu_m = 0.5) = 0.574 -> completes with the jamming warning
+#      (not the advice to raise /stiffness);
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient; its default
 #     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early;
@@ -46,6 +49,12 @@ echo '{"scene":"simple_shear","delaunay_update_strain":0.01}' | "$LUBDEM" valida
 check "[ $rc -eq 2 ] && grep -q '/delaunay_update_strain' $W/e5" "update strain without delaunay: rc=$rc"
 echo '{"scene":"simple_shear","lubrication_pairs":"delaunay","delaunay_update_strain":0}' | "$LUBDEM" validate - 2>"$W/e6"; rc=$?
 check "[ $rc -eq 2 ] && grep -q '/delaunay_update_strain' $W/e6" "zero update strain: rc=$rc"
+# strain 1e6 sampled every 1e-4: 1e10 samples (2.3 TB reserved) used to fail with "out of
+# memory (series)" and exit 1 after the packing; now refused up front, naming the remedy
+echo '{"scene":"simple_shear","n_particles":300,"phi":0.4,"strain":1e6,"sample_strain":1e-4}' | "$LUBDEM" run - --out "$W/bad7" --quiet 2>"$W/e7"; rc=$?
+check "[ $rc -eq 2 ] && [ ! -e $W/bad7 ] && grep -q '/sample_strain: .* 1e+10 samples.*at least 1 ' $W/e7" "too many samples: rc=$rc"
+echo '{"scene":"simple_shear","strain":20000,"sample_strain":0.02}' | "$LUBDEM" validate - 2>"$W/e8"; rc=$?
+check "[ $rc -eq 0 ]" "1e6 samples refused: rc=$rc"
 
 # 2. robustness run
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
@@ -124,6 +133,14 @@ print(f"pairs Z cutoff={rc['Z']['value']:.2f} delaunay={rd['Z']['value']:.2f} "
 for b in bad: print("FAIL:", b, file=sys.stderr)
 sys.exit(1 if bad else 0)
 PYEOF
+
+# 2c. imposed phi above the jamming fraction (0.6 > phi_m(0.5) = 0.574): the run completes and
+# the warning says so instead of advising a stiffer run (which only raises the stress)
+echo '{"scene":"simple_shear","n_particles":300,"phi":0.6,"strain":0.5,"transient_strain":0.1,"seed":3}' \
+  | "$LUBDEM" run - --out "$W/jam" --quiet 2>"$W/jam.err"; rc=$?
+check "[ $rc -eq 0 ] && grep -q '^warning: phi = 0.6 is at or above the jamming fraction phi_m(mu_m = 0.5) = 0.574' $W/jam.err && ! grep -q 'raise /stiffness' $W/jam.err" \
+  "jammed run: rc=$rc, $(cat $W/jam.err)"
+check "grep -q 'at or above the jamming fraction' $W/jam/summary.json" "jammed warning not in the summary"
 
 # 3. imposed pressure: the servo brings -sigma_yy to P = 1
 echo '{"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":1,"phi":0.3,"strain":2,"transient_strain":1,"snapshots":0}' \
