@@ -736,6 +736,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 worst_z = fabs(z);
         }
         lub_summary_put(ctx, "steady_drift_z", worst_z, NAN, "1");
+        /* the contacts' friction coefficient as the seed's laws read it (law.terms.friction
+         * off is mu_m = 0) */
+        const double mu_m = (p.law.params.terms & LUB_TERM_FRICTION) ? p.law.params.mu : 0.0;
         double mean_of[S_COUNT]; /* steady-state means, for the advisory checks */
         for (int k = 0; k < S_COUNT; ++k) {
             /* only mean and sem are reported; ratio observables are ratios of time averages
@@ -761,8 +764,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             if (k == S_ETA || k == S_ETA11 || k == S_ETA22 || k == S_ETA33)
                 unit = "1";
             double ref = NAN;
-            const double phi_m = ref_phi_m(p.law.params.mu);
-            if (p.law.params.mu >= 0.36) {
+            const double phi_m = ref_phi_m(mu_m);
+            if (mu_m >= 0.36) {
                 if (k == S_MU && p.pressure)
                     ref = ref_mu(p.Iv, phi_m);
                 if (k == S_PHI && p.pressure)
@@ -812,8 +815,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,
             .dt_over_stiffness = p.dt > 0.0 ? ctl.ratio_max : 0.0,
             .phi_imposed = p.pressure ? NAN : p.phi,
-            .phi_jamming = ref_phi_m(p.law.params.mu),
-            .mu_m = p.law.params.mu,
+            .phi_jamming = ref_phi_m(mu_m),
+            .mu_m = mu_m,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

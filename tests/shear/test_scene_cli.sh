@@ -13,7 +13,8 @@
 #  2b. the Delaunay interaction set: completes with its statistics and a Delaunay-like
 #      coordination (12-17, below the cut-off run's);
 #  2c. imposed phi = 0.6 above phi_m(mu_m = 0.5) = 0.574 -> completes with the jamming warning
-#      (not the advice to raise /stiffness);
+#      (not the advice to raise /stiffness); with law.terms.friction false (mu_m = 0) no such
+#      warning, and no reference values at imposed pressure;
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient; its default
 #     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early;
@@ -141,6 +142,16 @@ echo '{"scene":"simple_shear","n_particles":300,"phi":0.6,"strain":0.5,"transien
 check "[ $rc -eq 0 ] && grep -q '^warning: phi = 0.6 is at or above the jamming fraction phi_m(mu_m = 0.5) = 0.574' $W/jam.err && ! grep -q 'raise /stiffness' $W/jam.err" \
   "jammed run: rc=$rc, $(cat $W/jam.err)"
 check "grep -q 'at or above the jamming fraction' $W/jam/summary.json" "jammed warning not in the summary"
+# law.terms.friction false is mu_m = 0 for the seed's laws (phi_m 0.630): phi = 0.6 is not
+# jammed; and an imposed-pressure run gets no reference mu and phi from the mu_m = 0.5 laws
+# (the summary gave them until 2026-12-05)
+echo '{"scene":"simple_shear","n_particles":300,"phi":0.6,"strain":0.5,"transient_strain":0.1,"seed":3,"law":{"terms":{"friction":false}}}' \
+  | "$LUBDEM" run - --out "$W/jam0" --quiet 2>"$W/jam0.err"; rc=$?
+check "[ $rc -eq 0 ] && ! grep -q 'jamming' $W/jam0.err" "frictionless phi 0.6: rc=$rc, $(cat $W/jam0.err)"
+echo '{"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":0.1,"strain":0.3,"transient_strain":0.1,"law":{"terms":{"friction":false}}}' \
+  | "$LUBDEM" run - --out "$W/p0" --quiet 2>/dev/null; rc=$?
+check "[ $rc -eq 0 ] && \"$PY\" -c \"import json; r = json.load(open('$W/p0/summary.json'))['results']; assert 'ref' not in r['mu'] and 'ref' not in r['phi'], r['mu']\"" \
+  "frictionless imposed pressure: rc=$rc, reference values from the mu_m = 0.5 laws"
 
 # 3. imposed pressure: the servo brings -sigma_yy to P = 1
 echo '{"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":1,"phi":0.3,"strain":2,"transient_strain":1,"snapshots":0}' \
