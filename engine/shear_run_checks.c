@@ -28,14 +28,18 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
     const double el = st->elastic_number;
     const int jammed = isfinite(st->phi_imposed) && isfinite(st->phi_jamming) &&
                        st->phi_jamming > 0.0 && st->phi_imposed >= st->phi_jamming;
-    if (jammed)
+    if (jammed) {
+        char measured[64] = ""; /* the values the replaced warnings would have quoted */
+        if (isfinite(el) && isfinite(st->crushed_fraction))
+            snprintf(measured, sizeof measured, "El = %.3g, %.2g %% of the contacts crushed; ", el,
+                     100.0 * st->crushed_fraction);
         add_warning(out, &n,
                     "phi = %.4g is at or above the jamming fraction phi_m(mu_m = %.3g) = %.3f "
                     "of the seed's law (physics-reference section 2, +-0.01): rigid spheres "
-                    "cannot flow there and the stress follows the stiffness (El = %.3g, "
-                    "%.2g %% of the contacts crushed; a stiffer run is not more rigid); lower "
-                    "/phi or impose the pressure (/control)",
-                    st->phi_imposed, st->mu_m, st->phi_jamming, el, 100.0 * st->crushed_fraction);
+                    "cannot flow there and the stress follows the stiffness (%sa stiffer run "
+                    "is not more rigid); lower /phi or impose the pressure (/control)",
+                    st->phi_imposed, st->mu_m, st->phi_jamming, measured);
+    }
     if (!jammed && falls_below(el, LUB_SHEAR_EL_MIN))
         add_warning(out, &n,
                     "elastic number k/(P a) = %.3g is below %.0e: the contacts are not rigid "

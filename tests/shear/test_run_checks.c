@@ -135,6 +135,12 @@ int main(void)
     ST_CHECK(strlen(text[0]) + 1 < LUB_SHEAR_WARNING_LEN, "jammed warning may be truncated");
     st.phi_imposed = 0.5737; /* at phi_m: jammed */
     one("at phi_m", &st, "at or above the jamming fraction", NULL);
+    st.elastic_number = NAN; /* no steady samples: no values to quote, no "nan" */
+    st.crushed_fraction = NAN;
+    one("jammed, nothing measured", &st, "follows the stiffness (a stiffer run", NULL);
+    ST_CHECK(!strstr(text[0], "nan"), "jammed, nothing measured: %s", text[0]);
+    st.elastic_number = 79.7;
+    st.crushed_fraction = 0.64;
     st.phi_imposed = 0.57; /* below: the El and crushed warnings, each asking for /stiffness */
     ST_CHECK(count(&st, &w0) == 2 && strstr(text[0], "raise /stiffness") &&
                  strstr(text[1], "raise /stiffness"),
