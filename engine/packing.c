@@ -274,7 +274,6 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
         phi = new_phi;
         int need_build = 1;
         double worst = INFINITY;
-        int local = 0;
         while (worst > 0.5 * p->margin) {
             if (need_build) {
                 for (int i = 0; i < n; ++i)
@@ -294,9 +293,12 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
             }
             worst = relax_sweep(&nl, cell, pos, radius, infl, disp, n);
             ++sweeps;
-            ++local;
             if (sweeps > p->max_sweeps) {
                 rc = -2;
+                goto done;
+            }
+            if (p->stop && *p->stop) {
+                rc = -3;
                 goto done;
             }
             double dm = 0.0;
@@ -308,7 +310,6 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
             if (2.0 * sqrt(dm) > 0.9 * nl.skin)
                 need_build = 1;
         }
-        (void)local;
         if (phi >= p->phi)
             break;
     }

@@ -18,6 +18,7 @@
 #ifndef LUBDEM_PACKING_H
 #define LUBDEM_PACKING_H
 
+#include <signal.h>
 #include <stdint.h>
 
 #include "periodic_cell.h"
@@ -32,6 +33,9 @@ typedef struct {
     int placement_all_pairs; /* 0 (default): step 2 tests a trial position against the spheres
                                 of its neighbouring bins, O(n); 1: against every sphere placed,
                                 O(n^2). Same packing either way (tests compare them) */
+    const volatile sig_atomic_t *stop; /* optional (NULL: never): once *stop is non-zero the
+                                          compression gives up at its next relaxation sweep
+                                          (SIGTERM during a large packing) */
 } lub_packing_params;
 
 typedef struct {
@@ -42,7 +46,7 @@ typedef struct {
 
 /* Fills radius[n] and pos[n] (wrapped in the cube) and initialises *cell to the cube.
  * Returns 0 on success, -1 if out of memory, -2 if the target could not be reached without
- * overlaps within max_sweeps (phi too high). */
+ * overlaps within max_sweeps (phi too high), -3 if *p->stop was set (outputs unusable). */
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info);
 

@@ -456,9 +456,17 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                              .radius_std = p.radius_std,
                              .seed = (uint64_t)p.seed,
                              .margin = 0.01,
-                             .max_sweeps = 2000000};
+                             .max_sweeps = 2000000,
+                             .stop = ctx->stop_requested};
     lub_packing_info pinfo;
     int prc = lub_packing_generate(&pp, radius, pos, &cell, &pinfo);
+    if (prc == -3) { /* SIGTERM/SIGINT while packing: a partial run without a step */
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "stopped while generating the packing, before the first step");
+        free(radius);
+        free(pos);
+        return LUB_EXIT_INTERRUPTED;
+    }
     if (prc) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "packing generation failed (%s) for n=%d phi=%g",

@@ -1,4 +1,5 @@
-/* test_packing.c — packing generator: no overlaps, target phi reached, reproducible. */
+/* test_packing.c — packing generator: no overlaps, target phi reached, reproducible; a stop
+ * request ends it with -3. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -51,6 +52,27 @@ int main(void)
             var += (r1[i] - mean) * (r1[i] - mean);
         double sd = sqrt(var / (n - 1));
         ST_CHECK(sd > 0.04 && sd < 0.06, "radius std %g", sd);
+    }
+    /* a stop request ends the compression with -3; an unset flag changes nothing */
+    {
+        volatile sig_atomic_t stop = 0;
+        lub_packing_params p = {.n = n,
+                                .phi = 0.5,
+                                .radius_std = 0.05,
+                                .seed = 7,
+                                .margin = 0.01,
+                                .max_sweeps = 2000000,
+                                .stop = &stop};
+        lub_cell c;
+        int rc = lub_packing_generate(&p, r2, x2, &c, NULL);
+        p.stop = NULL;
+        int rc_ref = lub_packing_generate(&p, r1, x1, &c, NULL);
+        ST_CHECK(rc == 0 && rc_ref == 0 && memcmp(x1, x2, n * sizeof *x1) == 0,
+                 "unset stop flag: rc %d, packing differs", rc);
+        stop = 1;
+        p.stop = &stop;
+        rc = lub_packing_generate(&p, r2, x2, &c, NULL);
+        ST_CHECK(rc == -3, "stop requested: rc %d (expected -3)", rc);
     }
     free(r1);
     free(r2);

@@ -19,6 +19,7 @@
 #     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early;
 #  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5;
+#  4b. SIGTERM while a 1e5-sphere packing is generated -> stops within 5 s, exit 5, partial;
 #  5. a blow-up with finite numbers (a fixed /dt 69 times dt_elastic flings a particle 8 a in
 #     its first step) -> exit 3, status "failed", a diagnostic naming the displacement and /dt
 #     (such runs used to complete with exit 0 and stresses of 1e32);
@@ -210,6 +211,22 @@ print(f"sigterm status={s['status']} rows={f['observables/mu/value'].shape[0]} s
 if not ok: print("FAIL: partial result invalid", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
+
+# 4b. SIGTERM while a large packing is being generated (1e5 spheres at phi 0.55: 20 s on the
+# release build, which ignored the signal until it was done): stops within a few seconds,
+# exit 5, status partial with a diagnostic, a valid H5MD file without observables
+echo '{"scene":"simple_shear","n_particles":100000,"phi":0.55,"strain":1}' > "$W/bigpack.json"
+"$LUBDEM" run "$W/bigpack.json" --out "$W/bigpack" --quiet 2>/dev/null & pid=$!
+sleep 0.5
+kill -TERM $pid
+for _ in $(seq 50); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+if kill -0 $pid 2>/dev/null; then
+  check "false" "SIGTERM during the packing: still running 5 s later"
+  kill -9 $pid
+fi
+wait $pid; rc=$?
+check "[ $rc -eq 5 ] && grep -q 'stopped while generating the packing' $W/bigpack/summary.json && grep -q '\"partial\"' $W/bigpack/summary.json" \
+  "SIGTERM during the packing: rc=$rc"
 
 # 5. runaway particle: a numerical failure, not a result
 echo '{"scene":"simple_shear","n_particles":300,"strain":1,"snapshots":0,"dt":0.01}' \
