@@ -566,6 +566,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     int stopped_early = 0;
     const int headline = p.pressure ? S_MU : S_ETA;
     double next_check = fmax(p.transient_strain + 1.0, 1.0);
+    double bonds_sum = 0.0; /* Q6 bonds over all samples, for the noise floor of the Q6 check */
+    long bonds_samples = 0;
     double row[10 + 6 * 9 + 1];
     _Static_assert(sizeof row == SS_ROW_BYTES, "SS_ROW_BYTES: one row of the time series");
     int64_t step;
@@ -617,7 +619,10 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         if (sample) {
             /* bond order after the step (one pass over the pair list, which the first step
              * builds; image shifts stay consistent with the positions until the next rebuild) */
-            const double q6_here = lub_shear_bond_order_q6(&sys, SS_BOND_FACTOR);
+            long bonds_here = 0;
+            const double q6_here = lub_shear_bond_order_q6(&sys, SS_BOND_FACTOR, &bonds_here);
+            bonds_sum += (double)bonds_here;
+            ++bonds_samples;
             double tot[9];
             lub_stress_total(&smp.stress, tot);
             const double P = -tot[4];
@@ -815,6 +820,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .kinetic_share = fabs(mean_of[S_XY_KIN]) / fabs(mean_of[S_SXY]),
             .crushed_fraction = mean_of[S_CRUSHED],
             .bond_order_q6 = mean_of[S_Q6],
+            .bond_order_random = bonds_sum > 0.0 ? sqrt((double)bonds_samples / bonds_sum) : NAN,
             .lost_pairs = (double)sys.lost_pairs,
             .steady = steady_detected,
             .steady_samples = (double)(ser.n - start),

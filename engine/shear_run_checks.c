@@ -56,12 +56,14 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "asperities crushed in %.2g %% of the contacts (u_n < -alpha eps a), "
                     "above %.0f %%: the results depend on the stiffness; raise /stiffness",
                     100.0 * st->crushed_fraction, 100.0 * LUB_CRUSHED_CONTACT_FRACTION_MAX);
-    if (exceeds(st->bond_order_q6, LUB_SHEAR_Q6_MAX))
+    const double q6_noise =
+        isfinite(st->bond_order_random) ? LUB_SHEAR_Q6_NOISE * st->bond_order_random : 0.0;
+    if (exceeds(st->bond_order_q6, fmax(LUB_SHEAR_Q6_MAX, q6_noise)))
         add_warning(out, &n,
                     "bond order Q6 = %.3f is above %.2g: the cell is ordering "
                     "(disordered sheared packings give 0.04-0.09), a finite-size effect; "
                     "raise /n_particles or /radius_std",
-                    st->bond_order_q6, LUB_SHEAR_Q6_MAX);
+                    st->bond_order_q6, fmax(LUB_SHEAR_Q6_MAX, q6_noise));
     const int dt_fixed = st->dt_over_elastic > 0.0;
     if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
         lub_fixed_dt_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_elastic, "dt_elastic");

@@ -20,6 +20,8 @@ typedef struct {
     double kinetic_share;     /* |<sigma_xy kinetic>| / |<sigma_xy>| */
     double crushed_fraction;  /* <crushed_contact_fraction> */
     double bond_order_q6;     /* <bond_order_q6> */
+    double bond_order_random; /* Q6 of random bond directions, 1/sqrt(mean bonds per sample)
+                                 (NaN: not known) */
     double lost_pairs;        /* active pair states lost at neighbour-list rebuilds (count) */
     int steady;               /* 1 if the steady state was detected */
     double steady_samples;    /* samples in the steady window (0: the run ended inside the
@@ -50,6 +52,9 @@ typedef struct {
  *   uses the same constant.
  * - Bond order Q6 above 0.1: the cell orders. Disordered runs give 0.04-0.09, the small
  *   frictionless cells that partly order 0.10-0.17 ("Frictionless dilatancy is too weak").
+ *   With few bonds Q6 is noise: random directions give 1/sqrt(bonds) (bond_order.h), so the
+ *   threshold is at least LUB_SHEAR_Q6_NOISE times that (phi = 0.05, N = 300: Q6 0.168 from
+ *   a few tens of bonds per sample, which warned that a gas was ordering).
  * - Any lost pair state: a contact restarted without its history ("Robustness").
  * - A fixed /dt above dt_elastic: beyond what /dt_safety (at most 1) allows; the contacts are
  *   not resolved. dt = 0.01 (70 dt_elastic, N = 300, phi 0.5) completed without a NaN but
@@ -70,6 +75,7 @@ typedef struct {
 #define LUB_SHEAR_KINETIC_SHARE_MAX 1e-2
 #define LUB_CRUSHED_CONTACT_FRACTION_MAX 1e-2
 #define LUB_SHEAR_Q6_MAX 0.1
+#define LUB_SHEAR_Q6_NOISE 3.0
 #define LUB_SHEAR_DT_OVER_ELASTIC_MAX 1.0
 #define LUB_SHEAR_DT_STIFFNESS_MAX 1.0
 

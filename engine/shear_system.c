@@ -184,7 +184,7 @@ double lub_shear_phi(const lub_shear_system *s)
     return 4.0 / 3.0 * PI * v / s->cell.volume;
 }
 
-double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor)
+double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor, long *bonds)
 {
     lub_q6_accum acc;
     lub_q6_zero(&acc);
@@ -196,6 +196,8 @@ double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor)
         if (v3_norm2(d) < reach * reach)
             lub_q6_add(&acc, d);
     }
+    if (bonds)
+        *bonds = acc.n;
     return lub_q6_value(&acc);
 }
 

@@ -165,8 +165,9 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s);
 double lub_shear_phi(const lub_shear_system *s);
 /* Global bond-orientational order Q6 (bond_order.h) of the listed pairs whose centre distance
  * is below bond_factor (r_i + r_j), read from the current positions and image shifts; NaN
- * without such a pair. Complete for bond_factor (r_i + r_j) below the neighbour list's reach
- * ((2 + cutoff) a_ij + skin). Serial, no allocation. */
-double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor);
+ * without such a pair. *bonds (may be NULL) gets the number of such pairs: random bond
+ * directions give Q6 of about 1/sqrt(bonds). Complete for bond_factor (r_i + r_j) below the
+ * neighbour list's reach ((2 + cutoff) a_ij + skin). Serial, no allocation. */
+double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor, long *bonds);
 
 #endif

@@ -116,7 +116,7 @@ int main(void)
             rc = lub_shear_step(&s, 0, NULL);
         ST_CHECK(rc == 0, "steps %d", rc);
         const double tilt = s.cell.h[0][1] / s.cell.h[1][1];
-        const double q_list = lub_shear_bond_order_q6(&s, 1.2), q_all = q6_brute(&s, 1.2);
+        const double q_list = lub_shear_bond_order_q6(&s, 1.2, NULL), q_all = q6_brute(&s, 1.2);
         ST_CHECK(fabs(q_list - q_all) < 1e-12 * q_all, "list %.15f brute %.15f (tilt %.3f)", q_list,
                  q_all, tilt);
         ST_CHECK(q_list < 0.15, "random packing Q6 %.4f", q_list);
@@ -147,7 +147,9 @@ int main(void)
         if (rc == 0) {
             rc = lub_shear_step(&s, 0, NULL);
             ST_CHECK(rc == 0, "fcc step %d", rc);
-            const double q = lub_shear_bond_order_q6(&s, 1.2);
+            long bonds = 0;
+            const double q = lub_shear_bond_order_q6(&s, 1.2, &bonds);
+            ST_CHECK(bonds == 6 * n, "fcc: %ld bonds, 12 per sphere expected", bonds);
             ST_CHECK(fabs(q - q_fcc) < 1e-9, "fcc crystal Q6 %.12f", q);
             ST_CHECK(fabs(q6_brute(&s, 1.2) - q) < 1e-12, "fcc brute %.12f", q6_brute(&s, 1.2));
             lub_shear_free(&s);

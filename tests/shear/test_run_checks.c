@@ -100,6 +100,21 @@ int main(void)
         set_field(&st, tc->field, INFINITY);
         none(tc->label, &st);
     }
+    /* Q6 against the noise of few bonds: 35 bonds per sample give 0.169 for random
+     * directions, so 0.168 is no ordering (phi 0.05, N = 300 warned), while 0.6 is (threshold
+     * 3 x 0.169); with 1200 bonds (dense, N = 300) the threshold stays 0.1 */
+    st = clean();
+    st.bond_order_random = 1.0 / sqrt(35.0);
+    st.bond_order_q6 = 0.168;
+    none("Q6 at the noise of 35 bonds", &st);
+    st.bond_order_q6 = 0.6;
+    one("Q6 above the noise of 35 bonds", &st, "Q6 = 0.600 is above 0.51", "/n_particles");
+    st.bond_order_random = 1.0 / sqrt(1200.0);
+    st.bond_order_q6 = 0.153;
+    one("Q6 with 1200 bonds", &st, "Q6 = 0.153 is above 0.1", NULL);
+    st.bond_order_random = NAN;
+    one("Q6, bonds unknown", &st, "Q6 = 0.153 is above 0.1", NULL);
+
     /* the factor to raise the stiffness by is 5e3/El */
     st = clean();
     st.elastic_number = 1e3;
