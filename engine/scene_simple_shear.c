@@ -593,6 +593,13 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                      strain_here);
             exit_code = (r == LUB_SHEAR_NOMEM) ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
             step_unstable = r == LUB_SHEAR_NONFINITE || r == LUB_SHEAR_RUNAWAY;
+            if (r == LUB_SHEAR_CELL_TOO_SMALL && p.pressure) { /* only the servo moves L_y */
+                const size_t len = strlen(ctx->diagnostic);
+                snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len,
+                         ": the pressure servo squeezed the cell (L_y %.3g a, phi %.3g); lower "
+                         "/servo/gain (studied: 0.25-4; default 1), or raise /n_particles",
+                         ly, phi_here);
+            }
             break;
         }
         strain += gd * dt;
@@ -752,7 +759,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         /* the contacts' friction coefficient as the seed's laws read it (law.terms.friction
          * off is mu_m = 0) */
         const double mu_m = (p.law.params.terms & LUB_TERM_FRICTION) ? p.law.params.mu : 0.0;
-        double mean_of[S_COUNT]; /* steady-state means, for the advisory checks */
+        double mean_of[S_COUNT], sem_of[S_COUNT]; /* steady-state means and their errors, for
+                                                     the advisory checks */
         for (int k = 0; k < S_COUNT; ++k) {
             /* only mean and sem are reported; ratio observables are ratios of time averages
              * (ss_ratio_stat), the others the mean of their series */
@@ -771,6 +779,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 lub_stats_analyse(ser.v[k], ser.n, start, scratch, &sr);
             }
             mean_of[k] = sr.mean;
+            sem_of[k] = sr.sem;
             const char *unit = "1";
             if (k == S_P || k == S_SXY || (k >= S_XY_NC && k <= S_YY_KIN))
                 unit = su;
@@ -831,6 +840,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .phi_imposed = p.pressure ? NAN : p.phi,
             .phi_jamming = ref_phi_m(mu_m),
             .mu_m = mu_m,
+            .pressure_ratio = p.pressure ? mean_of[S_P] : NAN, /* S_P is in units of s0 = P */
+            .pressure_ratio_sem = p.pressure ? sem_of[S_P] : NAN,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

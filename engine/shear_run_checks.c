@@ -40,7 +40,7 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "is not more rigid); lower /phi or impose the pressure (/control)",
                     st->phi_imposed, st->mu_m, st->phi_jamming, measured);
     }
-    if (!jammed && falls_below(el, LUB_SHEAR_EL_MIN))
+    if (!jammed && el > 0.0 && falls_below(el, LUB_SHEAR_EL_MIN))
         add_warning(out, &n,
                     "elastic number k/(P a) = %.3g is below %.0e: the contacts are not rigid "
                     "enough for rigid-sphere rheology (eta_r and phi still move with the "
@@ -64,6 +64,14 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "(disordered sheared packings give 0.04-0.09), a finite-size effect; "
                     "raise /n_particles or /radius_std",
                     st->bond_order_q6, fmax(LUB_SHEAR_Q6_MAX, q6_noise));
+    const double dev = st->pressure_ratio - 1.0;
+    const double dev_sem = isfinite(st->pressure_ratio_sem) ? st->pressure_ratio_sem : 0.0;
+    if (exceeds(fabs(dev), fmax(LUB_SHEAR_PRESSURE_DEVIATION_MAX, 3.0 * dev_sem)))
+        add_warning(out, &n,
+                    "the servo did not hold the imposed pressure: the steady mean of -sigma_yy "
+                    "is %.3g +- %.2g times P, so phi, mu and eta_r are not those of /Iv; "
+                    "lower /servo/gain (studied: 0.25-4; default 1)",
+                    st->pressure_ratio, dev_sem);
     const int dt_fixed = st->dt_over_elastic > 0.0;
     if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
         lub_fixed_dt_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_elastic, "dt_elastic");

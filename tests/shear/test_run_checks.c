@@ -20,7 +20,8 @@ static lub_shear_run_state clean(void)
                               .steady = 1,
                               .steady_samples = 400.0,
                               .strain_reached = 10.0,
-                              .transient_strain = 2.0};
+                              .transient_strain = 2.0,
+                              .pressure_ratio = NAN}; /* imposed volume */
     return st;
 }
 
@@ -115,6 +116,27 @@ int main(void)
     st.bond_order_random = NAN;
     one("Q6, bonds unknown", &st, "Q6 = 0.153 is above 0.1", NULL);
 
+    /* imposed pressure not held: more than 10 % and 3 standard errors off (gain 100 with a
+     * 1e-4 filter gave -19.3 P); a noisy 4 % (1.2 standard errors) is held; at imposed volume
+     * (NaN) nothing is checked; a mean pressure <= 0 has no El to check */
+    st = clean();
+    st.pressure_ratio = -19.3;
+    st.pressure_ratio_sem = 5.0;
+    st.elastic_number = -517.0;
+    one("pressure not held", &st, "did not hold the imposed pressure", "lower /servo/gain");
+    ST_CHECK(strstr(text[0], "-19.3 +- 5 times P") != NULL, "pressure not held: %s", text[0]);
+    st.elastic_number = 1e4;
+    st.pressure_ratio = 1.041;
+    st.pressure_ratio_sem = 0.035;
+    none("pressure 4 % off, 1.2 standard errors", &st);
+    st.pressure_ratio = 1.15;
+    st.pressure_ratio_sem = 0.06; /* 2.5 standard errors: chance */
+    none("pressure 15 % off, 2.5 standard errors", &st);
+    st.pressure_ratio_sem = 0.04;
+    one("pressure 15 % off, 3.75 standard errors", &st, "1.15 +- 0.04 times P", NULL);
+    st.pressure_ratio = NAN;
+    none("imposed volume", &st);
+
     /* the factor to raise the stiffness by is 5e3/El */
     st = clean();
     st.elastic_number = 1e3;
@@ -178,8 +200,8 @@ int main(void)
     one("no sample after the transient", &st, "no steady-state samples after /transient_strain 2",
         "strain 1e+03");
 
-    /* everything at once: seven messages, each naming the spec member to change (a JSON
-     * pointer after "; raise " or "; lower "), none truncated */
+    /* everything at once (imposed pressure): eight messages, each naming the spec member to change
+     * (a JSON pointer after "; raise " or "; lower "), none truncated */
     st.steady_samples = 400.0;
     st.strain_reached = 10.0;
     st.elastic_number = 1e2;
@@ -188,6 +210,7 @@ int main(void)
     st.bond_order_q6 = 0.5;
     st.lost_pairs = 12345.0;
     st.dt_over_elastic = 70.0;
+    st.pressure_ratio = 0.5;
     const char *w;
     int n = count(&st, &w);
     ST_CHECK(n == LUB_SHEAR_WARNINGS_MAX, "all checks: %d warnings", n);

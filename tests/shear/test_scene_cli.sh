@@ -18,6 +18,8 @@
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient; its default
 #     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early;
+#  3c. a servo gain far outside the studied range: the summary says the pressure was not
+#      held, or the diagnostic of the squeezed cell names the servo;
 #  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5;
 #  4b. SIGTERM while a 1e5-sphere packing is generated -> stops within 5 s, exit 5, partial;
 #  5. a blow-up with finite numbers (a fixed /dt 69 times dt_elastic flings a particle 8 a in
@@ -175,6 +177,20 @@ if not (abs(el - 1e4 / p["value"]) < 1e-6 * el and not warn):
     print("FAIL: elastic number of the rigid default or its warning", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
+
+# 3c. a servo far outside the studied gains (0.25-4): gain 100 with a 1e-4 filter samples a
+# pressure pinned near -19 P and used to complete as if nothing were wrong; with a 10-strain
+# filter it squeezes the cell below the listing distance within 0.005 strain (exit 3), and the
+# diagnostic now names the servo
+SERVO='"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":0.01,"snapshots":0'
+echo "{$SERVO,\"strain\":1,\"transient_strain\":0.3,\"servo\":{\"gain\":100,\"filter_strain\":1e-4}}" \
+  | "$LUBDEM" run - --out "$W/servo_osc" --quiet 2>"$W/servo_osc.err"; rc=$?
+check "[ $rc -eq 0 ] && grep -q '^warning: the servo did not hold the imposed pressure: .*lower /servo/gain' $W/servo_osc.err && ! grep -q 'elastic number' $W/servo_osc.err" \
+  "servo gain 100: rc=$rc, $(cat $W/servo_osc.err)"
+echo "{$SERVO,\"strain\":0.1,\"servo\":{\"gain\":100,\"filter_strain\":10}}" \
+  | "$LUBDEM" run - --out "$W/servo_squeeze" --quiet 2>"$W/servo_squeeze.err"; rc=$?
+check "[ $rc -eq 3 ] && grep -q 'cell narrower than twice.*the pressure servo squeezed the cell.*lower /servo/gain' $W/servo_squeeze.err" \
+  "servo squeeze: rc=$rc, $(cat $W/servo_squeeze.err)"
 
 # 3b. "run until the headline is known to x %": stops long before the maximum strain
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"stiffness":1e4,"strain":50,"transient_strain":0.5,"sample_strain":0.01,"target_rel_error":0.1,"snapshots":0}' \
