@@ -78,8 +78,8 @@ typedef struct {
  *   errors) from the imposed P. The default servo holds it within 2.1 % in every
  *   imposed-pressure run of the committed table (Iv / Iv_meas - 1), and the servo study's gains
  *   0.25-4 and filters 0.01-0.25 strain kept phi and mu within 1.2 combined standard errors of
- *   the default's; gain 100 with a 1e-4 filter switches between its clamps from step to
- *   step, and its samples, all taken in the dilating phase, read -19 P (N = 300, Iv = 0.01):
+ *   the default's; gain 100 with a 1e-4 filter switches between its clamps, and its
+ *   samples, all taken in the dilating phase, read -19 P (N = 300, Iv = 0.01):
  *   results at no defined Iv. An El from a mean pressure <= 0 means nothing and is not
  *   checked. */
 #define LUB_SHEAR_EL_MIN 5e3
