@@ -146,16 +146,10 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
         return -1;
     p->orientation = strcmp(o, "vorticity") == 0 ? LUB_RS_VORTICITY : LUB_RS_GRADIENT;
     char strain[40], from[40];
-    if (p->strain / p->sample_strain > RS_MAX_SAMPLES) {
-        char least[40], got[40];
-        return lub_fail(err, "/sample_strain",
-                        "the run would take strain / sample_strain = %.3g samples, more than "
-                        "%.0e (each keeps a profile of every bin in memory from /average_from "
-                        "on): raise /sample_strain to at least %s or lower /strain (got %s)",
-                        p->strain / p->sample_strain, RS_MAX_SAMPLES,
-                        lub_real_text(p->strain / RS_MAX_SAMPLES, least),
-                        lub_real_text(p->sample_strain, got));
-    }
+    if (lub_spec_sample_count(p->strain, p->sample_strain, RS_MAX_SAMPLES,
+                              "each keeps a profile of every bin in memory from /average_from on",
+                              err))
+        return -1;
     if (p->average_from >= p->strain)
         return lub_fail(err, "/average_from",
                         "must be below /strain (%s) so that something is averaged (got %s)",

@@ -28,7 +28,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "json_text.h"
 #include "law_spec.h"
 #include "packing.h"
 #include "run_context.h"
@@ -165,17 +164,12 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
         lub_spec_number(spec, "", "drag_viscosity", (lub_range){0.0, 1e3, 0, 0}, 1, 0.0,
                         &p->drag_viscosity, err))
         return -1;
-    if (p->strain / p->sample_strain > SS_MAX_SAMPLES) {
-        char s_text[40], min_text[40];
-        return lub_fail(err, "/sample_strain",
-                        "the run would keep strain / sample_strain = %.3g samples of the time "
-                        "series, more than %.0e (%d bytes of memory each, reserved for the "
-                        "whole /strain, and %d bytes of result.h5): raise /sample_strain to at "
-                        "least %s or lower /strain (got %s)",
-                        p->strain / p->sample_strain, SS_MAX_SAMPLES, SS_SAMPLE_BYTES, SS_ROW_BYTES,
-                        lub_real_text(p->strain / SS_MAX_SAMPLES, min_text),
-                        lub_real_text(p->sample_strain, s_text));
-    }
+    char cost[120];
+    snprintf(cost, sizeof cost,
+             "%d bytes of memory each, reserved for the whole /strain, and %d bytes of result.h5",
+             SS_SAMPLE_BYTES, SS_ROW_BYTES);
+    if (lub_spec_sample_count(p->strain, p->sample_strain, SS_MAX_SAMPLES, cost, err))
+        return -1;
     const char *pair_set = NULL;
     if (lub_spec_enum(spec, "", "lubrication_pairs", pair_sets, "cutoff", &pair_set, err))
         return -1;

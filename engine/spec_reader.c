@@ -261,3 +261,16 @@ json_t *lub_spec_object(json_t *obj, const char *ptr, const char *key, lub_error
     }
     return v;
 }
+
+int lub_spec_sample_count(double strain, double sample_strain, double max_samples, const char *cost,
+                          lub_error *err)
+{
+    if (!(strain / sample_strain > max_samples))
+        return 0;
+    char least[40], got[40];
+    return lub_fail(err, "/sample_strain",
+                    "the run would keep strain / sample_strain = %.3g samples, more than %.0e "
+                    "(%s): raise /sample_strain to at least %s or lower /strain (got %s)",
+                    strain / sample_strain, max_samples, cost,
+                    lub_real_text(strain / max_samples, least), lub_real_text(sample_strain, got));
+}

@@ -50,6 +50,11 @@ int lub_spec_vector(json_t *obj, const char *ptr, const char *key, int len, lub_
                     const double *def, double *out, lub_error *err);
 /* Optional sub-object: returns it (creating an empty one if absent); error if not an object. */
 json_t *lub_spec_object(json_t *obj, const char *ptr, const char *key, lub_error *err);
+/* A run that samples every `sample_strain` up to `strain` keeps strain / sample_strain samples:
+ * more than max_samples is an error at /sample_strain that says what each sample costs (`cost`,
+ * e.g. "232 bytes of memory each") and the smallest sample_strain allowed. 0 or -1. */
+int lub_spec_sample_count(double strain, double sample_strain, double max_samples, const char *cost,
+                          lub_error *err);
 
 #define LUB_UNBOUNDED ((lub_range){-INFINITY, INFINITY, 0, 0})
 #define LUB_POSITIVE ((lub_range){0.0, INFINITY, 1, 0})
