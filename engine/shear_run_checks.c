@@ -65,13 +65,26 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "raise /n_particles or /radius_std",
                     st->bond_order_q6, fmax(LUB_SHEAR_Q6_MAX, q6_noise));
     const double dev = st->pressure_ratio - 1.0;
-    const double dev_sem = isfinite(st->pressure_ratio_sem) ? st->pressure_ratio_sem : 0.0;
-    if (exceeds(fabs(dev), fmax(LUB_SHEAR_PRESSURE_DEVIATION_MAX, 3.0 * dev_sem)))
-        add_warning(out, &n,
-                    "the servo did not hold the imposed pressure: the steady mean of -sigma_yy "
-                    "is %.3g +- %.2g times P, so phi, mu and eta_r are not those of /Iv; "
-                    "lower /servo/gain (studied: 0.25-4; default 1)",
-                    st->pressure_ratio, dev_sem);
+    const int sem_known = isfinite(st->pressure_ratio_sem);
+    const double dev_sem = sem_known ? st->pressure_ratio_sem : 0.0;
+    char sem_text[48] = " (no error bar)";
+    if (sem_known)
+        snprintf(sem_text, sizeof sem_text, " +- %.2g", dev_sem);
+    if (exceeds(fabs(dev), fmax(LUB_SHEAR_PRESSURE_DEVIATION_MAX, 3.0 * dev_sem))) {
+        if (st->steady)
+            add_warning(out, &n,
+                        "the servo did not hold the imposed pressure: the steady mean of "
+                        "-sigma_yy is %.3g%s times P, so phi, mu and eta_r are not those of "
+                        "/Iv; lower /servo/gain (studied: 0.25-4; default 1)",
+                        st->pressure_ratio, sem_text);
+        else /* the run may end before the servo has brought the cell to P */
+            add_warning(out, &n,
+                        "the imposed pressure was not reached: the mean of -sigma_yy after the "
+                        "transient is %.3g%s times P, in a run without a detected steady state, "
+                        "so phi, mu and eta_r are not those of /Iv; raise /strain (and, if "
+                        "servo_rate sits at +-gain in the time series, lower /servo/gain)",
+                        st->pressure_ratio, sem_text);
+    }
     const int dt_fixed = st->dt_over_elastic > 0.0;
     if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
         lub_fixed_dt_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_elastic, "dt_elastic");

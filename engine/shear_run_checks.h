@@ -81,7 +81,9 @@ typedef struct {
  *   the default's; gain 100 with a 1e-4 filter switches between its clamps, and its
  *   samples, all taken in the dilating phase, read -19 P (N = 300, Iv = 0.01):
  *   results at no defined Iv. An El from a mean pressure <= 0 means nothing and is not
- *   checked. */
+ *   checked. Without a detected steady state the pressure may simply not have been reached
+ *   yet (Iv = 10, St = 10, strain 2: 58.8 P from 26 samples without an error bar); the
+ *   message then advises a longer run first. */
 #define LUB_SHEAR_EL_MIN 5e3
 #define LUB_SHEAR_KINETIC_SHARE_MAX 1e-2
 #define LUB_CRUSHED_CONTACT_FRACTION_MAX 1e-2

@@ -134,6 +134,18 @@ int main(void)
     none("pressure 15 % off, 2.5 standard errors", &st);
     st.pressure_ratio_sem = 0.04;
     one("pressure 15 % off, 3.75 standard errors", &st, "1.15 +- 0.04 times P", NULL);
+    /* a run without a steady state (Iv = 10, St = 10, strain 2: -sigma_yy 58.8 P over 26
+     * samples, no error bar) is told to run longer, not only to lower the gain */
+    st.steady = 0;
+    st.pressure_ratio = 58.8;
+    st.pressure_ratio_sem = NAN;
+    const char *w_unreached;
+    ST_CHECK(count(&st, &w_unreached) == 2 && strstr(text[0], "was not reached") &&
+                 strstr(text[0], "58.8 (no error bar) times P") &&
+                 strstr(text[0], "raise /strain") && strstr(text[0], "lower /servo/gain)") &&
+                 strstr(text[1], "no steady state detected"),
+             "pressure not reached, no steady state: %s | %s", text[0], text[1]);
+    st.steady = 1;
     st.pressure_ratio = NAN;
     none("imposed volume", &st);
 
