@@ -1,10 +1,13 @@
 /* h5md_writer.c — H5MD 1.1 result files (layout in h5md_writer.h). */
 #include "h5md_writer.h"
 
+#include <errno.h>
 #include <hdf5.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/statvfs.h>
 
 #include "build_info.h"
 #include "contact_batch.h"
@@ -37,11 +40,22 @@ struct lub_h5 {
     int64_t np;
     int64_t nframes;
     hid_t p_step, p_time, p_pos, p_vel, p_omega, p_edges;
+    /* room for snapshots (lub_h5_snapshots_skipped) */
+    char *path;          /* the file's path, for the free space of its file system */
+    uint64_t byte_limit; /* RLIMIT_FSIZE (soft) at creation, or lub_h5_set_byte_limit */
+    int64_t frames_skipped;
+    int64_t first_skipped_step;
+    char skip_reason[200];
 };
 
 static int set_err(lub_h5 *f, const char *what, const char *name)
 {
-    snprintf(f->err, sizeof f->err, "HDF5: cannot %.80s %.150s", what, name ? name : "");
+    /* the system's reason, where it is one of the output failures a user can act on (errno
+     * as the failed write left it; HDF5 does not report it otherwise) */
+    const int e = errno;
+    const int known = e == ENOSPC || e == EFBIG || e == EDQUOT || e == EIO || e == EROFS;
+    snprintf(f->err, sizeof f->err, "HDF5: cannot %.80s %.120s%s%s", what, name ? name : "",
+             known ? ": " : "", known ? strerror(e) : "");
     return -1;
 }
 
@@ -174,6 +188,12 @@ static int append_rows(hid_t ds, hid_t memtype, int rank, const hsize_t *frame_d
 
 lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
 {
+    /* No HDF5 exit handler: a close that fails (disk full: ENOSPC while flushing) leaves the
+     * file in HDF5's table, and the handler's second close segfaulted in H5F__close_cb
+     * (HDF5 1.10.8, Debian 12) after we had reported the error, turning exit 4 into a crash.
+     * Every file is closed explicitly; this must precede any other HDF5 call (it does: the
+     * engine's first HDF5 call is here) and is a no-op afterwards. */
+    H5dont_atexit();
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* we report errors ourselves */
     lub_h5 *f = calloc(1, sizeof *f);
     if (!f) {
@@ -181,6 +201,11 @@ lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
         return NULL;
     }
     f->p_step = f->p_time = f->p_pos = f->p_vel = f->p_omega = f->p_edges = H5I_INVALID_HID;
+    f->path = strdup(path);
+    f->byte_limit = UINT64_MAX;
+    struct rlimit fsize;
+    if (getrlimit(RLIMIT_FSIZE, &fsize) == 0 && fsize.rlim_cur != RLIM_INFINITY)
+        f->byte_limit = (uint64_t)fsize.rlim_cur;
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     /* H5MD implementation note: file format readable by HDF5 >= 1.8 */
     H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
@@ -188,6 +213,7 @@ lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
     H5Pclose(fapl);
     if (f->file < 0) {
         snprintf(errbuf, (size_t)errlen, "HDF5: cannot create %s", path);
+        free(f->path);
         free(f);
         return NULL;
     }
@@ -209,6 +235,7 @@ lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
     if (rc) {
         snprintf(errbuf, (size_t)errlen, "HDF5: cannot write /h5md metadata in %s", path);
         H5Fclose(f->file);
+        free(f->path);
         free(f);
         return NULL;
     }
@@ -424,11 +451,65 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const ch
     return 0;
 }
 
+/* 1 if a frame of frame_bytes leaves LUB_H5_SNAPSHOT_RESERVE_BYTES below the file-size limit
+ * and on the file system; otherwise 0 with f->skip_reason set. */
+static int snapshot_fits(lub_h5 *f, uint64_t frame_bytes)
+{
+    hsize_t size = 0;
+    if (H5Fget_filesize(f->file, &size) < 0)
+        size = 0;
+    const uint64_t need = (uint64_t)size + frame_bytes + LUB_H5_SNAPSHOT_RESERVE_BYTES;
+    const double mb = 1.0 / (1024.0 * 1024.0);
+    if (need > f->byte_limit) {
+        snprintf(f->skip_reason, sizeof f->skip_reason,
+                 "a snapshot of %.3g MiB would bring result.h5 (%.4g MiB) within %.0f MiB of "
+                 "the file-size limit of %.4g MiB this process runs under (RLIMIT_FSIZE)",
+                 frame_bytes * mb, size * mb, (double)LUB_H5_SNAPSHOT_RESERVE_BYTES * mb,
+                 f->byte_limit * mb);
+        return 0;
+    }
+    struct statvfs fs;
+    if (f->path && statvfs(f->path, &fs) == 0) {
+        const uint64_t avail = (uint64_t)fs.f_bavail * (uint64_t)fs.f_frsize;
+        if (frame_bytes + LUB_H5_SNAPSHOT_RESERVE_BYTES > avail) {
+            snprintf(f->skip_reason, sizeof f->skip_reason,
+                     "a snapshot of %.3g MiB would leave less than %.0f MiB free on the output "
+                     "file system (%.4g MiB free)",
+                     frame_bytes * mb, (double)LUB_H5_SNAPSHOT_RESERVE_BYTES * mb, avail * mb);
+            return 0;
+        }
+    }
+    return 1;
+}
+
+void lub_h5_set_byte_limit(lub_h5 *f, uint64_t bytes)
+{
+    if (bytes < f->byte_limit)
+        f->byte_limit = bytes;
+}
+
+int64_t lub_h5_snapshots_skipped(const lub_h5 *f, int64_t *first_step, char *why, size_t len)
+{
+    if (first_step)
+        *first_step = f->first_skipped_step;
+    if (why && len > 0)
+        snprintf(why, len, "%s", f->frames_skipped > 0 ? f->skip_reason : "");
+    return f->frames_skipped;
+}
+
 int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double *edges,
                               const double *pos, const double *vel, const double *omega)
 {
     if (f->p_pos < 0)
         return set_err(f, "write a snapshot before", "lub_h5_particles_define");
+    const uint64_t frame_bytes =
+        (uint64_t)f->np * 3u * sizeof(double) * (1u + (vel != NULL) + (omega != NULL)) +
+        2u * sizeof(double) + 9u * sizeof(double);
+    if (f->frames_skipped > 0 || !snapshot_fits(f, frame_bytes)) {
+        if (f->frames_skipped++ == 0)
+            f->first_skipped_step = step;
+        return 0;
+    }
     hsize_t frame[2] = {(hsize_t)f->np, 3};
     hsize_t ed[2] = {3, 3};
     static const double no_edges[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
@@ -494,6 +575,7 @@ int lub_h5_close(lub_h5 *f, const char *status)
     rc |= write_string_attr(f->file, "status", status ? status : "complete");
     if (H5Fclose(f->file) < 0)
         rc = -1;
+    free(f->path);
     free(f);
     return rc ? -1 : 0;
 }

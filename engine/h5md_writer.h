@@ -17,6 +17,7 @@
 #ifndef LUBDEM_H5MD_WRITER_H
 #define LUBDEM_H5MD_WRITER_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct lub_h5 lub_h5;
@@ -42,9 +43,23 @@ int lub_h5_table_append(lub_h5_table *t, int64_t step, double time, const double
 int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius,
                             const char *const *boundary);
 /* edges: 3x3 cell matrix (rows = edge vectors) or NULL for an unbounded scene. Arrays are
- * interleaved [n][3]; omega may be NULL. */
+ * interleaved [n][3]; omega may be NULL.
+ * Room: a snapshot that would bring the file within LUB_H5_SNAPSHOT_RESERVE_BYTES of the
+ * file-size limit (RLIMIT_FSIZE, e.g. lubdemd's --fsize-mb; or lub_h5_set_byte_limit), or
+ * leave less than that free on the file's file system, is not written, nor is any later one;
+ * the call still returns 0, so the run and its time series go on (a write beyond RLIMIT_FSIZE
+ * would kill the process with SIGXFSZ, or fail with EFBIG, and lose the whole file). The
+ * reserve covers the rest of a run's output (time series, distributions, parameters).
+ * lub_h5_snapshots_skipped tells how many were skipped, from which step, and why. */
 int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double *edges,
                               const double *pos, const double *vel, const double *omega);
+#define LUB_H5_SNAPSHOT_RESERVE_BYTES ((uint64_t)64 << 20)
+/* Snapshots not written for lack of room (0: none); *first_step (may be NULL) gets the step of
+ * the first, why[len] (may be NULL) the reason (limit or free space, with the sizes in MiB). */
+int64_t lub_h5_snapshots_skipped(const lub_h5 *f, int64_t *first_step, char *why, size_t len);
+/* Lowers the file-size limit the snapshot room check uses to `bytes` (tests; a limit above
+ * RLIMIT_FSIZE is ignored). */
+void lub_h5_set_byte_limit(lub_h5 *f, uint64_t bytes);
 
 /* Free-form dataset under /profiles (rank 1 or 2, row-major), with a "unit" attribute. */
 int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,

@@ -100,6 +100,17 @@ static int write_file_atomic(const char *dir, const char *name, const char *text
     return 0;
 }
 
+/* appends text to the summary's "warnings" array (created when absent) */
+static void append_warning(lub_run_ctx *ctx, const char *text)
+{
+    json_t *list = json_object_get(ctx->summary_extra, "warnings");
+    if (!json_is_array(list)) {
+        list = json_array();
+        json_object_set_new(ctx->summary_extra, "warnings", list);
+    }
+    json_array_append_new(list, json_string(text));
+}
+
 static const char *status_of(int rc)
 {
     switch (rc) {
@@ -153,21 +164,28 @@ int lub_run_spec(const lub_run_request *req)
     double wall = lub_wall_seconds() - t0;
     if (rc == LUB_EXIT_OK && req->stop_requested && *req->stop_requested)
         rc = LUB_EXIT_INTERRUPTED;
-    if (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL)
+    if (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL || rc == LUB_EXIT_IO)
         fprintf(req->diag, "error: %s\n",
                 ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
     if (ctx.threads < threads_requested) {
-        json_t *list = json_object_get(ctx.summary_extra, "warnings");
-        if (!json_is_array(list)) {
-            list = json_array();
-            json_object_set_new(ctx.summary_extra, "warnings", list);
-        }
         char text[256];
         snprintf(text, sizeof text,
                  "--threads %d asked for more threads than the %d processor%s this process may "
                  "run on; the run used %d (more threads would only slow it down)",
                  threads_requested, processors, processors == 1 ? "" : "s", ctx.threads);
-        json_array_append_new(list, json_string(text));
+        append_warning(&ctx, text);
+    }
+    char why[200];
+    int64_t first_skipped = 0;
+    const int64_t skipped = lub_h5_snapshots_skipped(h5, &first_skipped, why, sizeof why);
+    if (skipped > 0) {
+        char text[512];
+        snprintf(text, sizeof text,
+                 "%lld particle snapshot%s from step %lld on %s not written: %s; the other "
+                 "outputs are not affected; lower /snapshots (or run with more room)",
+                 (long long)skipped, skipped == 1 ? "" : "s", (long long)first_skipped,
+                 skipped == 1 ? "was" : "were", why);
+        append_warning(&ctx, text);
     }
     /* the scene's advisory warnings (summary "warnings"), one line each, for runs that did not
      * fail: a failed run's last stderr line stays its error */
@@ -203,21 +221,34 @@ int lub_run_spec(const lub_run_request *req)
     int io = lub_h5_write_parameters(h5, req->spec_text, resolved_text, units_text);
     if (io)
         fprintf(req->diag, "error: %s\n", lub_h5_last_error(h5));
+    errno = 0;
     io |= lub_h5_close(h5, status_of(rc));
+    int io_errno = errno; /* why the close (its final flush) failed, if the system said */
     free(resolved_text);
     free(units_text);
-    if (io == 0 && rename(h5_tmp, h5_dst) != 0)
+    int renamed = 0;
+    if (io == 0 && rename(h5_tmp, h5_dst) != 0) {
         io = -1;
+        io_errno = errno;
+    } else if (io == 0) {
+        renamed = 1;
+    }
     if (io == 0) {
         char *text = json_dumps(summary, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+        errno = 0;
         io = write_file_atomic(req->out_dir, "summary.json", text);
+        io_errno = errno;
         free(text);
     }
     if (io != 0) {
-        fprintf(req->diag, "error: cannot write the results in %s\n", req->out_dir);
+        fprintf(req->diag, "error: cannot write the results in %s%s%s\n", req->out_dir,
+                io_errno ? ": " : "", io_errno ? strerror(io_errno) : "");
         unlink(h5_tmp);
-        if (rc == LUB_EXIT_OK)
-            rc = LUB_EXIT_IO;
+        if (renamed) /* the summary failed after it: no result.h5 without its summary */
+            unlink(h5_dst);
+        /* nothing is left to read: 4 whatever the run's own outcome was (a numerical
+         * failure's diagnostic is on stderr above) */
+        rc = LUB_EXIT_IO;
     }
     json_decref(summary);
     json_decref(ctx.summary_results);

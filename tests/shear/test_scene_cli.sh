@@ -31,6 +31,13 @@
 #     without the runaway check completed it: eta_r -2.4e24 in its series); with the default the
 #     step is lowered at the first rebuild and the run completes: finite series evenly spaced in
 #     strain, dt_min below the single-pair step, dt_stiffness_ratio within the safety.
+#  6. a file-size limit (RLIMIT_FSIZE, as lubdemd's --fsize-mb sets it) smaller than the
+#     snapshots asked for: the run completes (exit 0, status complete, valid result.h5 with
+#     its full time series) with fewer snapshots and a warning naming /snapshots (it used to
+#     be killed by SIGXFSZ, exit 153, leaving only .result.h5.tmp and no summary);
+#  6b. time series that do not fit under the limit: exit 4 with the system's reason on stderr
+#     and no file left (it used to be killed by SIGXFSZ, and with the signal ignored HDF5's
+#     exit handler then segfaulted on the file its failed close had left open: exit 139).
 # usage: test_scene_cli.sh LUBDEM PYTHON
 set -u
 LUBDEM=$1
@@ -181,11 +188,12 @@ PYEOF
 # 3c. a servo far outside the studied gains (0.25-4): gain 100 with a 1e-4 filter samples a
 # pressure pinned near -19 P and used to complete as if nothing were wrong; with a 10-strain
 # filter it squeezes the cell below the listing distance within 0.005 strain (exit 3), and the
-# diagnostic now names the servo
+# diagnostic now names the servo (the first run has no detected steady state, so its warning
+# says the pressure was not reached and names /strain as well as /servo/gain)
 SERVO='"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":0.01,"snapshots":0'
 echo "{$SERVO,\"strain\":1,\"transient_strain\":0.3,\"servo\":{\"gain\":100,\"filter_strain\":1e-4}}" \
   | "$LUBDEM" run - --out "$W/servo_osc" --quiet 2>"$W/servo_osc.err"; rc=$?
-check "[ $rc -eq 0 ] && grep -q '^warning: the servo did not hold the imposed pressure: .*lower /servo/gain' $W/servo_osc.err && ! grep -q 'elastic number' $W/servo_osc.err" \
+check "[ $rc -eq 0 ] && grep -Eq '^warning: (the servo did not hold the imposed pressure|the imposed pressure was not reached): .*lower /servo/gain' $W/servo_osc.err && ! grep -q 'elastic number' $W/servo_osc.err" \
   "servo gain 100: rc=$rc, $(cat $W/servo_osc.err)"
 echo "{$SERVO,\"strain\":0.1,\"servo\":{\"gain\":100,\"filter_strain\":10}}" \
   | "$LUBDEM" run - --out "$W/servo_squeeze" --quiet 2>"$W/servo_squeeze.err"; rc=$?
@@ -293,4 +301,47 @@ print(f"adapted step: dt_min/dt_elastic={r['dt_min'] / r['dt_elastic']:.3f} "
 for b in bad: print("FAIL: adapted step:", b, file=sys.stderr)
 sys.exit(1 if bad else 0)
 PYEOF
+
+# 6. snapshots that do not fit under the file-size limit: 65 MiB (ulimit -f counts KiB) leaves
+#    1 MiB above the writer's 64 MiB reserve, room for a few 108 KB frames of 1500 particles
+#    out of the ~770 frames (83 MB) the run takes
+cat > $W/fsize.json <<'EOF2'
+{"scene":"simple_shear","n_particles":1500,"phi":0.45,"strain":0.1,"transient_strain":0.05,
+ "sample_strain":0.001,"snapshots":1000}
+EOF2
+(ulimit -f 66560; "$LUBDEM" run $W/fsize.json --out $W/fsize --quiet) 2>$W/fsize.err
+rc=$?
+check "[ $rc -eq 0 ]" "file-size limit: rc=$rc ($(tail -c 300 $W/fsize.err))"
+check "grep -q '^warning: [0-9]* particle snapshots from step [0-9]* on were not written: .*RLIMIT_FSIZE.*/snapshots' $W/fsize.err" "file-size limit: no warning on stderr"
+if [ $rc -eq 0 ]; then
+    "$PY" - "$W/fsize" <<'PYEOF'
+import json, sys
+import h5py
+d = sys.argv[1]
+bad = []
+s = json.load(open(d + "/summary.json"))
+if s["status"] != "complete": bad.append("status " + s["status"])
+if not any("/snapshots" in w and "not written" in w for w in s.get("warnings", [])):
+    bad.append("no snapshot warning in the summary")
+with h5py.File(d + "/result.h5") as f:
+    frames = f["particles/all/position/value"].shape[0]
+    samples = f["observables/strain/value"].shape[0]
+    status = f.attrs["status"]
+    status = status.decode() if isinstance(status, bytes) else status
+if not 1 <= frames < 100: bad.append(f"{frames} snapshots")
+if samples < 95: bad.append(f"{samples} samples of the time series")
+if status != "complete": bad.append("result.h5 status " + status)
+print(f"file-size limit: {frames} snapshots written, {samples} samples")
+for b in bad: print("FAIL: file-size limit:", b, file=sys.stderr)
+sys.exit(1 if bad else 0)
+PYEOF
+    [ $? -eq 0 ] || fail=1
+fi
+
+# 6b. a time series that does not fit: 5000 samples (about 1.3 MB compressed) under 512 KiB
+echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"strain":0.5,"transient_strain":0.1,"sample_strain":0.0001,"snapshots":0}' >$W/fsize_series.json
+(ulimit -f 512; "$LUBDEM" run $W/fsize_series.json --out $W/fsize_series --quiet) 2>$W/fsize_series.err
+rc=$?
+check "[ $rc -eq 4 ] && grep -q '^error: cannot write the results in .*: File too large' $W/fsize_series.err && [ -z \"\$(ls -A $W/fsize_series)\" ]" \
+  "series beyond the file-size limit: rc=$rc, $(cat $W/fsize_series.err), files: $(ls -A $W/fsize_series 2>&1)"
 exit $fail
