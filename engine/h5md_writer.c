@@ -45,7 +45,7 @@ struct lub_h5 {
     uint64_t byte_limit; /* RLIMIT_FSIZE (soft) at creation, or lub_h5_set_byte_limit */
     int64_t frames_skipped;
     int64_t first_skipped_step;
-    char skip_reason[200];
+    char skip_reason[256];
 };
 
 static int set_err(lub_h5 *f, const char *what, const char *name)
@@ -461,11 +461,13 @@ static int snapshot_fits(lub_h5 *f, uint64_t frame_bytes)
     const uint64_t need = (uint64_t)size + frame_bytes + LUB_H5_SNAPSHOT_RESERVE_BYTES;
     const double mb = 1.0 / (1024.0 * 1024.0);
     if (need > f->byte_limit) {
-        snprintf(f->skip_reason, sizeof f->skip_reason,
-                 "a snapshot of %.3g MiB would bring result.h5 (%.4g MiB) within %.0f MiB of "
-                 "the file-size limit of %.4g MiB this process runs under (RLIMIT_FSIZE)",
-                 frame_bytes * mb, size * mb, (double)LUB_H5_SNAPSHOT_RESERVE_BYTES * mb,
-                 f->byte_limit * mb);
+        snprintf(
+            f->skip_reason, sizeof f->skip_reason,
+            "a snapshot of %.3g MiB would bring result.h5 (%.4g MiB) within %.0f MiB of "
+            "the file-size limit of %.4g MiB this process runs under (RLIMIT_FSIZE: ulimit -f, "
+            "lubdemd --fsize-mb)",
+            frame_bytes * mb, size * mb, (double)LUB_H5_SNAPSHOT_RESERVE_BYTES * mb,
+            f->byte_limit * mb);
         return 0;
     }
     struct statvfs fs;

@@ -175,7 +175,7 @@ int lub_run_spec(const lub_run_request *req)
                  threads_requested, processors, processors == 1 ? "" : "s", ctx.threads);
         append_warning(&ctx, text);
     }
-    char why[200];
+    char why[256];
     int64_t first_skipped = 0;
     const int64_t skipped = lub_h5_snapshots_skipped(h5, &first_skipped, why, sizeof why);
     if (skipped > 0) {
