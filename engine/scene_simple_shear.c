@@ -821,6 +821,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         const lub_shear_run_state checks = {
             .elastic_number = p.stiffness / mean_of[S_P],
             .kinetic_share = fabs(mean_of[S_XY_KIN]) / fabs(mean_of[S_SXY]),
+            .kinetic_share_pressure = fabs(mean_of[S_YY_KIN]) / fabs(mean_of[S_P]),
             .crushed_fraction = mean_of[S_CRUSHED],
             .bond_order_q6 = mean_of[S_Q6],
             .bond_order_random = bonds_sum > 0.0 ? sqrt((double)bonds_samples / bonds_sum) : NAN,

@@ -46,11 +46,13 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "enough for rigid-sphere rheology (eta_r and phi still move with the "
                     "stiffness there); raise /stiffness by %.2g or more",
                     el, LUB_SHEAR_EL_MIN, LUB_SHEAR_EL_MIN / el);
-    if (exceeds(st->kinetic_share, LUB_SHEAR_KINETIC_SHARE_MAX))
+    if (exceeds(st->kinetic_share, LUB_SHEAR_KINETIC_SHARE_MAX) ||
+        exceeds(st->kinetic_share_pressure, LUB_SHEAR_KINETIC_SHARE_MAX))
         add_warning(out, &n,
-                    "the kinetic stress is %.2g %% of sigma_xy, above %.0f %%: particle "
-                    "inertia enters the rheology; lower /St",
-                    100.0 * st->kinetic_share, 100.0 * LUB_SHEAR_KINETIC_SHARE_MAX);
+                    "the kinetic stress is %.2g %% of sigma_xy and %.2g %% of -sigma_yy, above "
+                    "%.0f %%: particle inertia enters the rheology; lower /St",
+                    100.0 * st->kinetic_share, 100.0 * st->kinetic_share_pressure,
+                    100.0 * LUB_SHEAR_KINETIC_SHARE_MAX);
     if (!jammed && exceeds(st->crushed_fraction, LUB_CRUSHED_CONTACT_FRACTION_MAX))
         add_warning(out, &n,
                     "asperities crushed in %.2g %% of the contacts (u_n < -alpha eps a), "

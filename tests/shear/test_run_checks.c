@@ -14,6 +14,7 @@ static lub_shear_run_state clean(void)
 {
     lub_shear_run_state st = {.elastic_number = 1e4,
                               .kinetic_share = 1e-4,
+                              .kinetic_share_pressure = 1e-3,
                               .crushed_fraction = 0.0,
                               .bond_order_q6 = 0.05,
                               .lost_pairs = 0.0,
@@ -78,7 +79,9 @@ int main(void)
         {"El", offsetof(lub_shear_run_state, elastic_number), 4.9e3, 5.1e3, "/stiffness",
          "4.9e+03"},
         {"kinetic share", offsetof(lub_shear_run_state, kinetic_share), 0.011, 0.009, "/St",
-         "1.1 %"},
+         "1.1 % of sigma_xy"},
+        {"kinetic share of the pressure", offsetof(lub_shear_run_state, kinetic_share_pressure),
+         0.072, 0.009, "/St", "7.2 % of -sigma_yy"},
         {"crushed", offsetof(lub_shear_run_state, crushed_fraction), 0.02, 0.005, "crushed in 2 %",
          "/stiffness"},
         {"Q6", offsetof(lub_shear_run_state, bond_order_q6), 0.153, 0.092, "0.153", "/n_particles"},
