@@ -178,7 +178,9 @@ def run():
     finally:
         srv2.stop()
 
-    # An engine writing more than the output limit is killed (SIGXFSZ): failed, not retried.
+    # An engine writing more than the output limit (--fsize-mb) fails: the engine ignores
+    # SIGXFSZ and exits 4 naming the system's reason (it used to be killed by the signal), and
+    # the job is failed, not retried.
     srv3 = T.Server(a, "fsizelimit", workers=1, extra=["--fsize-mb", "1"]).fresh()
     tok = srv3.token("erin")
     srv3.start()
@@ -187,7 +189,8 @@ def run():
                                   {"inputs": {"duration": 2.0, "samples": 200000}})
         T.check(st == 201, "submit")
         final = T.wait_final(srv3, tok, doc["jobID"], timeout=60)
-        T.check(final["status"] == "failed" and "output size limit" in final["message"]
+        T.check(final["status"] == "failed" and "exit code 4" in final["message"]
+                and "File too large" in final["message"]
                 and final["attempt"] == 1, "fsize-limited job: %s" % json.dumps(final))
     finally:
         srv3.stop()
