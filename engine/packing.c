@@ -258,6 +258,14 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
         free(ref);
         return -1;
     }
+    /* Large packings are renumbered along bins before the compression: the relaxation
+     * sweeps (about 1000 at phi 0.5, whatever n) then walk memory in order instead of at
+     * random. 400 000 spheres at phi 0.5 took 100 s, now 45 s (1 thread). The result is the same
+     * packing to round-off (positions within 3e-13 a, same sweeps and smallest gap), but not
+     * bit for bit, so smaller packings keep their order and every run below the threshold
+     * stays bit for bit what earlier versions gave (the gain is below 10 % there). */
+    if (p->presort > 0 || (p->presort == 0 && n > LUB_PACKING_SORT_MIN_N))
+        spatial_sort(cell, pos, radius, disp, ref, n);
     const double infl = 1.0 + p->margin;
     const double skin = 0.3;
     nl.skin = skin;

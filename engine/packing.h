@@ -9,7 +9,8 @@
  *     overlap-removal relaxation (Jacobi displacement iterations on radii inflated by `margin`),
  *     until phi is reached and every inflated overlap is below margin/2 of the pair radius sum;
  *     so every true gap is >= margin/2 * (r_i + r_j) > 0 (verified at the end).
- * Finally the spheres are renumbered along spatial bins (memory locality of pair loops).
+ * Finally the spheres are renumbered along spatial bins (memory locality of pair loops); above
+ * LUB_PACKING_SORT_MIN_N spheres also before step 3 (its sweeps' locality).
  * Reproducible: a pure function of (n, phi, std, seed, margin).
  *
  * Memory: allocates its work arrays on entry and frees them on exit (setup only, not used
@@ -33,6 +34,9 @@ typedef struct {
     int placement_all_pairs; /* 0 (default): step 2 tests a trial position against the spheres
                                 of its neighbouring bins, O(n); 1: against every sphere placed,
                                 O(n^2). Same packing either way (tests compare them) */
+    int presort;             /* renumbering before step 3: 0 (default) above LUB_PACKING_SORT_MIN_N
+                                spheres, 1 always, -1 never. Same packing to round-off either way (tests
+                                compare them), not bit for bit */
     const volatile sig_atomic_t *stop; /* optional (NULL: never): once *stop is non-zero the
                                           compression gives up at its next relaxation sweep
                                           (SIGTERM during a large packing) */
@@ -49,6 +53,9 @@ typedef struct {
  * overlaps within max_sweeps (phi too high), -3 if *p->stop was set (outputs unusable). */
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info);
+/* Above this many spheres the placement is renumbered spatially before the compression
+ * (memory locality; see packing.c). */
+#define LUB_PACKING_SORT_MIN_N 65536
 
 /* Smallest gap over all pairs (brute force O(n^2), for tests and checks). */
 double lub_packing_min_gap(const lub_cell *cell, const vec3 *pos, const double *radius, int n);

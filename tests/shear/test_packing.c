@@ -1,5 +1,6 @@
 /* test_packing.c — packing generator: no overlaps, target phi reached, reproducible; a stop
- * request ends it with -3. */
+ * request ends it with -3; renumbering before the compression gives the same packing to
+ * round-off. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -104,6 +105,55 @@ int main(void)
         free(rb);
         free(xa);
         free(xb);
+    }
+    /* renumbering before the compression (automatic above LUB_PACKING_SORT_MIN_N spheres):
+     * the same packing to round-off, i.e. the same sweeps and the same set of spheres within
+     * 1e-9 a; and below the threshold the default is bit for bit the unsorted packing */
+    {
+        const int m = 3000;
+        double *ra = malloc(m * sizeof *ra), *rb = malloc(m * sizeof *rb),
+               *rc_ = malloc(m * sizeof *rc_);
+        vec3 *xa = malloc(m * sizeof *xa), *xb = malloc(m * sizeof *xb),
+             *xc = malloc(m * sizeof *xc);
+        lub_packing_params p = {.n = m,
+                                .phi = 0.5,
+                                .radius_std = 0.05,
+                                .seed = 11,
+                                .margin = 0.01,
+                                .max_sweeps = 2000000,
+                                .presort = -1};
+        lub_cell ca, cb, cc;
+        lub_packing_info ia, ib;
+        const int rca = lub_packing_generate(&p, ra, xa, &ca, &ia);
+        p.presort = 1;
+        const int rcb = lub_packing_generate(&p, rb, xb, &cb, &ib);
+        p.presort = 0;
+        const int rcc = lub_packing_generate(&p, rc_, xc, &cc, NULL);
+        ST_CHECK(rca == 0 && rcb == 0 && rcc == 0, "presort: rc %d %d %d", rca, rcb, rcc);
+        ST_CHECK(ia.sweeps == ib.sweeps && fabs(ia.min_gap - ib.min_gap) < 1e-9,
+                 "presort: sweeps %d / %d, min gap %.12g / %.12g", ia.sweeps, ib.sweeps, ia.min_gap,
+                 ib.min_gap);
+        /* every sphere of one packing has a twin in the other (same radius, position within
+         * 1e-9 a); both are sorted along the same bins, so the twin is near in index */
+        int unmatched = 0;
+        for (int i = 0; i < m; ++i) {
+            int found = 0;
+            for (int j = 0; j < m && !found; ++j)
+                found = fabs(ra[i] - rb[j]) < 1e-12 && v3_norm(v3_sub(xa[i], xb[j])) < 1e-9;
+            unmatched += !found;
+        }
+        ST_CHECK(unmatched == 0, "presort: %d of %d spheres without a twin", unmatched, m);
+        ST_CHECK(memcmp(xa, xb, m * sizeof *xa) != 0, "presort 1 gave the unsorted packing bit for "
+                                                      "bit: no renumbering before the compression");
+        ST_CHECK(memcmp(ra, rc_, m * sizeof *ra) == 0 && memcmp(xa, xc, m * sizeof *xa) == 0,
+                 "presort: the default below %d spheres is not the unsorted packing",
+                 LUB_PACKING_SORT_MIN_N);
+        free(ra);
+        free(rb);
+        free(rc_);
+        free(xa);
+        free(xb);
+        free(xc);
     }
     ST_DONE();
 }
