@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "scene.h"
 
@@ -102,4 +103,28 @@ void lub_report_time_step(lub_run_ctx *ctx, int exit_code, double dt_spec, doubl
         lub_diagnostic_dt_hint(ctx, dt_spec, dt_safety, dt_bound, bound_name);
     if (exit_code == LUB_EXIT_OK)
         lub_warn_fixed_dt(warnings, dt_spec, dt_bound, bound_name);
+}
+
+void lub_diagnostic_out_of_memory(lub_run_ctx *ctx, const char *what, long long n_particles,
+                                  double bytes_in_use, const char *member)
+{
+    char *d = ctx->diagnostic;
+    const size_t cap = sizeof ctx->diagnostic;
+    const double mb = 1.0 / (1024.0 * 1024.0);
+    int len = snprintf(d, cap, "out of memory (%s)", what);
+    if (n_particles > 0 && len >= 0 && (size_t)len < cap)
+        len += snprintf(d + len, cap - (size_t)len, ": %lld particles", n_particles);
+    if (bytes_in_use > 0.0 && len >= 0 && (size_t)len < cap)
+        len += snprintf(d + len, cap - (size_t)len, ", %.4g MiB (%.3g kB per particle) held",
+                        bytes_in_use * mb,
+                        n_particles > 0 ? bytes_in_use / (double)n_particles / 1e3 : 0.0);
+    struct rlimit as;
+    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY && len >= 0 &&
+        (size_t)len < cap)
+        len += snprintf(d + len, cap - (size_t)len,
+                        "; this process may use at most %.4g MiB of address space (RLIMIT_AS: "
+                        "ulimit -v, lubdemd --mem-mb)",
+                        (double)as.rlim_cur * mb);
+    if (member && len >= 0 && (size_t)len < cap)
+        snprintf(d + len, cap - (size_t)len, "; lower %s", member);
 }

@@ -70,4 +70,11 @@ void lub_diagnostic_adapted_dt_hint(lub_run_ctx *ctx, double dt, double dt_safet
 void lub_report_time_step(lub_run_ctx *ctx, int exit_code, double dt_spec, double dt_safety,
                           double dt_bound, const char *bound_name, json_t *warnings);
 
+/* After an allocation failed: writes into ctx->diagnostic "out of memory (<what>)", the
+ * particle count (n_particles > 0) and the bytes the scene held (bytes_in_use > 0), the
+ * address-space limit the process runs under when there is one (RLIMIT_AS: ulimit -v,
+ * lubdemd --mem-mb), and the advice to lower `member` (a JSON pointer; NULL: none). */
+void lub_diagnostic_out_of_memory(lub_run_ctx *ctx, const char *what, long long n_particles,
+                                  double bytes_in_use, const char *member);
+
 #endif

@@ -461,11 +461,15 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         free(pos);
         return LUB_EXIT_INTERRUPTED;
     }
-    if (prc) {
+    if (prc == -1) {
+        lub_diagnostic_out_of_memory(ctx, "packing", n, 0.0, "/n_particles");
+    } else if (prc) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
-                 "packing generation failed (%s) for n=%d phi=%g",
-                 prc == -1 ? "no memory" : "target fraction not reached without overlaps", n,
-                 p.phi);
+                 "packing generation failed (target fraction not reached without overlaps) for "
+                 "n=%d phi=%g",
+                 n, p.phi);
+    }
+    if (prc) {
         free(radius);
         free(pos);
         return LUB_EXIT_INTERNAL;
@@ -479,7 +483,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     free(pos);
     if (src) {
         free(radius);
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (system)");
+        lub_diagnostic_out_of_memory(ctx, "system", n, 0.0, "/n_particles");
         return LUB_EXIT_INTERNAL;
     }
     sys.drag_viscosity = p.drag_viscosity; /* eta = 1 */
@@ -581,10 +585,18 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         const double ly = sys.cell.h[1][1];
         const double rate = sys.cell.L[1][1];
         int r = lub_shear_step(&sys, flags, &smp);
-        if (r) {
+        if (r == LUB_SHEAR_NOMEM && !sys.fail_msg[0]) { /* the pair lists could not grow */
+            char what[96];
+            snprintf(what, sizeof what, "pair lists, step %lld, strain %.4f", (long long)step,
+                     strain_here);
+            lub_diagnostic_out_of_memory(ctx, what, n, (double)lub_shear_memory_bytes(&sys),
+                                         "/n_particles");
+        } else if (r) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (step %lld, strain %.4f)",
                      sys.fail_msg[0] ? sys.fail_msg : "simulation failure", (long long)step,
                      strain_here);
+        }
+        if (r) {
             exit_code = (r == LUB_SHEAR_NOMEM) ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
             step_unstable = r == LUB_SHEAR_NONFINITE || r == LUB_SHEAR_RUNAWAY;
             if (r == LUB_SHEAR_CELL_TOO_SMALL && p.pressure) { /* only the servo moves L_y */

@@ -35,6 +35,10 @@
 #     snapshots asked for: the run completes (exit 0, status complete, valid result.h5 with
 #     its full time series) with fewer snapshots and a warning naming /snapshots (it used to
 #     be killed by SIGXFSZ, exit 153, leaving only .result.h5.tmp and no summary);
+#  6c. an address-space limit (RLIMIT_AS, as lubdemd's --mem-mb sets it) too small for the
+#     system: exit 1 with a diagnostic that says out of memory, where, the limit and
+#     /n_particles (it said "simulation failure (step 0, strain 0.0000)"); skipped for a
+#     binary that cannot start under the limit (ASan reserves terabytes of address space).
 #  6b. time series that do not fit under the limit: exit 4 with the system's reason on stderr
 #     and no file left (it used to be killed by SIGXFSZ, and with the signal ignored HDF5's
 #     exit handler then segfaulted on the file its failed close had left open: exit 139).
@@ -344,4 +348,16 @@ echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"strain":0.5,"transie
 rc=$?
 check "[ $rc -eq 4 ] && grep -q '^error: cannot write the results in .*: File too large' $W/fsize_series.err && [ -z \"\$(ls -A $W/fsize_series)\" ]" \
   "series beyond the file-size limit: rc=$rc, $(cat $W/fsize_series.err), files: $(ls -A $W/fsize_series 2>&1)"
+
+# 6c. 20 000 particles under 60 000 KiB of address space: the packing fits (from ~30 000 KiB),
+#     the pair lists do not (up to ~80 000 KiB)
+if (ulimit -v 60000; "$LUBDEM" version >/dev/null 2>&1); then
+    echo '{"scene":"simple_shear","n_particles":20000,"phi":0.5,"strain":0.001,"transient_strain":0,"snapshots":0}' >$W/oom.json
+    (ulimit -v 60000; "$LUBDEM" run $W/oom.json --out $W/oom --quiet) 2>$W/oom.err
+    rc=$?
+    check "[ $rc -eq 1 ] && grep -q '^error: out of memory (.*20000 particles.*RLIMIT_AS.*lower /n_particles' $W/oom.err" \
+      "address-space limit: rc=$rc, $(cat $W/oom.err)"
+else
+    echo "address-space limit: skipped (this binary does not start under ulimit -v 60000)"
+fi
 exit $fail
