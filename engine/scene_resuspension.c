@@ -405,6 +405,11 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     sp.dt = p.dt > 0.0 ? p.dt : p.dt_safety * dt_crit;
     int src = lub_rs_init(&S, &sp, &p.law.params, N, B.radius, B.pos, nfloor, B.floor_r,
                           B.floor_pos, L, Ly, L);
+    if (src == LUB_RS_NOMEM) {
+        lub_diagnostic_out_of_memory(ctx, "system", N, 0.0, "/n");
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
+    }
     if (src) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "system init failed (%d)", src);
         rs_buffers_free(&B);
@@ -576,8 +581,14 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             break;
         }
         int e = lub_rs_step(&S);
-        if (e != LUB_RS_OK) {
+        if (e == LUB_RS_NOMEM && !S.fail_msg[0]) { /* the pair lists could not grow */
+            char what[96];
+            snprintf(what, sizeof what, "pair lists, step %lld", (long long)S.step);
+            lub_diagnostic_out_of_memory(ctx, what, N, 0.0, "/n");
+        } else if (e != LUB_RS_OK) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (code %d)", S.fail_msg, e);
+        }
+        if (e != LUB_RS_OK) {
             rc = e == LUB_RS_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
             step_unstable = e == LUB_RS_NONFINITE || e == LUB_RS_ESCAPED || e == LUB_RS_RUNAWAY;
             break;
