@@ -2,7 +2,8 @@
 # CLI-level checks of the resuspension scene: a short complete run (summary schema, H5MD
 # structure, profiles and time series present and consistent), SIGTERM during a long run
 # (exit code 5, status "partial", valid H5MD with the profiles averaged so far), fixed and
-# adapted time steps, and specs refused for their length or sample count (exit 2).
+# adapted time steps, specs refused for their length or sample count (exit 2), and an
+# address-space limit too small for the system (exit 1, "out of memory", the limit, /n).
 # usage: test_resuspension_cli.sh LUBDEM PYTHON CHECK_H5MD SCHEMA_DIR
 set -u
 LUBDEM=$1 PY=$2 CHECK=$3 SCHEMA_DIR=$4
@@ -145,6 +146,19 @@ echo '{"scene": "resuspension", "strain": 1000, "sample_strain": 1e-4}' \
 rc=$?
 [ $rc -eq 2 ] && grep -q "^error: /sample_strain: .* 1e+07 samples.*at least 0.001 " \
   "$work/bad2.err" && ok || bad "1e7 samples: exit $rc: $(cat "$work/bad2.err")"
+
+# 20 000 particles under 60 000 KiB of address space (lubdemd --mem-mb sets such a limit): the
+# pair lists do not fit; the diagnostic says so, with the limit and /n (it was " (code -1)").
+# Skipped for a binary that cannot start under the limit (ASan).
+if (ulimit -v 60000; "$LUBDEM" version >/dev/null 2>&1); then
+  echo '{"scene":"resuspension","n":20000,"strain":0.001,"average_from":0.0005}' >"$work/oom.json"
+  (ulimit -v 60000; "$LUBDEM" run "$work/oom.json" --out "$work/oom" --quiet) 2>"$work/oom.err"
+  rc=$?
+  [ $rc -eq 1 ] && grep -q '^error: out of memory (.*20000 particles.*RLIMIT_AS.*lower /n$' \
+    "$work/oom.err" && ok || bad "address-space limit: exit $rc: $(cat "$work/oom.err")"
+else
+  echo "address-space limit: skipped (this binary does not start under ulimit -v 60000)"
+fi
 
 echo "resuspension_cli_checks=$((pass + fail))"
 echo "$pass passed, $fail failed"
