@@ -8,6 +8,18 @@
 #include "packing.h"
 #include "shear_test.h"
 
+/* the packing parameters of these tests (margin 0.01, a generous sweep cap); other members 0 */
+static lub_packing_params packing(int n, double phi, double radius_std, uint64_t seed)
+{
+    lub_packing_params p = {.n = n,
+                            .phi = phi,
+                            .radius_std = radius_std,
+                            .seed = seed,
+                            .margin = 0.01,
+                            .max_sweeps = 2000000};
+    return p;
+}
+
 int main(void)
 {
     const int n = 400;
@@ -15,12 +27,7 @@ int main(void)
     vec3 *x1 = malloc(n * sizeof *x1), *x2 = malloc(n * sizeof *x2);
     const double phis[3] = {0.3, 0.5, 0.58};
     for (int t = 0; t < 3; ++t) {
-        lub_packing_params p = {.n = n,
-                                .phi = phis[t],
-                                .radius_std = 0.05,
-                                .seed = 7,
-                                .margin = 0.01,
-                                .max_sweeps = 2000000};
+        lub_packing_params p = packing(n, phis[t], 0.05, 7);
         lub_cell c1, c2;
         lub_packing_info info;
         int rc = lub_packing_generate(&p, r1, x1, &c1, &info);
@@ -57,13 +64,8 @@ int main(void)
     /* a stop request ends the compression with -3; an unset flag changes nothing */
     {
         volatile sig_atomic_t stop = 0;
-        lub_packing_params p = {.n = n,
-                                .phi = 0.5,
-                                .radius_std = 0.05,
-                                .seed = 7,
-                                .margin = 0.01,
-                                .max_sweeps = 2000000,
-                                .stop = &stop};
+        lub_packing_params p = packing(n, 0.5, 0.05, 7);
+        p.stop = &stop;
         lub_cell c;
         int rc = lub_packing_generate(&p, r2, x2, &c, NULL);
         p.stop = NULL;
@@ -87,12 +89,7 @@ int main(void)
         const int m = sizes[t];
         double *ra = malloc(m * sizeof *ra), *rb = malloc(m * sizeof *rb);
         vec3 *xa = malloc(m * sizeof *xa), *xb = malloc(m * sizeof *xb);
-        lub_packing_params p = {.n = m,
-                                .phi = 0.5,
-                                .radius_std = 0.1,
-                                .seed = 3,
-                                .margin = 0.01,
-                                .max_sweeps = 2000000};
+        lub_packing_params p = packing(m, 0.5, 0.1, 3);
         lub_cell ca, cb;
         const int rca = lub_packing_generate(&p, ra, xa, &ca, NULL);
         p.placement_all_pairs = 1;
@@ -115,13 +112,8 @@ int main(void)
                *rc_ = malloc(m * sizeof *rc_);
         vec3 *xa = malloc(m * sizeof *xa), *xb = malloc(m * sizeof *xb),
              *xc = malloc(m * sizeof *xc);
-        lub_packing_params p = {.n = m,
-                                .phi = 0.5,
-                                .radius_std = 0.05,
-                                .seed = 11,
-                                .margin = 0.01,
-                                .max_sweeps = 2000000,
-                                .presort = -1};
+        lub_packing_params p = packing(m, 0.5, 0.05, 11);
+        p.presort = -1;
         lub_cell ca, cb, cc;
         lub_packing_info ia, ib;
         const int rca = lub_packing_generate(&p, ra, xa, &ca, &ia);
