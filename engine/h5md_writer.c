@@ -48,12 +48,16 @@ struct lub_h5 {
     char skip_reason[256];
 };
 
+int lub_h5_output_failure(int e)
+{
+    return e == ENOSPC || e == EFBIG || e == EDQUOT || e == EIO || e == EROFS;
+}
+
 static int set_err(lub_h5 *f, const char *what, const char *name)
 {
-    /* the system's reason, where it is one of the output failures a user can act on (errno
-     * as the failed write left it; HDF5 does not report it otherwise) */
+    /* the system's reason, where it is one of the output failures a user can act on */
     const int e = errno;
-    const int known = e == ENOSPC || e == EFBIG || e == EDQUOT || e == EIO || e == EROFS;
+    const int known = lub_h5_output_failure(e);
     snprintf(f->err, sizeof f->err, "HDF5: cannot %.80s %.120s%s%s", what, name ? name : "",
              known ? ": " : "", known ? strerror(e) : "");
     return -1;

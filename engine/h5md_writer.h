@@ -24,6 +24,10 @@ typedef struct lub_h5 lub_h5;
 typedef struct lub_h5_table lub_h5_table;
 
 lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen);
+/* 1 if errno value e is an output failure a user can act on (no space, file too large, quota,
+ * I/O error, read-only file system): what a failed HDF5 write or close leaves in errno when
+ * the system refused it. HDF5 itself does not report it; other values may be stale. */
+int lub_h5_output_failure(int e);
 const char *lub_h5_last_error(const lub_h5 *f);
 
 /* /parameters: verbatim and resolved spec (JSON text), unit system description (JSON text),

@@ -222,8 +222,10 @@ int lub_run_spec(const lub_run_request *req)
     if (io)
         fprintf(req->diag, "error: %s\n", lub_h5_last_error(h5));
     errno = 0;
-    io |= lub_h5_close(h5, status_of(rc));
-    int io_errno = errno; /* why the close (its final flush) failed, if the system said */
+    const int close_failed = lub_h5_close(h5, status_of(rc)) != 0;
+    io |= close_failed;
+    /* why the close (its final flush) failed, where errno names an output failure */
+    int io_errno = close_failed && lub_h5_output_failure(errno) ? errno : 0;
     free(resolved_text);
     free(units_text);
     int renamed = 0;
