@@ -19,9 +19,20 @@ int lubd_state_bit(const char *name)
     return 0;
 }
 
+/* A full disk (SQLITE_FULL: the file system, or the database's page limit) is the operator's
+ * to fix and the client's to retry: 507 Insufficient Storage with a Retry-After, nothing
+ * changed (the transaction is rolled back). Any other database error is a 500. */
 static int db_fault(sqlite3 *db, lubd_fault *f)
 {
     fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
+    if (sqlite3_errcode(db) == SQLITE_FULL) {
+        lubd_fail(f, 507, LUBD_PT_BASE "storage-full", "Insufficient storage", NULL,
+                  "the service's storage is full (%s): nothing was queued or changed; retry "
+                  "once space has been freed",
+                  sqlite3_errmsg(db));
+        f->retry_after = 60;
+        return -1;
+    }
     return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error: %s",
                      sqlite3_errmsg(db));
 }

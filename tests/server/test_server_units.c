@@ -165,6 +165,37 @@ static void test_queue(const char *dir)
           strcmp(j.failure_kind, "system") == 0);
     CHECK(lubd_lease_fail(db, &c3, "executor", "late") == 0);
     lubd_lease_clear(&c3);
+    /* A full database (here its page limit; on a full disk SQLite says the same) refuses a
+     * submission with 507 and a Retry-After, and leaves nothing behind; lifting the limit lets
+     * the same submission through. (It was a 500 "database error".) */
+    {
+        sqlite3_stmt *st = NULL;
+        long pages = 0;
+        if (sqlite3_prepare_v2(db, "PRAGMA page_count", -1, &st, NULL) == SQLITE_OK &&
+            sqlite3_step(st) == SQLITE_ROW)
+            pages = (long)sqlite3_column_int64(st, 0);
+        sqlite3_finalize(st);
+        char pragma[64];
+        snprintf(pragma, sizeof pragma, "PRAGMA max_page_count = %ld", pages);
+        CHECK(pages > 0 && sqlite3_exec(db, pragma, NULL, NULL, NULL) == SQLITE_OK);
+        static char big[200000]; /* a spec that needs new pages */
+        memset(big, ' ', sizeof big - 3);
+        big[0] = '{';
+        big[sizeof big - 3] = '}';
+        lubd_submit s = {u.id, 10, "falling_sphere", "{}", big, "fp-full", NULL, 0, 3};
+        char id_full[33];
+        int rep;
+        lubd_fault f;
+        memset(&f, 0, sizeof f);
+        CHECK(lubd_queue_submit(db, &s, id_full, &rep, &f) == -1 && f.status == 507 &&
+              f.retry_after > 0);
+        int acc = -1, run = -1;
+        CHECK(lubd_queue_counts(db, &acc, &run) == 0 && acc == 1 && run == 1);
+        CHECK(sqlite3_exec(db, "PRAGMA max_page_count = 1073741823", NULL, NULL, NULL) ==
+              SQLITE_OK);
+        CHECK(lubd_queue_submit(db, &s, id_full, &rep, &f) == 0 && !rep);
+        CHECK(lubd_queue_dismiss(db, id_full, &j, &rep) == 0); /* back to the counts above */
+    }
     /* Idempotency: same key + same fingerprint -> same job; other fingerprint -> 409. */
     {
         lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{}", "fp-a", "key-1", 0, 3};
