@@ -581,14 +581,14 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             break;
         }
         int e = lub_rs_step(&S);
-        if (e == LUB_RS_NOMEM && !S.fail_msg[0]) { /* the pair lists could not grow */
-            char what[96];
-            snprintf(what, sizeof what, "pair lists, step %lld", (long long)S.step);
-            lub_diagnostic_out_of_memory(ctx, what, N, 0.0, "/n");
-        } else if (e != LUB_RS_OK) {
-            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (code %d)", S.fail_msg, e);
-        }
         if (e != LUB_RS_OK) {
+            if (e == LUB_RS_NOMEM && !S.fail_msg[0]) { /* the pair lists could not grow */
+                char what[96];
+                snprintf(what, sizeof what, "pair lists, step %lld", (long long)S.step);
+                lub_diagnostic_out_of_memory(ctx, what, N, 0.0, "/n");
+            } else {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (code %d)", S.fail_msg, e);
+            }
             rc = e == LUB_RS_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
             step_unstable = e == LUB_RS_NONFINITE || e == LUB_RS_ESCAPED || e == LUB_RS_RUNAWAY;
             break;

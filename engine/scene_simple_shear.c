@@ -461,15 +461,14 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         free(pos);
         return LUB_EXIT_INTERRUPTED;
     }
-    if (prc == -1) {
-        lub_diagnostic_out_of_memory(ctx, "packing", n, 0.0, "/n_particles");
-    } else if (prc) {
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
-                 "packing generation failed (target fraction not reached without overlaps) for "
-                 "n=%d phi=%g",
-                 n, p.phi);
-    }
     if (prc) {
+        if (prc == -1)
+            lub_diagnostic_out_of_memory(ctx, "packing", n, 0.0, "/n_particles");
+        else
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                     "packing generation failed (target fraction not reached without overlaps) "
+                     "for n=%d phi=%g",
+                     n, p.phi);
         free(radius);
         free(pos);
         return LUB_EXIT_INTERNAL;
@@ -585,18 +584,18 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         const double ly = sys.cell.h[1][1];
         const double rate = sys.cell.L[1][1];
         int r = lub_shear_step(&sys, flags, &smp);
-        if (r == LUB_SHEAR_NOMEM && !sys.fail_msg[0]) { /* the pair lists could not grow */
-            char what[96];
-            snprintf(what, sizeof what, "pair lists, step %lld, strain %.4f", (long long)step,
-                     strain_here);
-            lub_diagnostic_out_of_memory(ctx, what, n, (double)lub_shear_memory_bytes(&sys),
-                                         "/n_particles");
-        } else if (r) {
-            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (step %lld, strain %.4f)",
-                     sys.fail_msg[0] ? sys.fail_msg : "simulation failure", (long long)step,
-                     strain_here);
-        }
         if (r) {
+            if (r == LUB_SHEAR_NOMEM && !sys.fail_msg[0]) { /* the pair lists could not grow */
+                char what[96];
+                snprintf(what, sizeof what, "pair lists, step %lld, strain %.4f", (long long)step,
+                         strain_here);
+                lub_diagnostic_out_of_memory(ctx, what, n, (double)lub_shear_memory_bytes(&sys),
+                                             "/n_particles");
+            } else {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (step %lld, strain %.4f)",
+                         sys.fail_msg[0] ? sys.fail_msg : "simulation failure", (long long)step,
+                         strain_here);
+            }
             exit_code = (r == LUB_SHEAR_NOMEM) ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
             step_unstable = r == LUB_SHEAR_NONFINITE || r == LUB_SHEAR_RUNAWAY;
             if (r == LUB_SHEAR_CELL_TOO_SMALL && p.pressure) { /* only the servo moves L_y */
@@ -765,6 +764,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         /* the contacts' friction coefficient as the seed's laws read it (law.terms.friction
          * off is mu_m = 0) */
         const double mu_m = (p.law.params.terms & LUB_TERM_FRICTION) ? p.law.params.mu : 0.0;
+        const double phi_m = ref_phi_m(mu_m);
         double mean_of[S_COUNT], sem_of[S_COUNT]; /* steady-state means and their errors, for
                                                      the advisory checks */
         for (int k = 0; k < S_COUNT; ++k) {
@@ -792,7 +792,6 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             if (k == S_ETA || k == S_ETA11 || k == S_ETA22 || k == S_ETA33)
                 unit = "1";
             double ref = NAN;
-            const double phi_m = ref_phi_m(mu_m);
             if (mu_m >= 0.36) {
                 if (k == S_MU && p.pressure)
                     ref = ref_mu(p.Iv, phi_m);
@@ -845,7 +844,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,
             .dt_over_stiffness = p.dt > 0.0 ? ctl.ratio_max : 0.0,
             .phi_imposed = p.pressure ? NAN : p.phi,
-            .phi_jamming = ref_phi_m(mu_m),
+            .phi_jamming = phi_m,
             .mu_m = mu_m,
             .pressure_ratio = p.pressure ? mean_of[S_P] : NAN, /* S_P is in units of s0 = P */
             .pressure_ratio_sem = p.pressure ? sem_of[S_P] : NAN,

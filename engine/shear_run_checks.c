@@ -60,12 +60,13 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     100.0 * st->crushed_fraction, 100.0 * LUB_CRUSHED_CONTACT_FRACTION_MAX);
     const double q6_noise =
         isfinite(st->bond_order_random) ? LUB_SHEAR_Q6_NOISE * st->bond_order_random : 0.0;
-    if (exceeds(st->bond_order_q6, fmax(LUB_SHEAR_Q6_MAX, q6_noise)))
+    const double q6_limit = fmax(LUB_SHEAR_Q6_MAX, q6_noise);
+    if (exceeds(st->bond_order_q6, q6_limit))
         add_warning(out, &n,
                     "bond order Q6 = %.3f is above %.2g: the cell is ordering "
                     "(disordered sheared packings give 0.04-0.09), a finite-size effect; "
                     "raise /n_particles or /radius_std",
-                    st->bond_order_q6, fmax(LUB_SHEAR_Q6_MAX, q6_noise));
+                    st->bond_order_q6, q6_limit);
     const double dev = st->pressure_ratio - 1.0;
     const int sem_known = isfinite(st->pressure_ratio_sem);
     const double dev_sem = sem_known ? st->pressure_ratio_sem : 0.0;
