@@ -111,6 +111,23 @@ static void append_warning(lub_run_ctx *ctx, const char *text)
     json_array_append_new(list, json_string(text));
 }
 
+/* 1 when the scene's lower bound of its memory fits in what this process may still take
+ * (memory_budget.h); 0 with the diagnostic set otherwise, before anything is allocated. */
+static int fits_in_memory(const lub_scene *scene, const json_t *resolved, lub_run_ctx *ctx)
+{
+    lub_memory_need need;
+    memset(&need, 0, sizeof need);
+    if (!scene->memory_need || scene->memory_need(resolved, ctx->threads, &need) != 0)
+        return 1;
+    lub_memory_room room;
+    lub_memory_room_now(&room);
+    char msg[sizeof ctx->diagnostic - 32];
+    if (!lub_memory_need_check(&need, &room, "this process", msg, sizeof msg))
+        return 1;
+    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (nothing was run)", msg);
+    return 0;
+}
+
 static const char *status_of(int rc)
 {
     switch (rc) {
@@ -160,7 +177,7 @@ int lub_run_spec(const lub_run_request *req)
     ctx.threads = threads_requested < processors ? threads_requested : processors;
 
     double t0 = lub_wall_seconds();
-    int rc = scene->run(resolved, &ctx);
+    int rc = fits_in_memory(scene, resolved, &ctx) ? scene->run(resolved, &ctx) : LUB_EXIT_INTERNAL;
     double wall = lub_wall_seconds() - t0;
     if (rc == LUB_EXIT_OK && req->stop_requested && *req->stop_requested)
         rc = LUB_EXIT_INTERRUPTED;

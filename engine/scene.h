@@ -14,6 +14,7 @@
 
 #include <jansson.h>
 
+#include "memory_budget.h"
 #include "spec_reader.h"
 
 struct lub_run_ctx;
@@ -34,6 +35,10 @@ typedef struct {
     const char *description; /* a paragraph: what it computes, units, reference */
     int (*resolve)(json_t *spec, lub_error *err);
     int (*run)(const json_t *resolved, struct lub_run_ctx *ctx);
+    /* Optional (NULL: no estimate): a lower bound of the memory run() will hold with
+     * `threads` threads, into *need (memory_budget.h); 0, or -1 when it has none. Pure; the
+     * run driver refuses a run that cannot fit before run() and the service a submission. */
+    int (*memory_need)(const json_t *resolved, int threads, lub_memory_need *need);
 } lub_scene;
 
 /* NULL-terminated table of all scenes. */

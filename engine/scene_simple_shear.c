@@ -919,6 +919,28 @@ cleanup:
     return exit_code;
 }
 
+/* The system after its first rebuild (lub_shear_min_bytes). The time series (SS_SAMPLE_BYTES
+ * per sample, up to 232 MB) is left out: its sample count depends on the time step, which may
+ * exceed /sample_strain. */
+static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *need)
+{
+    ss_params p;
+    lub_error err;
+    json_t *copy = json_deep_copy(resolved);
+    const int rc = copy ? ss_read(copy, &p, &err) : -1;
+    json_decref(copy);
+    if (rc)
+        return -1;
+    const double n = (double)p.n;
+    need->bytes = lub_shear_min_bytes(n, p.phi, p.radius_std, p.cutoff, p.skin, threads);
+    need->per_item = need->bytes / n;
+    need->member = "/n_particles";
+    snprintf(need->what, sizeof need->what,
+             "%lld particles at phi %.3g, cut-off %.3g a and skin %.3g a", (long long)p.n, p.phi,
+             p.cutoff, p.skin);
+    return 0;
+}
+
 const lub_scene lub_scene_simple_shear = {
     .name = "simple_shear",
     .title = "Periodic simple-shear rheometer (imposed volume or imposed particle pressure)",
@@ -934,4 +956,5 @@ const lub_scene lub_scene_simple_shear = {
         "steady-state detection (MSER) and AR(1)-corrected batch-means error bars.",
     .resolve = ss_resolve,
     .run = ss_run,
+    .memory_need = ss_memory_need,
 };

@@ -207,24 +207,52 @@ int lub_shear_step_control(lub_shear_system *s, lub_step_control *c)
                                        s->n, s->row_scratch);
 }
 
+/* Bytes of each array element, shared by lub_shear_memory_bytes and lub_shear_min_bytes. */
+enum {
+    PARTICLE_BYTES = 6 * sizeof(vec3) + 7 * sizeof(double),     /* x v w f t x_ref; r m 1/m 1/I
+                                                                    share, 2 scratch rows */
+    THREAD_PARTICLE_BYTES = 2 * sizeof(vec3) + 2 * sizeof(int), /* per-thread pair sums */
+    NLIST_PARTICLE_BYTES = sizeof(size_t) + 2 * sizeof(int) + sizeof(vec3),
+    NLIST_PAIR_BYTES = 5 * sizeof(int32_t),                              /* i, j, image shift */
+    STORE_PAIR_BYTES = 2 * sizeof(int32_t) + sizeof(lub_pair_state) + 1, /* i j state active;
+                                                                            double-buffered */
+    STORE_FLAT_PAIR_BYTES = 3 * sizeof(int32_t) + 3                      /* c, near, allow, img */
+};
+
 size_t lub_shear_memory_bytes(const lub_shear_system *s)
 {
     size_t n = (size_t)s->n;
-    size_t b = n * (6 * sizeof(vec3) + 7 * sizeof(double));
+    size_t b = n * PARTICLE_BYTES;
     const lub_nlist *nl = &s->nl;
     for (int t = 0; t < nl->nparts; ++t) /* per-thread buffers of the parallel search */
-        b += nl->parts[t].cap * 5 * sizeof(int32_t);
-    b += nl->pair_cap * 5 * sizeof(int32_t) +
-         nl->part_cap * (sizeof(size_t) + 2 * sizeof(int) + sizeof(vec3)) +
+        b += nl->parts[t].cap * NLIST_PAIR_BYTES;
+    b += nl->pair_cap * NLIST_PAIR_BYTES + nl->part_cap * NLIST_PARTICLE_BYTES +
          nl->bin_cap * sizeof(int);
     const lub_pairs *ps = &s->pairs;
-    size_t fcap = ps->fcap;
-    b += (ps->cap + ps->ocap) * (2 * sizeof(int32_t) + sizeof(lub_pair_state) + 1);
-    b += fcap * (3 * sizeof(int32_t) + 3); /* c, near, allow, img */
+    b += (ps->cap + ps->ocap) * STORE_PAIR_BYTES + ps->fcap * STORE_FLAT_PAIR_BYTES;
     b += s->topo.site_cap * sizeof(lub_power_site) + (size_t)s->topo.n_cap * sizeof(size_t);
     b += (size_t)s->threads * (sizeof(lub_stress) + sizeof(double) + 3 * sizeof(size_t));
-    b += (size_t)s->threads * n * (2 * sizeof(vec3) + 2 * sizeof(int)); /* pair sums */
+    b += (size_t)s->threads * n * THREAD_PARTICLE_BYTES;
     return b;
+}
+
+double lub_shear_listed_pairs_estimate(double phi, double radius_std, double cutoff, double skin)
+{
+    /* centres within d = (2 + cutoff) a + skin of a sphere, at number density
+     * phi/(4/3 pi <a^3>) with <a^3> = 1 + 3 std^2, outside the excluded <(a_i + a_j)^3>; the
+     * pair correlation is taken as 1 (a dense packing has more pairs near contact) */
+    const double d = 2.0 + cutoff + skin, v2 = radius_std * radius_std;
+    const double shell = d * d * d - 8.0 * (1.0 + 1.5 * v2);
+    return shell > 0.0 ? 0.5 * phi / (1.0 + 3.0 * v2) * shell : 0.0;
+}
+
+double lub_shear_min_bytes(double n, double phi, double radius_std, double cutoff, double skin,
+                           int threads)
+{
+    const double pairs = 0.9 * n * lub_shear_listed_pairs_estimate(phi, radius_std, cutoff, skin);
+    const double per_particle =
+        PARTICLE_BYTES + NLIST_PARTICLE_BYTES + (threads > 1 ? threads : 1) * THREAD_PARTICLE_BYTES;
+    return n * per_particle + pairs * (NLIST_PAIR_BYTES + STORE_PAIR_BYTES + STORE_FLAT_PAIR_BYTES);
 }
 
 /* Delaunay flags from the current positions; the list holds every pair within its listing

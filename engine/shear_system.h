@@ -161,6 +161,20 @@ int lub_shear_step_control(lub_shear_system *s, lub_step_control *c);
 /* Heap bytes held by the system (particle arrays, neighbour list, pair store, scratch). */
 size_t lub_shear_memory_bytes(const lub_shear_system *s);
 
+/* Expected pairs per particle in the neighbour list (u_n < cutoff a_ij + skin) of a random
+ * packing at solid fraction phi with Gaussian radii (mean 1, relative std radius_std), for an
+ * uncorrelated pair distribution beyond contact: measured lists hold 1.0-1.1 times it at
+ * cut-off 2 a and more at small cut-offs (contacts; tests/shear/test_system.c). Pure. */
+double lub_shear_listed_pairs_estimate(double phi, double radius_std, double cutoff, double skin);
+
+/* Lower bound of the heap bytes a system of n spheres holds after its first neighbour-list
+ * rebuild (lub_shear_memory_bytes then): particle arrays, per-thread sums, and one buffer of
+ * the neighbour list and pair store for 0.9 times the estimated pairs. The peak of a run is
+ * higher (capacity margins, the store's second buffer: ~1.4 times at phi 0.5). Pure; n as a
+ * double so that no size overflows. */
+double lub_shear_min_bytes(double n, double phi, double radius_std, double cutoff, double skin,
+                           int threads);
+
 /* Solid fraction (sum of sphere volumes / cell volume). */
 double lub_shear_phi(const lub_shear_system *s);
 /* Global bond-orientational order Q6 (bond_order.h) of the listed pairs whose centre distance

@@ -349,14 +349,22 @@ rc=$?
 check "[ $rc -eq 4 ] && grep -q '^error: cannot write the results in .*: File too large' $W/fsize_series.err && [ -z \"\$(ls -A $W/fsize_series)\" ]" \
   "series beyond the file-size limit: rc=$rc, $(cat $W/fsize_series.err), files: $(ls -A $W/fsize_series 2>&1)"
 
-# 6c. 20 000 particles under 60 000 KiB of address space: the packing fits (from ~30 000 KiB),
-#     the pair lists do not (up to ~80 000 KiB)
+# 6c. 12 000 particles under 60 000 KiB of address space: the lower bound of the memory the
+#     run needs (27 MB) passes the check before the packing, the packing fits, the pair lists
+#     (~40 MB of their ~3.3 kB per particle) do not
+# 6d. 1e7 particles (at least 21 GiB) are refused before the packing, with what they need and
+#     the ceiling (memory_budget.h), exit 1 and a failed summary without a step
 if (ulimit -v 60000; "$LUBDEM" version >/dev/null 2>&1); then
-    echo '{"scene":"simple_shear","n_particles":20000,"phi":0.5,"strain":0.001,"transient_strain":0,"snapshots":0}' >$W/oom.json
+    echo '{"scene":"simple_shear","n_particles":12000,"phi":0.5,"strain":0.001,"transient_strain":0,"snapshots":0}' >$W/oom.json
     (ulimit -v 60000; "$LUBDEM" run $W/oom.json --out $W/oom --quiet) 2>$W/oom.err
     rc=$?
-    check "[ $rc -eq 1 ] && grep -q '^error: out of memory (.*20000 particles.*RLIMIT_AS.*lower /n_particles' $W/oom.err" \
+    check "[ $rc -eq 1 ] && grep -q '^error: out of memory (.*12000 particles.*RLIMIT_AS.*lower /n_particles' $W/oom.err" \
       "address-space limit: rc=$rc, $(cat $W/oom.err)"
+    echo '{"scene":"simple_shear","n_particles":10000000,"phi":0.5,"strain":0.001,"transient_strain":0,"snapshots":0}' >$W/toobig.json
+    (ulimit -v 60000; "$LUBDEM" run $W/toobig.json --out $W/toobig --quiet) 2>$W/toobig.err
+    rc=$?
+    check "[ $rc -eq 1 ] && grep -q '^error: not enough memory: 10000000 particles at phi 0.5, cut-off 2 a and skin 0.5 a need at least 2[0-9.]* GiB (2.[0-9]* kB per particle), but this process may use 58.6 MiB of address space (RLIMIT_AS.*lower /n_particles (nothing was run)' $W/toobig.err && grep -q '\"status\": \"failed\"' $W/toobig/summary.json && ! grep -q '\"steps\"' $W/toobig/summary.json" \
+      "memory check before the packing: rc=$rc, $(cat $W/toobig.err)"
 else
     echo "address-space limit: skipped (this binary does not start under ulimit -v 60000)"
 fi

@@ -1,0 +1,89 @@
+/* test_memory_estimate.c — the lower bound of a shear system's memory (lub_shear_min_bytes),
+ * which the run driver and the service compare with the memory a run may use before anything
+ * is allocated (memory_budget.h). For packings across solid fraction, cut-off, skin,
+ * polydispersity and threads, after the first steps:
+ *  - the listed pairs are 0.9-8 times lub_shear_listed_pairs_estimate (1.0-1.1 measured at
+ *    cut-off 2 a, more at small cut-offs where contacts dominate);
+ *  - lub_shear_min_bytes <= lub_shear_memory_bytes (a bound that is not one would refuse runs
+ *    that fit), and >= 0.4 of it (a bound far below would let through runs that cannot fit). */
+#include <math.h>
+#include <stdlib.h>
+
+#include "packing.h"
+#include "shear_system.h"
+#include "shear_test.h"
+
+typedef struct {
+    int n;
+    double phi, cutoff, skin, radius_std;
+    int threads;
+} estimate_case;
+
+int main(void)
+{
+    const estimate_case cases[] = {
+        {3000, 0.05, 2.0, 0.5, 0.05, 1}, {3000, 0.35, 2.0, 0.5, 0.05, 1},
+        {3000, 0.50, 2.0, 0.5, 0.05, 2}, {3000, 0.60, 2.0, 0.5, 0.20, 1},
+        {3000, 0.05, 2.0, 0.5, 0.20, 1}, {3000, 0.55, 0.1, 0.05, 0.05, 1},
+        {3000, 0.50, 0.5, 2.0, 0.0, 1},  {6000, 0.50, 5.0, 0.5, 0.05, 2},
+    };
+    const lub_law_params law = {.eta = 1.0,
+                                .k_bulk = 1e4,
+                                .alpha = 1.0,
+                                .k_t = 5e3,
+                                .eps = 0.02,
+                                .mu = 0.5,
+                                .terms = LUB_TERM_ALL};
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+        const estimate_case *c = &cases[k];
+        double *r = malloc((size_t)c->n * sizeof *r);
+        vec3 *x = malloc((size_t)c->n * sizeof *x);
+        lub_cell cell;
+        lub_packing_params pp = {.n = c->n,
+                                 .phi = c->phi,
+                                 .radius_std = c->radius_std,
+                                 .seed = 7,
+                                 .margin = 0.01,
+                                 .max_sweeps = 2000000};
+        lub_shear_system s;
+        int rc = r && x ? lub_packing_generate(&pp, r, x, &cell, NULL) : -1;
+        if (rc == 0) {
+            cell.L[0][1] = 1.0;
+            rc = lub_shear_init(&s, c->n, r, x, &cell, &law, 0.01, c->cutoff, c->skin, 1.0,
+                                c->threads, 0, 0);
+        }
+        free(r);
+        free(x);
+        ST_CHECK(rc == 0, "case %zu: system not built (%d)", k, rc);
+        if (rc)
+            continue;
+        s.dt = 0.3 * lub_shear_elastic_dt(&s);
+        for (int step = 0; step < 3 && rc == 0; ++step)
+            rc = lub_shear_step(&s, 0, NULL);
+        ST_CHECK(rc == 0, "case %zu: step failed (%d)", k, rc);
+        const double listed = (double)s.pairs.n / c->n;
+        const double expected =
+            lub_shear_listed_pairs_estimate(c->phi, c->radius_std, c->cutoff, c->skin);
+        const double held = (double)lub_shear_memory_bytes(&s);
+        const double bound =
+            lub_shear_min_bytes(c->n, c->phi, c->radius_std, c->cutoff, c->skin, c->threads);
+        printf("case %zu: n=%d phi=%.2f cut-off=%.2f skin=%.2f std=%.2f threads=%d: listed pairs "
+               "%.2f per particle (estimate %.2f, ratio %.3f); bound %.0f of %.0f B per "
+               "particle (%.2f)\n",
+               k, c->n, c->phi, c->cutoff, c->skin, c->radius_std, c->threads, listed, expected,
+               listed / expected, bound / c->n, held / c->n, bound / held);
+        ST_CHECK(listed >= 0.9 * expected && listed <= 8.0 * expected,
+                 "case %zu: listed %.3f against the estimate %.3f", k, listed, expected);
+        ST_CHECK(bound <= held && bound >= 0.4 * held, "case %zu: bound %.0f against held %.0f", k,
+                 bound, held);
+        lub_shear_free(&s);
+    }
+    /* pure and monotone: more particles, a denser packing or a longer list need more */
+    const double b0 = lub_shear_min_bytes(1e6, 0.5, 0.05, 2.0, 0.5, 1);
+    ST_CHECK(lub_shear_min_bytes(2e6, 0.5, 0.05, 2.0, 0.5, 1) == 2.0 * b0, "linear in n");
+    ST_CHECK(lub_shear_min_bytes(1e6, 0.55, 0.05, 2.0, 0.5, 1) > b0, "phi");
+    ST_CHECK(lub_shear_min_bytes(1e6, 0.5, 0.05, 3.0, 0.5, 1) > b0, "cut-off");
+    ST_CHECK(lub_shear_min_bytes(1e6, 0.5, 0.05, 2.0, 0.5, 2) > b0, "threads");
+    ST_CHECK(lub_shear_listed_pairs_estimate(0.5, 0.0, 0.0, 0.0) == 0.0, "no shell, no pairs");
+    ST_DONE();
+}
