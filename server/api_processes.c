@@ -5,6 +5,7 @@
 
 #include "api.h"
 #include "exec_request.h"
+#include "job_limits.h"
 #include "json_text.h"
 #include "queue.h"
 #include "scene.h"
@@ -116,6 +117,10 @@ enum MHD_Result lubd_api_execute(lubd_request *r, const char *id)
     lubd_exec_request req;
     if (lubd_exec_parse(r->body, r->body_len, id, &req, &f) != 0)
         return lubd_reply_fault(r, &f);
+    if (lubd_job_fits(&req, r->srv->cfg, &f) != 0) {
+        lubd_exec_free(&req);
+        return lubd_reply_fault(r, &f);
+    }
     if (req.priority > 0 && !r->user.is_admin) {
         lubd_exec_free(&req);
         lubd_fail(&f, 403, LUBD_PT_BASE "forbidden", "Forbidden", "/priority",

@@ -1,7 +1,8 @@
 """Bad requests get the right status and a precise problem+json, and queue nothing:
 malformed JSON, wrong types, out-of-range, unknown fields (top level and inside inputs),
-oversized bodies (Content-Length and chunked), wrong Content-Type, unknown process,
-missing/invalid token, another user's job, priority without admin rights, bad job ids."""
+oversized bodies (Content-Length and chunked), a job too large for the memory a job may use,
+wrong Content-Type, unknown process, missing/invalid token, another user's job, priority
+without admin rights, bad job ids."""
 import http.client
 import json
 import socket
@@ -53,6 +54,10 @@ def run():
              "/priority", "admin"),
             ("two_spheres_shear wrong type", "/processes/two_spheres_shear/execution",
              {"inputs": {"St": True}}, {}, alice, 400, "/inputs/St", ""),
+            # a lower bound of about 0.6 TiB (cut-off 10 a): above --mem-mb and any machine
+            ("too large for the service", "/processes/simple_shear/execution",
+             {"inputs": {"n_particles": 10000000, "cutoff": 10}}, {}, alice, 400,
+             "/inputs/n_particles", "not enough memory: 10000000 particles"),
             ("unknown process", "/processes/nope/execution", {"inputs": {}}, {}, alice, 404,
              None, "does not exist"),
             ("text/plain", ex, b'{"inputs": {}}', {"Content-Type": "text/plain"}, alice, 415,

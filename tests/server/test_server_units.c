@@ -1,16 +1,19 @@
 /* test_server_units.c — unit tests of the server's pure parts and of the queue/lease SQL on a
  * scratch database: SHA-256 vectors, Range parsing, progress lines, execution-request
- * validation, claim order/fencing/reaping. Usage: test_server_units SCRATCH_DIR */
+ * validation, the memory check of submissions, claim order/fencing/reaping. Usage:
+ * test_server_units SCRATCH_DIR */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "config.h"
 #include "db.h"
 #include "exec_request.h"
 #include "fsutil.h"
 #include "http_range.h"
+#include "job_limits.h"
 #include "lease.h"
 #include "progress_line.h"
 #include "queue.h"
@@ -107,6 +110,46 @@ static void test_exec(void)
     CHECK(lubd_exec_parse(bad, strlen(bad), "nope", &r, &f) == -1 && f.status == 404);
     CHECK(lubd_exec_parse("{", 1, "falling_sphere", &r, &f) == -1 && f.status == 400);
     CHECK(lubd_exec_parse("", 0, "falling_sphere", &r, &f) == -1 && f.status == 400);
+}
+
+/* Submissions whose lower bound of memory cannot fit what a job may use are refused
+ * (job_limits.h): against --mem-mb, and against the machine when --mem-mb is 0. */
+static void test_job_limits(void)
+{
+    lubd_config cfg;
+    lubd_config_defaults(&cfg, "lubdemd");
+    cfg.mem_mb = 8192;
+    lubd_exec_request r;
+    lubd_fault f;
+    const char *big = "{\"inputs\": {\"n_particles\": 10000000}}"; /* >= 21 GiB */
+    CHECK(lubd_exec_parse(big, strlen(big), "simple_shear", &r, &f) == 0);
+    memset(&f, 0, sizeof f);
+    CHECK(lubd_job_fits(&r, &cfg, &f) == -1);
+    CHECK(f.status == 400 && strstr(f.type, "job-too-large") &&
+          strcmp(f.pointer, "/inputs/n_particles") == 0);
+    CHECK(strstr(f.detail, "10000000 particles at phi 0.5") && strstr(f.detail, "8 GiB") &&
+          strstr(f.detail, "--mem-mb") && strstr(f.detail, "lower /inputs/n_particles"));
+    cfg.mem_mb = 32768; /* 21 GiB fit in 32 GiB of address space (if the machine has them) */
+    const int fits = lubd_job_fits(&r, &cfg, &f);
+    CHECK(fits == 0 || strstr(f.detail, "machine") || strstr(f.detail, "control group"));
+    lubd_exec_free(&r);
+    const char *small = "{\"inputs\": {\"n_particles\": 1000}}";
+    CHECK(lubd_exec_parse(small, strlen(small), "simple_shear", &r, &f) == 0);
+    cfg.mem_mb = 8192;
+    CHECK(lubd_job_fits(&r, &cfg, &f) == 0);
+    lubd_exec_free(&r);
+    /* no --mem-mb: about 1 TiB (cut-off 10 a) fits no machine this runs on */
+    cfg.mem_mb = 0;
+    const char *huge = "{\"inputs\": {\"n_particles\": 10000000, \"cutoff\": 10}}";
+    CHECK(lubd_exec_parse(huge, strlen(huge), "simple_shear", &r, &f) == 0);
+    CHECK(lubd_job_fits(&r, &cfg, &f) == -1 && f.status == 400 && !strstr(f.detail, "--mem-mb"));
+    lubd_exec_free(&r);
+    /* scenes without an estimate are never refused */
+    const char *fall = "{\"inputs\": {\"duration\": 1.5}}";
+    cfg.mem_mb = 1;
+    CHECK(lubd_exec_parse(fall, strlen(fall), "falling_sphere", &r, &f) == 0);
+    CHECK(lubd_job_fits(&r, &cfg, &f) == 0);
+    lubd_exec_free(&r);
 }
 
 static void test_queue(const char *dir)
@@ -290,6 +333,7 @@ int main(int argc, char **argv)
     test_range();
     test_progress();
     test_exec();
+    test_job_limits();
     test_queue(argc > 1 ? argv[1] : ".");
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
