@@ -767,6 +767,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         const double phi_m = ref_phi_m(mu_m);
         double mean_of[S_COUNT], sem_of[S_COUNT]; /* steady-state means and their errors, for
                                                      the advisory checks */
+        double ref_of[S_COUNT];                   /* the §2 law's values (NaN: none) */
+        for (int k = 0; k < S_COUNT; ++k)
+            ref_of[k] = NAN;
         for (int k = 0; k < S_COUNT; ++k) {
             /* only mean and sem are reported; ratio observables are ratios of time averages
              * (ss_ratio_stat), the others the mean of their series */
@@ -801,6 +804,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                     ref = ref_eta_r(p.phi, phi_m);
             }
             if (isfinite(ref)) {
+                ref_of[k] = ref;
                 lub_summary_put_ref(ctx, s_names[k], sr.mean, unit, ref);
                 json_t *e = json_object_get(ctx->summary_results, s_names[k]);
                 if (e && isfinite(sr.sem))
@@ -848,6 +852,12 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .mu_m = mu_m,
             .pressure_ratio = p.pressure ? mean_of[S_P] : NAN, /* S_P is in units of s0 = P */
             .pressure_ratio_sem = p.pressure ? sem_of[S_P] : NAN,
+            .headline = p.pressure ? mean_of[S_MU] : mean_of[S_ETA],
+            .headline_law = p.pressure ? ref_of[S_MU] : ref_of[S_ETA],
+            .headline_is_mu = p.pressure,
+            .phi_mean = p.pressure ? mean_of[S_PHI] : NAN,
+            .phi_law = p.pressure ? ref_of[S_PHI] : NAN,
+            .article_set = p.delaunay && !(p.law.params.terms & (LUB_TERM_ROLL | LUB_TERM_TWIST)),
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

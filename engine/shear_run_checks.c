@@ -88,6 +88,26 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                         "servo_rate sits at +-gain in the time series, lower /servo/gain)",
                         st->pressure_ratio, sem_text);
     }
+    const double off = st->headline / st->headline_law - 1.0;
+    const double tol = st->headline_is_mu ? LUB_SHEAR_LAW_MU_TOL : LUB_SHEAR_LAW_ETA_TOL;
+    const double phi_off = st->phi_law > 0.0 ? st->phi_mean - st->phi_law : NAN;
+    if (!st->article_set && st->steady && st->headline_law > 0.0 &&
+        (exceeds(fabs(off), tol) || exceeds(fabs(phi_off), LUB_SHEAR_LAW_PHI_TOL))) {
+        char phi_text[80] = "", tol_text[40];
+        if (isfinite(phi_off))
+            snprintf(phi_text, sizeof phi_text, ", phi %.3f is %+.3f from its %.3f", st->phi_mean,
+                     phi_off, st->phi_law);
+        snprintf(tol_text, sizeof tol_text, "%.0f %%%s", 100.0 * tol,
+                 isfinite(phi_off) ? " and 0.015 in phi" : "");
+        add_warning(out, &n,
+                    "%s = %.3g is %+.0f %% from the reference law's %.3g%s (physics-reference "
+                    "section 2; tolerance %s): the law was fitted with the seed article's "
+                    "interaction set, which this run does not use (README, Where we disagree, "
+                    "7); set /lubrication_pairs \"delaunay\", /law/terms/roll and "
+                    "/law/terms/twist false to compare with it",
+                    st->headline_is_mu ? "mu" : "eta_r", st->headline, 100.0 * off,
+                    st->headline_law, phi_text, tol_text);
+    }
     const int dt_fixed = st->dt_over_elastic > 0.0;
     if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
         lub_fixed_dt_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_elastic, "dt_elastic");

@@ -1,7 +1,8 @@
 /* test_run_checks.c — the advisory checks of a finished simple_shear run: each check fires
  * just beyond its threshold, stays silent just inside it and for NaN, and names the spec
  * member to change; an imposed phi at or above the jamming fraction replaces the advice to
- * stiffen the contacts. */
+ * stiffen the contacts; the headline off the §2 law warns only with another interaction set
+ * than the law's. */
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
@@ -215,8 +216,51 @@ int main(void)
     one("no sample after the transient", &st, "no steady-state samples after /transient_strain 2",
         "strain 1e+03");
 
-    /* everything at once (imposed pressure): eight messages, each naming the spec member to change
-     * (a JSON pointer after "; raise " or "; lower "), none truncated */
+    /* the headline against the §2 law, with another interaction set than the law's: eta_r 28.0
+     * against 13.05 (default set, phi 0.45) warns; 11 % off (within 15 %), the article's set, no
+     * law value or no steady state do not */
+    st = clean();
+    st.headline = 28.03;
+    st.headline_law = 13.05;
+    one("eta_r off the law", &st,
+        "eta_r = 28 is +115 % from the reference law's 13.1 (physics-reference section 2; "
+        "tolerance 15 %):",
+        "; set /lubrication_pairs \"delaunay\", /law/terms/roll and /law/terms/twist false");
+    st.headline = 14.5;
+    none("eta_r within 15 %", &st);
+    st.headline = 28.03;
+    st.article_set = 1;
+    none("the article's set", &st);
+    st.article_set = 0;
+    st.headline_law = NAN;
+    none("no law value", &st);
+    st.headline_law = 0.0;
+    none("law value 0 (not set)", &st);
+    st.headline_law = 13.05;
+    st.steady = 0;
+    ST_CHECK(count(&st, &w0) == 1 && !strstr(w0, "reference law"), "no steady state: %s", w0);
+    st = clean();
+    st.headline_is_mu = 1;
+    st.headline = 0.54; /* mu within 10 % ... */
+    st.headline_law = 0.5;
+    st.phi_mean = 0.545;
+    st.phi_law = 0.562; /* ... phi 0.017 off */
+    one("phi off the law", &st,
+        "mu = 0.54 is +8 % from the reference law's 0.5, phi 0.545 is -0.017 from its 0.562",
+        "tolerance 10 % and 0.015 in phi)");
+    st.phi_mean = 0.55;
+    none("mu and phi within their tolerances", &st);
+
+    /* everything at once (imposed pressure): eight messages, each naming the spec member to
+     * change (a JSON pointer after "; raise ", "; lower " or "; set "), none truncated; first
+     * without a steady state (its message), then with one (the law's message instead) */
+    st = clean();
+    st.steady = 0;
+    st.headline_is_mu = 1;
+    st.headline = 0.7;
+    st.headline_law = 0.5;
+    st.phi_mean = 0.5;
+    st.phi_law = 0.55;
     st.steady_samples = 400.0;
     st.strain_reached = 10.0;
     st.elastic_number = 1e2;
@@ -226,15 +270,23 @@ int main(void)
     st.lost_pairs = 12345.0;
     st.dt_over_elastic = 70.0;
     st.pressure_ratio = 0.5;
-    const char *w;
-    int n = count(&st, &w);
-    ST_CHECK(n == LUB_SHEAR_WARNINGS_MAX, "all checks: %d warnings", n);
-    for (int k = 0; k < n; ++k) {
-        size_t len = strlen(text[k]);
-        ST_CHECK(len + 1 < LUB_SHEAR_WARNING_LEN, "warning %d may be truncated (%zu chars)", k,
-                 len);
-        ST_CHECK(strstr(text[k], "; raise /") || strstr(text[k], "; lower /"),
-                 "warning %d names no spec member to change: %s", k, text[k]);
+    for (int steady = 0; steady <= 1; ++steady) {
+        st.steady = steady;
+        const char *w;
+        int n = count(&st, &w);
+        ST_CHECK(n == LUB_SHEAR_WARNINGS_MAX, "all checks, steady %d: %d warnings", steady, n);
+        int law = 0;
+        for (int k = 0; k < n; ++k)
+            law += strstr(text[k], "reference law") != NULL;
+        ST_CHECK(law == steady, "steady %d: %d warning(s) about the law", steady, law);
+        for (int k = 0; k < n; ++k) {
+            size_t len = strlen(text[k]);
+            ST_CHECK(len + 1 < LUB_SHEAR_WARNING_LEN, "warning %d may be truncated (%zu chars)", k,
+                     len);
+            ST_CHECK(strstr(text[k], "; raise /") || strstr(text[k], "; lower /") ||
+                         strstr(text[k], "; set /"),
+                     "warning %d names no spec member to change: %s", k, text[k]);
+        }
     }
     ST_DONE();
 }
