@@ -10,6 +10,7 @@
 #include <stdlib.h>
 
 #include "packing.h"
+#include "shear_fixture.h"
 #include "shear_system.h"
 #include "shear_test.h"
 
@@ -27,13 +28,7 @@ int main(void)
         {3000, 0.05, 2.0, 0.5, 0.20, 1}, {3000, 0.55, 0.1, 0.05, 0.05, 1},
         {3000, 0.50, 0.5, 2.0, 0.0, 1},  {6000, 0.50, 5.0, 0.5, 0.05, 2},
     };
-    const lub_law_params law = {.eta = 1.0,
-                                .k_bulk = 1e4,
-                                .alpha = 1.0,
-                                .k_t = 5e3,
-                                .eps = 0.02,
-                                .mu = 0.5,
-                                .terms = LUB_TERM_ALL};
+    const lub_law_params law = shear_fixture_law(1e4);
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
         const estimate_case *c = &cases[k];
         double *r = malloc((size_t)c->n * sizeof *r);
