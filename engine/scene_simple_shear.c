@@ -929,9 +929,11 @@ cleanup:
     return exit_code;
 }
 
-/* The system after its first rebuild (lub_shear_min_bytes). The time series (SS_SAMPLE_BYTES
- * per sample, up to 232 MB) is left out: its sample count depends on the time step, which may
- * exceed /sample_strain. */
+/* The system after its first rebuild, or its second when the run certainly shears far enough
+ * (lub_shear_min_bytes, lub_shear_rebuild_strain): /strain, or with /target_rel_error at
+ * least /transient_strain + /target_min_strain, before which it cannot stop early. The time
+ * series (SS_SAMPLE_BYTES per sample, up to 232 MB) is left out: its sample count depends on
+ * the time step, which may exceed /sample_strain. */
 static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *need)
 {
     ss_params p;
@@ -942,7 +944,11 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
     if (rc)
         return -1;
     const double n = (double)p.n;
-    need->bytes = lub_shear_min_bytes(n, p.phi, p.radius_std, p.cutoff, p.skin, threads);
+    const double sheared = p.target_rel_error > 0.0
+                               ? fmin(p.strain, p.transient_strain + p.target_min_strain)
+                               : p.strain;
+    const int rebuilt = sheared > 1.01 * lub_shear_rebuild_strain(p.cutoff, p.skin);
+    need->bytes = lub_shear_min_bytes(n, p.phi, p.radius_std, p.cutoff, p.skin, threads, rebuilt);
     need->per_item = need->bytes / n;
     need->member = "/n_particles";
     snprintf(need->what, sizeof need->what,

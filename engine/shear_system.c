@@ -246,13 +246,17 @@ double lub_shear_listed_pairs_estimate(double phi, double radius_std, double cut
     return shell > 0.0 ? 0.5 * phi / (1.0 + 3.0 * v2) * shell : 0.0;
 }
 
+double lub_shear_rebuild_strain(double cutoff, double skin) { return skin / (2.0 + cutoff + skin); }
+
 double lub_shear_min_bytes(double n, double phi, double radius_std, double cutoff, double skin,
-                           int threads)
+                           int threads, int rebuilt)
 {
     const double pairs = 0.9 * n * lub_shear_listed_pairs_estimate(phi, radius_std, cutoff, skin);
     const double per_particle =
         PARTICLE_BYTES + NLIST_PARTICLE_BYTES + (threads > 1 ? threads : 1) * THREAD_PARTICLE_BYTES;
-    return n * per_particle + pairs * (NLIST_PAIR_BYTES + STORE_PAIR_BYTES + STORE_FLAT_PAIR_BYTES);
+    const double per_pair =
+        NLIST_PAIR_BYTES + (rebuilt ? 2 : 1) * STORE_PAIR_BYTES + STORE_FLAT_PAIR_BYTES;
+    return n * per_particle + pairs * per_pair;
 }
 
 /* Delaunay flags from the current positions; the list holds every pair within its listing

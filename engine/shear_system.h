@@ -168,13 +168,18 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s);
 double lub_shear_listed_pairs_estimate(double phi, double radius_std, double cutoff, double skin);
 
 /* Lower bound of the heap bytes a system of n spheres holds after its first neighbour-list
- * rebuild (lub_shear_memory_bytes then): particle arrays, per-thread sums, and one buffer of
- * the neighbour list and pair store for 0.9 times the estimated pairs. The peak of a run is
- * higher (capacity margins, the store's second buffer: ~1.4 times at phi 0.5). Pure; n as a
- * double so that no size overflows. */
+ * rebuild (lub_shear_memory_bytes then): particle arrays, per-thread sums, and the neighbour
+ * list and one buffer of the pair store for 0.9 times the estimated pairs; with `rebuilt`,
+ * after its second rebuild, when the store's second buffer holds them too. A run's peak is
+ * higher (capacity margins, growth: ~5 kB per particle at phi 0.5 against a bound of 3.6).
+ * Pure; n as a double so that no size overflows. */
 double lub_shear_min_bytes(double n, double phi, double radius_std, double cutoff, double skin,
-                           int threads);
+                           int threads, int rebuilt);
 
+/* A shear strain after which the neighbour list has certainly been rebuilt again: the affine
+ * part of the skin rule alone, strain * d_list > skin, with d_list >= (2 + cutoff) a + skin
+ * (mean radius a). Pure. */
+double lub_shear_rebuild_strain(double cutoff, double skin);
 /* Solid fraction (sum of sphere volumes / cell volume). */
 double lub_shear_phi(const lub_shear_system *s);
 /* Global bond-orientational order Q6 (bond_order.h) of the listed pairs whose centre distance

@@ -121,7 +121,7 @@ static void test_job_limits(void)
     cfg.mem_mb = 8192;
     lubd_exec_request r;
     lubd_fault f;
-    const char *big = "{\"inputs\": {\"n_particles\": 10000000}}"; /* >= 21 GiB */
+    const char *big = "{\"inputs\": {\"n_particles\": 10000000}}"; /* >= 34 GiB */
     CHECK(lubd_exec_parse(big, strlen(big), "simple_shear", &r, &f) == 0);
     memset(&f, 0, sizeof f);
     CHECK(lubd_job_fits(&r, &cfg, &f) == -1);
@@ -129,7 +129,7 @@ static void test_job_limits(void)
           strcmp(f.pointer, "/inputs/n_particles") == 0);
     CHECK(strstr(f.detail, "10000000 particles at phi 0.5") && strstr(f.detail, "8 GiB") &&
           strstr(f.detail, "--mem-mb") && strstr(f.detail, "lower /inputs/n_particles"));
-    cfg.mem_mb = 32768; /* 21 GiB fit in 32 GiB of address space (if the machine has them) */
+    cfg.mem_mb = 65536; /* 34 GiB fit in 64 GiB of address space (if the machine has them) */
     const int fits = lubd_job_fits(&r, &cfg, &f);
     CHECK(fits == 0 || strstr(f.detail, "machine") || strstr(f.detail, "control group"));
     lubd_exec_free(&r);
