@@ -8,9 +8,9 @@
  *  - address space: RLIMIT_AS (ulimit -v; lubdemd --mem-mb sets it for its workers), of which
  *    the address space the process already maps (/proc/self/statm) is not free;
  *  - the memory control group: cgroup v2 memory.max (+ memory.swap.max) or v1
- *    memory.limit_in_bytes (+ swap, within memory.memsw.limit_in_bytes), the smallest along the
- * path from the process's group to the root (Slurm's --mem, a container's limit); the process's
- *    resident memory is not free;
+ *    memory.limit_in_bytes (+ swap, within memory.memsw.limit_in_bytes), the smallest along
+ *    the path from the process's group to the root (Slurm's --mem, a container's limit); the
+ *    process's resident memory is not free;
  *  - the machine: physical memory + swap (sysinfo), resident memory not free.
  * Other processes' use is not counted: a need that passes may still not fit, one that fails
  * cannot fit. Linux reads /proc and /sys; elsewhere only RLIMIT_AS applies.
@@ -23,7 +23,7 @@
 
 /* What a run will hold, at least (scene.h: memory_need). */
 typedef struct {
-    double bytes;       /* lower bound of the heap the run holds at its start, bytes */
+    double bytes;       /* lower bound of the heap the run will hold, bytes */
     double per_item;    /* bytes per particle (for the message), 0 = not stated */
     const char *member; /* JSON pointer of the spec member that sets the size */
     char what[200];     /* what needs it, e.g. "1000000 particles at phi 0.5, cut-off 2 a, ..." */

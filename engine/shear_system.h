@@ -164,7 +164,7 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s);
 /* Expected pairs per particle in the neighbour list (u_n < cutoff a_ij + skin) of a random
  * packing at solid fraction phi with Gaussian radii (mean 1, relative std radius_std), for an
  * uncorrelated pair distribution beyond contact: measured lists hold 1.0-1.1 times it at
- * cut-off 2 a and more at small cut-offs (contacts; tests/shear/test_system.c). Pure. */
+ * cut-off 2 a and more at small cut-offs (contacts; tests/shear/test_memory_estimate.c). Pure. */
 double lub_shear_listed_pairs_estimate(double phi, double radius_std, double cutoff, double skin);
 
 /* Lower bound of the heap bytes a system of n spheres holds after its first neighbour-list
@@ -180,6 +180,7 @@ double lub_shear_min_bytes(double n, double phi, double radius_std, double cutof
  * part of the skin rule alone, strain * d_list > skin, with d_list >= (2 + cutoff) a + skin
  * (mean radius a). Pure. */
 double lub_shear_rebuild_strain(double cutoff, double skin);
+
 /* Solid fraction (sum of sphere volumes / cell volume). */
 double lub_shear_phi(const lub_shear_system *s);
 /* Global bond-orientational order Q6 (bond_order.h) of the listed pairs whose centre distance
