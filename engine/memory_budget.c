@@ -171,10 +171,12 @@ void lub_memory_room_now(lub_memory_room *room)
 #endif
 }
 
-/* "1.23 GiB" from 1 GiB up, "456 MiB" below. */
+/* "1.2 TiB" from 1 TiB up, "1.23 GiB" from 1 GiB up, "456 MiB" below. */
 static const char *size_text(double bytes, char *buf, size_t len)
 {
-    if (bytes >= GIB)
+    if (bytes >= 1024.0 * GIB)
+        snprintf(buf, len, "%.3g TiB", bytes / (1024.0 * GIB));
+    else if (bytes >= GIB)
         snprintf(buf, len, "%.3g GiB", bytes / GIB);
     else
         snprintf(buf, len, "%.3g MiB", bytes / (1024.0 * 1024.0));

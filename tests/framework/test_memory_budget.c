@@ -135,6 +135,16 @@ int main(int argc, char **argv)
     CHECK(room.limit == 2.0 * 1024 * 1024 * 1024, "wider ceiling ignored");
     need.bytes = 1.5 * 1024 * 1024 * 1024;
     CHECK(lub_memory_need_check(&need, &room, "a job", msg, sizeof msg) == 0, "fits");
+    need.bytes = 2.5 * 1024.0 * 1024 * 1024 * 1024;
+    need.per_item = 0.0;
+    CHECK(lub_memory_need_check(&need, &room, "a job", msg, sizeof msg) == 1 &&
+              strstr(msg, "need at least 2.5 TiB, but"),
+          "TiB: %s", msg);
+    need.bytes = 300.0 * 1024 * 1024;
+    room.limit = room.free = 200.0 * 1024 * 1024;
+    CHECK(lub_memory_need_check(&need, &room, "a job", msg, sizeof msg) == 1 &&
+              strstr(msg, "need at least 300 MiB, but a job may use 200 MiB of"),
+          "MiB: %s", msg);
     char tiny[40];
     need.bytes = 1e12;
     CHECK(lub_memory_need_check(&need, &room, "a job", tiny, sizeof tiny) == 1 &&
