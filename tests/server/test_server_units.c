@@ -15,6 +15,7 @@
 #include "http_range.h"
 #include "job_limits.h"
 #include "lease.h"
+#include "processors.h"
 #include "progress_line.h"
 #include "queue.h"
 #include "sha256.h"
@@ -137,6 +138,15 @@ static void test_job_limits(void)
     CHECK(lubd_exec_parse(small, strlen(small), "simple_shear", &r, &f) == 0);
     cfg.mem_mb = 8192;
     CHECK(lubd_job_fits(&r, &cfg, &f) == 0);
+    lubd_exec_free(&r);
+    /* --threads beyond the processors: the engine runs on the processors, so the bound counts
+     * their per-thread sums, not 256 (1.5e6 particles: 5.1 GiB with 1 thread, 25 GiB with 256) */
+    const char *mid = "{\"inputs\": {\"n_particles\": 1500000}}";
+    CHECK(lubd_exec_parse(mid, strlen(mid), "simple_shear", &r, &f) == 0);
+    cfg.engine_threads = 256;
+    if (lub_processors_available() <= 32)
+        CHECK(lubd_job_fits(&r, &cfg, &f) == 0);
+    cfg.engine_threads = 0;
     lubd_exec_free(&r);
     /* no --mem-mb: about 1 TiB (cut-off 10 a) fits no machine this runs on */
     cfg.mem_mb = 0;
