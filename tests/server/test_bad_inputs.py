@@ -54,7 +54,7 @@ def run():
              "/priority", "admin"),
             ("two_spheres_shear wrong type", "/processes/two_spheres_shear/execution",
              {"inputs": {"St": True}}, {}, alice, 400, "/inputs/St", ""),
-            # a lower bound of about 0.6 TiB (cut-off 10 a): above --mem-mb and any machine
+            # a lower bound of about 0.7 TiB (cut-off 10 a): above --mem-mb and any machine
             ("too large for the service", "/processes/simple_shear/execution",
              {"inputs": {"n_particles": 10000000, "cutoff": 10}}, {}, alice, 400,
              "/inputs/n_particles", "not enough memory: 10000000 particles"),
