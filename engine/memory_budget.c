@@ -139,16 +139,23 @@ void lub_memory_room_limit(lub_memory_room *room, double limit, const char *name
     consider(room, limit, 0.0, name);
 }
 
+double lub_address_space_limit(void)
+{
+    struct rlimit as;
+    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
+        return (double)as.rlim_cur;
+    return INFINITY;
+}
+
 void lub_memory_room_now(lub_memory_room *room)
 {
     room->limit = room->free = INFINITY;
     room->name = "no limit";
     double mapped, resident;
     process_usage(&mapped, &resident);
-    struct rlimit as;
-    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY)
-        consider(room, (double)as.rlim_cur, mapped,
-                 "address space (RLIMIT_AS: ulimit -v, lubdemd --mem-mb)");
+    const double address_space = lub_address_space_limit();
+    if (isfinite(address_space))
+        consider(room, address_space, mapped, LUB_ADDRESS_SPACE_NAME);
 #if defined(__linux__)
     struct sysinfo si;
     double swap = 0.0;

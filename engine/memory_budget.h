@@ -36,6 +36,11 @@ typedef struct {
     const char *name; /* the ceiling, for messages: "address space (RLIMIT_AS: ...)" etc. */
 } lub_memory_room;
 
+/* The address-space ceiling's name in messages, and its value for this process (the soft
+ * RLIMIT_AS in bytes; INFINITY without one). */
+#define LUB_ADDRESS_SPACE_NAME "address space (RLIMIT_AS: ulimit -v, lubdemd --mem-mb)"
+double lub_address_space_limit(void);
+
 /* The ceilings of this process now. Never fails: a ceiling it cannot read is absent. */
 void lub_memory_room_now(lub_memory_room *room);
 

@@ -5,6 +5,13 @@
 #include <sched.h>
 #include <unistd.h>
 
+int lub_threads_usable(int requested)
+{
+    const int processors = lub_processors_available();
+    const int asked = requested > 0 ? requested : 1;
+    return asked < processors ? asked : processors;
+}
+
 int lub_processors_available(void)
 {
     /* a mask large enough for any machine this runs on; CPU_ALLOC avoids the 1024-CPU limit

@@ -8,4 +8,9 @@
 
 int lub_processors_available(void);
 
+/* The threads a run asked for `requested` (< 1: 1) really uses: at most the processors it may
+ * run on (more would only wait at every barrier; run_driver.c). The service sizes a job's
+ * memory with it. */
+int lub_threads_usable(int requested);
+
 #endif

@@ -4,8 +4,8 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/resource.h>
 
+#include "memory_budget.h"
 #include "scene.h"
 
 void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double stderr_value,
@@ -118,13 +118,11 @@ void lub_diagnostic_out_of_memory(lub_run_ctx *ctx, const char *what, long long 
         len += snprintf(d + len, cap - (size_t)len, ", %.4g MiB (%.3g kB per particle) held",
                         bytes_in_use * mb,
                         n_particles > 0 ? bytes_in_use / (double)n_particles / 1e3 : 0.0);
-    struct rlimit as;
-    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY && len >= 0 &&
-        (size_t)len < cap)
+    const double address_space = lub_address_space_limit();
+    if (isfinite(address_space) && len >= 0 && (size_t)len < cap)
         len += snprintf(d + len, cap - (size_t)len,
-                        "; this process may use at most %.4g MiB of address space (RLIMIT_AS: "
-                        "ulimit -v, lubdemd --mem-mb)",
-                        (double)as.rlim_cur * mb);
+                        "; this process may use at most %.4g MiB of " LUB_ADDRESS_SPACE_NAME,
+                        address_space * mb);
     if (member && len >= 0 && (size_t)len < cap)
         snprintf(d + len, cap - (size_t)len, "; lower %s", member);
 }

@@ -174,7 +174,7 @@ int lub_run_spec(const lub_run_request *req)
      * thread that is not running: on 2 processors: 1.6 s with 2 threads, 51 s with 256) */
     const int threads_requested = req->threads > 0 ? req->threads : 1;
     const int processors = lub_processors_available();
-    ctx.threads = threads_requested < processors ? threads_requested : processors;
+    ctx.threads = lub_threads_usable(threads_requested);
 
     double t0 = lub_wall_seconds();
     int rc = fits_in_memory(scene, resolved, &ctx) ? scene->run(resolved, &ctx) : LUB_EXIT_INTERNAL;

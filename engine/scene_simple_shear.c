@@ -411,14 +411,21 @@ static double ref_eta_r(double phi, double phi_m)
     return mu1 / (q * q) + (mu2 - mu1) / (q * q + I0) + pow(1.0 - phi, -2.5);
 }
 
+/* ss_read of a resolved spec, which it leaves untouched (ss_read fills defaults in place) */
+static int ss_read_resolved(const json_t *resolved, ss_params *p, lub_error *err)
+{
+    json_t *copy = json_deep_copy(resolved);
+    const int rc = copy ? ss_read(copy, p, err) : -1;
+    json_decref(copy);
+    return rc;
+}
+
 static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
 {
     ss_params p;
     lub_error err;
-    json_t *copy = json_deep_copy(resolved);
-    int rc = ss_read(copy, &p, &err);
-    json_decref(copy);
-    if (rc) {
+    memset(&err, 0, sizeof err);
+    if (ss_read_resolved(resolved, &p, &err)) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s: %s", err.pointer, err.message);
         return LUB_EXIT_INTERNAL;
     }
@@ -938,10 +945,7 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
 {
     ss_params p;
     lub_error err;
-    json_t *copy = json_deep_copy(resolved);
-    const int rc = copy ? ss_read(copy, &p, &err) : -1;
-    json_decref(copy);
-    if (rc)
+    if (ss_read_resolved(resolved, &p, &err))
         return -1;
     const double n = (double)p.n;
     const double sheared = p.target_rel_error > 0.0

@@ -97,8 +97,10 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
         if (isfinite(phi_off))
             snprintf(phi_text, sizeof phi_text, ", phi %.3f is %+.3f from its %.3f", st->phi_mean,
                      phi_off, st->phi_law);
-        snprintf(tol_text, sizeof tol_text, "%.0f %%%s", 100.0 * tol,
-                 isfinite(phi_off) ? " and 0.015 in phi" : "");
+        char phi_tol[24] = "";
+        if (isfinite(phi_off))
+            snprintf(phi_tol, sizeof phi_tol, " and %.3g in phi", LUB_SHEAR_LAW_PHI_TOL);
+        snprintf(tol_text, sizeof tol_text, "%.0f %%%s", 100.0 * tol, phi_tol);
         add_warning(out, &n,
                     "%s = %.3g is %+.0f %% from the reference law's %.3g%s (physics-reference "
                     "section 2; tolerance %s): the law was fitted with the seed article's "

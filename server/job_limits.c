@@ -14,10 +14,7 @@ int lubd_job_fits(const lubd_exec_request *req, const lubd_config *cfg, lubd_fau
         lub_scene_find(json_string_value(json_object_get(req->resolved, "scene")));
     lub_memory_need need;
     memset(&need, 0, sizeof need);
-    /* the engine runs at most as many threads as it has processors (run_driver.c) */
-    const int asked = cfg->engine_threads > 0 ? cfg->engine_threads : 1;
-    const int processors = lub_processors_available();
-    const int threads = asked < processors ? asked : processors;
+    const int threads = lub_threads_usable(cfg->engine_threads); /* what the engine will run */
     if (!scene || !scene->memory_need || scene->memory_need(req->resolved, threads, &need) != 0)
         return 0;
     lub_memory_room room;
