@@ -46,6 +46,9 @@ struct lub_h5 {
     int64_t frames_skipped;
     int64_t first_skipped_step;
     char skip_reason[256];
+    /* given up after an output failure (lub_h5_output_lost) */
+    int lost;
+    char lost_reason[320];
 };
 
 int lub_h5_output_failure(int e)
@@ -64,6 +67,33 @@ static int set_err(lub_h5 *f, const char *what, const char *name)
 }
 
 const char *lub_h5_last_error(const lub_h5 *f) { return f ? f->err : "no file"; }
+
+/* A write that failed: an output failure (errno: no space, file too large, ...) gives the file
+ * up and returns 0, so that the run goes on to its summary (lub_h5_output_lost); any other
+ * failure returns -1 as set_err does. step: the first step not written (< 0: none). */
+static int write_failed(lub_h5 *f, const char *what, const char *name, int64_t step)
+{
+    const int e = errno;
+    set_err(f, what, name);
+    if (!lub_h5_output_failure(e))
+        return -1;
+    if (!f->lost) {
+        f->lost = 1;
+        char from[64] = "";
+        if (step >= 0)
+            snprintf(from, sizeof from, " from step %lld on", (long long)step);
+        snprintf(f->lost_reason, sizeof f->lost_reason, "%s (%.80s %.120s%s)", strerror(e), what,
+                 name ? name : "", from);
+    }
+    return 0;
+}
+
+int lub_h5_output_lost(const lub_h5 *f, char *why, size_t len)
+{
+    if (why && len > 0)
+        snprintf(why, len, "%s", f->lost ? f->lost_reason : "");
+    return f->lost;
+}
 
 static hid_t vlen_string_type(void)
 {
@@ -249,9 +279,11 @@ lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
 int lub_h5_write_parameters(lub_h5 *f, const char *spec_verbatim, const char *spec_resolved,
                             const char *units_json)
 {
+    if (f->lost)
+        return 0;
     hid_t g = make_group(f->file, "parameters");
     if (g < 0)
-        return set_err(f, "create", "/parameters");
+        return write_failed(f, "create", "/parameters", -1);
     int rc = write_string_dataset(g, "spec_verbatim", spec_verbatim ? spec_verbatim : "");
     rc |= write_string_dataset(g, "spec_resolved", spec_resolved ? spec_resolved : "");
     rc |= write_string_dataset(g, "units", units_json ? units_json : "{}");
@@ -269,17 +301,22 @@ int lub_h5_write_parameters(lub_h5 *f, const char *spec_verbatim, const char *sp
     rc |= write_string_attr(b, "hdf5_version", hv);
     H5Gclose(b);
     H5Gclose(g);
-    return rc ? set_err(f, "write", "/parameters") : 0;
+    return rc ? write_failed(f, "write", "/parameters", -1) : 0;
 }
 
 static int table_flush(lub_h5_table *t)
 {
-    if (t->nbuf == 0)
-        return 0;
     lub_h5 *f = t->file;
+    if (t->nbuf == 0 || f->lost) {
+        t->nbuf = 0;
+        return 0;
+    }
+    const int64_t first = t->step_buf[0];
     if (append_rows(t->step_ds, H5T_NATIVE_INT64, 1, NULL, t->nwritten, t->nbuf, t->step_buf) ||
-        append_rows(t->time_ds, H5T_NATIVE_DOUBLE, 1, NULL, t->nwritten, t->nbuf, t->time_buf))
-        return set_err(f, "append to", "observables step/time");
+        append_rows(t->time_ds, H5T_NATIVE_DOUBLE, 1, NULL, t->nwritten, t->nbuf, t->time_buf)) {
+        t->nbuf = 0;
+        return write_failed(f, "append to", "the time series", first);
+    }
     /* gather each series' columns from the row buffer */
     double *col = t->col_buf;
     int off = 0;
@@ -292,8 +329,10 @@ static int table_flush(lub_h5_table *t)
         if (nc == 3)
             fd[0] = 3;
         int rank = nc == 1 ? 1 : (nc == 3 ? 2 : 3);
-        if (append_rows(t->value_ds[s], H5T_NATIVE_DOUBLE, rank, fd, t->nwritten, t->nbuf, col))
-            return set_err(f, "append to", "observable value");
+        if (append_rows(t->value_ds[s], H5T_NATIVE_DOUBLE, rank, fd, t->nwritten, t->nbuf, col)) {
+            t->nbuf = 0;
+            return write_failed(f, "append to", "the time series", first);
+        }
         off += nc;
     }
     t->nwritten += t->nbuf;
@@ -376,6 +415,8 @@ lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *nam
 
 int lub_h5_table_append(lub_h5_table *t, int64_t step, double time, const double *row)
 {
+    if (t->file->lost)
+        return 0;
     t->step_buf[t->nbuf] = step;
     t->time_buf[t->nbuf] = time;
     memcpy(t->row_buf + (size_t)t->nbuf * t->row_len, row, sizeof(double) * (size_t)t->row_len);
@@ -401,6 +442,8 @@ static void table_free(lub_h5_table *t)
 
 int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const char *const *boundary)
 {
+    if (f->lost)
+        return 0;
     hid_t g = make_group(f->file, "particles/all");
     hid_t box = make_group(g, "box");
     int dim = 3;
@@ -506,6 +549,8 @@ int64_t lub_h5_snapshots_skipped(const lub_h5 *f, int64_t *first_step, char *why
 int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double *edges,
                               const double *pos, const double *vel, const double *omega)
 {
+    if (f->lost)
+        return 0;
     if (f->p_pos < 0)
         return set_err(f, "write a snapshot before", "lub_h5_particles_define");
     const uint64_t frame_bytes =
@@ -529,7 +574,7 @@ int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double
     if (omega)
         rc |= append_rows(f->p_omega, H5T_NATIVE_DOUBLE, 3, frame, at, 1, omega);
     if (rc)
-        return set_err(f, "append", "particle snapshot");
+        return write_failed(f, "append", "a particle snapshot", step);
     f->nframes++;
     return 0;
 }
@@ -539,6 +584,8 @@ int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dim
 {
     if (rank < 1 || rank > 2)
         return set_err(f, "write array of rank other than 1 or 2:", name);
+    if (f->lost)
+        return 0;
     char path[512];
     snprintf(path, sizeof path, "profiles/%s", name);
     hsize_t hd[2] = {(hsize_t)dims[0], rank > 1 ? (hsize_t)dims[1] : 1};
@@ -552,7 +599,7 @@ int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dim
     if (d >= 0)
         H5Dclose(d);
     H5Sclose(sp);
-    return rc ? set_err(f, "write", path) : 0;
+    return rc ? write_failed(f, "write", path, -1) : 0;
 }
 
 int lub_h5_flush(lub_h5 *f)
@@ -560,13 +607,15 @@ int lub_h5_flush(lub_h5 *f)
     int rc = 0;
     for (int i = 0; i < f->ntables; ++i)
         rc |= table_flush(f->tables[i]);
-    if (H5Fflush(f->file, H5F_SCOPE_GLOBAL) < 0)
-        rc = set_err(f, "flush", "file");
+    if (!f->lost && H5Fflush(f->file, H5F_SCOPE_GLOBAL) < 0)
+        rc = write_failed(f, "flush", "the file", -1);
     return rc ? -1 : 0;
 }
 
-int lub_h5_close(lub_h5 *f, const char *status)
+int lub_h5_finish(lub_h5 *f, const char *status, char *why, size_t len)
 {
+    if (why && len > 0)
+        why[0] = '\0';
     if (!f)
         return 0;
     int rc = 0;
@@ -578,10 +627,30 @@ int lub_h5_close(lub_h5 *f, const char *status)
     for (int i = 0; i < 6; ++i)
         if (handles[i] >= 0)
             H5Dclose(handles[i]);
-    rc |= write_string_attr(f->file, "status", status ? status : "complete");
-    if (H5Fclose(f->file) < 0)
+    if (!f->lost)
+        rc |= write_string_attr(f->file, "status", status ? status : "complete");
+    errno = 0;
+    if (H5Fclose(f->file) < 0) {
+        /* the final flush: what the system refused, where errno names an output failure */
+        const int e = errno;
         rc = -1;
+        if (!f->lost && lub_h5_output_failure(e))
+            snprintf(f->lost_reason, sizeof f->lost_reason, "%s (closing the file)", strerror(e));
+        else if (!f->lost)
+            snprintf(f->lost_reason, sizeof f->lost_reason, "%s",
+                     f->err[0] ? f->err
+                               : "HDF5 "
+                                 "could not close the file");
+    } else if (rc && !f->lost) {
+        snprintf(f->lost_reason, sizeof f->lost_reason, "%s", f->err);
+    }
+    if (f->lost)
+        rc = -1;
+    if (rc && why && len > 0)
+        snprintf(why, len, "%s", f->lost_reason);
     free(f->path);
     free(f);
     return rc ? -1 : 0;
 }
+
+int lub_h5_close(lub_h5 *f, const char *status) { return lub_h5_finish(f, status, NULL, 0); }

@@ -12,7 +12,8 @@
  * Ownership: lub_h5 owns the HDF5 handles and its row buffers (allocated when a table or the
  * particle group is defined, never during appends except when a buffer of 1024 rows is
  * flushed to disk). All functions return 0 on success and -1 on an HDF5 error (message in
- * lub_h5_last_error). Not thread-safe: call from one thread.
+ * lub_h5_last_error), except the writes an output failure stops (lub_h5_output_lost). Not
+ * thread-safe: call from one thread.
  */
 #ifndef LUBDEM_H5MD_WRITER_H
 #define LUBDEM_H5MD_WRITER_H
@@ -29,6 +30,15 @@ lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen);
  * the system refused it. HDF5 itself does not report it; other values may be stale. */
 int lub_h5_output_failure(int e);
 const char *lub_h5_last_error(const lub_h5 *f);
+/* A write the system refuses with an output failure (lub_h5_output_failure: a full disk, the
+ * file-size limit, ...) gives the file up: that call and every later write (time series,
+ * particle group and snapshots, arrays, parameters, flush) do nothing and return 0, so that the run
+ * goes on and its results still reach the summary; lub_h5_close then returns -1 and the caller
+ * removes the file (a file whose write failed part-way cannot be trusted). Other HDF5 errors return
+ * -1 as before. lub_h5_output_lost returns 1 once the file is given up, with why[len] (may be NULL)
+ * the system's reason, what failed and from which step ("File too large (append to the time
+ * series from step 4999 on)"); 0 otherwise. */
+int lub_h5_output_lost(const lub_h5 *f, char *why, size_t len);
 
 /* /parameters: verbatim and resolved spec (JSON text), unit system description (JSON text),
  * and build provenance (version, git commit, compiler, flags, HDF5 version) added inside. */
@@ -71,7 +81,13 @@ int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dim
 
 /* Flushes buffers and HDF5 metadata (used at checkpoints and before a partial exit). */
 int lub_h5_flush(lub_h5 *f);
-/* Flushes, writes the root "status" attribute, closes everything and frees f. */
+/* Flushes, writes the root "status" attribute, closes everything and frees f. Returns -1 when
+ * the file is not complete (an error, or given up: lub_h5_output_lost) and the caller must
+ * remove it. */
 int lub_h5_close(lub_h5 *f, const char *status);
+/* lub_h5_close that says why it failed: why[len] (may be NULL) gets the system's reason and
+ * what failed ("No space left on device (append to the time series from step 120 on)"),
+ * or the HDF5 error; empty on success. */
+int lub_h5_finish(lub_h5 *f, const char *status, char *why, size_t len);
 
 #endif

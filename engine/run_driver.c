@@ -128,6 +128,37 @@ static int fits_in_memory(const lub_scene *scene, const json_t *resolved, lub_ru
     return 0;
 }
 
+/* result.h5 could not be written (reason: the system's, with what failed and from which step)
+ * and has been removed. A run that completed or was stopped ends with exit 4 and this as its
+ * diagnostic; a run that failed on its own (1, 3, or 4 from the scene) keeps its code and
+ * diagnostic, with this appended. Either way the summary still carries the run's results,
+ * and the advice names the spec members that set the output's size where the scene has them. */
+static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir,
+                                  const char *reason, const json_t *resolved)
+{
+    char advice[160] = "";
+    const int samples = json_object_get(resolved, "sample_strain") != NULL;
+    const int snapshots = json_object_get(resolved, "snapshots") != NULL;
+    if (samples || snapshots)
+        snprintf(advice, sizeof advice, ", or write less (%s%s%s)",
+                 samples ? "raise /sample_strain" : "", samples && snapshots ? ", " : "",
+                 snapshots ? "lower /snapshots" : "");
+    char text[sizeof ctx->diagnostic];
+    snprintf(text, sizeof text,
+             "cannot write result.h5 in %s: %s; it was removed, and summary.json holds the "
+             "run's results without it; give the run room (free disk space; the file-size limit: "
+             "ulimit -f, lubdemd --fsize-mb)%s",
+             out_dir, reason[0] ? reason : "HDF5 error", advice);
+    if (*rc != LUB_EXIT_OK && *rc != LUB_EXIT_INTERRUPTED) {
+        const size_t len = strlen(ctx->diagnostic);
+        snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len, "%s%s",
+                 len ? "; besides, " : "", text);
+        return;
+    }
+    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", text);
+    *rc = LUB_EXIT_IO;
+}
+
 static const char *status_of(int rc)
 {
     switch (rc) {
@@ -181,9 +212,6 @@ int lub_run_spec(const lub_run_request *req)
     double wall = lub_wall_seconds() - t0;
     if (rc == LUB_EXIT_OK && req->stop_requested && *req->stop_requested)
         rc = LUB_EXIT_INTERRUPTED;
-    if (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL || rc == LUB_EXIT_IO)
-        fprintf(req->diag, "error: %s\n",
-                ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
     if (ctx.threads < threads_requested) {
         char text[256];
         snprintf(text, sizeof text,
@@ -204,16 +232,32 @@ int lub_run_spec(const lub_run_request *req)
                  skipped == 1 ? "was" : "were", why);
         append_warning(&ctx, text);
     }
-    /* the scene's advisory warnings (summary "warnings"), one line each, for runs that did not
-     * fail: a failed run's last stderr line stays its error */
-    json_t *warnings = json_object_get(ctx.summary_extra, "warnings");
-    if (json_is_array(warnings) && (rc == LUB_EXIT_OK || rc == LUB_EXIT_INTERRUPTED)) {
-        size_t w;
-        json_t *text;
-        json_array_foreach (warnings, w, text) {
-            if (json_is_string(text))
-                fprintf(req->diag, "warning: %s\n", json_string_value(text));
-        }
+
+    /* result.h5: parameters, status, close, rename; on failure it is removed (which frees its
+     * space for the summary) and the run's results still go to summary.json */
+    char *resolved_text = lub_json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS);
+    json_t *units = json_object_get(ctx.summary_extra, "units");
+    char *units_text = units ? json_dumps(units, JSON_COMPACT | JSON_SORT_KEYS) : NULL;
+    const int params_failed =
+        lub_h5_write_parameters(h5, req->spec_text, resolved_text, units_text) != 0;
+    char params_reason[256];
+    snprintf(params_reason, sizeof params_reason, "%s", lub_h5_last_error(h5));
+    char h5_reason[400];
+    int h5_failed = lub_h5_finish(h5, status_of(rc), h5_reason, sizeof h5_reason) != 0;
+    if (params_failed && !h5_failed) {
+        h5_failed = 1;
+        snprintf(h5_reason, sizeof h5_reason, "%s", params_reason);
+    }
+    free(resolved_text);
+    free(units_text);
+    if (!h5_failed && rename(h5_tmp, h5_dst) != 0) {
+        h5_failed = 1;
+        snprintf(h5_reason, sizeof h5_reason, "%s", strerror(errno));
+    }
+    const int renamed = !h5_failed;
+    if (h5_failed) {
+        unlink(h5_tmp);
+        report_result_h5_lost(&ctx, &rc, req->out_dir, h5_reason, resolved);
     }
 
     /* summary: fixed members, then whatever the scene added (active_terms, units, ...) */
@@ -231,42 +275,32 @@ int lub_run_spec(const lub_run_request *req)
     json_object_set_new(summary, "lubdem_version", json_string(lub_build_version()));
     json_object_set_new(summary, "git_commit", json_string(lub_build_git()));
     json_object_set(summary, "spec", resolved);
-
-    char *resolved_text = lub_json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS);
-    json_t *units = json_object_get(ctx.summary_extra, "units");
-    char *units_text = units ? json_dumps(units, JSON_COMPACT | JSON_SORT_KEYS) : NULL;
-    int io = lub_h5_write_parameters(h5, req->spec_text, resolved_text, units_text);
-    if (io)
-        fprintf(req->diag, "error: %s\n", lub_h5_last_error(h5));
+    char *text = json_dumps(summary, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
     errno = 0;
-    const int close_failed = lub_h5_close(h5, status_of(rc)) != 0;
-    io |= close_failed;
-    /* why the close (its final flush) failed, where errno names an output failure */
-    int io_errno = close_failed && lub_h5_output_failure(errno) ? errno : 0;
-    free(resolved_text);
-    free(units_text);
-    int renamed = 0;
-    if (io == 0 && rename(h5_tmp, h5_dst) != 0) {
-        io = -1;
-        io_errno = errno;
-    } else if (io == 0) {
-        renamed = 1;
+    const int summary_failed = write_file_atomic(req->out_dir, "summary.json", text) != 0;
+    const int summary_errno = errno;
+    free(text);
+
+    /* the scene's advisory warnings (summary "warnings"), one line each, for runs that did not
+     * fail: a failed run's last stderr line stays its error */
+    json_t *warnings = json_object_get(ctx.summary_extra, "warnings");
+    if (json_is_array(warnings) && (rc == LUB_EXIT_OK || rc == LUB_EXIT_INTERRUPTED)) {
+        size_t w;
+        json_t *wtext;
+        json_array_foreach (warnings, w, wtext) {
+            if (json_is_string(wtext))
+                fprintf(req->diag, "warning: %s\n", json_string_value(wtext));
+        }
     }
-    if (io == 0) {
-        char *text = json_dumps(summary, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
-        errno = 0;
-        io = write_file_atomic(req->out_dir, "summary.json", text);
-        io_errno = errno;
-        free(text);
-    }
-    if (io != 0) {
+    if (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL || rc == LUB_EXIT_IO)
+        fprintf(req->diag, "error: %s\n",
+                ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
+    if (summary_failed) {
         fprintf(req->diag, "error: cannot write the results in %s%s%s\n", req->out_dir,
-                io_errno ? ": " : "", io_errno ? strerror(io_errno) : "");
-        unlink(h5_tmp);
-        if (renamed) /* the summary failed after it: no result.h5 without its summary */
+                summary_errno ? ": " : "", summary_errno ? strerror(summary_errno) : "");
+        if (renamed) /* no result.h5 without its summary */
             unlink(h5_dst);
-        /* nothing is left to read: 4 whatever the run's own outcome was (a numerical
-         * failure's diagnostic is on stderr above) */
+        /* nothing is left to read: 4 whatever the run's own outcome was */
         rc = LUB_EXIT_IO;
     }
     json_decref(summary);

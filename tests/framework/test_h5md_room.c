@@ -1,11 +1,18 @@
 /* test_h5md_room.c — particle snapshots that would come within LUB_H5_SNAPSHOT_RESERVE_BYTES of
  * the file-size limit are skipped, as is every later one, and reported (count, first step,
  * reason); the file stays valid and the time series go on. A limit below the reserve skips
- * the very first snapshot. Usage: test_h5md_room DIR (scratch files are written there). */
+ * the very first snapshot. A time series the system refuses to take (here: beyond
+ * RLIMIT_FSIZE, EFBIG) gives the file up in the middle of the run: every write returns 0 from
+ * then on, lub_h5_output_lost says why and from which step, and closing reports the failure.
+ * Usage: test_h5md_room DIR (scratch files are written there). */
+#include <errno.h>
 #include <hdf5.h>
+#include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 
 #include "framework_check.h"
 #include "h5md_writer.h"
@@ -73,6 +80,61 @@ static int64_t run(const char *path, double room_frames, int64_t *first_step, ch
     return skipped;
 }
 
+/* A 1 MiB file-size limit (the last test: it stays for the process) under a time series of
+ * incompressible 3x3 tensors, 72 kB per 1024 rows: HDF5's chunk cache (1 MiB per dataset)
+ * takes the first rows, the later ones reach the file and the limit. */
+static void lost_output(const char *dir)
+{
+    char path[4096], why[400], err[256];
+    snprintf(path, sizeof path, "%s/room_lost.h5", dir);
+    signal(SIGXFSZ, SIG_IGN); /* EFBIG instead of the signal, as lubdem does */
+    struct rlimit lim = {1u << 20, 1u << 20};
+    getrlimit(RLIMIT_FSIZE, &lim);
+    lim.rlim_cur = 1u << 20;
+    CHECK(setrlimit(RLIMIT_FSIZE, &lim) == 0);
+    lub_h5 *f = lub_h5_create(path, err, sizeof err);
+    CHECK(f != NULL);
+    if (!f)
+        return;
+    const char *names[1] = {"stress"};
+    const int ncomp[1] = {9};
+    const char *units[1] = {"1"};
+    lub_h5_table *t = lub_h5_table_create(f, 1, names, ncomp, units);
+    CHECK(t != NULL);
+    uint64_t state = 12345u;
+    int64_t lost_at = -1;
+    enum { ROWS = 200000 };
+    for (int64_t step = 0; t && step < ROWS; ++step) {
+        double row[9];
+        for (int k = 0; k < 9; ++k) { /* xorshift: deflate cannot shrink it */
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            row[k] = (double)(state >> 11) * 0x1.0p-53;
+        }
+        CHECK(lub_h5_table_append(t, step, 0.001 * (double)step, row) == 0);
+        if (lost_at < 0 && lub_h5_output_lost(f, NULL, 0))
+            lost_at = step;
+    }
+    /* given up in the middle (14 MB of rows against 1 MiB), not only at the close */
+    CHECK(lost_at > 0 && lost_at < ROWS / 2);
+    CHECK(lub_h5_output_lost(f, why, sizeof why) == 1);
+    CHECK(strstr(why, strerror(EFBIG)) != NULL && strstr(why, "time series from step") != NULL);
+    printf("lost_at_step=%lld reason=%s\n", (long long)lost_at, why);
+    /* every later write is skipped and returns 0 */
+    const double box[9] = {10, 0, 0, 0, 10, 0, 0, 0, 10};
+    const char *boundary[3] = {"periodic", "periodic", "periodic"};
+    const int64_t dims[1] = {3};
+    CHECK(lub_h5_particles_define(f, N, radius, boundary) == 0);
+    CHECK(lub_h5_particles_snapshot(f, 1, 0.1, box, pos, vel, omega) == 0);
+    CHECK(lub_h5_write_array(f, "profile", 1, dims, box, "1") == 0);
+    CHECK(lub_h5_write_parameters(f, "{}", "{}", "{}") == 0);
+    CHECK(lub_h5_flush(f) == 0);
+    char closed[400];
+    CHECK(lub_h5_finish(f, "complete", closed, sizeof closed) == -1);
+    CHECK(strcmp(closed, why) == 0);
+}
+
 int main(int argc, char **argv)
 {
     if (argc != 2)
@@ -103,5 +165,7 @@ int main(int argc, char **argv)
     snprintf(path, sizeof path, "%s/room_free.h5", argv[1]);
     skipped = run(path, 1e6, &first, why, sizeof why);
     CHECK(skipped == 0 && why[0] == '\0' && frames_in(path) == FRAMES);
+
+    lost_output(argv[1]);
     return failures ? 1 : 0;
 }
