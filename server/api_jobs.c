@@ -212,7 +212,20 @@ enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
         int system = strcmp(j.failure_kind, "system") == 0;
         lubd_fail(&f, system ? 500 : 422, LUBD_PT_BASE "job-failed", "Job failed", NULL,
                   "job %s failed (%s): %s", id, j.failure_kind, j.message);
-        return lubd_reply_fault(r, &f);
+        /* the engine's summary of the failed attempt, where it wrote one: its diagnostic, and
+         * the results of a run whose result.h5 could not be written (exit 4) */
+        char path[1400];
+        snprintf(path, sizeof path, "%s/%s/attempt-%d/out/summary.json", r->srv->cfg->jobs_dir, id,
+                 j.attempt);
+        json_t *summary = j.attempt > 0 ? json_load_file(path, JSON_PRESERVE_ORDER, NULL) : NULL;
+        if (!json_is_object(summary)) {
+            json_decref(summary);
+            return lubd_reply_fault(r, &f);
+        }
+        json_t *body = lubd_fault_json(&f, r->url);
+        json_object_set_new(body, "summary", summary);
+        struct MHD_Response *resp = lubd_json_response(body, "application/problem+json");
+        return resp ? lubd_queue(r, (unsigned)f.status, resp) : MHD_NO;
     }
     lubd_result_file *files;
     int n;

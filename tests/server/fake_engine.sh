@@ -2,7 +2,8 @@
 # fake_engine.sh — stands in for `lubdem run SPEC --out DIR` to drive the worker's failure
 # paths that the real engine cannot be made to hit on demand. The spec's "duration" picks:
 #   3 -> numerical failure: summary.json with a diagnostic, exit 3
-#   4 -> stderr "error: ..." only, exit 4 (output error: a system failure)
+#   4 -> output error (a system failure), exit 4: result.h5 could not be written, summary.json
+#        keeps the run's results (as lubdem does since 2026-12-05)
 #   11 -> the engine crashes (SIGSEGV)
 #   7 -> exit 0 without writing any output
 spec=$2 out=$4
@@ -13,7 +14,8 @@ case $(tr -d ' \n' < "$spec") in
     printf '{"scene": "falling_sphere", "status": "failed", "diagnostic": "NaN in the gap at step 10, t = 0.5"}\n' > "$out/summary.json"
     echo "error: numerical failure" >&2; exit 3 ;;
   *'"duration":4'[,}]*)
-    echo "error: cannot write $out/result.h5: No space left on device" >&2; exit 4 ;;
+    printf '{"scene": "falling_sphere", "status": "failed", "exit_code": 4, "results": {"rebound_height": {"value": 0.25, "stderr": null, "unit": "a"}}, "diagnostic": "cannot write result.h5 in %s: No space left on device (closing the file)"}\n' "$out" > "$out/summary.json"
+    echo "error: cannot write result.h5 in $out: No space left on device (closing the file)" >&2; exit 4 ;;
   *'"duration":11'[,}]*)
     kill -SEGV $$ ;;
   *'"duration":7'[,}]*)

@@ -1,7 +1,9 @@
 """Worker failure paths with a fake engine (fake_engine.sh): a numerical failure (diagnostic
-from summary.json), an output error (stderr, failure_kind system), a crash (SIGSEGV) and a
-clean exit without files. Each job fails once with the engine's diagnostic, is not retried,
-serves no result, and the worker survives."""
+from summary.json), an output error (failure_kind system; result.h5 lost, the summary kept), a
+crash (SIGSEGV) and a clean exit without files. Each job fails once with the engine's
+diagnostic, is not retried and serves no file; /results answers with the problem and, where the
+engine wrote one, the failed attempt's summary (the results of a run whose result.h5 could not
+be written); the worker survives."""
 import os
 import time
 
@@ -33,6 +35,15 @@ def run():
             st, _, res = srv.request("GET", "/jobs/%s/results" % ids[dur], tok)
             T.check(st == (500 if kind == "system" else 422) and text in res["detail"],
                     "results of failed job %s -> %s" % (dur, st))
+            summary = res.get("summary")
+            if dur in (3, 4):  # the engine wrote a summary: it comes with the problem
+                T.check(isinstance(summary, dict) and summary["status"] == "failed"
+                        and text in summary["diagnostic"], "summary of failed job %s: %s" % (dur, res))
+            else:
+                T.check(summary is None, "summary of failed job %s: %s" % (dur, res))
+            if dur == 4:  # result.h5 lost, the run's results kept
+                T.check(summary and summary["results"]["rebound_height"]["value"] == 0.25,
+                        "results of job %s: %s" % (dur, summary))
             st, _, res = srv.request("GET", "/jobs/%s/results/result.h5" % ids[dur], tok)
             T.check(st == 404, "file of failed job -> %s" % st)
             st, _, log = srv.request("GET", "/jobs/%s/log" % ids[dur], tok, raw=True)
