@@ -22,7 +22,8 @@ library only; uses lubdem_client.py from this directory).
     --poll S         seconds between status requests                            [2]
     --out CSV        also write the table as CSV (one row per value, written even when some
                      jobs failed; value, stderr and the seed's reference value `ref` when the
-                     summary gives one)
+                     summary gives one; a failed job's values where its run completed but could
+                     not write its result.h5, exit code 4)
     --fail-on-warnings  exit 4 when any run reports warnings (its own validity checks)
 
 Exit status: 0 all runs successful; 1 a job failed or the wait timed out (the table still
@@ -97,13 +98,16 @@ def parse_sweep(vary, values_text, also):
 
 def collect(client, job, observables):
     """status, message, {name: (value, stderr, ref)}, steady flag and warnings of one job, from
-    its last status document `job` (and its results, when successful)."""
+    its last status document `job` (and its summary: of a successful job, or of a failed one
+    whose run completed but could not write its result.h5, exit code 4)."""
     job_id = job["jobID"]
     row = {"status": job["status"], "message": job.get("message", ""), "obs": {},
            "steady": None, "warnings": []}
-    if job["status"] != "successful":
+    if job["status"] not in ("successful", "failed"):
         return row
-    summary = client.results(job_id).get("summary") or {}
+    summary = client.summary(job_id) or {}
+    if job["status"] == "failed" and summary.get("exit_code") != 4:
+        return row
     results = summary.get("results") or {}
     for name in observables:
         r = results.get(name)

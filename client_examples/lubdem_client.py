@@ -6,6 +6,7 @@
     job = c.submit("falling_sphere", {"duration": 2.0}, idempotency_key="my-run-1")
     job = c.wait(job["jobID"], timeout=600)          # raises JobFailed unless successful
     res = c.results(job["jobID"])                    # summary inline + files
+    summary = c.summary(job["jobID"])                # also of a failed job, where there is one
     c.download(job["jobID"], "result.h5", "out.h5")  # resumable, sha256-checked
 
 Command line:
@@ -121,6 +122,18 @@ class Client:
 
     def results(self, job_id):
         return self._req("GET", "/jobs/%s/results" % job_id)
+
+    def summary(self, job_id):
+        """The engine's summary.json of a job that has ended: of a successful job, or of the
+        last attempt of a failed one where the engine wrote one (its diagnostic; for exit code
+        4, result.h5 could not be written and the results are those of the whole run); None
+        when there is none."""
+        try:
+            return self.results(job_id).get("summary")
+        except ApiError as e:
+            if isinstance(e.problem, dict) and e.status in (422, 500):
+                return e.problem.get("summary")
+            raise
 
     def warnings(self, job_id):
         """The warnings of a successful job's summary (its advisory validity checks)."""

@@ -105,6 +105,28 @@ def run():
                     "flow_curve.py with the service gone:\n%s" % out)
         finally:
             slow.stop()
+        # flow_curve.py: a job whose result.h5 does not fit under --fsize-mb 1 (5000 samples,
+        # about 1.3 MB) fails with exit 4, and the table still gets the values of its complete
+        # run from the summary that comes with the failure
+        full = T.Server(a, "clients-full", workers=1, extra=["--fsize-mb", "1"]).fresh()
+        tok3 = full.token("ci")
+        full.start()
+        try:
+            full_env = {"LUBDEM_URL": "http://127.0.0.1:%d" % full.port, "LUBDEM_TOKEN": tok3}
+            fc_full = os.path.join(out_dir, "flow_curve_full.csv")
+            many = ('{"n_particles": 250, "strain": 0.5, "transient_strain": 0.1, '
+                    '"sample_strain": 0.0001, "snapshots": 0}')
+            rc, out = sh(sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/phi",
+                         "--values", "0.45", "--base", many, "--poll", "0.3",
+                         "--timeout", "600", "--out", fc_full, extra_env=full_env)
+            with open(fc_full) as f:
+                rows = list(csv.DictReader(f))
+            T.check(rc == 1 and "File too large" in out and len(rows) == 1
+                    and rows[0]["status"] == "failed" and float(rows[0]["eta_r"]) > 1
+                    and float(rows[0]["eta_r_stderr"]) > 0,
+                    "flow_curve.py, result.h5 lost:\n%s\n%s" % (out, rows))
+        finally:
+            full.stop()
 
         # flow_curve.py: a sweep of two tiny imposed-pressure runs, then the same command
         # again (same jobs) and a rejected value; the timeout and the failed job are above.

@@ -5,9 +5,14 @@ diagnostic, is not retried and serves no file; /results answers with the problem
 engine wrote one, the failed attempt's summary (the results of a run whose result.h5 could not
 be written); the worker survives."""
 import os
+import sys
 import time
 
 import lubd_testlib as T
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "client_examples"))
+import lubdem_client  # noqa: E402
 
 
 def run():
@@ -44,6 +49,9 @@ def run():
             if dur == 4:  # result.h5 lost, the run's results kept
                 T.check(summary and summary["results"]["rebound_height"]["value"] == 0.25,
                         "results of job %s: %s" % (dur, summary))
+            # the Python client example hands out the same summary (None without one)
+            client = lubdem_client.Client("http://127.0.0.1:%d" % srv.port, tok)
+            T.check(client.summary(ids[dur]) == summary, "client summary of job %s" % dur)
             st, _, res = srv.request("GET", "/jobs/%s/results/result.h5" % ids[dur], tok)
             T.check(st == 404, "file of failed job -> %s" % st)
             st, _, log = srv.request("GET", "/jobs/%s/log" % ids[dur], tok, raw=True)
