@@ -77,4 +77,12 @@ void lub_report_time_step(lub_run_ctx *ctx, int exit_code, double dt_spec, doubl
 void lub_diagnostic_out_of_memory(lub_run_ctx *ctx, const char *what, long long n_particles,
                                   double bytes_in_use, const char *member);
 
+/* Before allocating `bytes` more (a lower bound) for `what` (e.g. "the time series of 1000000
+ * samples"): 1 when they fit in what this process may still take (memory_budget.h: its
+ * address-space limit, memory control group, the machine), otherwise 0 with ctx->diagnostic
+ * "not enough memory: <what> need at least ..., but this process may use ...; lower <member>
+ * (nothing was run)". A cgroup kills a process that touches more than its limit (exit 137,
+ * no message) where the allocation itself succeeds; this check is what names the member. */
+int lub_memory_fits(lub_run_ctx *ctx, double bytes, const char *what, const char *member);
+
 #endif

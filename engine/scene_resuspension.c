@@ -434,6 +434,16 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     int64_t nsamp_total = sched.nsteps / sample_every + 2;
     int64_t avg_start_step = (int64_t)ceil(p.average_from / (gd * dt) - 1e-9);
     int64_t nsamp_avg = (sched.nsteps - avg_start_step) / sample_every + 2;
+    char profiles_what[128];
+    snprintf(profiles_what, sizeof profiles_what,
+             "the profiles of %d bins over %lld samples from /average_from on", nb,
+             (long long)nsamp_avg);
+    if (!lub_memory_fits(ctx, (double)nsamp_avg * nb * sizeof *B.samples, profiles_what,
+                         "/strain - /average_from (or raise /bin_width or /sample_strain)")) {
+        lub_rs_free(&S);
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
+    }
     B.samples = calloc((size_t)(nsamp_avg * nb), sizeof *B.samples);
     B.scratch =
         calloc((size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1, sizeof *B.scratch);

@@ -520,8 +520,15 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                                                           (double)snap_every * dt)
                                        : -1;
 
-    int mem_ok =
-        ss_series_reserve(&ser, &scratch, &ratio_z, (size_t)(sched.nsteps / sample_every) + 4) == 0;
+    const size_t samples_cap = (size_t)(sched.nsteps / sample_every) + 4;
+    char series_what[96];
+    snprintf(series_what, sizeof series_what, "the %zu samples of the time series", samples_cap);
+    if (!lub_memory_fits(ctx, (double)samples_cap * SS_SAMPLE_BYTES, series_what,
+                         "/strain (or raise /sample_strain)")) {
+        exit_code = LUB_EXIT_INTERNAL;
+        goto cleanup;
+    }
+    int mem_ok = ss_series_reserve(&ser, &scratch, &ratio_z, samples_cap) == 0;
     if (!mem_ok) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
         exit_code = LUB_EXIT_INTERNAL;

@@ -156,6 +156,15 @@ if (ulimit -v 60000; "$LUBDEM" version >/dev/null 2>&1); then
   rc=$?
   [ $rc -eq 1 ] && grep -q '^error: out of memory (.*20000 particles.*RLIMIT_AS.*lower /n$' \
     "$work/oom.err" && ok || bad "address-space limit: exit $rc: $(cat "$work/oom.err")"
+  # profiles of 5183 bins over 1e6 samples (39 GiB): refused before they are allocated, with
+  # what they need, the ceiling and the members (a cgroup would have killed the run as the
+  # samples filled them, without a word)
+  echo '{"scene":"resuspension","n":200,"bin_width":0.01,"strain":1000,"sample_strain":0.001,"average_from":1}' >"$work/profiles.json"
+  (ulimit -v 60000; "$LUBDEM" run "$work/profiles.json" --out "$work/profiles" --quiet) 2>"$work/profiles.err"
+  rc=$?
+  [ $rc -eq 1 ] && grep -q '^error: not enough memory: the profiles of [0-9]* bins over [0-9]* samples from /average_from on need at least [0-9.]* GiB, but this process may use .*RLIMIT_AS.*; lower /strain - /average_from (or raise /bin_width or /sample_strain) (nothing was run)$' \
+    "$work/profiles.err" && grep -q '"status": "failed"' "$work/profiles/summary.json" \
+    && ok || bad "profiles beyond the address-space limit: exit $rc: $(cat "$work/profiles.err")"
 else
   echo "address-space limit: skipped (this binary does not start under ulimit -v 60000)"
 fi

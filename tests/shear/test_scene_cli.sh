@@ -396,6 +396,14 @@ if (ulimit -v 60000; "$LUBDEM" version >/dev/null 2>&1); then
     rc=$?
     check "[ $rc -eq 1 ] && grep -q '^error: not enough memory: 10000000 particles at phi 0.5, cut-off 2 a and skin 0.5 a need at least 2[0-9.]* GiB (2.[0-9]* kB per particle), but this process may use 58.6 MiB of address space (RLIMIT_AS.*lower /n_particles (nothing was run)' $W/toobig.err && grep -q '\"status\": \"failed\"' $W/toobig/summary.json && ! grep -q '\"steps\"' $W/toobig/summary.json" \
       "memory check before the packing: rc=$rc, $(cat $W/toobig.err)"
+    # 6e. a time series of 1.1e6 samples (254 MiB in memory) is refused before it is
+    #     allocated, with the members to change (it was "out of memory (series)"; under a
+    #     cgroup limit the run was killed as the samples filled it)
+    echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"strain":100,"transient_strain":1,"sample_strain":0.0001,"snapshots":0}' >$W/series_mem.json
+    (ulimit -v 60000; "$LUBDEM" run $W/series_mem.json --out $W/series_mem --quiet) 2>$W/series_mem.err
+    rc=$?
+    check "[ $rc -eq 1 ] && grep -q '^error: not enough memory: the [0-9]* samples of the time series need at least [0-9]* MiB, but this process may use .*RLIMIT_AS.*; lower /strain (or raise /sample_strain) (nothing was run)$' $W/series_mem.err" \
+      "series beyond the address-space limit: rc=$rc, $(cat $W/series_mem.err)"
 else
     echo "address-space limit: skipped (this binary does not start under ulimit -v 60000)"
 fi
