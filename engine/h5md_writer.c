@@ -638,9 +638,7 @@ int lub_h5_finish(lub_h5 *f, const char *status, char *why, size_t len)
             snprintf(f->lost_reason, sizeof f->lost_reason, "%s (closing the file)", strerror(e));
         else if (!f->lost)
             snprintf(f->lost_reason, sizeof f->lost_reason, "%s",
-                     f->err[0] ? f->err
-                               : "HDF5 "
-                                 "could not close the file");
+                     f->err[0] ? f->err : "HDF5 could not close the file");
     } else if (rc && !f->lost) {
         snprintf(f->lost_reason, sizeof f->lost_reason, "%s", f->err);
     }
