@@ -127,6 +127,17 @@ void lub_diagnostic_out_of_memory(lub_run_ctx *ctx, const char *what, long long 
         snprintf(d + len, cap - (size_t)len, "; lower %s", member);
 }
 
+int lub_memory_need_fits(lub_run_ctx *ctx, const lub_memory_need *need)
+{
+    lub_memory_room room;
+    lub_memory_room_now(&room);
+    char msg[sizeof ctx->diagnostic - 32];
+    if (!lub_memory_need_check(need, &room, "this process", msg, sizeof msg))
+        return 1;
+    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (nothing was run)", msg);
+    return 0;
+}
+
 int lub_memory_fits(lub_run_ctx *ctx, double bytes, const char *what, const char *member)
 {
     lub_memory_need need;
@@ -134,11 +145,5 @@ int lub_memory_fits(lub_run_ctx *ctx, double bytes, const char *what, const char
     need.bytes = bytes;
     need.member = member;
     snprintf(need.what, sizeof need.what, "%s", what);
-    lub_memory_room room;
-    lub_memory_room_now(&room);
-    char msg[sizeof ctx->diagnostic - 32];
-    if (!lub_memory_need_check(&need, &room, "this process", msg, sizeof msg))
-        return 1;
-    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (nothing was run)", msg);
-    return 0;
+    return lub_memory_need_fits(ctx, &need);
 }

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "h5md_writer.h"
+#include "memory_budget.h"
 #include "progress.h"
 
 typedef struct lub_run_ctx {
@@ -84,5 +85,7 @@ void lub_diagnostic_out_of_memory(lub_run_ctx *ctx, const char *what, long long 
  * (nothing was run)". A cgroup kills a process that touches more than its limit (exit 137,
  * no message) where the allocation itself succeeds; this check is what names the member. */
 int lub_memory_fits(lub_run_ctx *ctx, double bytes, const char *what, const char *member);
+/* The same for a need the scene states in full (scene.h: memory_need). */
+int lub_memory_need_fits(lub_run_ctx *ctx, const lub_memory_need *need);
 
 #endif

@@ -119,13 +119,7 @@ static int fits_in_memory(const lub_scene *scene, const json_t *resolved, lub_ru
     memset(&need, 0, sizeof need);
     if (!scene->memory_need || scene->memory_need(resolved, ctx->threads, &need) != 0)
         return 1;
-    lub_memory_room room;
-    lub_memory_room_now(&room);
-    char msg[sizeof ctx->diagnostic - 32];
-    if (!lub_memory_need_check(&need, &room, "this process", msg, sizeof msg))
-        return 1;
-    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (nothing was run)", msg);
-    return 0;
+    return lub_memory_need_fits(ctx, &need);
 }
 
 /* result.h5 could not be written (reason: the system's, with what failed and from which step)
