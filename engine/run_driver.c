@@ -249,6 +249,9 @@ int lub_run_spec(const lub_run_request *req)
         snprintf(h5_reason, sizeof h5_reason, "%s", strerror(errno));
     }
     const int renamed = !h5_failed;
+    const int scene_rc = rc; /* what the scene said, before the loss of result.h5 is added */
+    char scene_diagnostic[sizeof ctx.diagnostic];
+    memcpy(scene_diagnostic, ctx.diagnostic, sizeof scene_diagnostic);
     if (h5_failed) {
         unlink(h5_tmp);
         report_result_h5_lost(&ctx, &rc, req->out_dir, h5_reason, resolved);
@@ -286,10 +289,18 @@ int lub_run_spec(const lub_run_request *req)
                 fprintf(req->diag, "warning: %s\n", json_string_value(wtext));
         }
     }
-    if (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL || rc == LUB_EXIT_IO)
+    if (!summary_failed &&
+        (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL || rc == LUB_EXIT_IO))
         fprintf(req->diag, "error: %s\n",
                 ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
-    if (summary_failed) {
+    if (summary_failed) { /* the diagnostic above would point to a summary that is not there */
+        if (scene_rc != LUB_EXIT_OK && scene_rc != LUB_EXIT_INTERRUPTED)
+            fprintf(req->diag, "error: %s\n",
+                    scene_diagnostic[0] ? scene_diagnostic
+                                        : "the scene failed without a diagnostic");
+        if (h5_failed)
+            fprintf(req->diag, "error: cannot write result.h5 in %s: %s\n", req->out_dir,
+                    h5_reason[0] ? h5_reason : "HDF5 error");
         fprintf(req->diag, "error: cannot write the results in %s%s%s\n", req->out_dir,
                 summary_errno ? ": " : "", summary_errno ? strerror(summary_errno) : "");
         if (renamed) /* no result.h5 without its summary */

@@ -380,6 +380,20 @@ PYEOF
     [ $? -eq 0 ] || fail=1
 fi
 
+# 6b2. a run that fails on its own (a fixed dt 69 times dt_elastic: unstable at step 0) under
+#      8 KiB: result.h5 does not fit, the ~6.5 kB summary does; the exit code stays 3 and the
+#      diagnostic keeps the failure first. Under 2 KiB not even the summary fits: exit 4,
+#      nothing left, and stderr does not point to a summary that is not there
+echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"strain":0.5,"dt":0.01,"snapshots":0}' >$W/fsize_nan.json
+(ulimit -f 8; "$LUBDEM" run $W/fsize_nan.json --out $W/fsize_nan --quiet) 2>$W/fsize_nan.err
+rc=$?
+check "[ $rc -eq 3 ] && [ \"\$(ls -A $W/fsize_nan)\" = summary.json ] && grep -q '^error: particle .* unstable .*/dt.*; besides, cannot write result.h5 in .*: File too large' $W/fsize_nan.err && grep -q '\"exit_code\": 3' $W/fsize_nan/summary.json" \
+  "numerical failure, result.h5 beyond the limit: rc=$rc, $(cat $W/fsize_nan.err), files: $(ls -A $W/fsize_nan 2>&1)"
+(ulimit -f 2; "$LUBDEM" run $W/fsize_nan.json --out $W/fsize_none --quiet) 2>$W/fsize_none.err
+rc=$?
+check "[ $rc -eq 4 ] && [ -z \"\$(ls -A $W/fsize_none)\" ] && ! grep -q 'summary.json holds' $W/fsize_none.err && grep -q '^error: particle .* unstable' $W/fsize_none.err && tail -n 1 $W/fsize_none.err | grep -q '^error: cannot write the results in .*: File too large'" \
+  "nothing fits: rc=$rc, $(cat $W/fsize_none.err), files: $(ls -A $W/fsize_none 2>&1)"
+
 # 6c. 12 000 particles under 60 000 KiB of address space: the lower bound of the memory the
 #     run needs (27 MB) passes the check before the packing, the packing fits, the pair lists
 #     (~40 MB of their ~3.3 kB per particle) do not
