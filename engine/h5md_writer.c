@@ -494,7 +494,7 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const ch
     H5Gclose(g);
     f->np = n;
     if (rc || f->p_step < 0 || f->p_pos < 0 || f->p_vel < 0 || f->p_omega < 0 || f->p_edges < 0)
-        return set_err(f, "create", "/particles/all");
+        return write_failed(f, "create", "/particles/all", -1);
     return 0;
 }
 
