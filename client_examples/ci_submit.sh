@@ -9,6 +9,9 @@
 #   LUBDEM_FAIL_ON_WARNINGS=1  exit 4 when the run's summary has warnings (its own validity
 #                           checks, e.g. simple_shear's elastic number); they are printed as
 #                           'warning: ...' lines either way.
+# A failed job whose engine wrote a summary leaves it in OUT_FILE.failed.json (the service's
+# problem document, member "summary": the diagnostic, and the results of a run that completed
+# but could not write its result.h5).
 # Exit: 0 successful and verified, 1 job failed/dismissed/checksum mismatch, 2 rejected
 # submission, 3 timeout, 4 successful and verified but with warnings (LUBDEM_FAIL_ON_WARNINGS=1).
 set -euo pipefail
@@ -47,6 +50,13 @@ done
 if [ "$STATUS" != successful ]; then
   echo "job $JOB $STATUS: $(field message < "$TMP/job.json")"
   curl -fsS -H "$AUTH" "$URL/jobs/$JOB/log" | tail -n 20 || true
+  # the failure's problem document carries the engine's summary where it wrote one (its
+  # diagnostic; all results of a run that only lost its result.h5): keep it as an artifact
+  if curl -sS -H "$AUTH" -o "$TMP/failed.json" "$URL/jobs/$JOB/results" \
+     && grep -q '"summary"' "$TMP/failed.json"; then
+    cp "$TMP/failed.json" "$OUT_FILE.failed.json"
+    echo "the engine's summary of the failed run: $OUT_FILE.failed.json (member \"summary\")"
+  fi
   exit 1
 fi
 curl -fsS -H "$AUTH" -o "$TMP/results.json" "$URL/jobs/$JOB/results"

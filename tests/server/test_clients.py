@@ -5,6 +5,7 @@ LUBDEM_FAIL_ON_WARNINGS=1), the Python client (exit 4 with --fail-on-warnings) +
 reader, and the flow_curve.py sweep (table and CSV, the same jobs on a second run, a rejected
 value, a timeout, a failed job, the service gone while waiting)."""
 import csv
+import json
 import os
 import shutil
 import subprocess
@@ -125,6 +126,16 @@ def run():
                     and rows[0]["status"] == "failed" and float(rows[0]["eta_r"]) > 1
                     and float(rows[0]["eta_r_stderr"]) > 0,
                     "flow_curve.py, result.h5 lost:\n%s\n%s" % (out, rows))
+            # ci_submit.sh: exit 1, and the failed run's summary kept as an artifact
+            lost_h5 = os.path.join(out_dir, "lost.h5")
+            rc, out = sh("bash", ci, "simple_shear", many.replace("}", ', "phi": 0.45}'), "600",
+                         lost_h5, extra_env=full_env)
+            kept = lost_h5 + ".failed.json"
+            doc = json.load(open(kept)) if os.path.exists(kept) else {}
+            summary = doc.get("summary") or {}
+            T.check(rc == 1 and "File too large" in out and summary.get("exit_code") == 4
+                    and summary["results"]["eta_r"]["value"] > 1 and not os.path.exists(lost_h5),
+                    "ci_submit.sh, result.h5 lost:\n%s\n%s" % (out, doc))
         finally:
             full.stop()
 
