@@ -234,8 +234,9 @@ int lub_run_spec(const lub_run_request *req)
     char *units_text = units ? json_dumps(units, JSON_COMPACT | JSON_SORT_KEYS) : NULL;
     const int params_failed =
         lub_h5_write_parameters(h5, req->spec_text, resolved_text, units_text) != 0;
-    char params_reason[256];
-    snprintf(params_reason, sizeof params_reason, "%s", lub_h5_last_error(h5));
+    char params_reason[256] = ""; /* lub_h5_finish frees h5 and its last error */
+    if (params_failed)
+        snprintf(params_reason, sizeof params_reason, "%s", lub_h5_last_error(h5));
     char h5_reason[400];
     int h5_failed = lub_h5_finish(h5, status_of(rc), h5_reason, sizeof h5_reason) != 0;
     if (params_failed && !h5_failed) {

@@ -93,13 +93,12 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
     const double phi_off = st->phi_law > 0.0 ? st->phi_mean - st->phi_law : NAN;
     if (!st->article_set && st->steady && st->headline_law > 0.0 &&
         (exceeds(fabs(off), tol) || exceeds(fabs(phi_off), LUB_SHEAR_LAW_PHI_TOL))) {
-        char phi_text[80] = "", tol_text[40];
-        if (isfinite(phi_off))
+        char phi_text[80] = "", phi_tol[24] = "", tol_text[40];
+        if (isfinite(phi_off)) {
             snprintf(phi_text, sizeof phi_text, ", phi %.3f is %+.3f from its %.3f", st->phi_mean,
                      phi_off, st->phi_law);
-        char phi_tol[24] = "";
-        if (isfinite(phi_off))
             snprintf(phi_tol, sizeof phi_tol, " and %.3g in phi", LUB_SHEAR_LAW_PHI_TOL);
+        }
         snprintf(tol_text, sizeof tol_text, "%.0f %%%s", 100.0 * tol, phi_tol);
         add_warning(out, &n,
                     "%s = %.3g is %+.0f %% from the reference law's %.3g%s (physics-reference "

@@ -30,5 +30,5 @@ int lubd_job_fits(const lubd_exec_request *req, const lubd_config *cfg, lubd_fau
     if (!lub_memory_need_check(&need, &room, "a job on this service", msg, sizeof msg))
         return 0;
     return lubd_fail(f, 400, LUBD_PT_BASE "job-too-large", "Job too large for this service",
-                     need.member ? ptr : NULL, "%s", msg);
+                     need.member, "%s", msg);
 }
