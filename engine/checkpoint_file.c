@@ -1,0 +1,617 @@
+/* checkpoint_file.c — typed store of named arrays in an HDF5 file (layout in checkpoint_file.h). */
+#include "checkpoint_file.h"
+
+#include <errno.h>
+#include <hdf5.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "h5md_writer.h" /* lub_h5_output_failure */
+
+#define FORMAT_ATTR "lubdem_checkpoint"
+
+struct lub_ckpt {
+    hid_t file;
+    int writable;      /* opened by lub_ckpt_create */
+    int failed;        /* a put failed: the checkpoint is void, close returns -1 */
+    char *path;        /* for messages */
+    char err[512];     /* the last error */
+    char failure[512]; /* the first failed put's message */
+};
+
+/* An element type: file type (little-endian), memory type (native), and what identifies it in
+ * a file (class, size, signedness). */
+typedef struct {
+    hid_t file, mem;
+    size_t size;
+    int is_float, is_signed;
+    const char *label;
+} elem_type;
+
+static int elem_type_of(lub_ckpt_type t, elem_type *e)
+{
+    switch (t) {
+    case LUB_CKPT_F64:
+        *e = (elem_type){H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 8, 1, 1, "float64"};
+        return 0;
+    case LUB_CKPT_I64:
+        *e = (elem_type){H5T_STD_I64LE, H5T_NATIVE_INT64, 8, 0, 1, "int64"};
+        return 0;
+    case LUB_CKPT_I32:
+        *e = (elem_type){H5T_STD_I32LE, H5T_NATIVE_INT32, 4, 0, 1, "int32"};
+        return 0;
+    case LUB_CKPT_U8: *e = (elem_type){H5T_STD_U8LE, H5T_NATIVE_UINT8, 1, 0, 0, "uint8"}; return 0;
+    }
+    return -1;
+}
+
+/* What a dataset's file type holds, for messages ("int32", "float32", "text", ...). */
+static void describe_type(hid_t t, char *buf, size_t len)
+{
+    const size_t bits = 8 * H5Tget_size(t);
+    switch (H5Tget_class(t)) {
+    case H5T_FLOAT: snprintf(buf, len, "float%zu", bits); break;
+    case H5T_INTEGER:
+        snprintf(buf, len, "%sint%zu", H5Tget_sign(t) == H5T_SGN_NONE ? "u" : "", bits);
+        break;
+    case H5T_STRING: snprintf(buf, len, "text"); break;
+    default: snprintf(buf, len, "another type (HDF5 class %d)", (int)H5Tget_class(t)); break;
+    }
+}
+
+static herr_t innermost_error(unsigned n, const H5E_error2_t *e, void *data)
+{
+    if (n == 0 && e->desc)
+        snprintf((char *)data, 160, "%s", e->desc);
+    return 0;
+}
+
+/* Why the HDF5 call that just failed failed: the system's reason when errno (e, saved right
+ * after the call) is an output failure a user can act on, else the innermost message of HDF5's
+ * error stack. Call before any other HDF5 call (the next one clears the stack). */
+static void failure_reason(int e, char *buf)
+{
+    buf[0] = '\0';
+    if (lub_h5_output_failure(e)) {
+        snprintf(buf, 160, "%s", strerror(e));
+        return;
+    }
+    H5Ewalk2(H5E_DEFAULT, H5E_WALK_UPWARD, innermost_error, buf);
+    if (!buf[0])
+        snprintf(buf, 160, "HDF5 error");
+}
+
+/* Message "checkpoint: /<name> <what>" in c->err; returns -1. */
+#if defined(__GNUC__)
+__attribute__((format(printf, 3, 4)))
+#endif
+static int
+fail(lub_ckpt *c, const char *name, const char *fmt, ...)
+{
+    char what[360];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    if (!name || !*name)
+        snprintf(c->err, sizeof c->err, "checkpoint: (no dataset name) %s", what);
+    else
+        snprintf(c->err, sizeof c->err, "checkpoint: %s%.120s %s", name[0] == '/' ? "" : "/", name,
+                 what);
+    return -1;
+}
+
+/* A failed put voids the checkpoint (close returns -1 with the first failure's message). */
+static int put_failed(lub_ckpt *c)
+{
+    if (!c->failed) {
+        c->failed = 1;
+        snprintf(c->failure, sizeof c->failure, "%s", c->err);
+    }
+    return -1;
+}
+
+/* 1 if every link along path exists (HDF5 1.10's H5Lexists fails on a missing intermediate
+ * group, or on a dataset taken for one), else 0. */
+static int path_exists(hid_t loc, const char *path)
+{
+    const size_t n = strlen(path);
+    char *buf = malloc(n + 1);
+    if (!buf)
+        return 0;
+    memcpy(buf, path, n + 1);
+    int ok = 1;
+    for (size_t i = 1; ok && i <= n; ++i) {
+        if (i < n && path[i] != '/')
+            continue;
+        if (path[i - 1] == '/') /* "//" or a trailing '/' */
+            continue;
+        buf[i] = '\0';
+        ok = H5Lexists(loc, buf, H5P_DEFAULT) > 0;
+        buf[i] = path[i];
+    }
+    free(buf);
+    return ok;
+}
+
+static lub_ckpt *new_ckpt(const char *path)
+{
+    /* As in lub_h5_create: no HDF5 exit handler (a failed close left a file in HDF5's table
+     * that the handler's second close crashed on); it must precede the process's first HDF5
+     * call and is a no-op afterwards. We report errors ourselves. */
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    lub_ckpt *c = calloc(1, sizeof *c);
+    if (!c)
+        return NULL;
+    c->file = H5I_INVALID_HID;
+    c->path = strdup(path);
+    if (!c->path) {
+        free(c);
+        return NULL;
+    }
+    return c;
+}
+
+static void free_ckpt(lub_ckpt *c)
+{
+    free(c->path);
+    free(c);
+}
+
+lub_ckpt *lub_ckpt_create(const char *path, char *err, size_t len)
+{
+    if (err && len > 0)
+        err[0] = '\0';
+    if (!path || !*path) {
+        if (err && len > 0)
+            snprintf(err, len, "checkpoint: no file name");
+        return NULL;
+    }
+    lub_ckpt *c = new_ckpt(path);
+    if (!c) {
+        if (err && len > 0)
+            snprintf(err, len, "checkpoint: out of memory creating %s", path);
+        return NULL;
+    }
+    errno = 0;
+    c->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    if (c->file < 0) {
+        const int e = errno;
+        char reason[160];
+        failure_reason(e, reason);
+        if (err && len > 0)
+            snprintf(err, len, "checkpoint: cannot create %s: %s", path, e ? strerror(e) : reason);
+        free_ckpt(c);
+        return NULL;
+    }
+    c->writable = 1;
+    return c;
+}
+
+/* The format version in the root attribute: 0, or -1 with err set. */
+static int read_format(hid_t file, const char *path, long long *version, char *err, size_t len)
+{
+    if (H5Aexists(file, FORMAT_ATTR) <= 0) {
+        snprintf(err, len,
+                 "checkpoint: %s is not a lubdem checkpoint (no root attribute \"%s\": another "
+                 "HDF5 file, or a checkpoint whose writing did not finish)",
+                 path, FORMAT_ATTR);
+        return -1;
+    }
+    hid_t a = H5Aopen(file, FORMAT_ATTR, H5P_DEFAULT);
+    hid_t t = a >= 0 ? H5Aget_type(a) : H5I_INVALID_HID;
+    hid_t s = a >= 0 ? H5Aget_space(a) : H5I_INVALID_HID;
+    int64_t v = 0;
+    const int ok = t >= 0 && s >= 0 && H5Tget_class(t) == H5T_INTEGER &&
+                   H5Sget_simple_extent_npoints(s) == 1 && H5Aread(a, H5T_NATIVE_INT64, &v) >= 0;
+    if (s >= 0)
+        H5Sclose(s);
+    if (t >= 0)
+        H5Tclose(t);
+    if (a >= 0)
+        H5Aclose(a);
+    if (!ok) {
+        snprintf(err, len,
+                 "checkpoint: %s is not a lubdem checkpoint (its attribute \"%s\" is not one "
+                 "integer)",
+                 path, FORMAT_ATTR);
+        return -1;
+    }
+    *version = (long long)v;
+    return 0;
+}
+
+lub_ckpt *lub_ckpt_open(const char *path, char *err, size_t len)
+{
+    char dummy[8];
+    if (!err || len == 0) {
+        err = dummy;
+        len = sizeof dummy;
+    }
+    err[0] = '\0';
+    if (!path || !*path) {
+        snprintf(err, len, "checkpoint: no file name");
+        return NULL;
+    }
+    struct stat st;
+    if (stat(path, &st) != 0) {
+        snprintf(err, len, "checkpoint: cannot open %s: %s", path, strerror(errno));
+        return NULL;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        snprintf(err, len, "checkpoint: cannot open %s: not a regular file", path);
+        return NULL;
+    }
+    lub_ckpt *c = new_ckpt(path);
+    if (!c) {
+        snprintf(err, len, "checkpoint: out of memory opening %s", path);
+        return NULL;
+    }
+    errno = 0;
+    const htri_t is_h5 = H5Fis_hdf5(path);
+    if (is_h5 <= 0) {
+        const int e = errno;
+        if (is_h5 < 0 && e)
+            snprintf(err, len, "checkpoint: cannot open %s: %s", path, strerror(e));
+        else
+            snprintf(err, len, "checkpoint: %s is not an HDF5 file", path);
+        free_ckpt(c);
+        return NULL;
+    }
+    errno = 0;
+    c->file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (c->file < 0) {
+        const int e = errno;
+        char reason[160];
+        failure_reason(e, reason);
+        snprintf(err, len, "checkpoint: cannot open %s: %s", path, e ? strerror(e) : reason);
+        free_ckpt(c);
+        return NULL;
+    }
+    long long version = 0;
+    if (read_format(c->file, path, &version, err, len) < 0) {
+        H5Fclose(c->file);
+        free_ckpt(c);
+        return NULL;
+    }
+    if (version != LUB_CKPT_FORMAT) {
+        snprintf(err, len,
+                 "checkpoint: %s has checkpoint format version %lld; this lubdem reads version "
+                 "%d",
+                 path, version, LUB_CKPT_FORMAT);
+        H5Fclose(c->file);
+        free_ckpt(c);
+        return NULL;
+    }
+    return c;
+}
+
+const char *lub_ckpt_error(const lub_ckpt *c) { return c ? c->err : "checkpoint: no file"; }
+
+/* Checks that a put may go ahead: 0, or -1 (the checkpoint void) with the message set. */
+static int put_begin(lub_ckpt *c, const char *name)
+{
+    if (!c->writable)
+        return fail(c, name, "not written: %s is open read-only", c->path);
+    if (c->failed)
+        return fail(c, name, "not written after an earlier failure (%.300s)", c->failure);
+    if (!name || !*name) {
+        fail(c, name, "not written: no name");
+        return put_failed(c);
+    }
+    if (path_exists(c->file, name)) {
+        fail(c, name, "exists already");
+        return put_failed(c);
+    }
+    return 0;
+}
+
+/* Creates dataset name of file type ftype and space sp (intermediate groups created); writes
+ * data (memory type mtype) unless data is NULL. 0, or -1 (the checkpoint void) with the message
+ * naming the dataset and the reason. what: the content, for the message. */
+static int put_dataset(lub_ckpt *c, const char *name, hid_t ftype, hid_t mtype, hid_t sp,
+                       const void *data, const char *what)
+{
+    char reason[160];
+    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    errno = 0;
+    hid_t d = H5Dcreate2(c->file, name, ftype, sp, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+    int rc = 0;
+    if (d < 0) {
+        failure_reason(errno, reason);
+        rc = fail(c, name, "cannot be created (%s): %s", what, reason);
+    } else if (data) {
+        errno = 0;
+        if (H5Dwrite(d, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0) {
+            failure_reason(errno, reason);
+            rc = fail(c, name, "cannot be written (%s): %s", what, reason);
+        }
+    }
+    if (d >= 0)
+        H5Dclose(d);
+    H5Pclose(lcpl);
+    return rc < 0 ? put_failed(c) : 0;
+}
+
+int lub_ckpt_put(lub_ckpt *c, const char *name, lub_ckpt_type type, size_t count, const void *data)
+{
+    if (!c)
+        return -1;
+    if (put_begin(c, name) < 0)
+        return -1;
+    elem_type et;
+    if (elem_type_of(type, &et) < 0) {
+        fail(c, name, "not written: unknown element type %d", (int)type);
+        return put_failed(c);
+    }
+    if (count > 0 && !data) {
+        fail(c, name, "not written: no data for %zu elements", count);
+        return put_failed(c);
+    }
+    const hsize_t dim = (hsize_t)count;
+    hid_t sp = H5Screate_simple(1, &dim, NULL);
+    if (sp < 0) {
+        fail(c, name, "not written: no dataspace of %zu elements", count);
+        return put_failed(c);
+    }
+    char what[64];
+    snprintf(what, sizeof what, "%zu %s", count, et.label);
+    /* count 0: nothing to write (HDF5 takes no empty write from a NULL buffer) */
+    const int rc = put_dataset(c, name, et.file, et.mem, sp, count > 0 ? data : NULL, what);
+    H5Sclose(sp);
+    return rc;
+}
+
+int lub_ckpt_put_f64(lub_ckpt *c, const char *name, double v)
+{
+    return lub_ckpt_put(c, name, LUB_CKPT_F64, 1, &v);
+}
+
+int lub_ckpt_put_i64(lub_ckpt *c, const char *name, int64_t v)
+{
+    return lub_ckpt_put(c, name, LUB_CKPT_I64, 1, &v);
+}
+
+static hid_t text_type(H5T_cset_t cset)
+{
+    hid_t t = H5Tcopy(H5T_C_S1);
+    H5Tset_size(t, H5T_VARIABLE);
+    H5Tset_cset(t, cset);
+    return t;
+}
+
+int lub_ckpt_put_text(lub_ckpt *c, const char *name, const char *text)
+{
+    if (!c)
+        return -1;
+    if (put_begin(c, name) < 0)
+        return -1;
+    if (!text) {
+        fail(c, name, "not written: no text");
+        return put_failed(c);
+    }
+    hid_t t = text_type(H5T_CSET_UTF8);
+    hid_t sp = H5Screate(H5S_SCALAR);
+    char what[64];
+    snprintf(what, sizeof what, "text of %zu bytes", strlen(text));
+    const int rc = put_dataset(c, name, t, t, sp, &text, what);
+    H5Sclose(sp);
+    H5Tclose(t);
+    return rc;
+}
+
+/* Opens dataset name for reading: its id, or < 0 with the message set. */
+static hid_t open_dataset(lub_ckpt *c, const char *name)
+{
+    if (!name || !*name) {
+        fail(c, name, "cannot be read: no name");
+        return H5I_INVALID_HID;
+    }
+    if (!path_exists(c->file, name)) {
+        fail(c, name, "is missing from %s", c->path);
+        return H5I_INVALID_HID;
+    }
+    hid_t d = H5Dopen2(c->file, name, H5P_DEFAULT);
+    if (d < 0)
+        fail(c, name, "is not a dataset");
+    return d;
+}
+
+/* Elements of dataset d (of rank 0 or 1 when one_d): 0, or -1 with the message set. */
+static int element_count(lub_ckpt *c, const char *name, hid_t d, int one_d, size_t *count)
+{
+    hid_t sp = H5Dget_space(d);
+    const int rank = sp >= 0 ? H5Sget_simple_extent_ndims(sp) : -1;
+    const hssize_t n = sp >= 0 ? H5Sget_simple_extent_npoints(sp) : -1;
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (rank < 0 || n < 0)
+        return fail(c, name, "has no readable shape");
+    if (one_d && rank > 1)
+        return fail(c, name, "is not a 1-D array (rank %d)", rank);
+    *count = (size_t)n;
+    return 0;
+}
+
+int lub_ckpt_count(lub_ckpt *c, const char *name, size_t *count)
+{
+    if (!c)
+        return -1;
+    hid_t d = open_dataset(c, name);
+    if (d < 0)
+        return -1;
+    size_t n = 0;
+    const int rc = element_count(c, name, d, 0, &n);
+    H5Dclose(d);
+    if (rc == 0 && count)
+        *count = n;
+    return rc;
+}
+
+int lub_ckpt_get(lub_ckpt *c, const char *name, lub_ckpt_type type, size_t count, void *data)
+{
+    if (!c)
+        return -1;
+    elem_type et;
+    if (elem_type_of(type, &et) < 0)
+        return fail(c, name, "cannot be read: unknown element type %d", (int)type);
+    hid_t d = open_dataset(c, name);
+    if (d < 0)
+        return -1;
+    int rc = 0;
+    hid_t ft = H5Dget_type(d);
+    const H5T_class_t cls = ft >= 0 ? H5Tget_class(ft) : H5T_NO_CLASS;
+    const int same = ft >= 0 && cls == (et.is_float ? H5T_FLOAT : H5T_INTEGER) &&
+                     H5Tget_size(ft) == et.size &&
+                     (et.is_float || (H5Tget_sign(ft) != H5T_SGN_NONE) == et.is_signed);
+    if (!same) {
+        char held[64] = "an unreadable type";
+        if (ft >= 0)
+            describe_type(ft, held, sizeof held);
+        rc = fail(c, name, "holds %s, expected %s", held, et.label);
+    }
+    if (ft >= 0)
+        H5Tclose(ft);
+    size_t n = 0;
+    if (rc == 0)
+        rc = element_count(c, name, d, 1, &n);
+    if (rc == 0 && n != count)
+        rc = fail(c, name, "has %zu element%s, expected %zu", n, n == 1 ? "" : "s", count);
+    if (rc == 0 && count > 0) {
+        if (!data) {
+            rc = fail(c, name, "cannot be read: no array to read %zu elements into", count);
+        } else if ((errno = 0, H5Dread(d, et.mem, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)) {
+            char reason[160];
+            failure_reason(errno, reason);
+            rc = fail(c, name, "cannot be read (%zu %s): %s", count, et.label, reason);
+        }
+    }
+    H5Dclose(d);
+    return rc;
+}
+
+int lub_ckpt_get_f64(lub_ckpt *c, const char *name, double *v)
+{
+    return lub_ckpt_get(c, name, LUB_CKPT_F64, 1, v);
+}
+
+int lub_ckpt_get_i64(lub_ckpt *c, const char *name, int64_t *v)
+{
+    return lub_ckpt_get(c, name, LUB_CKPT_I64, 1, v);
+}
+
+char *lub_ckpt_get_text(lub_ckpt *c, const char *name)
+{
+    if (!c)
+        return NULL;
+    hid_t d = open_dataset(c, name);
+    if (d < 0)
+        return NULL;
+    char *out = NULL;
+    hid_t ft = H5Dget_type(d);
+    size_t n = 0;
+    if (ft < 0 || H5Tget_class(ft) != H5T_STRING) {
+        char held[64] = "an unreadable type";
+        if (ft >= 0)
+            describe_type(ft, held, sizeof held);
+        fail(c, name, "holds %s, expected text", held);
+    } else if (element_count(c, name, d, 1, &n) == 0 && n != 1) {
+        fail(c, name, "has %zu texts, expected 1", n);
+    } else if (n == 1 && H5Tis_variable_str(ft) > 0) {
+        hid_t mt = text_type(H5Tget_cset(ft));
+        char *s = NULL;
+        if (H5Dread(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, &s) < 0) {
+            fail(c, name, "cannot be read (text)");
+        } else {
+            const size_t len = s ? strlen(s) : 0;
+            out = malloc(len + 1);
+            if (!out)
+                fail(c, name, "cannot be read: out of memory for %zu bytes of text", len);
+            else {
+                memcpy(out, s ? s : "", len);
+                out[len] = '\0';
+            }
+        }
+        if (s)
+            H5free_memory(s);
+        H5Tclose(mt);
+    } else if (n == 1) {
+        /* fixed length: nul-padded in memory whatever the file's padding */
+        const size_t size = H5Tget_size(ft);
+        hid_t mt = H5Tcopy(ft);
+        H5Tset_strpad(mt, H5T_STR_NULLPAD);
+        out = calloc(size + 1, 1);
+        if (!out) {
+            fail(c, name, "cannot be read: out of memory for %zu bytes of text", size);
+        } else if (H5Dread(d, mt, H5S_ALL, H5S_ALL, H5P_DEFAULT, out) < 0) {
+            fail(c, name, "cannot be read (text of %zu bytes)", size);
+            free(out);
+            out = NULL;
+        }
+        H5Tclose(mt);
+    }
+    if (ft >= 0)
+        H5Tclose(ft);
+    H5Dclose(d);
+    return out;
+}
+
+/* The root attribute that makes the file a checkpoint. */
+static int write_format(hid_t file)
+{
+    const int32_t version = LUB_CKPT_FORMAT;
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(file, FORMAT_ATTR, H5T_STD_I32LE, sp, H5P_DEFAULT, H5P_DEFAULT);
+    const herr_t rc = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_INT32, &version);
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(sp);
+    return rc < 0 ? -1 : 0;
+}
+
+int lub_ckpt_close(lub_ckpt *c, char *why, size_t len)
+{
+    char dummy[8];
+    if (!why || len == 0) {
+        why = dummy;
+        len = sizeof dummy;
+    }
+    why[0] = '\0';
+    if (!c)
+        return 0;
+    int rc = 0;
+    char reason[160];
+    if (c->writable && c->failed) {
+        snprintf(why, len, "%s", c->failure);
+        rc = -1;
+    } else if (c->writable) {
+        errno = 0;
+        if (write_format(c->file) < 0) {
+            failure_reason(errno, reason);
+            snprintf(why, len, "checkpoint: cannot write the attribute \"%s\" of %s: %s",
+                     FORMAT_ATTR, c->path, reason);
+            rc = -1;
+        } else {
+            errno = 0;
+            if (H5Fflush(c->file, H5F_SCOPE_LOCAL) < 0) {
+                failure_reason(errno, reason);
+                snprintf(why, len, "checkpoint: cannot flush %s: %s", c->path, reason);
+                rc = -1;
+            }
+        }
+    }
+    errno = 0;
+    if (H5Fclose(c->file) < 0) {
+        failure_reason(errno, reason);
+        if (rc == 0)
+            snprintf(why, len, "checkpoint: cannot close %s: %s", c->path, reason);
+        rc = -1;
+    }
+    free_ckpt(c);
+    return rc;
+}
