@@ -47,8 +47,7 @@ static int re_lines(void **p, size_t count, size_t elem)
     return 0;
 }
 
-/* The img code of the image shift c[3] (pair_store.h). */
-static unsigned char image_code(const int32_t *c)
+unsigned char lub_pairs_image_code(const int32_t *c)
 {
     for (int d = 0; d < 3; ++d)
         if (c[d] < -1 || c[d] > 1)
@@ -107,7 +106,7 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
         ps->c[3 * k] = nl->pc[3 * k];
         ps->c[3 * k + 1] = nl->pc[3 * k + 1];
         ps->c[3 * k + 2] = nl->pc[3 * k + 2];
-        ps->img[k] = image_code(&ps->c[3 * k]);
+        ps->img[k] = lub_pairs_image_code(&ps->c[3 * k]);
         while (o < nold && (ps->oi[o] < a || (ps->oi[o] == a && ps->oj[o] < b)))
             ++o;
         if (o < nold && ps->oi[o] == a && ps->oj[o] == b) {
@@ -133,6 +132,35 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
         old_active += ps->oactive[q];
     ps->lost = old_active - carried;
     ps->nbounds = 0; /* the balanced split belongs to the old list */
+    return 0;
+}
+
+int lub_pairs_reserve(lub_pairs *ps, size_t count, int n_particles)
+{
+    if (count > ps->cap || !ps->i) {
+        const size_t cap = count + count / 4 + 64;
+        if (re((void **)&ps->i, cap, sizeof *ps->i) || re((void **)&ps->j, cap, sizeof *ps->j) ||
+            re_lines((void **)&ps->state, cap, sizeof *ps->state) ||
+            re((void **)&ps->active, cap, sizeof *ps->active)) {
+            ps->n = 0;
+            return -1;
+        }
+        ps->cap = cap;
+    }
+    const size_t fcap = ps->cap > ps->ocap ? ps->cap : ps->ocap;
+    if (fcap > ps->fcap || !ps->near) {
+        if (re((void **)&ps->c, 3 * fcap, sizeof *ps->c) ||
+            re((void **)&ps->near, fcap, sizeof *ps->near) ||
+            re((void **)&ps->img, fcap, sizeof *ps->img) ||
+            re((void **)&ps->allow, fcap, sizeof *ps->allow)) {
+            ps->n = 0;
+            return -1;
+        }
+        ps->fcap = fcap;
+    }
+    ps->n = count;
+    ps->n_particles = n_particles;
+    ps->nbounds = 0;
     return 0;
 }
 

@@ -67,6 +67,13 @@ void lub_pairs_free(lub_pairs *ps);
  */
 int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles);
 
+/* Makes room for `count` pairs of n_particles particles and sets ps->n = count, with the
+ * contents undefined: the caller fills i, j, c, img, state, active, near and allow (a checkpoint
+ * being reloaded, shear_checkpoint.h). The balanced split is marked stale. 0 or -1 (no memory:
+ * the store is then empty). */
+int lub_pairs_reserve(lub_pairs *ps, size_t count, int n_particles);
+/* The img code (above) of the image shift c[3]. */
+unsigned char lub_pairs_image_code(const int32_t *c);
 /* Pair k is inside the cut-off this step: an inactive pair becomes active with a fresh law
  * state (lub_pair_state_reset, notes §5 life cycle); an active pair keeps its history. */
 static inline void lub_pairs_enter(lub_pairs *ps, size_t k)

@@ -23,6 +23,19 @@ typedef struct lub_run_ctx {
     int threads;           /* OpenMP threads to use (>= 1): --threads, at most the processors
                               the process may run on */
     char diagnostic[1024]; /* on LUB_EXIT_NUMERICAL: what failed, where, when */
+    /* Continuation of a stopped run (scenes with `resumable`, scene.h; README "Stopping and
+     * resuming"). The driver sets the paths; the scene sets the flags. */
+    const char *checkpoint_path; /* where the scene writes its checkpoint when a stop request
+                                    ends its time loop (a temporary name the driver renames to
+                                    DIR/checkpoint.h5); NULL: none */
+    int checkpoint_written;      /* 1: checkpoint_path holds a complete checkpoint */
+    const char *resume_path;     /* checkpoint to continue from (NULL: start afresh) */
+    const char *resume_result;   /* the stopped run's result.h5: its rows and snapshots are
+                                    copied into the new one */
+    int resume_rejected;         /* 1: the checkpoint or the old result.h5 cannot be used
+                                    (diagnostic says why); the driver keeps the old files and
+                                    discards the new ones, exit 2 */
+    long long resumed_from_step; /* steps the stopped run had done (0: not continued) */
 } lub_run_ctx;
 
 /* Helpers for summary entries. stderr_value < 0 or NaN means "no error bar" (null). */

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "build_info.h"
+#include "checkpoint_file.h"
 #include "json_text.h"
 #include "processors.h"
 #include "run_context.h"
@@ -153,6 +154,85 @@ static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir
     *rc = LUB_EXIT_IO;
 }
 
+/* The first place where a and b differ, as a JSON pointer under `at` into out[len] (the two
+ * values there into va/vb, compact JSON, truncated); 0 when they are equal. */
+static int first_difference(const json_t *a, const json_t *b, const char *at, char *out, size_t len,
+                            char *va, char *vb, size_t vlen)
+{
+    if (json_equal(a, b))
+        return 0;
+    if (json_is_object(a) && json_is_object(b)) {
+        const char *key;
+        json_t *value;
+        json_object_foreach ((json_t *)a, key, value) {
+            char sub[512];
+            snprintf(sub, sizeof sub, "%s/%s", at, key);
+            const json_t *other = json_object_get(b, key);
+            if (!other) {
+                snprintf(out, len, "%s", sub);
+                snprintf(vb, vlen, "absent");
+                char *t = json_dumps(value, JSON_COMPACT | JSON_ENCODE_ANY);
+                snprintf(va, vlen, "%s", t ? t : "?");
+                free(t);
+                return 1;
+            }
+            if (first_difference(value, other, sub, out, len, va, vb, vlen))
+                return 1;
+        }
+        json_object_foreach ((json_t *)b, key, value) {
+            if (!json_object_get(a, key))
+                return first_difference(b, a, at, out, len, vb, va, vlen);
+        }
+    }
+    snprintf(out, len, "%s", at[0] ? at : "(root)");
+    char *ta = json_dumps(a, JSON_COMPACT | JSON_ENCODE_ANY);
+    char *tb = json_dumps(b, JSON_COMPACT | JSON_ENCODE_ANY);
+    snprintf(va, vlen, "%s", ta ? ta : "?");
+    snprintf(vb, vlen, "%s", tb ? tb : "?");
+    free(ta);
+    free(tb);
+    return 1;
+}
+
+/* --resume with DIR/checkpoint.h5 present: 0 when the checkpoint belongs to this spec (the same
+ * resolved spec, member for member) and DIR/result.h5 of the stopped run is there; otherwise
+ * the reason in why[len]. */
+static int check_resume(const char *ckpt_path, const char *result_path, const json_t *resolved,
+                        char *why, size_t len)
+{
+    char err[400];
+    lub_ckpt *c = lub_ckpt_open(ckpt_path, err, sizeof err);
+    if (!c) {
+        snprintf(why, len, "%s", err);
+        return -1;
+    }
+    char *text = lub_ckpt_get_text(c, "spec_resolved");
+    json_t *saved = text ? json_loads(text, 0, NULL) : NULL;
+    int rc = 0;
+    char at[512], was[160], now[160];
+    if (!saved) {
+        snprintf(why, len, "%s holds no readable spec (%s)", ckpt_path,
+                 text ? "invalid JSON" : lub_ckpt_error(c));
+        rc = -1;
+    } else if (first_difference(resolved, saved, "", at, sizeof at, now, was, sizeof now)) {
+        snprintf(why, len,
+                 "%s: %s here, %s in the stopped run's spec: continue with the same spec (every "
+                 "member, defaults included), or run without --resume to start afresh",
+                 at, now, was);
+        rc = -1;
+    } else if (access(result_path, R_OK) != 0) {
+        snprintf(why, len,
+                 "the stopped run's %s is missing (%s): the checkpoint continues its time series; "
+                 "run without --resume to start afresh",
+                 result_path, strerror(errno));
+        rc = -1;
+    }
+    json_decref(saved);
+    free(text);
+    lub_ckpt_close(c, NULL, 0);
+    return rc;
+}
+
 static const char *status_of(int rc)
 {
     switch (rc) {
@@ -175,9 +255,30 @@ int lub_run_spec(const lub_run_request *req)
         json_decref(resolved);
         return LUB_EXIT_IO;
     }
-    char h5_tmp[4200], h5_dst[4200], errbuf[256];
+    char h5_tmp[4200], h5_dst[4200], errbuf[256], ckpt_tmp[4200], ckpt_dst[4200];
     snprintf(h5_tmp, sizeof h5_tmp, "%s/.result.h5.tmp", req->out_dir);
     snprintf(h5_dst, sizeof h5_dst, "%s/result.h5", req->out_dir);
+    snprintf(ckpt_tmp, sizeof ckpt_tmp, "%s/.checkpoint.h5.tmp", req->out_dir);
+    snprintf(ckpt_dst, sizeof ckpt_dst, "%s/checkpoint.h5", req->out_dir);
+    const int had_checkpoint = access(ckpt_dst, F_OK) == 0;
+    const int resuming = req->resume && had_checkpoint && scene->resumable;
+    if (resuming) { /* before anything is written: the old files stay as they are on refusal */
+        char why[2 * sizeof ckpt_dst + 1024]; /* two paths and the spec members that differ */
+        if (check_resume(ckpt_dst, h5_dst, resolved, why, sizeof why)) {
+            fprintf(req->diag, "error: --resume: cannot continue from %s: %s\n", ckpt_dst, why);
+            json_decref(resolved);
+            return LUB_EXIT_BAD_SPEC;
+        }
+    } else if (req->resume && req->progress) {
+        fprintf(req->progress,
+                "resume: %s holds no checkpoint%s; the run starts from the beginning\n",
+                req->out_dir, had_checkpoint ? " of this scene" : "");
+    } else if (had_checkpoint) {
+        fprintf(req->diag,
+                "note: %s holds the checkpoint of a stopped run; this run starts afresh and "
+                "replaces it (lubdem run --resume continues it)\n",
+                req->out_dir);
+    }
     lub_h5 *h5 = lub_h5_create(h5_tmp, errbuf, sizeof errbuf);
     if (!h5) {
         fprintf(req->diag, "error: %s\n", errbuf);
@@ -195,6 +296,12 @@ int lub_run_spec(const lub_run_request *req)
     ctx.stop_requested = req->stop_requested;
     ctx.summary_results = json_object();
     ctx.summary_extra = json_object();
+    if (scene->resumable)
+        ctx.checkpoint_path = ckpt_tmp;
+    if (resuming) {
+        ctx.resume_path = ckpt_dst;
+        ctx.resume_result = h5_dst;
+    }
     /* more threads than processors only slow a run down (every OpenMP barrier waits for a
      * thread that is not running: on 2 processors: 1.6 s with 2 threads, 51 s with 256) */
     const int threads_requested = req->threads > 0 ? req->threads : 1;
@@ -204,6 +311,16 @@ int lub_run_spec(const lub_run_request *req)
     double t0 = lub_wall_seconds();
     int rc = fits_in_memory(scene, resolved, &ctx) ? scene->run(resolved, &ctx) : LUB_EXIT_INTERNAL;
     double wall = lub_wall_seconds() - t0;
+    if (ctx.resume_rejected) { /* the stopped run's files stay; nothing new is kept */
+        lub_h5_finish(h5, "failed", NULL, 0);
+        unlink(h5_tmp);
+        unlink(ckpt_tmp);
+        fprintf(req->diag, "error: --resume: %s\n", ctx.diagnostic);
+        json_decref(ctx.summary_results);
+        json_decref(ctx.summary_extra);
+        json_decref(resolved);
+        return LUB_EXIT_BAD_SPEC;
+    }
     if (rc == LUB_EXIT_OK && req->stop_requested && *req->stop_requested)
         rc = LUB_EXIT_INTERRUPTED;
     if (ctx.threads < threads_requested) {
@@ -250,6 +367,27 @@ int lub_run_spec(const lub_run_request *req)
         snprintf(h5_reason, sizeof h5_reason, "%s", strerror(errno));
     }
     const int renamed = !h5_failed;
+    /* checkpoint.h5 goes with the result.h5 just renamed: a new one replaces the old; a run
+     * that ends otherwise removes the old one (its result.h5 has been replaced), except a
+     * continuation stopped again without a new one (its result.h5 still holds the rows the old
+     * checkpoint continues) */
+    int checkpoint_kept = 0;
+    if (ctx.checkpoint_written && renamed && rename(ckpt_tmp, ckpt_dst) == 0) {
+        checkpoint_kept = 1;
+    } else {
+        if (ctx.checkpoint_written) {
+            char text[600];
+            snprintf(text, sizeof text,
+                     "no checkpoint was kept (%s): --resume will start this run afresh",
+                     renamed ? strerror(errno) : "result.h5 could not be written");
+            unlink(ckpt_tmp);
+            append_warning(&ctx, text);
+        }
+        if (!(resuming && rc == LUB_EXIT_INTERRUPTED))
+            unlink(ckpt_dst);
+        else
+            checkpoint_kept = had_checkpoint;
+    }
     const int scene_rc = rc; /* what the scene said, before the loss of result.h5 is added */
     char scene_diagnostic[sizeof ctx.diagnostic];
     memcpy(scene_diagnostic, ctx.diagnostic, sizeof scene_diagnostic);
@@ -268,6 +406,10 @@ int lub_run_spec(const lub_run_request *req)
     json_object_set_new(summary, "wall_time_s", json_real(wall));
     json_object_set_new(summary, "threads", json_integer(ctx.threads));
     json_object_set_new(summary, "threads_requested", json_integer(threads_requested));
+    if (resuming)
+        json_object_set_new(summary, "resumed_from_step", json_integer(ctx.resumed_from_step));
+    if (checkpoint_kept)
+        json_object_set_new(summary, "checkpoint", json_string("checkpoint.h5"));
     if (ctx.diagnostic[0])
         json_object_set_new(summary, "diagnostic", json_string(ctx.diagnostic));
     json_object_set_new(summary, "lubdem_version", json_string(lub_build_version()));
@@ -304,8 +446,10 @@ int lub_run_spec(const lub_run_request *req)
                     h5_reason[0] ? h5_reason : "HDF5 error");
         fprintf(req->diag, "error: cannot write the results in %s%s%s\n", req->out_dir,
                 summary_errno ? ": " : "", summary_errno ? strerror(summary_errno) : "");
-        if (renamed) /* no result.h5 without its summary */
+        if (renamed) { /* no result.h5 without its summary, no checkpoint without both */
             unlink(h5_dst);
+            unlink(ckpt_dst);
+        }
         /* nothing is left to read: 4 whatever the run's own outcome was */
         rc = LUB_EXIT_IO;
     }

@@ -1,5 +1,7 @@
 /* run_driver.h — runs one spec end to end: parse, validate, run the scene, write
- * DIR/result.h5 and DIR/summary.json atomically (temporary names + rename).
+ * DIR/result.h5 and DIR/summary.json atomically (temporary names + rename), and, for a run of a
+ * resumable scene that a stop request ended, DIR/checkpoint.h5 (renamed into place after its
+ * result.h5; removed when a later run of the folder ends otherwise).
  * On an invalid spec nothing is created. Returns a LUB_EXIT_* code; messages go to `diag`
  * (stderr in the CLI). */
 #ifndef LUBDEM_RUN_DRIVER_H
@@ -16,6 +18,8 @@ typedef struct {
     FILE *diag;                            /* diagnostics */
     int json_errors;                       /* spec errors as one JSON object on diag */
     volatile sig_atomic_t *stop_requested; /* set asynchronously by signal handlers */
+    int resume; /* --resume: continue from DIR/checkpoint.h5 when there is one (README
+                   "Stopping and resuming"); without one the run starts from the beginning */
 } lub_run_request;
 
 int lub_run_spec(const lub_run_request *req);

@@ -39,6 +39,9 @@ typedef struct {
      * `threads` threads, into *need (memory_budget.h); 0, or -1 when it has none. Pure; the
      * run driver refuses a run that cannot fit before run() and the service a submission. */
     int (*memory_need)(const json_t *resolved, int threads, lub_memory_need *need);
+    /* 1: run() writes a checkpoint when stopped and continues from one (lub_run_ctx
+     * checkpoint_path, resume_path); 0: a stopped run of this scene starts afresh. */
+    int resumable;
 } lub_scene;
 
 /* NULL-terminated table of all scenes. */

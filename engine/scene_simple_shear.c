@@ -28,11 +28,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "h5md_continue.h"
+#include "json_text.h"
 #include "law_spec.h"
 #include "packing.h"
 #include "run_context.h"
 #include "scene.h"
 #include "scene_summary.h"
+#include "shear_checkpoint.h"
 #include "shear_run_checks.h"
 #include "shear_system.h"
 #include "stats.h"
@@ -411,6 +414,149 @@ static double ref_eta_r(double phi, double phi_m)
     return mu1 / (q * q) + (mu2 - mu1) / (q * q + I0) + pow(1.0 - phi, -2.5);
 }
 
+/* The time loop's state besides the system (shear_system.h): what a checkpoint holds with the
+ * system and the series, so that a stopped run continues as if it had not stopped. */
+typedef struct {
+    int64_t step;          /* steps done */
+    double strain;         /* shear strain done */
+    double p_f;            /* the servo's filtered pressure (servo_step) */
+    double next_check;     /* strain of the next /target_rel_error check */
+    double bonds_sum;      /* Q6 bonds over all samples, for the noise floor of the Q6 check */
+    int64_t bonds_samples; /* samples in bonds_sum */
+    int64_t frames;        /* particle snapshots asked for so far */
+    double packing_min_gap;
+    lub_step_control ctl;
+    lub_schedule sched;
+} ss_loop;
+
+enum { SS_CTL_F64 = 5, SS_SCHED_F64 = 2 + LUB_SCHEDULE_MAX_EVENTS };
+
+/* The loop state, the series and the system into path (a new file). 0, or -1 with why[len]. */
+static int ss_checkpoint_write(const char *path, const json_t *resolved, const ss_loop *lp,
+                               const ss_series *ser, int64_t frames_in_file,
+                               const lub_shear_system *sys, char *why, size_t len)
+{
+    lub_ckpt *c = lub_ckpt_create(path, why, len);
+    if (!c)
+        return -1;
+    char *spec = lub_json_dumps(resolved, JSON_COMPACT | JSON_SORT_KEYS);
+    const lub_step_control *ctl = &lp->ctl;
+    const lub_schedule *sc = &lp->sched;
+    const double ctl_f[SS_CTL_F64] = {ctl->dt, ctl->dt_base, ctl->safety, ctl->dt_min,
+                                      ctl->ratio_max};
+    const int64_t ctl_i[2] = {ctl->changes, ctl->rebuilds};
+    double sched_f[SS_SCHED_F64] = {sc->dt, sc->t_end};
+    int64_t sched_i[2 + 2 * LUB_SCHEDULE_MAX_EVENTS] = {sc->nsteps, sc->n_events};
+    for (int e = 0; e < LUB_SCHEDULE_MAX_EVENTS; ++e) {
+        sched_f[2 + e] = e < sc->n_events ? sc->ev[e].spacing : 0.0;
+        sched_i[2 + 2 * e] = e < sc->n_events ? sc->ev[e].every : 0;
+        sched_i[3 + 2 * e] = e < sc->n_events ? sc->ev[e].next : 0;
+    }
+    int rc = !spec || lub_ckpt_put_text(c, "scene", "simple_shear") ||
+             lub_ckpt_put_text(c, "spec_resolved", spec) ||
+             lub_ckpt_put_i64(c, "run/step", lp->step) ||
+             lub_ckpt_put_f64(c, "run/strain", lp->strain) ||
+             lub_ckpt_put_f64(c, "run/servo_filtered_pressure", lp->p_f) ||
+             lub_ckpt_put_f64(c, "run/next_check", lp->next_check) ||
+             lub_ckpt_put_f64(c, "run/bonds_sum", lp->bonds_sum) ||
+             lub_ckpt_put_i64(c, "run/bonds_samples", lp->bonds_samples) ||
+             lub_ckpt_put_i64(c, "run/frames", lp->frames) ||
+             lub_ckpt_put_i64(c, "run/frames_in_file", frames_in_file) ||
+             lub_ckpt_put_f64(c, "run/packing_min_gap", lp->packing_min_gap) ||
+             lub_ckpt_put(c, "run/step_control_f64", LUB_CKPT_F64, SS_CTL_F64, ctl_f) ||
+             lub_ckpt_put(c, "run/step_control_i64", LUB_CKPT_I64, 2, ctl_i) ||
+             lub_ckpt_put(c, "run/schedule_f64", LUB_CKPT_F64, SS_SCHED_F64, sched_f) ||
+             lub_ckpt_put(c, "run/schedule_i64", LUB_CKPT_I64, 2 + 2 * LUB_SCHEDULE_MAX_EVENTS,
+                          sched_i) ||
+             lub_ckpt_put(c, "series/strain", LUB_CKPT_F64, ser->n, ser->strain);
+    for (int k = 0; k < S_COUNT && !rc; ++k) {
+        char name[80];
+        snprintf(name, sizeof name, "series/%s", s_names[k]);
+        rc = lub_ckpt_put(c, name, LUB_CKPT_F64, ser->n, ser->v[k]);
+    }
+    rc = rc || lub_shear_save(c, sys);
+    free(spec);
+    if (rc && why)
+        snprintf(why, len, "%s", lub_ckpt_error(c));
+    char close_why[256];
+    if (lub_ckpt_close(c, close_why, sizeof close_why) && !rc) {
+        rc = 1;
+        snprintf(why, len, "%s", close_why);
+    }
+    return rc ? -1 : 0;
+}
+
+/* The loop state (lp: all but the series) of checkpoint c; the series are read by
+ * ss_checkpoint_read_series once they have room. 0, or -1 with why[len]. */
+static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int64_t *frames_in_file,
+                                   char *why, size_t len)
+{
+    double ctl_f[SS_CTL_F64], sched_f[SS_SCHED_F64];
+    int64_t ctl_i[2], sched_i[2 + 2 * LUB_SCHEDULE_MAX_EVENTS];
+    size_t n_rows = 0;
+    if (lub_ckpt_get_i64(c, "run/step", &lp->step) ||
+        lub_ckpt_get_f64(c, "run/strain", &lp->strain) ||
+        lub_ckpt_get_f64(c, "run/servo_filtered_pressure", &lp->p_f) ||
+        lub_ckpt_get_f64(c, "run/next_check", &lp->next_check) ||
+        lub_ckpt_get_f64(c, "run/bonds_sum", &lp->bonds_sum) ||
+        lub_ckpt_get_i64(c, "run/bonds_samples", &lp->bonds_samples) ||
+        lub_ckpt_get_i64(c, "run/frames", &lp->frames) ||
+        lub_ckpt_get_i64(c, "run/frames_in_file", frames_in_file) ||
+        lub_ckpt_get_f64(c, "run/packing_min_gap", &lp->packing_min_gap) ||
+        lub_ckpt_get(c, "run/step_control_f64", LUB_CKPT_F64, SS_CTL_F64, ctl_f) ||
+        lub_ckpt_get(c, "run/step_control_i64", LUB_CKPT_I64, 2, ctl_i) ||
+        lub_ckpt_get(c, "run/schedule_f64", LUB_CKPT_F64, SS_SCHED_F64, sched_f) ||
+        lub_ckpt_get(c, "run/schedule_i64", LUB_CKPT_I64, 2 + 2 * LUB_SCHEDULE_MAX_EVENTS,
+                     sched_i) ||
+        lub_ckpt_count(c, "series/strain", &n_rows)) {
+        snprintf(why, len, "%s", lub_ckpt_error(c));
+        return -1;
+    }
+    if (sched_i[1] < 0 || sched_i[1] > LUB_SCHEDULE_MAX_EVENTS || lp->step < 0 ||
+        lp->step > sched_i[0] || !(sched_f[0] > 0.0) || !(ctl_f[0] > 0.0)) {
+        snprintf(why, len, "inconsistent loop state (step %lld of %lld, %lld events)",
+                 (long long)lp->step, (long long)sched_i[0], (long long)sched_i[1]);
+        return -1;
+    }
+    lp->ctl = (lub_step_control){.dt = ctl_f[0],
+                                 .dt_base = ctl_f[1],
+                                 .safety = ctl_f[2],
+                                 .dt_min = ctl_f[3],
+                                 .ratio_max = ctl_f[4],
+                                 .changes = (long)ctl_i[0],
+                                 .rebuilds = (long)ctl_i[1]};
+    lub_schedule *sc = &lp->sched;
+    sc->dt = sched_f[0];
+    sc->t_end = sched_f[1];
+    sc->nsteps = sched_i[0];
+    sc->n_events = (int)sched_i[1];
+    for (int e = 0; e < sc->n_events; ++e) {
+        sc->ev[e].spacing = sched_f[2 + e];
+        sc->ev[e].every = sched_i[2 + 2 * e];
+        sc->ev[e].next = sched_i[3 + 2 * e];
+    }
+    *rows = (int64_t)n_rows;
+    return 0;
+}
+
+/* The series of checkpoint c into ser (room for its rows reserved). 0, or -1 with why[len]. */
+static int ss_checkpoint_read_series(lub_ckpt *c, ss_series *ser, size_t rows, char *why,
+                                     size_t len)
+{
+    int rc = lub_ckpt_get(c, "series/strain", LUB_CKPT_F64, rows, ser->strain);
+    for (int k = 0; k < S_COUNT && !rc; ++k) {
+        char name[80];
+        snprintf(name, sizeof name, "series/%s", s_names[k]);
+        rc = lub_ckpt_get(c, name, LUB_CKPT_F64, rows, ser->v[k]);
+    }
+    if (rc) {
+        snprintf(why, len, "%s", lub_ckpt_error(c));
+        return -1;
+    }
+    ser->n = rows;
+    return 0;
+}
+
 /* ss_read of a resolved spec, which it leaves untouched (ss_read fills defaults in place) */
 static int ss_read_resolved(const json_t *resolved, ss_params *p, lub_error *err)
 {
@@ -418,6 +564,55 @@ static int ss_read_resolved(const json_t *resolved, ss_params *p, lub_error *err
     const int rc = copy ? ss_read(copy, p, err) : -1;
     json_decref(copy);
     return rc;
+}
+
+/* The start of a continuation (ctx->resume_path): opens the checkpoint and the stopped run's
+ * result.h5, reads the loop state into *lp, the radii and positions into new arrays, and
+ * checks that the old file holds the rows and snapshots to be copied. 0, or -1 with
+ * ctx->resume_rejected and the diagnostic set (everything opened is closed again). */
+static int ss_resume_begin(lub_run_ctx *ctx, int n, lub_ckpt **ckpt, lub_h5_reader **old,
+                           ss_loop *lp, int64_t *rows, int64_t *frames, double **radius, vec3 **pos)
+{
+    char why[512] = "";
+    int saved_n = 0;
+    int64_t file_rows = 0, file_frames = 0, file_n = 0;
+    *ckpt = lub_ckpt_open(ctx->resume_path, why, sizeof why);
+    if (*ckpt && ss_checkpoint_read_loop(*ckpt, lp, rows, frames, why, sizeof why) == 0) {
+        if (lub_shear_saved_particles(*ckpt, &saved_n, radius) || saved_n != n) {
+            snprintf(why, sizeof why, "%s",
+                     lub_ckpt_error(*ckpt)[0] ? lub_ckpt_error(*ckpt) : "another particle count");
+        } else if (!(*pos = malloc((size_t)n * sizeof **pos))) {
+            snprintf(why, sizeof why, "out of memory (positions)");
+        } else if (lub_ckpt_get(*ckpt, "system/x", LUB_CKPT_F64, 3 * (size_t)n, *pos)) {
+            snprintf(why, sizeof why, "%s", lub_ckpt_error(*ckpt));
+        } else if (!(*old = lub_h5r_open(ctx->resume_result, why, sizeof why))) {
+            /* why set */
+        } else if (lub_h5r_series_rows(*old, "mu", &file_rows) || file_rows < *rows) {
+            snprintf(why, sizeof why,
+                     "%s holds %lld rows of the time series, the checkpoint needs %lld",
+                     ctx->resume_result, (long long)file_rows, (long long)*rows);
+        } else if (*frames > 0 &&
+                   (lub_h5r_frames(*old, &file_frames, &file_n) || file_frames < *frames)) {
+            snprintf(why, sizeof why, "%s holds %lld particle snapshots, the checkpoint needs %lld",
+                     ctx->resume_result, (long long)file_frames, (long long)*frames);
+        } else {
+            return 0;
+        }
+    }
+    snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
+             ctx->resume_path, why[0] ? why : "unreadable");
+    ctx->resume_rejected = 1;
+    if (*ckpt)
+        lub_ckpt_close(*ckpt, NULL, 0);
+    if (*old)
+        lub_h5r_close(*old);
+    *ckpt = NULL;
+    *old = NULL;
+    free(*radius);
+    free(*pos);
+    *radius = NULL;
+    *pos = NULL;
+    return -1;
 }
 
 static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
@@ -435,9 +630,6 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     const double rho = p.St / gd;              /* St = rho gd a^2 / eta */
     lub_law_spec_scale(&p.law, 1.0, p.stiffness * s0);
 
-    /* ---- packing ---- */
-    double *radius = malloc((size_t)n * sizeof *radius);
-    vec3 *pos = malloc((size_t)n * sizeof *pos);
     ss_series ser;
     memset(&ser, 0, sizeof ser);
     lub_shear_system sys;
@@ -445,40 +637,62 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     double *scratch = NULL, *ratio_z = NULL;
     int exit_code = LUB_EXIT_OK;
     int step_unstable = 0; /* the failure is one the time step causes (non-finite, runaway) */
-    if (!radius || !pos) {
-        free(radius);
-        free(pos);
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (packing)");
-        return LUB_EXIT_INTERNAL;
-    }
+    ss_loop lp;            /* the loop's state: a fresh start, or the checkpoint's (resumed) */
+    memset(&lp, 0, sizeof lp);
+    ss_loop resumed;
+    memset(&resumed, 0, sizeof resumed);
+    lub_ckpt *resume = NULL;   /* the checkpoint a continuation starts from */
+    lub_h5_reader *old = NULL; /* the stopped run's result.h5 */
+    int64_t resume_rows = 0, resume_frames = 0;
+    char checkpoint_failure[600] = ""; /* why a stopped run left no checkpoint */
+    double *radius = NULL;
+    vec3 *pos = NULL;
     lub_cell cell;
-    lub_packing_params pp = {.n = n,
-                             .phi = p.phi,
-                             .radius_std = p.radius_std,
-                             .seed = (uint64_t)p.seed,
-                             .margin = 0.01,
-                             .max_sweeps = 2000000,
-                             .stop = ctx->stop_requested};
-    lub_packing_info pinfo;
-    int prc = lub_packing_generate(&pp, radius, pos, &cell, &pinfo);
-    if (prc == -3) { /* SIGTERM/SIGINT while packing: a partial run without a step */
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
-                 "stopped while generating the packing, before the first step");
-        free(radius);
-        free(pos);
-        return LUB_EXIT_INTERRUPTED;
-    }
-    if (prc) {
-        if (prc == -1)
-            lub_diagnostic_out_of_memory(ctx, "packing", n, 0.0, "/n_particles");
-        else
+    lub_cell_init_box(&cell, 1.0, 1.0, 1.0); /* a continuation's cell comes from its checkpoint */
+    if (ctx->resume_path) {
+        if (ss_resume_begin(ctx, n, &resume, &old, &resumed, &resume_rows, &resume_frames, &radius,
+                            &pos))
+            return LUB_EXIT_BAD_SPEC;
+        lp.packing_min_gap = resumed.packing_min_gap;
+    } else {
+        /* ---- packing ---- */
+        radius = malloc((size_t)n * sizeof *radius);
+        pos = malloc((size_t)n * sizeof *pos);
+        if (!radius || !pos) {
+            free(radius);
+            free(pos);
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (packing)");
+            return LUB_EXIT_INTERNAL;
+        }
+        lub_packing_params pp = {.n = n,
+                                 .phi = p.phi,
+                                 .radius_std = p.radius_std,
+                                 .seed = (uint64_t)p.seed,
+                                 .margin = 0.01,
+                                 .max_sweeps = 2000000,
+                                 .stop = ctx->stop_requested};
+        lub_packing_info pinfo;
+        int prc = lub_packing_generate(&pp, radius, pos, &cell, &pinfo);
+        if (prc == -3) { /* SIGTERM/SIGINT while packing: a partial run without a step */
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
-                     "packing generation failed (target fraction not reached without overlaps) "
-                     "for n=%d phi=%g",
-                     n, p.phi);
-        free(radius);
-        free(pos);
-        return LUB_EXIT_INTERNAL;
+                     "stopped while generating the packing, before the first step");
+            free(radius);
+            free(pos);
+            return LUB_EXIT_INTERRUPTED;
+        }
+        if (prc) {
+            if (prc == -1)
+                lub_diagnostic_out_of_memory(ctx, "packing", n, 0.0, "/n_particles");
+            else
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                         "packing generation failed (target fraction not reached without "
+                         "overlaps) for n=%d phi=%g",
+                         n, p.phi);
+            free(radius);
+            free(pos);
+            return LUB_EXIT_INTERNAL;
+        }
+        lp.packing_min_gap = pinfo.min_gap;
     }
     cell.L[0][1] = gd;
 
@@ -487,10 +701,11 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     int src = lub_shear_init(&sys, n, radius, pos, &cell, &p.law.params, rho, p.cutoff, p.skin, 1.0,
                              ctx->threads, pdf_nt, pdf_np);
     free(pos);
+    pos = NULL;
     if (src) {
-        free(radius);
         lub_diagnostic_out_of_memory(ctx, "system", n, 0.0, "/n_particles");
-        return LUB_EXIT_INTERNAL;
+        exit_code = LUB_EXIT_INTERNAL;
+        goto cleanup;
     }
     sys.drag_viscosity = p.drag_viscosity; /* eta = 1 */
     const double dt_el = lub_shear_elastic_dt(&sys);
@@ -498,29 +713,47 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
      * summed stiffness needs it (/dt_stiffness_safety; step_stiffness.h, checked at every
      * neighbour-list rebuild) */
     const int dt_adapts = p.dt <= 0.0 && p.dt_stiffness_safety > 0.0;
-    lub_step_control ctl;
-    lub_step_control_init(&ctl, p.dt > 0 ? p.dt : p.dt_safety * dt_el,
+    lub_step_control_init(&lp.ctl, p.dt > 0 ? p.dt : p.dt_safety * dt_el,
                           dt_adapts ? p.dt_stiffness_safety : 0.0);
-    double dt = ctl.dt;
+    double dt = lp.ctl.dt;
     sys.dt = dt;
     if (p.delaunay) { /* contacts (u_n < eps a) are never cut off between updates */
         const double every = fmin(1e6, fmax(1.0, floor(p.delaunay_strain / (gd * dt) + 0.5)));
         lub_shear_use_delaunay(&sys, (int)every, fmax(0.05, 2.0 * p.law.params.eps));
     }
     const double t_end = p.strain / gd;
-    lub_schedule sched;
-    lub_schedule_init(&sched, dt, t_end);
+    lub_schedule_init(&lp.sched, dt, t_end);
     const int64_t sample_every = lub_schedule_period(p.sample_strain / gd, dt);
     const int64_t pdf_every = lub_schedule_period(p.pdf_interval / gd, dt);
-    const int64_t snap_every = p.snapshots > 0 ? (sched.nsteps + p.snapshots - 1) / p.snapshots : 0;
+    const int64_t snap_every =
+        p.snapshots > 0 ? (lp.sched.nsteps + p.snapshots - 1) / p.snapshots : 0;
     const int ev_sample =
-        lub_schedule_add(&sched, sample_every, sample_every - 1, p.sample_strain / gd);
-    const int ev_pdf = lub_schedule_add(&sched, pdf_every, 0, p.pdf_interval / gd);
-    const int ev_snap = snap_every > 0 ? lub_schedule_add(&sched, snap_every, snap_every - 1,
+        lub_schedule_add(&lp.sched, sample_every, sample_every - 1, p.sample_strain / gd);
+    const int ev_pdf = lub_schedule_add(&lp.sched, pdf_every, 0, p.pdf_interval / gd);
+    const int ev_snap = snap_every > 0 ? lub_schedule_add(&lp.sched, snap_every, snap_every - 1,
                                                           (double)snap_every * dt)
                                        : -1;
+    lp.next_check = fmax(p.transient_strain + 1.0, 1.0);
+    if (resume) { /* the stopped run's state replaces the fresh one (same events, same ids) */
+        if (lub_shear_restore(resume, &sys) || resumed.sched.n_events != lp.sched.n_events) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
+                     ctx->resume_path,
+                     lub_ckpt_error(resume)[0] ? lub_ckpt_error(resume)
+                                               : "inconsistent pairs or events");
+            ctx->resume_rejected = 1;
+            exit_code = LUB_EXIT_BAD_SPEC;
+            goto cleanup;
+        }
+        lp = resumed;
+        dt = lp.ctl.dt;
+        sys.dt = dt;
+        ctx->resumed_from_step = lp.step;
+    }
 
-    const size_t samples_cap = (size_t)(sched.nsteps / sample_every) + 4;
+    /* the series from the first sample (a continuation: from the checkpoint's) to /strain */
+    const size_t samples_cap =
+        (size_t)resume_rows + (size_t)((lp.sched.nsteps - lp.step) / lp.sched.ev[ev_sample].every) +
+        4;
     char series_what[96];
     snprintf(series_what, sizeof series_what, "the %zu samples of the time series", samples_cap);
     if (!lub_memory_fits(ctx, (double)samples_cap * SS_SAMPLE_BYTES, series_what,
@@ -533,6 +766,18 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
         exit_code = LUB_EXIT_INTERNAL;
         goto cleanup;
+    }
+    if (resume) {
+        char why[400];
+        if (ss_checkpoint_read_series(resume, &ser, (size_t)resume_rows, why, sizeof why)) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
+                     ctx->resume_path, why);
+            ctx->resume_rejected = 1;
+            exit_code = LUB_EXIT_BAD_SPEC;
+            goto cleanup;
+        }
+        lub_ckpt_close(resume, NULL, 0);
+        resume = NULL;
     }
 
     /* ---- output tables ---- */
@@ -563,33 +808,53 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         exit_code = LUB_EXIT_IO;
         goto cleanup;
     }
-    if (p.snapshots > 0) {
+    if (old) { /* the stopped run's rows, then its snapshots, unchanged */
+        char why[600] = "";
+        if (lub_h5_continue_table(old, tab, 17, tnames, tnc, resume_rows, why, sizeof why) == 0 &&
+            p.snapshots > 0) {
+            const char *bnd[3] = {"periodic", "periodic", "periodic"};
+            if (lub_h5_particles_define(ctx->out, n, radius, bnd))
+                snprintf(why, sizeof why, "%s", lub_h5_last_error(ctx->out));
+            else
+                lub_h5_continue_snapshots(old, ctx->out, n, resume_frames, why, sizeof why);
+            lp.frames = resume_frames;
+        }
+        lub_h5r_close(old);
+        old = NULL;
+        if (why[0]) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
+                     ctx->resume_result, why);
+            ctx->resume_rejected = 1;
+            exit_code = LUB_EXIT_BAD_SPEC;
+            goto cleanup;
+        }
+    } else if (p.snapshots > 0) {
         const char *bnd[3] = {"periodic", "periodic", "periodic"};
         if (lub_h5_particles_define(ctx->out, n, radius, bnd) || ss_snapshot(ctx, &sys)) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
             exit_code = LUB_EXIT_IO;
             goto cleanup;
         }
+        lp.frames = 1;
     }
 
     /* ---- time loop ---- */
-    double strain = 0.0, p_f = 0.0;
     int stopped_early = 0;
+    int stopped_by_request = 0; /* a stop request ended the loop between two steps */
     const int headline = p.pressure ? S_MU : S_ETA;
-    double next_check = fmax(p.transient_strain + 1.0, 1.0);
-    double bonds_sum = 0.0; /* Q6 bonds over all samples, for the noise floor of the Q6 check */
-    long bonds_samples = 0;
     double row[10 + 6 * 9 + 1];
     _Static_assert(sizeof row == SS_ROW_BYTES, "SS_ROW_BYTES: one row of the time series");
     int64_t step;
-    for (step = 0; step < sched.nsteps; ++step) {
+    for (step = lp.step; step < lp.sched.nsteps; ++step) {
+
         if (ctx->stop_requested && *ctx->stop_requested) {
             exit_code = LUB_EXIT_INTERRUPTED;
+            stopped_by_request = 1;
             break;
         }
-        const int sample = lub_schedule_due(&sched, ev_sample, step);
-        const double strain_here = strain; /* strain of the evaluated configuration */
-        const int pdf_due = lub_schedule_due(&sched, ev_pdf, step);
+        const int sample = lub_schedule_due(&lp.sched, ev_sample, step);
+        const double strain_here = lp.strain; /* strain of the evaluated configuration */
+        const int pdf_due = lub_schedule_due(&lp.sched, ev_pdf, step);
         const int pdf = p.pdf_on && strain_here >= p.pdf_start && pdf_due;
         unsigned flags = (sample ? LUB_SAMPLE_STRESS : 0u) | (p.pressure ? LUB_SAMPLE_SYY : 0u) |
                          (pdf ? LUB_SAMPLE_PDF : 0u);
@@ -621,21 +886,22 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             }
             break;
         }
-        strain += gd * dt;
+        lp.strain += gd * dt;
         if (p.pressure) {
             if (step == 0)
-                p_f = -smp.syy;
-            servo_step(&sys, -smp.syy, &p_f, dt, gd, &p);
+                lp.p_f = -smp.syy;
+            servo_step(&sys, -smp.syy, &lp.p_f, dt, gd, &p);
         }
         const double dt_of_step = dt; /* the step just taken (time of its sample row) */
-        if (lub_shear_step_control(&sys, &ctl)) {
-            dt = ctl.dt;
+        if (lub_shear_step_control(&sys, &lp.ctl)) {
+            dt = lp.ctl.dt;
             sys.dt = dt;
-            lub_schedule_set_dt(&sched, step + 1, sys.time, dt);
+            lub_schedule_set_dt(&lp.sched, step + 1, sys.time, dt);
             if (sys.topology_interval > 0)
                 sys.topology_interval =
                     (int)fmin(1e6, (double)lub_schedule_period(p.delaunay_strain / gd, dt));
-            const size_t more = (size_t)((sched.nsteps - step) / sched.ev[ev_sample].every) + 4;
+            const size_t more =
+                (size_t)((lp.sched.nsteps - step) / lp.sched.ev[ev_sample].every) + 4;
             if (ss_series_reserve(&ser, &scratch, &ratio_z, ser.n + more)) {
                 snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
                 exit_code = LUB_EXIT_INTERNAL;
@@ -647,8 +913,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
              * builds; image shifts stay consistent with the positions until the next rebuild) */
             long bonds_here = 0;
             const double q6_here = lub_shear_bond_order_q6(&sys, SS_BOND_FACTOR, &bonds_here);
-            bonds_sum += (double)bonds_here;
-            ++bonds_samples;
+            lp.bonds_sum += (double)bonds_here;
+            ++lp.bonds_samples;
             double tot[9];
             lub_stress_total(&smp.stress, tot);
             const double P = -tot[4];
@@ -717,8 +983,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 break;
             }
             /* "run until the headline is known to target_rel_error" */
-            if (p.target_rel_error > 0 && strain >= next_check) {
-                next_check = strain + 1.0;
+            if (p.target_rel_error > 0 && lp.strain >= lp.next_check) {
+                lp.next_check = lp.strain + 1.0;
                 /* the headline as the summary written now would report it (same steady
                  * window, same estimator; steady: from the headline's drift test) ... */
                 const size_t start = ss_steady_start(&ser, p.pressure, p.transient_strain, NULL);
@@ -740,20 +1006,38 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 }
             }
         }
-        if (ev_snap >= 0 && lub_schedule_due(&sched, ev_snap, step) && step + 1 < sched.nsteps) {
+        if (ev_snap >= 0 && lub_schedule_due(&lp.sched, ev_snap, step) &&
+            step + 1 < lp.sched.nsteps) {
             if (ss_snapshot(ctx, &sys)) {
                 exit_code = LUB_EXIT_IO;
                 break;
             }
+            lp.frames++;
         }
-        lub_progress_update(ctx->progress, (double)(step + 1) / (double)sched.nsteps, step + 1);
+        lub_progress_update(ctx->progress, (double)(step + 1) / (double)lp.sched.nsteps, step + 1);
     }
     lub_progress_final(ctx->progress, step);
+    /* a stop between two steps: the state before step `step` into the checkpoint, with the
+     * rows and snapshots written so far (before the stop's own last snapshot) */
+    if (stopped_by_request && ctx->checkpoint_path) {
+        lp.step = step;
+        const int64_t frames_in_file =
+            lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+        char why[400] = "";
+        if (ss_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &ser, frames_in_file, &sys,
+                                why, sizeof why) == 0) {
+            ctx->checkpoint_written = 1;
+        } else {
+            remove(ctx->checkpoint_path);
+            snprintf(checkpoint_failure, sizeof checkpoint_failure,
+                     "no checkpoint was written (%s): --resume will start this run afresh", why);
+        }
+    }
     /* the step's advice where the step is the likely cause (not for a cell squeezed below
      * the listing distance, unless /dt was fixed above the bound) */
     if (exit_code == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable) {
-        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_el, "dt_elastic", ctl.changes,
-                                       p.dt_stiffness_safety, ctl.ratio_max);
+        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_el, "dt_elastic", lp.ctl.changes,
+                                       p.dt_stiffness_safety, lp.ctl.ratio_max);
     } else if (exit_code == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_el)) {
         lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_el, "dt_elastic");
     }
@@ -830,16 +1114,16 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_summary_put(ctx, "steady_from_strain", start < ser.n ? ser.strain[start] : NAN, NAN,
                         "1");
         lub_summary_put(ctx, "steady_samples", (double)(ser.n - start), NAN, "1");
-        lub_summary_put(ctx, "strain_reached", strain, NAN, "1");
+        lub_summary_put(ctx, "strain_reached", lp.strain, NAN, "1");
         lub_summary_put(ctx, "dt", dt, NAN, p.pressure ? "eta/P" : "1/gd");
         lub_summary_put(ctx, "dt_elastic", dt_el, NAN, p.pressure ? "eta/P" : "1/gd");
-        lub_summary_put(ctx, "dt_min", ctl.dt_min, NAN, p.pressure ? "eta/P" : "1/gd");
-        lub_summary_put(ctx, "dt_changes", (double)ctl.changes, NAN, "1");
-        lub_summary_put(ctx, "dt_stiffness_ratio", ctl.ratio_max, NAN, "1");
+        lub_summary_put(ctx, "dt_min", lp.ctl.dt_min, NAN, p.pressure ? "eta/P" : "1/gd");
+        lub_summary_put(ctx, "dt_changes", (double)lp.ctl.changes, NAN, "1");
+        lub_summary_put(ctx, "dt_stiffness_ratio", lp.ctl.ratio_max, NAN, "1");
         lub_summary_put(ctx, "neighbor_rebuilds", (double)sys.rebuilds, NAN, "1");
         lub_summary_put(ctx, "cell_flips", (double)sys.flips, NAN, "1");
         lub_summary_put(ctx, "lost_pairs", (double)sys.lost_pairs, NAN, "1");
-        lub_summary_put(ctx, "packing_min_gap", pinfo.min_gap, NAN, "a");
+        lub_summary_put(ctx, "packing_min_gap", lp.packing_min_gap, NAN, "a");
         const int steady_detected = steady && start < ser.n;
         json_object_set_new(ctx->summary_extra, "steady_state_detected",
                             json_boolean(steady_detected));
@@ -853,14 +1137,15 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .kinetic_share_pressure = fabs(mean_of[S_YY_KIN]) / fabs(mean_of[S_P]),
             .crushed_fraction = mean_of[S_CRUSHED],
             .bond_order_q6 = mean_of[S_Q6],
-            .bond_order_random = bonds_sum > 0.0 ? sqrt((double)bonds_samples / bonds_sum) : NAN,
+            .bond_order_random =
+                lp.bonds_sum > 0.0 ? sqrt((double)lp.bonds_samples / lp.bonds_sum) : NAN,
             .lost_pairs = (double)sys.lost_pairs,
             .steady = steady_detected,
             .steady_samples = (double)(ser.n - start),
-            .strain_reached = strain,
+            .strain_reached = lp.strain,
             .transient_strain = p.transient_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,
-            .dt_over_stiffness = p.dt > 0.0 ? ctl.ratio_max : 0.0,
+            .dt_over_stiffness = p.dt > 0.0 ? lp.ctl.ratio_max : 0.0,
             .phi_imposed = p.pressure ? NAN : p.phi,
             .phi_jamming = phi_m,
             .mu_m = mu_m,
@@ -878,6 +1163,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         json_t *warnings = json_array();
         for (int w = 0; w < n_warnings; ++w)
             json_array_append_new(warnings, json_string(warning_text[w]));
+        if (checkpoint_failure[0])
+            json_array_append_new(warnings, json_string(checkpoint_failure));
         json_object_set_new(ctx->summary_extra, "warnings", warnings);
         lub_summary_put(ctx, "elastic_number", checks.elastic_number, NAN, "1");
         json_t *terms = json_array();
@@ -933,6 +1220,11 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     }
 
 cleanup:
+    if (resume)
+        lub_ckpt_close(resume, NULL, 0);
+    if (old)
+        lub_h5r_close(old);
+    free(pos);
     for (int k = 0; k < S_COUNT; ++k)
         free(ser.v[k]);
     free(ser.strain);
@@ -984,4 +1276,5 @@ const lub_scene lub_scene_simple_shear = {
     .resolve = ss_resolve,
     .run = ss_run,
     .memory_need = ss_memory_need,
+    .resumable = 1,
 };

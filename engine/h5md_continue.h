@@ -1,0 +1,33 @@
+/* h5md_continue.h — the output of a stopped run carried into the result.h5 of its continuation:
+ * the first rows of a time-series table and the first particle snapshots of the old file
+ * (h5md_reader.h) appended, unchanged, to a new file (h5md_writer.h), after which the continued
+ * run appends its own.
+ *
+ * Units: as stored. Ownership: borrows the reader and the writer. Memory: one chunk of
+ * LUB_H5_CONTINUE_ROWS rows of every series, or one frame, at a time. Error behaviour: 0, or -1
+ * with err[len] naming the series or frame that could not be read or written (the old file
+ * holds fewer rows or frames than asked for, another shape, an HDF5 error).
+ */
+#ifndef LUBDEM_H5MD_CONTINUE_H
+#define LUBDEM_H5MD_CONTINUE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "h5md_reader.h"
+#include "h5md_writer.h"
+
+enum { LUB_H5_CONTINUE_ROWS = 1024 };
+
+/* Appends rows [0, rows) of the table of nseries series (names, ncomp as given to
+ * lub_h5_table_create) read from `from` to `to`. */
+int lub_h5_continue_table(lub_h5_reader *from, lub_h5_table *to, int nseries,
+                          const char *const *names, const int *ncomp, int64_t rows, char *err,
+                          size_t len);
+
+/* Appends particle snapshots [0, frames) of n particles read from `from` to `to` (whose
+ * particle group is defined); the old file's angular velocities when it has them. */
+int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_t frames, char *err,
+                              size_t len);
+
+#endif

@@ -1,0 +1,208 @@
+#!/usr/bin/env python3
+"""Stopping and resuming simple_shear runs (README "Stopping and resuming"; fast suite).
+
+A run stopped by SIGTERM leaves DIR/checkpoint.h5 next to its partial result.h5; `lubdem run
+SPEC --out DIR --resume` continues it. Checked:
+ 1. imposed volume, 1 thread, snapshots and microstructure on: stopped at about a third, resumed:
+    exit 0, the checkpoint removed, and summary.json (every result with its error bar, steps,
+    rebuilds, flips) and result.h5 (every time series, snapshot and distribution) equal, bit
+    for bit, to those of the same spec run without a stop;
+ 2. imposed pressure (servo), the Delaunay interaction set, 2 threads, stopped twice: the same
+    equality with the uninterrupted 2-thread run;
+ 3. refusals, each exit 2 with the stopped run's files left byte for byte: another /strain
+    (the message names /strain and both values), result.h5 missing, a truncated checkpoint;
+ 4. a run without --resume in a folder with a checkpoint says so on stderr, starts afresh and
+    removes the checkpoint at its end; --resume with no checkpoint starts afresh.
+The stop is sent once the progress lines pass a fraction, so that it lands mid-run on any
+machine (the sanitizer build runs ~10 times slower). Usage: test_resume.py LUBDEM WORKDIR
+"""
+import hashlib
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+LUBDEM, WORK = sys.argv[1], sys.argv[2]
+failures = []
+
+
+def check(cond, what):
+    print(("ok   " if cond else "FAIL ") + what)
+    if not cond:
+        failures.append(what)
+
+
+def write_spec(name, spec):
+    path = os.path.join(WORK, name + ".json")
+    with open(path, "w") as f:
+        json.dump(spec, f)
+    return path
+
+
+def run(spec_path, out, *extra, stop_at=None):
+    """Runs lubdem; with stop_at, sends SIGTERM once a progress line passes that fraction."""
+    cmd = [LUBDEM, "run", spec_path, "--out", out, *extra]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    out_lines = []
+    if stop_at is not None:
+        for line in proc.stdout:
+            out_lines.append(line)
+            if line.startswith("progress "):
+                frac = float(line.split("fraction=")[1].split()[0])
+                if stop_at <= frac < 1.0:
+                    proc.send_signal(signal.SIGTERM)
+                    break
+    rest, err = proc.communicate(timeout=600)
+    return proc.returncode, "".join(out_lines) + rest, err
+
+
+def summary(out):
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)
+
+
+def h5_items(path):
+    """Every dataset of result.h5 except /parameters (build and spec text) as name -> array."""
+    items = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset) and not name.startswith("parameters"):
+                items[name] = obj[()]
+        f.visititems(visit)
+    return items
+
+
+def same_bits(a, b):
+    a, b = np.asarray(a), np.asarray(b)
+    if a.shape != b.shape or a.dtype != b.dtype:
+        return False
+    return a.tobytes() == b.tobytes()
+
+
+def compare_runs(ref_dir, res_dir, label):
+    ra, rb = summary(ref_dir), summary(res_dir)
+    check(rb["status"] == "complete" and rb["exit_code"] == 0, f"{label}: resumed run complete")
+    check(rb.get("resumed_from_step", 0) > 0, f"{label}: summary says where it resumed "
+          f"(resumed_from_step {rb.get('resumed_from_step')})")
+    diff = [k for k in ra["results"] if ra["results"][k] != rb["results"].get(k)]
+    check(not diff and set(ra["results"]) == set(rb["results"]),
+          f"{label}: all {len(ra['results'])} results and error bars equal "
+          f"(mu/eta_r {ra['results'].get('eta_r', ra['results'].get('mu'))['value']})"
+          + (f"; differ: {diff[:5]}" if diff else ""))
+    for key in ("steps", "simulated_time", "steady_state_detected", "warnings"):
+        check(ra.get(key) == rb.get(key), f"{label}: {key} equal ({ra.get(key)!r:.60})")
+    check(not os.path.exists(os.path.join(res_dir, "checkpoint.h5")),
+          f"{label}: checkpoint removed at the end")
+    ia, ib = h5_items(os.path.join(ref_dir, "result.h5")), h5_items(os.path.join(res_dir, "result.h5"))
+    bad = [k for k in ia if k not in ib or not same_bits(ia[k], ib[k])]
+    check(not bad and set(ia) == set(ib),
+          f"{label}: result.h5 equal bit for bit ({len(ia)} datasets, "
+          f"{len(ia.get('observables/mu/value', []))} rows)" + (f"; differ: {bad[:5]}" if bad else ""))
+
+
+def digest(folder):
+    h = {}
+    for name in sorted(os.listdir(folder)):
+        with open(os.path.join(folder, name), "rb") as f:
+            h[name] = hashlib.sha256(f.read()).hexdigest()
+    return h
+
+
+os.makedirs(WORK, exist_ok=True)
+
+# ---- 1. imposed volume, 1 thread ----
+spec1 = write_spec("volume", {
+    "scene": "simple_shear", "n_particles": 300, "phi": 0.5, "stiffness": 1e4, "strain": 3.0,
+    "sample_strain": 0.01, "transient_strain": 0.5, "snapshots": 5,
+    "microstructure": {"enabled": True, "start_strain": 0.5, "interval_strain": 0.05}})
+ref1, res1 = os.path.join(WORK, "ref1"), os.path.join(WORK, "res1")
+for d in (ref1, res1):
+    shutil.rmtree(d, ignore_errors=True)
+rc, _, err = run(spec1, ref1)
+check(rc == 0, f"1: uninterrupted run exit 0 (got {rc}) {err[-300:]}")
+rc, _, err = run(spec1, res1, stop_at=0.3)
+s = summary(res1)
+check(rc == 5 and s["status"] == "partial", f"1: stopped run exit 5, partial (got {rc})")
+check(os.path.exists(os.path.join(res1, "checkpoint.h5")) and s.get("checkpoint") == "checkpoint.h5",
+      "1: stopped run left checkpoint.h5, named in its summary")
+check(not [n for n in os.listdir(res1) if n.startswith(".")], "1: no temporary file left")
+stopped_steps = s["steps"]
+check(0 < stopped_steps < summary(ref1)["steps"],
+      f"1: stopped mid-run (step {stopped_steps} of {summary(ref1)['steps']})")
+
+# ---- 3. refusals (on the stopped run of 1, before it is resumed) ----
+before = digest(res1)
+spec_other = write_spec("volume_other", dict(json.load(open(spec1)), strain=4.0))
+rc, _, err = run(spec_other, res1, "--resume")
+check(rc == 2 and "/strain" in err and "4" in err and "3" in err,
+      f"3: another /strain refused with exit 2 naming it (got {rc}: {err.strip()[-200:]})")
+check(digest(res1) == before, "3: the stopped run's files unchanged")
+bad_dir = os.path.join(WORK, "bad")
+shutil.rmtree(bad_dir, ignore_errors=True)
+shutil.copytree(res1, bad_dir)
+os.remove(os.path.join(bad_dir, "result.h5"))
+before_bad = digest(bad_dir)
+rc, _, err = run(spec1, bad_dir, "--resume")
+check(rc == 2 and "result.h5" in err and "missing" in err,
+      f"3: checkpoint without its result.h5 refused (got {rc}: {err.strip()[-200:]})")
+check(digest(bad_dir) == before_bad, "3: folder unchanged")
+shutil.rmtree(bad_dir)
+shutil.copytree(res1, bad_dir)
+ck = os.path.join(bad_dir, "checkpoint.h5")
+with open(ck, "r+b") as f:
+    f.truncate(os.path.getsize(ck) // 2)
+before_bad = digest(bad_dir)
+rc, _, err = run(spec1, bad_dir, "--resume")
+check(rc == 2 and "checkpoint" in err, f"3: truncated checkpoint refused (got {rc}: "
+      f"{err.strip()[-200:]})")
+check(digest(bad_dir) == before_bad, "3: folder unchanged")
+
+# ---- 1 (cont.): resume ----
+rc, out, err = run(spec1, res1, "--resume")
+check(rc == 0, f"1: resumed run exit 0 (got {rc}) {err[-300:]}")
+compare_runs(ref1, res1, "1")
+
+# ---- 2. imposed pressure, Delaunay, 2 threads, two stops ----
+spec2 = write_spec("pressure", {
+    "scene": "simple_shear", "n_particles": 300, "control": "pressure", "Iv": 0.1,
+    "strain": 3.0, "sample_strain": 0.01, "transient_strain": 0.5,
+    "lubrication_pairs": "delaunay"})
+ref2, res2 = os.path.join(WORK, "ref2"), os.path.join(WORK, "res2")
+for d in (ref2, res2):
+    shutil.rmtree(d, ignore_errors=True)
+rc, _, err = run(spec2, ref2, "--threads", "2")
+check(rc == 0, f"2: uninterrupted 2-thread run exit 0 (got {rc}) {err[-300:]}")
+rc, _, _ = run(spec2, res2, "--threads", "2", stop_at=0.25)
+first_stop = summary(res2)["steps"]
+rc2, _, _ = run(spec2, res2, "--threads", "2", "--resume", stop_at=0.6)
+s = summary(res2)
+check(rc == 5 and rc2 == 5 and s.get("resumed_from_step") == first_stop and s["steps"] > first_stop,
+      f"2: stopped twice (steps {first_stop}, then {s['steps']}; exit {rc}, {rc2})")
+rc, _, err = run(spec2, res2, "--threads", "2", "--resume")
+check(rc == 0, f"2: resumed run exit 0 (got {rc}) {err[-300:]}")
+compare_runs(ref2, res2, "2")
+
+# ---- 4. without --resume / without a checkpoint ----
+fresh = os.path.join(WORK, "fresh")
+shutil.rmtree(fresh, ignore_errors=True)
+spec4 = write_spec("short", {"scene": "simple_shear", "n_particles": 300, "phi": 0.45,
+                             "stiffness": 1e4, "strain": 1.5, "sample_strain": 0.01})
+rc, _, _ = run(spec4, fresh, stop_at=0.3)
+check(rc == 5 and os.path.exists(os.path.join(fresh, "checkpoint.h5")), "4: stopped with a checkpoint")
+rc, _, err = run(spec4, fresh)
+check(rc == 0 and "checkpoint" in err and "--resume" in err,
+      f"4: a run without --resume notes the checkpoint it replaces (got {rc}: {err.strip()[:160]})")
+check(not os.path.exists(os.path.join(fresh, "checkpoint.h5")) and
+      "resumed_from_step" not in summary(fresh), "4: ... starts afresh and removes it")
+rc, out, _ = run(spec4, fresh, "--resume")
+check(rc == 0 and "starts from the beginning" in out and "resumed_from_step" not in summary(fresh),
+      f"4: --resume without a checkpoint starts afresh (got {rc})")
+
+print(f"resume_failures={len(failures)}")
+sys.exit(1 if failures else 0)
