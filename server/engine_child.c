@@ -40,6 +40,8 @@ int lubd_engine_spawn(const lubd_engine_opts *o, lubd_engine_proc *p)
         argv[a++] = "--threads";
         argv[a++] = threads;
     }
+    if (o->resume)
+        argv[a++] = "--resume";
     argv[a] = NULL;
     pid_t parent = getpid();
     pid_t pid = fork();

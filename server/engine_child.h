@@ -18,6 +18,7 @@ typedef struct {
     long mem_mb;   /* RLIMIT_AS, 0 = unlimited (sanitizer builds need 0) */
     long fsize_mb; /* RLIMIT_FSIZE, 0 = unlimited */
     int threads;   /* --threads N, 0 = engine default */
+    int resume;    /* --resume: out_dir holds the checkpoint of the attempt's stopped run */
 } lubd_engine_opts;
 
 typedef struct {

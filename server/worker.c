@@ -157,7 +157,18 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     snprintf(result_dir, sizeof result_dir, "%s/result", job_dir);
 
     char msg[900];
+    /* An attempt released when the service stopped runs again under the same number: its
+     * engine left out/checkpoint.h5 (with out/result.h5) where the scene supports it, and the
+     * run continues from there (lubdem run --resume) instead of from the beginning. The rest
+     * of the folder (the leftovers of a crash) is cleared as before. */
+    char keep_dir[1400], ckpt_path[1500];
+    snprintf(keep_dir, sizeof keep_dir, "%s/resume-out", job_dir);
+    snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", out_dir);
+    int resume = 0;
+    if (lubd_rm_rf(keep_dir) == 0 && access(ckpt_path, F_OK) == 0 && rename(out_dir, keep_dir) == 0)
+        resume = 1;
     if (lubd_rm_rf(attempt_dir) != 0 || lubd_mkdir_p(attempt_dir, 0750) != 0 ||
+        (resume && rename(keep_dir, out_dir) != 0) ||
         lubd_write_file_atomic(spec_path, c->spec_json, strlen(c->spec_json)) != 0) {
         lubd_pathf(msg, sizeof msg, "system error: cannot prepare %s: %s", attempt_dir,
                    strerror(errno));
@@ -170,9 +181,11 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         lubd_lease_fail(w->db, c, "system", msg);
         return;
     }
-    dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s\n", c->id, c->attempt, w->name);
-    lubd_engine_opts eo = {cfg->engine, spec_path,   out_dir,       log_fd,
-                           cfg->cpu_s,  cfg->mem_mb, cfg->fsize_mb, cfg->engine_threads};
+    dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt, w->name,
+            resume ? ", continuing from the checkpoint of its stopped run" : "");
+    lubd_engine_opts eo = {cfg->engine,   spec_path,           out_dir,
+                           log_fd,        cfg->cpu_s,          cfg->mem_mb,
+                           cfg->fsize_mb, cfg->engine_threads, resume};
     lubd_engine_proc ep;
     if (lubd_engine_spawn(&eo, &ep) != 0) {
         snprintf(msg, sizeof msg, "system error: cannot start the engine: %s", strerror(errno));

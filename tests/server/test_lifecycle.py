@@ -4,6 +4,9 @@ log -> list/filter/paging -> dismiss (running and finished) -> user isolation, a
 token revocation; an engine killed by its CPU limit fails the job, not retried."""
 import hashlib
 import json
+import os
+import shutil
+import subprocess
 import time
 
 import lubd_testlib as T
@@ -225,6 +228,60 @@ def run():
         srv4.request("DELETE", "/jobs/" + jid, tok)
     finally:
         srv4.stop()
+
+    # Graceful stop while a simple_shear job runs: its engine leaves a checkpoint, and after the
+    # restart the same attempt continues from it (lubdem run --resume) instead of starting
+    # again; the result equals the engine's own run of the same spec that never stopped.
+    srv5 = T.Server(a, "resume", workers=1).fresh()
+    tok = srv5.token("grace")
+    # 30 strain: about 5 s here, long enough for the stop to land mid-run after the progress
+    # reaches 5 % (heartbeats carry it every second); sanitized engines run ~4 times slower
+    inputs = {"n_particles": 300, "phi": 0.5, "stiffness": 1e4,
+              "strain": 8.0 if a.sanitized else 30.0,
+              "sample_strain": 0.01, "transient_strain": 0.5}
+    srv5.start()
+    try:
+        st, _, doc = srv5.request("POST", "/processes/simple_shear/execution", tok,
+                                  {"inputs": inputs})
+        T.check(st == 201, "submit simple_shear")
+        jid = doc["jobID"]
+        deadline = time.time() + 120
+        while time.time() < deadline and not (doc["status"] == "running" and
+                                               doc.get("progress", 0) >= 5):
+            time.sleep(0.1)
+            st, _, doc = srv5.request("GET", "/jobs/" + jid, tok)
+        T.check(doc["status"] == "running" and doc["progress"] < 100,
+                "simple_shear running at 5 %% before SIGTERM: %s" % doc)
+    finally:
+        T.check(srv5.stop() == 0, "clean stop with a simple_shear job")
+    out = os.path.join(srv5.run, "jobs", jid, "attempt-1", "out")
+    T.check(os.path.exists(os.path.join(out, "checkpoint.h5")),
+            "the stopped engine left its checkpoint in %s: %s" % (out, os.listdir(out)))
+    srv5.start()
+    try:
+        doc = T.wait_final(srv5, tok, jid, timeout=300)
+        T.check(doc["status"] == "successful" and doc["attempt"] == 1,
+                "resumed job successful in attempt 1: %s" % doc)
+        st, _, res = srv5.request("GET", "/jobs/%s/results" % jid, tok)
+        summ = res["summary"]
+        T.check(st == 200 and summ.get("resumed_from_step", 0) > 0,
+                "the job continued from step %s" % summ.get("resumed_from_step"))
+        T.check("checkpoint.h5" not in res["outputs"], "no checkpoint among the outputs")
+        log = open(os.path.join(srv5.run, "jobs", jid, "attempt-1", "log")).read()
+        T.check("continuing from the checkpoint" in log, "the job log says it continued")
+        spec_path = os.path.join(a.work, "resume_spec.json")
+        with open(spec_path, "w") as f:
+            json.dump(dict(inputs, scene="simple_shear"), f)
+        direct = os.path.join(a.work, "resume_direct")
+        shutil.rmtree(direct, ignore_errors=True)
+        subprocess.run([a.engine, "run", spec_path, "--out", direct, "--quiet"], check=True,
+                       timeout=300)
+        ref = json.load(open(os.path.join(direct, "summary.json")))
+        T.check(ref["results"] == summ["results"] and ref["steps"] == summ["steps"],
+                "the resumed job's results equal an uninterrupted run's (mu %s / %s)"
+                % (summ["results"]["mu"]["value"], ref["results"]["mu"]["value"]))
+    finally:
+        srv5.stop()
 
 
 T.main(run)
