@@ -20,16 +20,17 @@ static void on_stop_signal(int sig)
 
 static void usage(FILE *f)
 {
-    fprintf(f,
-            "usage:\n"
-            "  lubdem run SPEC.json --out DIR [--threads N] [--resume] [--quiet] [--json-errors]\n"
-            "  lubdem validate SPEC.json [--json-errors]\n"
-            "  lubdem scenes\n"
-            "  lubdem version\n"
-            "SPEC may be '-' for standard input. Exit codes: 0 ok, 1 internal, 2 usage or\n"
-            "invalid spec, 3 numerical failure, 4 output error, 5 stopped by a signal.\n"
-            "--resume continues the run stopped in DIR from DIR/checkpoint.h5 (same spec),\n"
-            "or starts it when there is none.\n");
+    fprintf(f, "usage:\n"
+               "  lubdem run SPEC.json --out DIR [--threads N] [--resume] [--keep-checkpoint]\n"
+               "             [--quiet] [--json-errors]\n"
+               "  lubdem validate SPEC.json [--json-errors]\n"
+               "  lubdem scenes\n"
+               "  lubdem version\n"
+               "SPEC may be '-' for standard input. Exit codes: 0 ok, 1 internal, 2 usage or\n"
+               "invalid spec, 3 numerical failure, 4 output error, 5 stopped by a signal.\n"
+               "--resume continues the run stopped in DIR from DIR/checkpoint.h5 (same spec;\n"
+               "simple_shear may raise /strain), or starts it when there is none;\n"
+               "--keep-checkpoint keeps the checkpoint of a completed run, to extend it.\n");
 }
 
 /* Reads a whole file (or stdin for "-") into a NUL-terminated buffer; caller frees. */
@@ -103,7 +104,7 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *spec_path = NULL, *out_dir = NULL;
-    int threads = 1, quiet = 0, json_errors = 0, resume = 0;
+    int threads = 1, quiet = 0, json_errors = 0, resume = 0, keep_checkpoint = 0;
     for (int i = 2; i < argc; ++i) {
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
             out_dir = argv[++i];
@@ -119,6 +120,8 @@ int main(int argc, char **argv)
             quiet = 1;
         } else if (strcmp(argv[i], "--resume") == 0) {
             resume = 1;
+        } else if (strcmp(argv[i], "--keep-checkpoint") == 0) {
+            keep_checkpoint = 1;
         } else if (strcmp(argv[i], "--json-errors") == 0) {
             json_errors = 1;
         } else if (!spec_path && (argv[i][0] != '-' || strcmp(argv[i], "-") == 0)) {
@@ -164,7 +167,8 @@ int main(int argc, char **argv)
                                .diag = stderr,
                                .json_errors = json_errors,
                                .stop_requested = &stop_flag,
-                               .resume = resume};
+                               .resume = resume,
+                               .keep_checkpoint = keep_checkpoint};
         rc = lub_run_spec(&req);
     }
     free(text);

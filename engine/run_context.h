@@ -28,6 +28,8 @@ typedef struct lub_run_ctx {
     const char *checkpoint_path; /* where the scene writes its checkpoint when a stop request
                                     ends its time loop (a temporary name the driver renames to
                                     DIR/checkpoint.h5); NULL: none */
+    int checkpoint_always;       /* 1 (--keep-checkpoint): also when the run completes, so
+                                    that a continuation can extend it */
     int checkpoint_written;      /* 1: checkpoint_path holds a complete checkpoint */
     const char *resume_path;     /* checkpoint to continue from (NULL: start afresh) */
     const char *resume_result;   /* the stopped run's result.h5: its rows and snapshots are

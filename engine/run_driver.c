@@ -171,7 +171,7 @@ static int first_difference(const json_t *a, const json_t *b, const char *at, ch
             if (!other) {
                 snprintf(out, len, "%s", sub);
                 snprintf(vb, vlen, "absent");
-                char *t = json_dumps(value, JSON_COMPACT | JSON_ENCODE_ANY);
+                char *t = lub_json_dumps(value, JSON_COMPACT | JSON_ENCODE_ANY);
                 snprintf(va, vlen, "%s", t ? t : "?");
                 free(t);
                 return 1;
@@ -185,8 +185,8 @@ static int first_difference(const json_t *a, const json_t *b, const char *at, ch
         }
     }
     snprintf(out, len, "%s", at[0] ? at : "(root)");
-    char *ta = json_dumps(a, JSON_COMPACT | JSON_ENCODE_ANY);
-    char *tb = json_dumps(b, JSON_COMPACT | JSON_ENCODE_ANY);
+    char *ta = lub_json_dumps(a, JSON_COMPACT | JSON_ENCODE_ANY);
+    char *tb = lub_json_dumps(b, JSON_COMPACT | JSON_ENCODE_ANY);
     snprintf(va, vlen, "%s", ta ? ta : "?");
     snprintf(vb, vlen, "%s", tb ? tb : "?");
     free(ta);
@@ -198,7 +198,7 @@ static int first_difference(const json_t *a, const json_t *b, const char *at, ch
  * resolved spec, member for member) and DIR/result.h5 of the stopped run is there; otherwise
  * the reason in why[len]. */
 static int check_resume(const char *ckpt_path, const char *result_path, const json_t *resolved,
-                        char *why, size_t len)
+                        const char *const *may_differ, char *why, size_t len)
 {
     char err[400];
     lub_ckpt *c = lub_ckpt_open(ckpt_path, err, sizeof err);
@@ -208,17 +208,31 @@ static int check_resume(const char *ckpt_path, const char *result_path, const js
     }
     char *text = lub_ckpt_get_text(c, "spec_resolved");
     json_t *saved = text ? json_loads(text, 0, NULL) : NULL;
+    json_t *here = json_deep_copy(resolved);
+    for (int k = 0; saved && here && may_differ && may_differ[k]; ++k) { /* checked by run() */
+        json_object_del(saved, may_differ[k]);
+        json_object_del(here, may_differ[k]);
+    }
     int rc = 0;
     char at[512], was[160], now[160];
     if (!saved) {
         snprintf(why, len, "%s holds no readable spec (%s)", ckpt_path,
                  text ? "invalid JSON" : lub_ckpt_error(c));
         rc = -1;
-    } else if (first_difference(resolved, saved, "", at, sizeof at, now, was, sizeof now)) {
+    } else if (!here) {
+        snprintf(why, len, "out of memory");
+        rc = -1;
+    } else if (first_difference(here, saved, "", at, sizeof at, now, was, sizeof now)) {
+        char free_members[200] = ""; /* the members a continuation may change */
+        for (int k = 0; may_differ && may_differ[k]; ++k) {
+            const size_t used = strlen(free_members);
+            snprintf(free_members + used, sizeof free_members - used, "%s/%s", k ? ", " : "; only ",
+                     may_differ[k]);
+        }
         snprintf(why, len,
                  "%s: %s here, %s in the stopped run's spec: continue with the same spec (every "
-                 "member, defaults included), or run without --resume to start afresh",
-                 at, now, was);
+                 "member, defaults included%s%s), or run without --resume to start afresh",
+                 at, now, was, free_members, free_members[0] ? " may change" : "");
         rc = -1;
     } else if (access(result_path, R_OK) != 0) {
         snprintf(why, len,
@@ -228,6 +242,7 @@ static int check_resume(const char *ckpt_path, const char *result_path, const js
         rc = -1;
     }
     json_decref(saved);
+    json_decref(here);
     free(text);
     lub_ckpt_close(c, NULL, 0);
     return rc;
@@ -264,7 +279,7 @@ int lub_run_spec(const lub_run_request *req)
     const int resuming = req->resume && had_checkpoint && scene->resumable;
     if (resuming) { /* before anything is written: the old files stay as they are on refusal */
         char why[2 * sizeof ckpt_dst + 1024]; /* two paths and the spec members that differ */
-        if (check_resume(ckpt_dst, h5_dst, resolved, why, sizeof why)) {
+        if (check_resume(ckpt_dst, h5_dst, resolved, scene->resume_may_differ, why, sizeof why)) {
             fprintf(req->diag, "error: --resume: cannot continue from %s: %s\n", ckpt_dst, why);
             json_decref(resolved);
             return LUB_EXIT_BAD_SPEC;
@@ -296,8 +311,10 @@ int lub_run_spec(const lub_run_request *req)
     ctx.stop_requested = req->stop_requested;
     ctx.summary_results = json_object();
     ctx.summary_extra = json_object();
-    if (scene->resumable)
+    if (scene->resumable) {
         ctx.checkpoint_path = ckpt_tmp;
+        ctx.checkpoint_always = req->keep_checkpoint;
+    }
     if (resuming) {
         ctx.resume_path = ckpt_dst;
         ctx.resume_result = h5_dst;

@@ -18,8 +18,10 @@ typedef struct {
     FILE *diag;                            /* diagnostics */
     int json_errors;                       /* spec errors as one JSON object on diag */
     volatile sig_atomic_t *stop_requested; /* set asynchronously by signal handlers */
-    int resume; /* --resume: continue from DIR/checkpoint.h5 when there is one (README
-                   "Stopping and resuming"); without one the run starts from the beginning */
+    int resume;          /* --resume: continue from DIR/checkpoint.h5 when there is one (README
+                            "Stopping and resuming"); without one the run starts from the beginning */
+    int keep_checkpoint; /* --keep-checkpoint: a completed run of a resumable scene keeps
+                            DIR/checkpoint.h5 too, so that --resume can extend it */
 } lub_run_request;
 
 int lub_run_spec(const lub_run_request *req);

@@ -42,6 +42,9 @@ typedef struct {
     /* 1: run() writes a checkpoint when stopped and continues from one (lub_run_ctx
      * checkpoint_path, resume_path); 0: a stopped run of this scene starts afresh. */
     int resumable;
+    /* NULL-terminated top-level spec members a continuation may change (those that only decide
+     * when the run ends, e.g. "strain"); NULL: none. run() checks the new values. */
+    const char *const *resume_may_differ;
 } lub_scene;
 
 /* NULL-terminated table of all scenes. */

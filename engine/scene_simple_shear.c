@@ -429,7 +429,8 @@ typedef struct {
     lub_schedule sched;
 } ss_loop;
 
-enum { SS_CTL_F64 = 5, SS_SCHED_F64 = 2 + LUB_SCHEDULE_MAX_EVENTS };
+enum { SS_CTL_F64 = 5, SS_SCHED_F64 = 3 + LUB_SCHEDULE_MAX_EVENTS };
+enum { SS_SCHED_I64 = 3 + 2 * LUB_SCHEDULE_MAX_EVENTS };
 
 /* The loop state, the series and the system into path (a new file). 0, or -1 with why[len]. */
 static int ss_checkpoint_write(const char *path, const json_t *resolved, const ss_loop *lp,
@@ -445,12 +446,12 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
     const double ctl_f[SS_CTL_F64] = {ctl->dt, ctl->dt_base, ctl->safety, ctl->dt_min,
                                       ctl->ratio_max};
     const int64_t ctl_i[2] = {ctl->changes, ctl->rebuilds};
-    double sched_f[SS_SCHED_F64] = {sc->dt, sc->t_end};
-    int64_t sched_i[2 + 2 * LUB_SCHEDULE_MAX_EVENTS] = {sc->nsteps, sc->n_events};
+    double sched_f[SS_SCHED_F64] = {sc->dt, sc->t_end, sc->anchor_time};
+    int64_t sched_i[SS_SCHED_I64] = {sc->nsteps, sc->n_events, sc->anchor_step};
     for (int e = 0; e < LUB_SCHEDULE_MAX_EVENTS; ++e) {
-        sched_f[2 + e] = e < sc->n_events ? sc->ev[e].spacing : 0.0;
-        sched_i[2 + 2 * e] = e < sc->n_events ? sc->ev[e].every : 0;
-        sched_i[3 + 2 * e] = e < sc->n_events ? sc->ev[e].next : 0;
+        sched_f[3 + e] = e < sc->n_events ? sc->ev[e].spacing : 0.0;
+        sched_i[3 + 2 * e] = e < sc->n_events ? sc->ev[e].every : 0;
+        sched_i[4 + 2 * e] = e < sc->n_events ? sc->ev[e].next : 0;
     }
     int rc = !spec || lub_ckpt_put_text(c, "scene", "simple_shear") ||
              lub_ckpt_put_text(c, "spec_resolved", spec) ||
@@ -466,8 +467,7 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
              lub_ckpt_put(c, "run/step_control_f64", LUB_CKPT_F64, SS_CTL_F64, ctl_f) ||
              lub_ckpt_put(c, "run/step_control_i64", LUB_CKPT_I64, 2, ctl_i) ||
              lub_ckpt_put(c, "run/schedule_f64", LUB_CKPT_F64, SS_SCHED_F64, sched_f) ||
-             lub_ckpt_put(c, "run/schedule_i64", LUB_CKPT_I64, 2 + 2 * LUB_SCHEDULE_MAX_EVENTS,
-                          sched_i) ||
+             lub_ckpt_put(c, "run/schedule_i64", LUB_CKPT_I64, SS_SCHED_I64, sched_i) ||
              lub_ckpt_put(c, "series/strain", LUB_CKPT_F64, ser->n, ser->strain);
     for (int k = 0; k < S_COUNT && !rc; ++k) {
         char name[80];
@@ -492,7 +492,7 @@ static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int6
                                    char *why, size_t len)
 {
     double ctl_f[SS_CTL_F64], sched_f[SS_SCHED_F64];
-    int64_t ctl_i[2], sched_i[2 + 2 * LUB_SCHEDULE_MAX_EVENTS];
+    int64_t ctl_i[2], sched_i[SS_SCHED_I64];
     size_t n_rows = 0;
     if (lub_ckpt_get_i64(c, "run/step", &lp->step) ||
         lub_ckpt_get_f64(c, "run/strain", &lp->strain) ||
@@ -506,8 +506,7 @@ static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int6
         lub_ckpt_get(c, "run/step_control_f64", LUB_CKPT_F64, SS_CTL_F64, ctl_f) ||
         lub_ckpt_get(c, "run/step_control_i64", LUB_CKPT_I64, 2, ctl_i) ||
         lub_ckpt_get(c, "run/schedule_f64", LUB_CKPT_F64, SS_SCHED_F64, sched_f) ||
-        lub_ckpt_get(c, "run/schedule_i64", LUB_CKPT_I64, 2 + 2 * LUB_SCHEDULE_MAX_EVENTS,
-                     sched_i) ||
+        lub_ckpt_get(c, "run/schedule_i64", LUB_CKPT_I64, SS_SCHED_I64, sched_i) ||
         lub_ckpt_count(c, "series/strain", &n_rows)) {
         snprintf(why, len, "%s", lub_ckpt_error(c));
         return -1;
@@ -530,10 +529,12 @@ static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int6
     sc->t_end = sched_f[1];
     sc->nsteps = sched_i[0];
     sc->n_events = (int)sched_i[1];
+    sc->anchor_time = sched_f[2];
+    sc->anchor_step = sched_i[2];
     for (int e = 0; e < sc->n_events; ++e) {
-        sc->ev[e].spacing = sched_f[2 + e];
-        sc->ev[e].every = sched_i[2 + 2 * e];
-        sc->ev[e].next = sched_i[3 + 2 * e];
+        sc->ev[e].spacing = sched_f[3 + e];
+        sc->ev[e].every = sched_i[3 + 2 * e];
+        sc->ev[e].next = sched_i[4 + 2 * e];
     }
     *rows = (int64_t)n_rows;
     return 0;
@@ -748,6 +749,21 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         dt = lp.ctl.dt;
         sys.dt = dt;
         ctx->resumed_from_step = lp.step;
+        /* a continuation may ask for another /strain (scene: resume_may_differ), not for less
+         * than the stopped run has done: the run then takes the steps of one asked for that
+         * strain from the start (lub_schedule_set_end) */
+        if (t_end != lp.sched.t_end) {
+            if (p.strain < lp.strain) {
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                         "cannot continue from %s: /strain: %g here, but the stopped run has "
+                         "already sheared to %.6g",
+                         ctx->resume_path, p.strain, lp.strain);
+                ctx->resume_rejected = 1;
+                exit_code = LUB_EXIT_BAD_SPEC;
+                goto cleanup;
+            }
+            lub_schedule_set_end(&lp.sched, t_end);
+        }
     }
 
     /* the series from the first sample (a continuation: from the checkpoint's) to /strain */
@@ -1017,9 +1033,11 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_progress_update(ctx->progress, (double)(step + 1) / (double)lp.sched.nsteps, step + 1);
     }
     lub_progress_final(ctx->progress, step);
-    /* a stop between two steps: the state before step `step` into the checkpoint, with the
-     * rows and snapshots written so far (before the stop's own last snapshot) */
-    if (stopped_by_request && ctx->checkpoint_path) {
+    /* a stop between two steps (or the end, with --keep-checkpoint): the state before step
+     * `step` into the checkpoint, with the rows and snapshots written so far (before the
+     * last snapshot written below) */
+    if (ctx->checkpoint_path &&
+        (stopped_by_request || (ctx->checkpoint_always && exit_code == LUB_EXIT_OK))) {
         lp.step = step;
         const int64_t frames_in_file =
             lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
@@ -1260,6 +1278,10 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
     return 0;
 }
 
+/* the members that only decide when the run ends: a continuation may change them */
+static const char *const ss_resume_may_differ[] = {"strain", "target_rel_error",
+                                                   "target_min_strain", NULL};
+
 const lub_scene lub_scene_simple_shear = {
     .name = "simple_shear",
     .title = "Periodic simple-shear rheometer (imposed volume or imposed particle pressure)",
@@ -1277,4 +1299,5 @@ const lub_scene lub_scene_simple_shear = {
     .run = ss_run,
     .memory_need = ss_memory_need,
     .resumable = 1,
+    .resume_may_differ = ss_resume_may_differ,
 };

@@ -17,6 +17,8 @@ void lub_schedule_init(lub_schedule *s, double dt, double t_end)
     s->t_end = t_end;
     s->nsteps = steps_for(t_end, dt);
     s->n_events = 0;
+    s->anchor_step = 0;
+    s->anchor_time = 0.0;
 }
 
 int lub_schedule_add(lub_schedule *s, int64_t every, int64_t first, double spacing)
@@ -49,4 +51,12 @@ void lub_schedule_set_dt(lub_schedule *s, int64_t done, double time, double dt_n
     }
     s->nsteps = done + steps_for(s->t_end - time, dt_new);
     s->dt = dt_new;
+    s->anchor_step = done;
+    s->anchor_time = time;
+}
+
+void lub_schedule_set_end(lub_schedule *s, double t_end)
+{
+    s->t_end = t_end;
+    s->nsteps = s->anchor_step + steps_for(t_end - s->anchor_time, s->dt);
 }

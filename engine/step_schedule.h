@@ -33,6 +33,8 @@ typedef struct {
     int64_t nsteps; /* the run ends before step index nsteps */
     int n_events;
     lub_schedule_event ev[LUB_SCHEDULE_MAX_EVENTS];
+    int64_t anchor_step; /* steps done and time at the last change of the step (0, 0 at init): */
+    double anchor_time;  /* nsteps = anchor_step + ceil((t_end - anchor_time)/dt - 1e-9) */
 } lub_schedule;
 
 /* A run of duration t_end >= 0 at step dt > 0. */
@@ -60,5 +62,9 @@ static inline int lub_schedule_due(lub_schedule *s, int id, int64_t step)
 /* The step becomes dt_new > 0 after `done` steps, at time `time`: nsteps and every event are
  * rescheduled as described above. */
 void lub_schedule_set_dt(lub_schedule *s, int64_t done, double time, double dt_new);
+/* The run's duration becomes t_end (a run extended, or shortened before it got there): nsteps
+ * is what it would have been had the run been started with t_end (from the same anchor), so
+ * an extended run takes the steps of one that was asked for t_end from the start. */
+void lub_schedule_set_end(lub_schedule *s, double t_end);
 
 #endif

@@ -9,10 +9,14 @@ SPEC --out DIR --resume` continues it. Checked:
     for bit, to those of the same spec run without a stop;
  2. imposed pressure (servo), the Delaunay interaction set, 2 threads, stopped twice: the same
     equality with the uninterrupted 2-thread run;
- 3. refusals, each exit 2 with the stopped run's files left byte for byte: another /strain
-    (the message names /strain and both values), result.h5 missing, a truncated checkpoint;
+ 3. refusals, each exit 2 with the stopped run's files left byte for byte: another /phi
+    (the message names /phi and both values), result.h5 missing, a truncated checkpoint;
  4. a run without --resume in a folder with a checkpoint says so on stderr, starts afresh and
-    removes the checkpoint at its end; --resume with no checkpoint starts afresh.
+    removes the checkpoint at its end; --resume with no checkpoint starts afresh;
+ 5. extension: a completed 1.5-strain run kept its checkpoint (--keep-checkpoint), --resume with
+    /strain 3 continues it; its time series and distributions equal, bit for bit, those of a
+    run asked for 3 from the start, and so do its results; a /strain below the 1.5 already
+    done is refused (exit 2, files unchanged).
 The stop is sent once the progress lines pass a fraction, so that it lands mid-run on any
 machine (the sanitizer build runs ~10 times slower). Usage: test_resume.py LUBDEM WORKDIR
 """
@@ -138,10 +142,10 @@ check(0 < stopped_steps < summary(ref1)["steps"],
 
 # ---- 3. refusals (on the stopped run of 1, before it is resumed) ----
 before = digest(res1)
-spec_other = write_spec("volume_other", dict(json.load(open(spec1)), strain=4.0))
+spec_other = write_spec("volume_other", dict(json.load(open(spec1)), phi=0.49))
 rc, _, err = run(spec_other, res1, "--resume")
-check(rc == 2 and "/strain" in err and "4" in err and "3" in err,
-      f"3: another /strain refused with exit 2 naming it (got {rc}: {err.strip()[-200:]})")
+check(rc == 2 and "/phi" in err and "0.49" in err and "0.5" in err,
+      f"3: another /phi refused with exit 2 naming it (got {rc}: {err.strip()[-200:]})")
 check(digest(res1) == before, "3: the stopped run's files unchanged")
 bad_dir = os.path.join(WORK, "bad")
 shutil.rmtree(bad_dir, ignore_errors=True)
@@ -203,6 +207,40 @@ check(not os.path.exists(os.path.join(fresh, "checkpoint.h5")) and
 rc, out, _ = run(spec4, fresh, "--resume")
 check(rc == 0 and "starts from the beginning" in out and "resumed_from_step" not in summary(fresh),
       f"4: --resume without a checkpoint starts afresh (got {rc})")
+
+# ---- 5. extending a completed run ----
+ext, ref5 = os.path.join(WORK, "ext"), os.path.join(WORK, "ref5")
+for d in (ext, ref5):
+    shutil.rmtree(d, ignore_errors=True)
+base5 = {"scene": "simple_shear", "n_particles": 300, "phi": 0.5, "stiffness": 1e4,
+         "sample_strain": 0.01, "transient_strain": 0.5, "snapshots": 0,
+         "microstructure": {"enabled": True, "start_strain": 0.5, "interval_strain": 0.05}}
+short5 = write_spec("short5", dict(base5, strain=1.5))
+long5 = write_spec("long5", dict(base5, strain=3.0))
+rc, _, err = run(short5, ext, "--keep-checkpoint")
+s = summary(ext)
+check(rc == 0 and s["status"] == "complete" and s.get("checkpoint") == "checkpoint.h5" and
+      os.path.exists(os.path.join(ext, "checkpoint.h5")),
+      f"5: completed run kept its checkpoint with --keep-checkpoint (exit {rc})")
+short_steps = s["steps"]
+before = digest(ext)
+rc, _, err = run(write_spec("less5", dict(base5, strain=1.0)), ext, "--resume")
+check(rc == 2 and "/strain" in err and "already" in err and digest(ext) == before,
+      f"5: /strain below the strain done refused, files unchanged (got {rc}: {err.strip()[-160:]})")
+rc, _, err = run(long5, ext, "--resume")
+check(rc == 0, f"5: extension to /strain 3 exit 0 (got {rc}) {err[-300:]}")
+rc, _, err = run(long5, ref5)
+check(rc == 0, f"5: run asked for /strain 3 from the start exit 0 (got {rc})")
+s, r = summary(ext), summary(ref5)
+check(s.get("resumed_from_step") == short_steps and s["steps"] == r["steps"],
+      f"5: extended from step {s.get('resumed_from_step')} to {s['steps']} steps "
+      f"(the long run: {r['steps']})")
+check(s["results"] == r["results"], "5: results equal to the long run's (eta_r "
+      f"{s['results']['eta_r']['value']} / {r['results']['eta_r']['value']})")
+ia, ib = h5_items(os.path.join(ref5, "result.h5")), h5_items(os.path.join(ext, "result.h5"))
+bad = [k for k in ia if k not in ib or not same_bits(ia[k], ib[k])]
+check(not bad and set(ia) == set(ib), f"5: result.h5 equal bit for bit to the long run's "
+      f"({len(ia)} datasets)" + (f"; differ: {bad[:5]}" if bad else ""))
 
 print(f"resume_failures={len(failures)}")
 sys.exit(1 if failures else 0)

@@ -5,7 +5,10 @@
  *     and step % every == 0 put them, and nsteps = ceil(t_end/dt - 1e-9);
  *  2. the step falls by 5.3 and then rises by 2 during a run: the run still ends at t_end
  *     (within one step), and successive occurrences of each event stay spacing apart in time
- *     (within one step of the step in force) across both changes.
+ *     (within one step of the step in force) across both changes;
+ *  3. a run's end moved (lub_schedule_set_end, a continuation asked for a longer /strain) gives
+ *     the step count of a schedule built for the new end from the start, with and without a
+ *     change of the step before it, for ends where floating sums of the step would miss by one.
  */
 #include "step_schedule.h"
 
@@ -63,9 +66,37 @@ static void check_changes(void)
     ST_CHECK(n >= 39 && n <= 40, "%d occurrences in %g at spacing %g", n, t_end, spacing);
 }
 
+/* the schedule of a run to t_short then extended to t_long, against one made for t_long */
+static void check_end(double dt0, double t_short, double t_long, int change)
+{
+    lub_schedule a, b;
+    lub_schedule_init(&a, dt0, t_short);
+    lub_schedule_init(&b, dt0, t_long);
+    if (change) { /* the same step change in both, after 1234 steps */
+        double t = 0.0;
+        for (int k = 0; k < 1234; ++k)
+            t += dt0;
+        lub_schedule_set_dt(&a, 1234, t, dt0 / 3.7);
+        lub_schedule_set_dt(&b, 1234, t, dt0 / 3.7);
+    }
+    const int64_t short_steps = a.nsteps;
+    lub_schedule_set_end(&a, t_long);
+    ST_CHECK(a.nsteps == b.nsteps && a.t_end == b.t_end,
+             "extended %g -> %g (change %d): %lld steps, a run made for %g takes %lld", t_short,
+             t_long, change, (long long)a.nsteps, t_long, (long long)b.nsteps);
+    lub_schedule_set_end(&a, t_short);
+    ST_CHECK(a.nsteps == short_steps, "back to %g: %lld steps, not %lld", t_short,
+             (long long)a.nsteps, (long long)short_steps);
+}
+
 int main(void)
 {
     check_constant();
     check_changes();
+    for (int change = 0; change < 2; ++change) {
+        check_end(0.013, 7.0, 21.0, change);
+        check_end(0.1, 0.3, 0.7, change); /* 0.7/0.1 = 6.999999999999999 */
+        check_end(6.1e-5, 3.0, 30.0, change);
+    }
     ST_DONE();
 }
