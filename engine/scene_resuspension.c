@@ -35,16 +35,19 @@
 #include <string.h>
 
 #include "floor_wall.h"
+#include "h5md_continue.h"
 #include "json_text.h"
 #include "law_spec.h"
 #include "resuspension_analysis.h"
 #include "resuspension_bed.h"
+#include "resuspension_checkpoint.h"
 #include "resuspension_profile.h"
 #include "resuspension_system.h"
 #include "run_context.h"
 #include "scene.h"
 #include "scene_summary.h"
 #include "shear_run_checks.h"
+#include "state_checkpoint.h"
 #include "stats.h"
 #include "step_schedule.h"
 #include "step_stiffness.h"
@@ -293,6 +296,96 @@ static int write_profiles(lub_h5 *h5, const char *name, int n, const double *dat
     return lub_h5_write_array(h5, name, 1, dims, data, unit);
 }
 
+/* The time loop's state besides the system and the sample buffers: what a checkpoint holds
+ * with them, so that a stopped run continues as if it had not stopped. */
+typedef struct {
+    int64_t step;           /* loop index to continue at (its sample is taken) */
+    int64_t avg_start_step; /* first step averaged into the profiles */
+    int64_t nh, navg;       /* height samples (= time-series rows) and averaged profiles */
+    int64_t below_floor_max, frames_in_file;
+    double max_ke, min_lowest, contacts_sum, crushed_sum;
+    double y_floor, y_lid; /* the geometry the bed gave (checked on resuming) */
+    lub_step_control ctl;
+    lub_schedule sched;
+} rs_loop;
+
+/* The loop state, the samples and the system into path (a new file). 0, or -1 with why[len]. */
+static int rs_checkpoint_write(const char *path, const json_t *resolved, const rs_loop *lp,
+                               const rs_buffers *b, int nb, const lub_rs_system *S, char *why,
+                               size_t len)
+{
+    lub_ckpt *c = lub_ckpt_create(path, why, len);
+    if (!c)
+        return -1;
+    char *spec = lub_json_dumps(resolved, JSON_COMPACT | JSON_SORT_KEYS);
+    const int64_t ints[6] = {lp->step, lp->avg_start_step,  lp->nh,
+                             lp->navg, lp->below_floor_max, lp->frames_in_file};
+    const double reals[6] = {lp->max_ke,      lp->min_lowest, lp->contacts_sum,
+                             lp->crushed_sum, lp->y_floor,    lp->y_lid};
+    int rc =
+        !spec || lub_ckpt_put_text(c, "scene", "resuspension") ||
+        lub_ckpt_put_text(c, "spec_resolved", spec) ||
+        lub_ckpt_put(c, "run/ints", LUB_CKPT_I64, 6, ints) ||
+        lub_ckpt_put(c, "run/reals", LUB_CKPT_F64, 6, reals) ||
+        lub_step_control_save(c, "run/step_control", &lp->ctl) ||
+        lub_schedule_save(c, "run/schedule", &lp->sched) ||
+        lub_ckpt_put(c, "series/height", LUB_CKPT_F64, (size_t)lp->nh, b->series_h) ||
+        lub_ckpt_put(c, "profiles/samples", LUB_CKPT_F64, (size_t)(lp->navg * nb), b->samples) ||
+        lub_ckpt_put(c, "profiles/vx_volume", LUB_CKPT_F64, (size_t)nb, b->vx_vol) ||
+        lub_ckpt_put(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum) ||
+        lub_rs_save(c, S);
+    free(spec);
+    if (rc)
+        snprintf(why, len, "%s", lub_ckpt_error(c));
+    char close_why[256];
+    if (lub_ckpt_close(c, close_why, sizeof close_why) && !rc) {
+        rc = 1;
+        snprintf(why, len, "%s", close_why);
+    }
+    return rc ? -1 : 0;
+}
+
+/* The loop state of checkpoint c. 0, or -1 with why[len]. */
+static int rs_checkpoint_read_loop(lub_ckpt *c, rs_loop *lp, char *why, size_t len)
+{
+    int64_t ints[6];
+    double reals[6];
+    if (lub_ckpt_get(c, "run/ints", LUB_CKPT_I64, 6, ints) ||
+        lub_ckpt_get(c, "run/reals", LUB_CKPT_F64, 6, reals) ||
+        lub_step_control_load(c, "run/step_control", &lp->ctl) ||
+        lub_schedule_load(c, "run/schedule", &lp->sched) || ints[0] < 0 ||
+        ints[0] > lp->sched.nsteps || ints[2] < 0 || ints[3] < 0 || ints[3] > ints[2]) {
+        snprintf(why, len, "%s",
+                 lub_ckpt_error(c)[0] ? lub_ckpt_error(c) : "inconsistent loop state");
+        return -1;
+    }
+    lp->step = ints[0];
+    lp->avg_start_step = ints[1];
+    lp->nh = ints[2];
+    lp->navg = ints[3];
+    lp->below_floor_max = ints[4];
+    lp->frames_in_file = ints[5];
+    lp->max_ke = reals[0];
+    lp->min_lowest = reals[1];
+    lp->contacts_sum = reals[2];
+    lp->crushed_sum = reals[3];
+    lp->y_floor = reals[4];
+    lp->y_lid = reals[5];
+    return 0;
+}
+
+/* The samples of checkpoint c into b (room reserved). 0 or -1. */
+static int rs_checkpoint_read_samples(lub_ckpt *c, const rs_loop *lp, rs_buffers *b, int nb)
+{
+    return lub_ckpt_get(c, "series/height", LUB_CKPT_F64, (size_t)lp->nh, b->series_h) ||
+                   lub_ckpt_get(c, "profiles/samples", LUB_CKPT_F64, (size_t)(lp->navg * nb),
+                                b->samples) ||
+                   lub_ckpt_get(c, "profiles/vx_volume", LUB_CKPT_F64, (size_t)nb, b->vx_vol) ||
+                   lub_ckpt_get(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum)
+               ? -1
+               : 0;
+}
+
 static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
 {
     rs_params p;
@@ -504,7 +597,69 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     double max_ke = 0.0, min_lowest = INFINITY;
     int below_floor_max = 0;
     double contacts_sum = 0.0, crushed_sum = 0.0; /* over the averaged samples */
-    for (int64_t step = 0; step <= sched.nsteps; ++step) {
+    int64_t first_step = 0, frames = 0;           /* loop start; snapshots asked for */
+    if (ctx->resume_path) { /* the stopped run's state replaces the fresh one */
+        char why[600] = "";
+        rs_loop lp;
+        memset(&lp, 0, sizeof lp);
+        lub_ckpt *ck = lub_ckpt_open(ctx->resume_path, why, sizeof why);
+        lub_h5_reader *old = NULL;
+        int64_t file_rows = 0;
+        if (ck && rs_checkpoint_read_loop(ck, &lp, why, sizeof why) == 0) {
+            const int64_t left = (lp.sched.nsteps - lp.step) / sample_every + 2;
+            if (lp.y_floor != y_floor || lp.y_lid != y_lid || lp.sched.n_events != sched.n_events) {
+                snprintf(why, sizeof why,
+                         "the bed or the events differ from the stopped run's (another build?)");
+            } else if (lub_rs_restore(ck, &S)) {
+                snprintf(why, sizeof why, "%s",
+                         lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "inconsistent pairs");
+            } else if (rs_samples_reserve(&B, nb, lp.nh + left, lp.navg + left, &nsamp_total,
+                                          &nsamp_avg) ||
+                       rs_checkpoint_read_samples(ck, &lp, &B, nb)) {
+                snprintf(why, sizeof why, "%s",
+                         lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "out of memory (samples)");
+            } else if (!(old = lub_h5r_open(ctx->resume_result, why, sizeof why))) {
+                /* why set */
+            } else if (lub_h5r_series_rows(old, names[0], &file_rows) || file_rows < lp.nh) {
+                snprintf(why, sizeof why, "%s holds %lld rows of the time series, not %lld",
+                         ctx->resume_result, (long long)file_rows, (long long)lp.nh);
+            } else if (lub_h5_continue_table(old, tab, 6, names, ncomp, lp.nh, why, sizeof why) ==
+                           0 &&
+                       (p.snapshots == 0 ||
+                        lub_h5_continue_snapshots(old, ctx->out, N, lp.frames_in_file, why,
+                                                  sizeof why) == 0)) {
+                why[0] = '\0';
+            }
+        }
+        if (ck)
+            lub_ckpt_close(ck, NULL, 0);
+        if (old)
+            lub_h5r_close(old);
+        if (!ck || why[0]) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
+                     ctx->resume_path, why[0] ? why : "unreadable");
+            ctx->resume_rejected = 1;
+            lub_rs_free(&S);
+            rs_buffers_free(&B);
+            return LUB_EXIT_BAD_SPEC;
+        }
+        ctl = lp.ctl;
+        sched = lp.sched;
+        dt = ctl.dt;
+        avg_start_step = lp.avg_start_step;
+        nh = lp.nh;
+        navg = lp.navg;
+        max_ke = lp.max_ke;
+        min_lowest = lp.min_lowest;
+        below_floor_max = (int)lp.below_floor_max;
+        contacts_sum = lp.contacts_sum;
+        crushed_sum = lp.crushed_sum;
+        first_step = lp.step;
+        frames = lp.frames_in_file;
+        ctx->resumed_from_step = S.step;
+    }
+    int64_t stopped_at = -1; /* the loop index a stop request ended the loop at */
+    for (int64_t step = first_step; step <= sched.nsteps; ++step) {
         const double t = S.time;
         const int sample = lub_schedule_due(&sched, ev_sample, step) || step == sched.nsteps;
         const int snap =
@@ -583,11 +738,13 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 rc = LUB_EXIT_IO;
                 break;
             }
+            frames++;
         }
         if (step == sched.nsteps)
             break;
         if (ctx->stop_requested && *ctx->stop_requested) {
             rc = LUB_EXIT_INTERRUPTED;
+            stopped_at = step;
             break;
         }
         int e = lub_rs_step(&S);
@@ -621,6 +778,34 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             lub_progress_update(ctx->progress, (double)step / (double)sched.nsteps, S.step);
     }
     lub_progress_final(ctx->progress, S.step);
+    /* a stop between the sample of a step and the step: that state into the checkpoint */
+    char checkpoint_failure[600] = "";
+    if (stopped_at >= 0 && ctx->checkpoint_path) {
+        const rs_loop lp = {.step = stopped_at,
+                            .avg_start_step = avg_start_step,
+                            .nh = nh,
+                            .navg = navg,
+                            .below_floor_max = below_floor_max,
+                            .frames_in_file =
+                                frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0),
+                            .max_ke = max_ke,
+                            .min_lowest = min_lowest,
+                            .contacts_sum = contacts_sum,
+                            .crushed_sum = crushed_sum,
+                            .y_floor = y_floor,
+                            .y_lid = y_lid,
+                            .ctl = ctl,
+                            .sched = sched};
+        char why[400] = "";
+        if (rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, why, sizeof why) ==
+            0) {
+            ctx->checkpoint_written = 1;
+        } else {
+            remove(ctx->checkpoint_path);
+            snprintf(checkpoint_failure, sizeof checkpoint_failure,
+                     "no checkpoint was written (%s): --resume will start this run afresh", why);
+        }
+    }
     if (rc == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable)
         lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", ctl.changes,
                                        p.dt_stiffness_safety, ctl.ratio_max);
@@ -796,6 +981,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                           "(crushed_contact_fraction; u_n < -alpha eps a): "
                                           "contact forces exceed alpha stiffness eps, the "
                                           "results depend on /stiffness: raise it"));
+    if (checkpoint_failure[0])
+        json_array_append_new(warn, json_string(checkpoint_failure));
     json_object_set_new(ctx->summary_extra, "warnings", warn);
     json_object_set_new(
         ctx->summary_extra, "units",
@@ -825,4 +1012,5 @@ const lub_scene lub_scene_resuspension = {
         "(1/Sh) int_y phi, the bulk eta_ii(phi) (interface discarded), Sh, Acrivos A, I.",
     .resolve = rs_resolve,
     .run = rs_run,
+    .resumable = 1,
 };

@@ -37,6 +37,7 @@
 #include "scene_summary.h"
 #include "shear_checkpoint.h"
 #include "shear_run_checks.h"
+#include "state_checkpoint.h"
 #include "shear_system.h"
 #include "stats.h"
 #include "step_schedule.h"
@@ -429,9 +430,6 @@ typedef struct {
     lub_schedule sched;
 } ss_loop;
 
-enum { SS_CTL_F64 = 5, SS_SCHED_F64 = 3 + LUB_SCHEDULE_MAX_EVENTS };
-enum { SS_SCHED_I64 = 3 + 2 * LUB_SCHEDULE_MAX_EVENTS };
-
 /* The loop state, the series and the system into path (a new file). 0, or -1 with why[len]. */
 static int ss_checkpoint_write(const char *path, const json_t *resolved, const ss_loop *lp,
                                const ss_series *ser, int64_t frames_in_file,
@@ -441,18 +439,6 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
     if (!c)
         return -1;
     char *spec = lub_json_dumps(resolved, JSON_COMPACT | JSON_SORT_KEYS);
-    const lub_step_control *ctl = &lp->ctl;
-    const lub_schedule *sc = &lp->sched;
-    const double ctl_f[SS_CTL_F64] = {ctl->dt, ctl->dt_base, ctl->safety, ctl->dt_min,
-                                      ctl->ratio_max};
-    const int64_t ctl_i[2] = {ctl->changes, ctl->rebuilds};
-    double sched_f[SS_SCHED_F64] = {sc->dt, sc->t_end, sc->anchor_time};
-    int64_t sched_i[SS_SCHED_I64] = {sc->nsteps, sc->n_events, sc->anchor_step};
-    for (int e = 0; e < LUB_SCHEDULE_MAX_EVENTS; ++e) {
-        sched_f[3 + e] = e < sc->n_events ? sc->ev[e].spacing : 0.0;
-        sched_i[3 + 2 * e] = e < sc->n_events ? sc->ev[e].every : 0;
-        sched_i[4 + 2 * e] = e < sc->n_events ? sc->ev[e].next : 0;
-    }
     int rc = !spec || lub_ckpt_put_text(c, "scene", "simple_shear") ||
              lub_ckpt_put_text(c, "spec_resolved", spec) ||
              lub_ckpt_put_i64(c, "run/step", lp->step) ||
@@ -464,10 +450,8 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
              lub_ckpt_put_i64(c, "run/frames", lp->frames) ||
              lub_ckpt_put_i64(c, "run/frames_in_file", frames_in_file) ||
              lub_ckpt_put_f64(c, "run/packing_min_gap", lp->packing_min_gap) ||
-             lub_ckpt_put(c, "run/step_control_f64", LUB_CKPT_F64, SS_CTL_F64, ctl_f) ||
-             lub_ckpt_put(c, "run/step_control_i64", LUB_CKPT_I64, 2, ctl_i) ||
-             lub_ckpt_put(c, "run/schedule_f64", LUB_CKPT_F64, SS_SCHED_F64, sched_f) ||
-             lub_ckpt_put(c, "run/schedule_i64", LUB_CKPT_I64, SS_SCHED_I64, sched_i) ||
+             lub_step_control_save(c, "run/step_control", &lp->ctl) ||
+             lub_schedule_save(c, "run/schedule", &lp->sched) ||
              lub_ckpt_put(c, "series/strain", LUB_CKPT_F64, ser->n, ser->strain);
     for (int k = 0; k < S_COUNT && !rc; ++k) {
         char name[80];
@@ -491,8 +475,6 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
 static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int64_t *frames_in_file,
                                    char *why, size_t len)
 {
-    double ctl_f[SS_CTL_F64], sched_f[SS_SCHED_F64];
-    int64_t ctl_i[2], sched_i[SS_SCHED_I64];
     size_t n_rows = 0;
     if (lub_ckpt_get_i64(c, "run/step", &lp->step) ||
         lub_ckpt_get_f64(c, "run/strain", &lp->strain) ||
@@ -500,41 +482,19 @@ static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int6
         lub_ckpt_get_f64(c, "run/next_check", &lp->next_check) ||
         lub_ckpt_get_f64(c, "run/bonds_sum", &lp->bonds_sum) ||
         lub_ckpt_get_i64(c, "run/bonds_samples", &lp->bonds_samples) ||
-        lub_ckpt_get_i64(c, "run/frames", &lp->frames) ||
         lub_ckpt_get_i64(c, "run/frames_in_file", frames_in_file) ||
         lub_ckpt_get_f64(c, "run/packing_min_gap", &lp->packing_min_gap) ||
-        lub_ckpt_get(c, "run/step_control_f64", LUB_CKPT_F64, SS_CTL_F64, ctl_f) ||
-        lub_ckpt_get(c, "run/step_control_i64", LUB_CKPT_I64, 2, ctl_i) ||
-        lub_ckpt_get(c, "run/schedule_f64", LUB_CKPT_F64, SS_SCHED_F64, sched_f) ||
-        lub_ckpt_get(c, "run/schedule_i64", LUB_CKPT_I64, SS_SCHED_I64, sched_i) ||
+        lub_step_control_load(c, "run/step_control", &lp->ctl) ||
+        lub_schedule_load(c, "run/schedule", &lp->sched) ||
         lub_ckpt_count(c, "series/strain", &n_rows)) {
-        snprintf(why, len, "%s", lub_ckpt_error(c));
+        snprintf(why, len, "%s",
+                 lub_ckpt_error(c)[0] ? lub_ckpt_error(c) : "inconsistent step control or events");
         return -1;
     }
-    if (sched_i[1] < 0 || sched_i[1] > LUB_SCHEDULE_MAX_EVENTS || lp->step < 0 ||
-        lp->step > sched_i[0] || !(sched_f[0] > 0.0) || !(ctl_f[0] > 0.0)) {
-        snprintf(why, len, "inconsistent loop state (step %lld of %lld, %lld events)",
-                 (long long)lp->step, (long long)sched_i[0], (long long)sched_i[1]);
+    if (lp->step < 0 || lp->step > lp->sched.nsteps) {
+        snprintf(why, len, "inconsistent loop state (step %lld of %lld)", (long long)lp->step,
+                 (long long)lp->sched.nsteps);
         return -1;
-    }
-    lp->ctl = (lub_step_control){.dt = ctl_f[0],
-                                 .dt_base = ctl_f[1],
-                                 .safety = ctl_f[2],
-                                 .dt_min = ctl_f[3],
-                                 .ratio_max = ctl_f[4],
-                                 .changes = (long)ctl_i[0],
-                                 .rebuilds = (long)ctl_i[1]};
-    lub_schedule *sc = &lp->sched;
-    sc->dt = sched_f[0];
-    sc->t_end = sched_f[1];
-    sc->nsteps = sched_i[0];
-    sc->n_events = (int)sched_i[1];
-    sc->anchor_time = sched_f[2];
-    sc->anchor_step = sched_i[2];
-    for (int e = 0; e < sc->n_events; ++e) {
-        sc->ev[e].spacing = sched_f[3 + e];
-        sc->ev[e].every = sched_i[3 + 2 * e];
-        sc->ev[e].next = sched_i[4 + 2 * e];
     }
     *rows = (int64_t)n_rows;
     return 0;

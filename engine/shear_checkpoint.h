@@ -9,7 +9,7 @@
  * (active, near, allowed), the balanced split of the pairs over the threads, the Delaunay
  * update statistics and the microstructure sums. Values are stored bit for bit, so a run
  * continued with the same binary and thread count gives the same numbers as one that never
- * stopped (1 and 2 threads; tests/shear/test_resume.sh). What is rebuilt rather than stored:
+ * stopped (1 and 2 threads; tests/shear/test_resume.py). What is rebuilt rather than stored:
  * the cell lists and the Delaunay candidate sites (recomputed at every update from positions),
  * the per-thread sums (zeroed at every step), masses and inertias (from the radii and the
  * density of the spec).
