@@ -1,6 +1,8 @@
 /* checkpoint_file.c — typed store of named arrays in an HDF5 file (layout in checkpoint_file.h). */
 #include "checkpoint_file.h"
 
+#include "h5_path.h"
+
 #include <errno.h>
 #include <hdf5.h>
 #include <stdarg.h>
@@ -112,29 +114,6 @@ static int put_failed(lub_ckpt *c)
         snprintf(c->failure, sizeof c->failure, "%s", c->err);
     }
     return -1;
-}
-
-/* 1 if every link along path exists (HDF5 1.10's H5Lexists fails on a missing intermediate
- * group, or on a dataset taken for one), else 0. */
-static int path_exists(hid_t loc, const char *path)
-{
-    const size_t n = strlen(path);
-    char *buf = malloc(n + 1);
-    if (!buf)
-        return 0;
-    memcpy(buf, path, n + 1);
-    int ok = 1;
-    for (size_t i = 1; ok && i <= n; ++i) {
-        if (i < n && path[i] != '/')
-            continue;
-        if (path[i - 1] == '/') /* "//" or a trailing '/' */
-            continue;
-        buf[i] = '\0';
-        ok = H5Lexists(loc, buf, H5P_DEFAULT) > 0;
-        buf[i] = path[i];
-    }
-    free(buf);
-    return ok;
 }
 
 static lub_ckpt *new_ckpt(const char *path)
@@ -303,7 +282,7 @@ static int put_begin(lub_ckpt *c, const char *name)
         fail(c, name, "not written: no name");
         return put_failed(c);
     }
-    if (path_exists(c->file, name)) {
+    if (lub_h5_path_exists(c->file, name)) {
         fail(c, name, "exists already");
         return put_failed(c);
     }
@@ -412,7 +391,7 @@ static hid_t open_dataset(lub_ckpt *c, const char *name)
         fail(c, name, "cannot be read: no name");
         return H5I_INVALID_HID;
     }
-    if (!path_exists(c->file, name)) {
+    if (!lub_h5_path_exists(c->file, name)) {
         fail(c, name, "is missing from %s", c->path);
         return H5I_INVALID_HID;
     }

@@ -1,6 +1,8 @@
 /* h5md_reader.c — chunked reading of result.h5 (layout in h5md_reader.h and h5md_writer.h). */
 #include "h5md_reader.h"
 
+#include "h5_path.h"
+
 #include <errno.h>
 #include <hdf5.h>
 #include <stdarg.h>
@@ -46,29 +48,6 @@ fail(lub_h5_reader *r, const char *fmt, ...)
     return -1;
 }
 
-/* 1 if every link along path exists (HDF5 1.10's H5Lexists fails on a missing intermediate
- * group), else 0. */
-static int path_exists(hid_t loc, const char *path)
-{
-    const size_t n = strlen(path);
-    char *buf = malloc(n + 1);
-    if (!buf)
-        return 0;
-    memcpy(buf, path, n + 1);
-    int ok = 1;
-    for (size_t i = 1; ok && i <= n; ++i) {
-        if (i < n && path[i] != '/')
-            continue;
-        if (path[i - 1] == '/')
-            continue;
-        buf[i] = '\0';
-        ok = H5Lexists(loc, buf, H5P_DEFAULT) > 0;
-        buf[i] = path[i];
-    }
-    free(buf);
-    return ok;
-}
-
 static void dataset_close(dataset *d)
 {
     if (d->id >= 0)
@@ -83,7 +62,7 @@ static int dataset_open(hid_t file, const char *path, dataset *d)
 {
     d->id = H5I_INVALID_HID;
     d->rank = 0;
-    if (!path_exists(file, path))
+    if (!lub_h5_path_exists(file, path))
         return 1;
     d->id = H5Dopen2(file, path, H5P_DEFAULT);
     if (d->id < 0)
@@ -174,7 +153,7 @@ lub_h5_reader *lub_h5r_open(const char *path, char *err, size_t len)
         free(r);
         return NULL;
     }
-    if (!path_exists(r->file, "/h5md")) {
+    if (!lub_h5_path_exists(r->file, "/h5md")) {
         snprintf(err, len, "result file: %s is not an H5MD file (no /h5md group)", path);
         H5Fclose(r->file);
         free(r->path);
@@ -352,7 +331,7 @@ static int open_particles(lub_h5_reader *r)
         snprintf(r->err, sizeof r->err, "%s", r->p_err);
         return -1;
     }
-    if (!path_exists(r->file, PARTICLES))
+    if (!lub_h5_path_exists(r->file, PARTICLES))
         return particles_bad(r, "result file: %.200s has no particle snapshots (no %s)", r->path,
                              PARTICLES);
     static const char *const paths[6] = {

@@ -334,15 +334,11 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
         lub_ckpt_put(c, "profiles/vx_volume", LUB_CKPT_F64, (size_t)nb, b->vx_vol) ||
         lub_ckpt_put(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum) ||
         lub_rs_save(c, S);
+    const int closed = lub_ckpt_close(c, why, len); /* why: the first failed write */
+    if (!spec)
+        snprintf(why, len, "out of memory (spec text)");
     free(spec);
-    if (rc)
-        snprintf(why, len, "%s", lub_ckpt_error(c));
-    char close_why[256];
-    if (lub_ckpt_close(c, close_why, sizeof close_why) && !rc) {
-        rc = 1;
-        snprintf(why, len, "%s", close_why);
-    }
-    return rc ? -1 : 0;
+    return rc || closed ? -1 : 0;
 }
 
 /* The loop state of checkpoint c. 0, or -1 with why[len]. */

@@ -459,15 +459,11 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
         rc = lub_ckpt_put(c, name, LUB_CKPT_F64, ser->n, ser->v[k]);
     }
     rc = rc || lub_shear_save(c, sys);
+    const int closed = lub_ckpt_close(c, why, len); /* why: the first failed write */
+    if (!spec)
+        snprintf(why, len, "out of memory (spec text)");
     free(spec);
-    if (rc && why)
-        snprintf(why, len, "%s", lub_ckpt_error(c));
-    char close_why[256];
-    if (lub_ckpt_close(c, close_why, sizeof close_why) && !rc) {
-        rc = 1;
-        snprintf(why, len, "%s", close_why);
-    }
-    return rc ? -1 : 0;
+    return rc || closed ? -1 : 0;
 }
 
 /* The loop state (lp: all but the series) of checkpoint c; the series are read by
