@@ -1,7 +1,7 @@
 /* checkpoint_file.c — typed store of named arrays in an HDF5 file (layout in checkpoint_file.h). */
 #include "checkpoint_file.h"
 
-#include "h5_path.h"
+#include "h5_read.h"
 
 #include <errno.h>
 #include <hdf5.h>
@@ -216,38 +216,13 @@ lub_ckpt *lub_ckpt_open(const char *path, char *err, size_t len)
         snprintf(err, len, "checkpoint: no file name");
         return NULL;
     }
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        snprintf(err, len, "checkpoint: cannot open %s: %s", path, strerror(errno));
-        return NULL;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        snprintf(err, len, "checkpoint: cannot open %s: not a regular file", path);
-        return NULL;
-    }
     lub_ckpt *c = new_ckpt(path);
     if (!c) {
         snprintf(err, len, "checkpoint: out of memory opening %s", path);
         return NULL;
     }
-    errno = 0;
-    const htri_t is_h5 = H5Fis_hdf5(path);
-    if (is_h5 <= 0) {
-        const int e = errno;
-        if (is_h5 < 0 && e)
-            snprintf(err, len, "checkpoint: cannot open %s: %s", path, strerror(e));
-        else
-            snprintf(err, len, "checkpoint: %s is not an HDF5 file", path);
-        free_ckpt(c);
-        return NULL;
-    }
-    errno = 0;
-    c->file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    c->file = lub_h5_open_read(path, "checkpoint", err, len);
     if (c->file < 0) {
-        const int e = errno;
-        char reason[160];
-        failure_reason(e, reason);
-        snprintf(err, len, "checkpoint: cannot open %s: %s", path, e ? strerror(e) : reason);
         free_ckpt(c);
         return NULL;
     }

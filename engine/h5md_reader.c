@@ -1,7 +1,7 @@
 /* h5md_reader.c — chunked reading of result.h5 (layout in h5md_reader.h and h5md_writer.h). */
 #include "h5md_reader.h"
 
-#include "h5_path.h"
+#include "h5_read.h"
 
 #include <errno.h>
 #include <hdf5.h>
@@ -110,29 +110,6 @@ lub_h5_reader *lub_h5r_open(const char *path, char *err, size_t len)
         snprintf(err, len, "result file: no file name");
         return NULL;
     }
-    /* As in lub_h5_create: no HDF5 exit handler (this may be the process's first HDF5 call),
-     * and we report errors ourselves. */
-    H5dont_atexit();
-    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-    struct stat st;
-    if (stat(path, &st) != 0) {
-        snprintf(err, len, "result file: cannot open %s: %s", path, strerror(errno));
-        return NULL;
-    }
-    if (!S_ISREG(st.st_mode)) {
-        snprintf(err, len, "result file: cannot open %s: not a regular file", path);
-        return NULL;
-    }
-    errno = 0;
-    const htri_t is_h5 = H5Fis_hdf5(path);
-    if (is_h5 <= 0) {
-        const int e = errno;
-        if (is_h5 < 0 && e)
-            snprintf(err, len, "result file: cannot open %s: %s", path, strerror(e));
-        else
-            snprintf(err, len, "result file: %s is not an HDF5 file", path);
-        return NULL;
-    }
     lub_h5_reader *r = calloc(1, sizeof *r);
     if (!r || !(r->path = strdup(path))) {
         free(r);
@@ -143,12 +120,8 @@ lub_h5_reader *lub_h5r_open(const char *path, char *err, size_t len)
                        &r->p_edges, &r->p_pos,  &r->p_vel,   &r->p_omega};
     for (int i = 0; i < 9; ++i)
         all[i]->id = H5I_INVALID_HID;
-    errno = 0;
-    r->file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    r->file = lub_h5_open_read(path, "result file", err, len);
     if (r->file < 0) {
-        const int e = errno;
-        snprintf(err, len, "result file: cannot open %s%s%s", path, e ? ": " : "",
-                 e ? strerror(e) : "");
         free(r->path);
         free(r);
         return NULL;
