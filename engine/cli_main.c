@@ -12,11 +12,9 @@
 
 static volatile sig_atomic_t stop_flag = 0;
 
-static void on_stop_signal(int sig)
-{
-    (void)sig;
-    stop_flag = 1;
-}
+/* SIGTERM, SIGINT, SIGXCPU (the CPU-time limit): the run stops at its next step; the flag holds
+ * the signal, so that the summary can say which */
+static void on_stop_signal(int sig) { stop_flag = sig; }
 
 static void usage(FILE *f)
 {
@@ -157,6 +155,9 @@ int main(int argc, char **argv)
         sigemptyset(&sa.sa_mask);
         sigaction(SIGTERM, &sa, NULL);
         sigaction(SIGINT, &sa, NULL);
+        /* the soft CPU-time limit (ulimit -t; lubdemd --cpu-s sets the hard one 5 s later):
+         * stop with the results so far and a checkpoint instead of dying without them */
+        sigaction(SIGXCPU, &sa, NULL);
         /* a write beyond RLIMIT_FSIZE fails (EFBIG: exit 4 with a message) instead of killing
          * the process; the snapshot writer keeps clear of the limit (h5md_writer.h) */
         signal(SIGXFSZ, SIG_IGN);

@@ -340,6 +340,17 @@ int lub_run_spec(const lub_run_request *req)
     }
     if (rc == LUB_EXIT_OK && req->stop_requested && *req->stop_requested)
         rc = LUB_EXIT_INTERRUPTED;
+    if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested == SIGXCPU) {
+        const size_t used = strlen(ctx.diagnostic);
+        snprintf(ctx.diagnostic + used, sizeof ctx.diagnostic - used,
+                 "%sstopped at the CPU time limit of this process (SIGXCPU: ulimit -t, lubdemd "
+                 "--cpu-s): the results are those of the steps done%s",
+                 used ? "; " : "",
+                 ctx.checkpoint_written
+                     ? "; lubdem run --resume with a higher limit continues the run"
+                     : "");
+        fprintf(req->diag, "note: %s\n", ctx.diagnostic);
+    }
     if (ctx.threads < threads_requested) {
         char text[256];
         snprintf(text, sizeof text,

@@ -17,7 +17,9 @@ typedef struct {
     FILE *progress;                        /* progress lines (NULL = quiet) */
     FILE *diag;                            /* diagnostics */
     int json_errors;                       /* spec errors as one JSON object on diag */
-    volatile sig_atomic_t *stop_requested; /* set asynchronously by signal handlers */
+    volatile sig_atomic_t *stop_requested; /* set asynchronously by signal handlers to the
+                                              signal that asks the run to stop (SIGTERM,
+                                              SIGINT, SIGXCPU); 0: none */
     int resume;          /* --resume: continue from DIR/checkpoint.h5 when there is one (README
                             "Stopping and resuming"); without one the run starts from the beginning */
     int keep_checkpoint; /* --keep-checkpoint: a completed run of a resumable scene keeps

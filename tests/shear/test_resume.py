@@ -19,13 +19,17 @@ SPEC --out DIR --resume` continues it. Checked:
     run asked for 3 from the start, and so do its results; a /strain below the 1.5 already
     done is refused (exit 2, files unchanged);
  6. resuspension (2 threads, snapshots): stopped at about a third and resumed, the same
-    equality with the uninterrupted run (its summary, every time series, snapshot and profile).
+    equality with the uninterrupted run (its summary, every time series, snapshot and profile);
+ 7. the CPU-time limit (a soft RLIMIT_CPU of 3 s, as ulimit -S -t or lubdemd --cpu-s set it):
+    the run stops at SIGXCPU like at SIGTERM (exit 5, partial, a checkpoint) and says why in
+    its diagnostic and on stderr; it used to be killed by the signal with nothing written.
 The stop is sent once the progress lines pass a fraction, so that it lands mid-run on any
 machine (the sanitizer build runs ~10 times slower). Usage: test_resume.py LUBDEM WORKDIR
 """
 import hashlib
 import json
 import os
+import resource
 import shutil
 import signal
 import subprocess
@@ -52,10 +56,16 @@ def write_spec(name, spec):
     return path
 
 
-def run(spec_path, out, *extra, stop_at=None):
-    """Runs lubdem; with stop_at, sends SIGTERM once a progress line passes that fraction."""
+def run(spec_path, out, *extra, stop_at=None, cpu_s=None):
+    """Runs lubdem; with stop_at, sends SIGTERM once a progress line passes that fraction; with
+    cpu_s, under that soft CPU-time limit (SIGXCPU; no hard limit)."""
     cmd = [LUBDEM, "run", spec_path, "--out", out, *extra]
-    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    limit = None
+    if cpu_s is not None:
+        def limit():
+            resource.setrlimit(resource.RLIMIT_CPU, (cpu_s, resource.RLIM_INFINITY))
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            preexec_fn=limit)
     out_lines = []
     if stop_at is not None:
         for line in proc.stdout:
@@ -260,6 +270,18 @@ check(rc == 5 and s.get("checkpoint") == "checkpoint.h5" and 0 < s["steps"] < su
 rc, _, err = run(spec6, res6, "--threads", "2", "--resume")
 check(rc == 0, f"6: resumed run exit 0 (got {rc}) {err[-300:]}")
 compare_runs(ref6, res6, "6")
+
+# ---- 7. the CPU-time limit ----
+cpu = os.path.join(WORK, "cpu")
+shutil.rmtree(cpu, ignore_errors=True)
+spec7 = write_spec("cpu", {"scene": "simple_shear", "n_particles": 300, "phi": 0.5,
+                           "stiffness": 1e4, "strain": 1000, "sample_strain": 0.01})
+rc, _, err = run(spec7, cpu, cpu_s=3)
+s = summary(cpu) if os.path.exists(os.path.join(cpu, "summary.json")) else {}
+check(rc == 5 and s.get("status") == "partial" and s.get("checkpoint") == "checkpoint.h5" and
+      "SIGXCPU" in s.get("diagnostic", "") and "CPU time limit" in err,
+      f"7: stopped at the CPU-time limit with a checkpoint (exit {rc}, step {s.get('steps')}, "
+      f"{s.get('diagnostic', '')[:120]})")
 
 print(f"resume_failures={len(failures)}")
 sys.exit(1 if failures else 0)
