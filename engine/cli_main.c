@@ -20,7 +20,7 @@ static void usage(FILE *f)
 {
     fprintf(f, "usage:\n"
                "  lubdem run SPEC.json --out DIR [--threads N] [--resume] [--keep-checkpoint]\n"
-               "             [--quiet] [--json-errors]\n"
+               "             [--checkpoint-every SECONDS] [--quiet] [--json-errors]\n"
                "  lubdem validate SPEC.json [--json-errors]\n"
                "  lubdem scenes\n"
                "  lubdem version\n"
@@ -28,7 +28,9 @@ static void usage(FILE *f)
                "invalid spec, 3 numerical failure, 4 output error, 5 stopped by a signal.\n"
                "--resume continues the run stopped in DIR from DIR/checkpoint.h5 (same spec;\n"
                "simple_shear may raise /strain), or starts it when there is none;\n"
-               "--keep-checkpoint keeps the checkpoint of a completed run, to extend it.\n");
+               "--keep-checkpoint keeps the checkpoint of a completed run, to extend it;\n"
+               "--checkpoint-every also writes one every SECONDS of wall time (a kill -9\n"
+               "then loses at most that much).\n");
 }
 
 /* Reads a whole file (or stdin for "-") into a NUL-terminated buffer; caller frees. */
@@ -103,6 +105,7 @@ int main(int argc, char **argv)
     }
     const char *spec_path = NULL, *out_dir = NULL;
     int threads = 1, quiet = 0, json_errors = 0, resume = 0, keep_checkpoint = 0;
+    double checkpoint_every = 0.0;
     for (int i = 2; i < argc; ++i) {
         if (strcmp(argv[i], "--out") == 0 && i + 1 < argc) {
             out_dir = argv[++i];
@@ -120,6 +123,15 @@ int main(int argc, char **argv)
             resume = 1;
         } else if (strcmp(argv[i], "--keep-checkpoint") == 0) {
             keep_checkpoint = 1;
+        } else if (strcmp(argv[i], "--checkpoint-every") == 0 && i + 1 < argc) {
+            char *end;
+            const double s = strtod(argv[++i], &end);
+            if (*end || !(s >= 0.1 && s <= 1e7)) {
+                fprintf(stderr, "error: --checkpoint-every must be a number of seconds from 0.1 "
+                                "to 1e7\n");
+                return 2;
+            }
+            checkpoint_every = s;
         } else if (strcmp(argv[i], "--json-errors") == 0) {
             json_errors = 1;
         } else if (!spec_path && (argv[i][0] != '-' || strcmp(argv[i], "-") == 0)) {
@@ -169,7 +181,8 @@ int main(int argc, char **argv)
                                .json_errors = json_errors,
                                .stop_requested = &stop_flag,
                                .resume = resume,
-                               .keep_checkpoint = keep_checkpoint};
+                               .keep_checkpoint = keep_checkpoint,
+                               .checkpoint_every_s = checkpoint_every};
         rc = lub_run_spec(&req);
     }
     free(text);

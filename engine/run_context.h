@@ -10,6 +10,7 @@
 
 #include "h5md_writer.h"
 #include "memory_budget.h"
+#include "periodic_checkpoint.h"
 #include "progress.h"
 
 typedef struct lub_run_ctx {
@@ -38,6 +39,9 @@ typedef struct lub_run_ctx {
                                     (diagnostic says why); the driver keeps the old files and
                                     discards the new ones, exit 2 */
     long long resumed_from_step; /* steps the stopped run had done (0: not continued) */
+    lub_periodic_ckpt *periodic; /* checkpoints while the run goes on (--checkpoint-every);
+                                    NULL: none. The scene takes one when lub_periodic_due
+                                    says so, between two steps */
 } lub_run_ctx;
 
 /* Helpers for summary entries. stderr_value < 0 or NaN means "no error bar" (null). */

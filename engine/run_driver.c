@@ -195,10 +195,12 @@ static int first_difference(const json_t *a, const json_t *b, const char *at, ch
 }
 
 /* --resume with DIR/checkpoint.h5 present: 0 when the checkpoint belongs to this spec (the same
- * resolved spec, member for member) and DIR/result.h5 of the stopped run is there; otherwise
- * the reason in why[len]. */
-static int check_resume(const char *ckpt_path, const char *result_path, const json_t *resolved,
-                        const char *const *may_differ, char *why, size_t len)
+ * resolved spec, member for member, but for may_differ) and the file holding its rows is there
+ * (result.h5 of a stopped run, LUB_PERIODIC_OUTPUT of a periodic checkpoint), whose path goes to
+ * result_path[result_len]; otherwise the reason in why[len]. */
+static int check_resume(const char *ckpt_path, const char *out_dir, const json_t *resolved,
+                        const char *const *may_differ, char *result_path, size_t result_len,
+                        char *why, size_t len)
 {
     char err[400];
     lub_ckpt *c = lub_ckpt_open(ckpt_path, err, sizeof err);
@@ -206,6 +208,11 @@ static int check_resume(const char *ckpt_path, const char *result_path, const js
         snprintf(why, len, "%s", err);
         return -1;
     }
+    char *output = lub_ckpt_get_text(c, "output_file");
+    const int output_known =
+        output && (strcmp(output, "result.h5") == 0 || strcmp(output, LUB_PERIODIC_OUTPUT) == 0);
+    snprintf(result_path, result_len, "%s/%s", out_dir, output_known ? output : "result.h5");
+    free(output);
     char *text = lub_ckpt_get_text(c, "spec_resolved");
     json_t *saved = text ? json_loads(text, 0, NULL) : NULL;
     json_t *here = json_deep_copy(resolved);
@@ -233,6 +240,9 @@ static int check_resume(const char *ckpt_path, const char *result_path, const js
                  "%s: %s here, %s in the stopped run's spec: continue with the same spec (every "
                  "member, defaults included%s%s), or run without --resume to start afresh",
                  at, now, was, free_members, free_members[0] ? " may change" : "");
+        rc = -1;
+    } else if (!output_known) {
+        snprintf(why, len, "%s does not name the file that holds its time series", ckpt_path);
         rc = -1;
     } else if (access(result_path, R_OK) != 0) {
         snprintf(why, len,
@@ -271,15 +281,19 @@ int lub_run_spec(const lub_run_request *req)
         return LUB_EXIT_IO;
     }
     char h5_tmp[4200], h5_dst[4200], errbuf[256], ckpt_tmp[4200], ckpt_dst[4200];
+    char copy_tmp[4200], copy_dst[4200], resume_result[4200];
     snprintf(h5_tmp, sizeof h5_tmp, "%s/.result.h5.tmp", req->out_dir);
     snprintf(h5_dst, sizeof h5_dst, "%s/result.h5", req->out_dir);
     snprintf(ckpt_tmp, sizeof ckpt_tmp, "%s/.checkpoint.h5.tmp", req->out_dir);
     snprintf(ckpt_dst, sizeof ckpt_dst, "%s/checkpoint.h5", req->out_dir);
+    snprintf(copy_tmp, sizeof copy_tmp, "%s/.%s.tmp", req->out_dir, LUB_PERIODIC_OUTPUT);
+    snprintf(copy_dst, sizeof copy_dst, "%s/%s", req->out_dir, LUB_PERIODIC_OUTPUT);
     const int had_checkpoint = access(ckpt_dst, F_OK) == 0;
     const int resuming = req->resume && had_checkpoint && scene->resumable;
     if (resuming) { /* before anything is written: the old files stay as they are on refusal */
         char why[2 * sizeof ckpt_dst + 1024]; /* two paths and the spec members that differ */
-        if (check_resume(ckpt_dst, h5_dst, resolved, scene->resume_may_differ, why, sizeof why)) {
+        if (check_resume(ckpt_dst, req->out_dir, resolved, scene->resume_may_differ, resume_result,
+                         sizeof resume_result, why, sizeof why)) {
             fprintf(req->diag, "error: --resume: cannot continue from %s: %s\n", ckpt_dst, why);
             json_decref(resolved);
             return LUB_EXIT_BAD_SPEC;
@@ -317,7 +331,13 @@ int lub_run_spec(const lub_run_request *req)
     }
     if (resuming) {
         ctx.resume_path = ckpt_dst;
-        ctx.resume_result = h5_dst;
+        ctx.resume_result = resume_result;
+    }
+    lub_periodic_ckpt periodic;
+    if (scene->resumable && req->checkpoint_every_s > 0.0) {
+        lub_periodic_init(&periodic, req->checkpoint_every_s, h5_tmp, copy_tmp, copy_dst, ckpt_tmp,
+                          ckpt_dst);
+        ctx.periodic = &periodic;
     }
     /* more threads than processors only slow a run down (every OpenMP barrier waits for a
      * thread that is not running: on 2 processors: 1.6 s with 2 threads, 51 s with 256) */
@@ -395,13 +415,15 @@ int lub_run_spec(const lub_run_request *req)
         snprintf(h5_reason, sizeof h5_reason, "%s", strerror(errno));
     }
     const int renamed = !h5_failed;
-    /* checkpoint.h5 goes with the result.h5 just renamed: a new one replaces the old; a run
-     * that ends otherwise removes the old one (its result.h5 has been replaced), except a
-     * continuation stopped again without a new one (its result.h5 still holds the rows the old
-     * checkpoint continues) */
+    /* checkpoint.h5 goes with the result.h5 just renamed: a new one replaces the old (and a
+     * periodic one's copy of result.h5); a run that ends otherwise removes the old one and its
+     * copy (its result.h5 has been replaced), except a run stopped without a new one that was
+     * continued or took periodic checkpoints (the last checkpoint and the file with its rows
+     * still go together) */
     int checkpoint_kept = 0;
     if (ctx.checkpoint_written && renamed && rename(ckpt_tmp, ckpt_dst) == 0) {
         checkpoint_kept = 1;
+        unlink(copy_dst);
     } else {
         if (ctx.checkpoint_written) {
             char text[600];
@@ -411,10 +433,24 @@ int lub_run_spec(const lub_run_request *req)
             unlink(ckpt_tmp);
             append_warning(&ctx, text);
         }
-        if (!(resuming && rc == LUB_EXIT_INTERRUPTED))
+        const int periodic_taken = ctx.periodic && ctx.periodic->written > 0;
+        if (rc == LUB_EXIT_INTERRUPTED && (resuming || periodic_taken)) {
+            checkpoint_kept = access(ckpt_dst, F_OK) == 0;
+        } else {
             unlink(ckpt_dst);
-        else
-            checkpoint_kept = had_checkpoint;
+            unlink(copy_dst);
+        }
+    }
+    if (ctx.periodic) {
+        unlink(copy_tmp);
+        if (ctx.periodic->failure[0]) {
+            char text[600];
+            snprintf(text, sizeof text,
+                     "a periodic checkpoint failed (%s); the run went on, with the last one "
+                     "taken (%ld in all)",
+                     ctx.periodic->failure, ctx.periodic->written);
+            append_warning(&ctx, text);
+        }
     }
     const int scene_rc = rc; /* what the scene said, before the loss of result.h5 is added */
     char scene_diagnostic[sizeof ctx.diagnostic];
@@ -438,6 +474,9 @@ int lub_run_spec(const lub_run_request *req)
         json_object_set_new(summary, "resumed_from_step", json_integer(ctx.resumed_from_step));
     if (checkpoint_kept)
         json_object_set_new(summary, "checkpoint", json_string("checkpoint.h5"));
+    if (ctx.periodic)
+        json_object_set_new(summary, "periodic_checkpoints",
+                            json_integer(ctx.periodic->written));
     if (ctx.diagnostic[0])
         json_object_set_new(summary, "diagnostic", json_string(ctx.diagnostic));
     json_object_set_new(summary, "lubdem_version", json_string(lub_build_version()));
@@ -477,6 +516,7 @@ int lub_run_spec(const lub_run_request *req)
         if (renamed) { /* no result.h5 without its summary, no checkpoint without both */
             unlink(h5_dst);
             unlink(ckpt_dst);
+            unlink(copy_dst);
         }
         /* nothing is left to read: 4 whatever the run's own outcome was */
         rc = LUB_EXIT_IO;

@@ -24,6 +24,9 @@ typedef struct {
                             "Stopping and resuming"); without one the run starts from the beginning */
     int keep_checkpoint; /* --keep-checkpoint: a completed run of a resumable scene keeps
                             DIR/checkpoint.h5 too, so that --resume can extend it */
+    double checkpoint_every_s; /* --checkpoint-every: a checkpoint every so many wall-clock
+                                  seconds while a resumable scene runs (periodic_checkpoint.h);
+                                  0: only when stopped */
 } lub_run_request;
 
 int lub_run_spec(const lub_run_request *req);

@@ -311,8 +311,8 @@ typedef struct {
 
 /* The loop state, the samples and the system into path (a new file). 0, or -1 with why[len]. */
 static int rs_checkpoint_write(const char *path, const json_t *resolved, const rs_loop *lp,
-                               const rs_buffers *b, int nb, const lub_rs_system *S, char *why,
-                               size_t len)
+                               const rs_buffers *b, int nb, const lub_rs_system *S,
+                               const char *output_file, char *why, size_t len)
 {
     lub_ckpt *c = lub_ckpt_create(path, why, len);
     if (!c)
@@ -325,6 +325,7 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
     int rc =
         !spec || lub_ckpt_put_text(c, "scene", "resuspension") ||
         lub_ckpt_put_text(c, "spec_resolved", spec) ||
+        lub_ckpt_put_text(c, "output_file", output_file) ||
         lub_ckpt_put(c, "run/ints", LUB_CKPT_I64, 6, ints) ||
         lub_ckpt_put(c, "run/reals", LUB_CKPT_F64, 6, reals) ||
         lub_step_control_save(c, "run/step_control", &lp->ctl) ||
@@ -508,21 +509,21 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
      * summed stiffness needs it (/dt_stiffness_safety; step_stiffness.h, checked at every
      * neighbour-list rebuild) */
     const int dt_adapts = p.dt <= 0.0 && p.dt_stiffness_safety > 0.0;
-    lub_step_control ctl;
-    lub_step_control_init(&ctl, sp.dt, dt_adapts ? p.dt_stiffness_safety : 0.0);
-    double dt = ctl.dt;
+    rs_loop lp; /* the loop's state: a fresh start, or the checkpoint's (resumed) */
+    memset(&lp, 0, sizeof lp);
+    lub_step_control_init(&lp.ctl, sp.dt, dt_adapts ? p.dt_stiffness_safety : 0.0);
+    double dt = lp.ctl.dt;
     const double area = lub_rs_area(&S);
 
     /* profile bins from the floor centre plane to the lid */
     const double dy = p.bin_width;
     const int nb = (int)ceil((y_lid - y_floor) / dy);
-    lub_schedule sched; /* nsteps = ceil(strain/(gd dt) - 1e-9); gd = 1 */
-    lub_schedule_init(&sched, dt, p.strain / gd);
+    lub_schedule_init(&lp.sched, dt, p.strain / gd);
     const int64_t sample_every = lub_schedule_period(p.sample_strain / gd, dt);
-    const int ev_sample = lub_schedule_add(&sched, sample_every, 0, p.sample_strain / gd);
-    int64_t nsamp_total = sched.nsteps / sample_every + 2;
-    int64_t avg_start_step = (int64_t)ceil(p.average_from / (gd * dt) - 1e-9);
-    int64_t nsamp_avg = (sched.nsteps - avg_start_step) / sample_every + 2;
+    const int ev_sample = lub_schedule_add(&lp.sched, sample_every, 0, p.sample_strain / gd);
+    int64_t nsamp_total = lp.sched.nsteps / sample_every + 2;
+    lp.avg_start_step = (int64_t)ceil(p.average_from / (gd * dt) - 1e-9);
+    int64_t nsamp_avg = (lp.sched.nsteps - lp.avg_start_step) / sample_every + 2;
     char profiles_what[128];
     snprintf(profiles_what, sizeof profiles_what,
              "the profiles of %d bins over %lld samples from /average_from on", nb,
@@ -584,45 +585,46 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         rs_buffers_free(&B);
         return LUB_EXIT_IO;
     }
-    const int64_t snap_every =
-        p.snapshots > 1 ? (sched.nsteps + p.snapshots - 2) / (p.snapshots - 1) : sched.nsteps + 1;
+    const int64_t snap_every = p.snapshots > 1
+                                   ? (lp.sched.nsteps + p.snapshots - 2) / (p.snapshots - 1)
+                                   : lp.sched.nsteps + 1;
     const int ev_snap =
-        p.snapshots > 0 ? lub_schedule_add(&sched, snap_every, 0, (double)snap_every * dt) : -1;
+        p.snapshots > 0 ? lub_schedule_add(&lp.sched, snap_every, 0, (double)snap_every * dt) : -1;
 
-    int64_t nh = 0, navg = 0;
-    double max_ke = 0.0, min_lowest = INFINITY;
-    int below_floor_max = 0;
-    double contacts_sum = 0.0, crushed_sum = 0.0; /* over the averaged samples */
-    int64_t first_step = 0, frames = 0;           /* loop start; snapshots asked for */
-    if (ctx->resume_path) { /* the stopped run's state replaces the fresh one */
+    lp.min_lowest = INFINITY;
+    lp.y_floor = y_floor;
+    lp.y_lid = y_lid;
+    int64_t first_step = 0, frames = 0; /* loop start; snapshots asked for */
+    if (ctx->resume_path) {             /* the stopped run's state replaces the fresh one */
         char why[600] = "";
-        rs_loop lp;
-        memset(&lp, 0, sizeof lp);
+        rs_loop saved;
+        memset(&saved, 0, sizeof saved);
         lub_ckpt *ck = lub_ckpt_open(ctx->resume_path, why, sizeof why);
         lub_h5_reader *old = NULL;
         int64_t file_rows = 0;
-        if (ck && rs_checkpoint_read_loop(ck, &lp, why, sizeof why) == 0) {
-            const int64_t left = (lp.sched.nsteps - lp.step) / sample_every + 2;
-            if (lp.y_floor != y_floor || lp.y_lid != y_lid || lp.sched.n_events != sched.n_events) {
+        if (ck && rs_checkpoint_read_loop(ck, &saved, why, sizeof why) == 0) {
+            const int64_t left = (saved.sched.nsteps - saved.step) / sample_every + 2;
+            if (saved.y_floor != y_floor || saved.y_lid != y_lid ||
+                saved.sched.n_events != lp.sched.n_events) {
                 snprintf(why, sizeof why,
                          "the bed or the events differ from the stopped run's (another build?)");
             } else if (lub_rs_restore(ck, &S)) {
                 snprintf(why, sizeof why, "%s",
                          lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "inconsistent pairs");
-            } else if (rs_samples_reserve(&B, nb, lp.nh + left, lp.navg + left, &nsamp_total,
+            } else if (rs_samples_reserve(&B, nb, saved.nh + left, saved.navg + left, &nsamp_total,
                                           &nsamp_avg) ||
-                       rs_checkpoint_read_samples(ck, &lp, &B, nb)) {
+                       rs_checkpoint_read_samples(ck, &saved, &B, nb)) {
                 snprintf(why, sizeof why, "%s",
                          lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "out of memory (samples)");
             } else if (!(old = lub_h5r_open(ctx->resume_result, why, sizeof why))) {
                 /* why set */
-            } else if (lub_h5r_series_rows(old, names[0], &file_rows) || file_rows < lp.nh) {
+            } else if (lub_h5r_series_rows(old, names[0], &file_rows) || file_rows < saved.nh) {
                 snprintf(why, sizeof why, "%s holds %lld rows of the time series, not %lld",
-                         ctx->resume_result, (long long)file_rows, (long long)lp.nh);
-            } else if (lub_h5_continue_table(old, tab, 6, names, ncomp, lp.nh, why, sizeof why) ==
-                           0 &&
+                         ctx->resume_result, (long long)file_rows, (long long)saved.nh);
+            } else if (lub_h5_continue_table(old, tab, 6, names, ncomp, saved.nh, why,
+                                             sizeof why) == 0 &&
                        (p.snapshots == 0 ||
-                        lub_h5_continue_snapshots(old, ctx->out, N, lp.frames_in_file, why,
+                        lub_h5_continue_snapshots(old, ctx->out, N, saved.frames_in_file, why,
                                                   sizeof why) == 0)) {
                 why[0] = '\0';
             }
@@ -639,39 +641,30 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             rs_buffers_free(&B);
             return LUB_EXIT_BAD_SPEC;
         }
-        ctl = lp.ctl;
-        sched = lp.sched;
-        dt = ctl.dt;
-        avg_start_step = lp.avg_start_step;
-        nh = lp.nh;
-        navg = lp.navg;
-        max_ke = lp.max_ke;
-        min_lowest = lp.min_lowest;
-        below_floor_max = (int)lp.below_floor_max;
-        contacts_sum = lp.contacts_sum;
-        crushed_sum = lp.crushed_sum;
-        first_step = lp.step;
-        frames = lp.frames_in_file;
+        lp = saved;
+        dt = lp.ctl.dt;
+        first_step = saved.step;
+        frames = saved.frames_in_file;
         ctx->resumed_from_step = S.step;
     }
     int64_t stopped_at = -1; /* the loop index a stop request ended the loop at */
-    for (int64_t step = first_step; step <= sched.nsteps; ++step) {
+    for (int64_t step = first_step; step <= lp.sched.nsteps; ++step) {
         const double t = S.time;
-        const int sample = lub_schedule_due(&sched, ev_sample, step) || step == sched.nsteps;
+        const int sample = lub_schedule_due(&lp.sched, ev_sample, step) || step == lp.sched.nsteps;
         const int snap =
-            ev_snap >= 0 && (lub_schedule_due(&sched, ev_snap, step) || step == sched.nsteps);
+            ev_snap >= 0 && (lub_schedule_due(&lp.sched, ev_snap, step) || step == lp.sched.nsteps);
         if (sample || snap) {
             int below = 0;
             double low = lub_rs_lowest(&S, &below);
-            min_lowest = fmin(min_lowest, low - y_floor);
-            if (below > below_floor_max)
-                below_floor_max = below;
+            lp.min_lowest = fmin(lp.min_lowest, low - y_floor);
+            if (below > lp.below_floor_max)
+                lp.below_floor_max = below;
         }
         if (sample) {
             memset(B.vol, 0, (size_t)nb * sizeof *B.vol);
             double ysum = 0.0, msum = 0.0;
             int dilute = 0;
-            const int in_avg = step >= avg_start_step;
+            const int in_avg = step >= lp.avg_start_step;
             memset(B.vx_inst, 0, (size_t)nb * sizeof *B.vx_inst);
             for (int i = 0; i < N; ++i) {
                 /* velocity along the flow relative to the floor-plane mean flow: v_x for the
@@ -686,8 +679,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 dilute += step > 0 && S.nint[i] <= (int)p.dilute_max;
             }
             if (in_avg) {
-                contacts_sum += (double)S.n_contacts;
-                crushed_sum += (double)S.n_crushed;
+                lp.contacts_sum += (double)S.n_contacts;
+                lp.crushed_sum += (double)S.n_crushed;
                 for (int i = 0; i < nb; ++i) {
                     B.vx_vol[i] += B.vol[i];
                     B.vx_sum[i] += B.vx_inst[i];
@@ -700,7 +693,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             const double hs = lub_profile_height(B.phi_inst, nb, 0.0, dy, 0.5 * pmax);
             const double inv = lub_profile_inventory(B.phi_inst, nb, dy);
             const double ke = lub_rs_kinetic_energy(&S);
-            max_ke = fmax(max_ke, ke);
+            lp.max_ke = fmax(lp.max_ke, ke);
             double row[6] = {hs, ysum / msum, inv / hs, ke, S.max_speed, (double)dilute};
             if (lub_h5_table_append(tab, S.step, t * gd, row)) {
                 snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
@@ -708,11 +701,11 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 rc = LUB_EXIT_IO;
                 break;
             }
-            if (nh < nsamp_total)
-                B.series_h[nh++] = hs;
-            if (step >= avg_start_step && navg < nsamp_avg) {
-                memcpy(&B.samples[navg * nb], B.phi_inst, (size_t)nb * sizeof *B.phi_inst);
-                navg++;
+            if (lp.nh < nsamp_total)
+                B.series_h[lp.nh++] = hs;
+            if (step >= lp.avg_start_step && lp.navg < nsamp_avg) {
+                memcpy(&B.samples[lp.navg * nb], B.phi_inst, (size_t)nb * sizeof *B.phi_inst);
+                lp.navg++;
             }
         }
         if (snap) {
@@ -736,8 +729,21 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             }
             frames++;
         }
-        if (step == sched.nsteps)
+        if (step == lp.sched.nsteps)
             break;
+        if (ctx->periodic && lub_periodic_due(ctx->periodic, step)) {
+            /* the state after the sample of step `step`, as at a stop (the run then goes on) */
+            lp.step = step;
+            lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+            char why[400] = "";
+            if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
+                if (rs_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &B, nb, &S,
+                                        LUB_PERIODIC_OUTPUT, why, sizeof why) == 0)
+                    lub_periodic_publish(ctx->periodic);
+                else
+                    lub_periodic_failed(ctx->periodic, why);
+            }
+        }
         if (ctx->stop_requested && *ctx->stop_requested) {
             rc = LUB_EXIT_INTERRUPTED;
             stopped_at = step;
@@ -756,45 +762,33 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             step_unstable = e == LUB_RS_NONFINITE || e == LUB_RS_ESCAPED || e == LUB_RS_RUNAWAY;
             break;
         }
-        if (lub_rs_step_control(&S, &ctl)) {
-            dt = ctl.dt;
+        if (lub_rs_step_control(&S, &lp.ctl)) {
+            dt = lp.ctl.dt;
             S.p.dt = dt;
-            lub_schedule_set_dt(&sched, step + 1, S.time, dt);
-            if (avg_start_step > step + 1)
-                avg_start_step =
+            lub_schedule_set_dt(&lp.sched, step + 1, S.time, dt);
+            if (lp.avg_start_step > step + 1)
+                lp.avg_start_step =
                     step + 1 + (int64_t)ceil((p.average_from / gd - S.time) / dt - 1e-9);
-            const int64_t left = (sched.nsteps - step) / sched.ev[ev_sample].every + 2;
-            if (rs_samples_reserve(&B, nb, nh + left, navg + left, &nsamp_total, &nsamp_avg)) {
+            const int64_t left = (lp.sched.nsteps - step) / lp.sched.ev[ev_sample].every + 2;
+            if (rs_samples_reserve(&B, nb, lp.nh + left, lp.navg + left, &nsamp_total,
+                                   &nsamp_avg)) {
                 snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (samples)");
                 rc = LUB_EXIT_INTERNAL;
                 break;
             }
         }
         if ((step & 255) == 0)
-            lub_progress_update(ctx->progress, (double)step / (double)sched.nsteps, S.step);
+            lub_progress_update(ctx->progress, (double)step / (double)lp.sched.nsteps, S.step);
     }
     lub_progress_final(ctx->progress, S.step);
     /* a stop between the sample of a step and the step: that state into the checkpoint */
     char checkpoint_failure[600] = "";
     if (stopped_at >= 0 && ctx->checkpoint_path) {
-        const rs_loop lp = {.step = stopped_at,
-                            .avg_start_step = avg_start_step,
-                            .nh = nh,
-                            .navg = navg,
-                            .below_floor_max = below_floor_max,
-                            .frames_in_file =
-                                frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0),
-                            .max_ke = max_ke,
-                            .min_lowest = min_lowest,
-                            .contacts_sum = contacts_sum,
-                            .crushed_sum = crushed_sum,
-                            .y_floor = y_floor,
-                            .y_lid = y_lid,
-                            .ctl = ctl,
-                            .sched = sched};
+        lp.step = stopped_at;
+        lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
         char why[400] = "";
-        if (rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, why, sizeof why) ==
-            0) {
+        if (rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5", why,
+                                sizeof why) == 0) {
             ctx->checkpoint_written = 1;
         } else {
             remove(ctx->checkpoint_path);
@@ -803,24 +797,24 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         }
     }
     if (rc == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable)
-        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", ctl.changes,
-                                       p.dt_stiffness_safety, ctl.ratio_max);
+        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", lp.ctl.changes,
+                                       p.dt_stiffness_safety, lp.ctl.ratio_max);
     else if (rc == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_crit))
         lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_crit, "dt_critical");
 
     /* ---- steady-state analysis (also for a partial run: whatever was averaged) ---- */
     int steady = 0;
-    const size_t mser = nh >= 10 ? lub_stats_mser(B.series_h, (size_t)nh, 5, &steady) : 0;
+    const size_t mser = lp.nh >= 10 ? lub_stats_mser(B.series_h, (size_t)lp.nh, 5, &steady) : 0;
     int sem_batch_means = 1;
     for (int i = 0; i < nb; ++i) {
         B.ybin[i] = (i + 0.5) * dy;
-        for (int64_t j = 0; j < navg; ++j)
+        for (int64_t j = 0; j < lp.navg; ++j)
             B.scratch[j] = B.samples[j * nb + i];
-        B.phi[i] = navg > 0 ? lub_stats_mean(B.scratch, (size_t)navg) : NAN;
+        B.phi[i] = lp.navg > 0 ? lub_stats_mean(B.scratch, (size_t)lp.navg) : NAN;
         /* NaN below LUB_STATS_MIN_BATCHES samples: then the naive SEM */
-        double sem = navg > 0 ? lub_stats_sem(B.scratch, (size_t)navg, B.scratch2) : NAN;
-        if (!(sem >= 0.0) && navg >= 2) {
-            sem = sqrt(lub_stats_var(B.scratch, (size_t)navg) / (double)navg);
+        double sem = lp.navg > 0 ? lub_stats_sem(B.scratch, (size_t)lp.navg, B.scratch2) : NAN;
+        if (!(sem >= 0.0) && lp.navg >= 2) {
+            sem = sqrt(lub_stats_var(B.scratch, (size_t)lp.navg) / (double)lp.navg);
             sem_batch_means = 0;
         }
         B.phi_err[i] = sem;
@@ -828,14 +822,14 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     double hs_mean = NAN, hs_sem = NAN, inv = NAN, pmax = 0.0;
     int nkeep = 0;
     double law_rms = NAN, bulk_rate = NAN;
-    if (navg > 0) {
+    if (lp.navg > 0) {
         for (int i = 0; i < nb; ++i)
             pmax = fmax(pmax, B.phi[i]);
         hs_mean = lub_profile_height(B.phi, nb, 0.0, dy, 0.5 * pmax);
         /* error of the height: stats.h standard error of the instantaneous heights */
-        size_t h0i = (size_t)(nh - navg);
+        size_t h0i = (size_t)(lp.nh - lp.navg);
         lub_stats_result hr;
-        lub_stats_analyse(B.series_h + h0i, (size_t)navg, 0, B.scratch2, &hr);
+        lub_stats_analyse(B.series_h + h0i, (size_t)lp.navg, 0, B.scratch2, &hr);
         hs_sem = hr.sem;
         inv = lub_profile_inventory(B.phi, nb, dy);
         lub_profile_normal_viscosity(B.phi, B.phi_err, nb, dy, p.Sh, B.eta, B.eta_err);
@@ -913,23 +907,23 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "bulk_bins", nkeep, NAN, "1");
     lub_summary_put(ctx, "bulk_velocity_slope", bulk_rate, NAN, "gd");
     lub_summary_put(ctx, "eta_vs_law_log_rms", law_rms, NAN, "1");
-    lub_summary_put(ctx, "averaged_samples", (double)navg, NAN, "1");
-    lub_summary_put(ctx, "min_clearance_above_floor", min_lowest, NAN, "a");
-    lub_summary_put(ctx, "particles_below_floor", below_floor_max, NAN, "1");
+    lub_summary_put(ctx, "averaged_samples", (double)lp.navg, NAN, "1");
+    lub_summary_put(ctx, "min_clearance_above_floor", lp.min_lowest, NAN, "a");
+    lub_summary_put(ctx, "particles_below_floor", lp.below_floor_max, NAN, "1");
     lub_summary_put(ctx, "lid_reflections", (double)S.lid_hits, NAN, "1");
-    const double crushed_fraction = contacts_sum > 0 ? crushed_sum / contacts_sum : 0.0;
+    const double crushed_fraction = lp.contacts_sum > 0 ? lp.crushed_sum / lp.contacts_sum : 0.0;
     lub_summary_put(ctx, "crushed_contact_fraction", crushed_fraction, NAN, "1");
-    lub_summary_put(ctx, "max_kinetic_energy", max_ke, NAN, "eta gd a^3");
+    lub_summary_put(ctx, "max_kinetic_energy", lp.max_ke, NAN, "eta gd a^3");
     lub_summary_put(ctx, "cell_width", L, NAN, "a");
     lub_summary_put(ctx, "floor_radius", rf, NAN, "a");
     lub_summary_put(ctx, "lid_height", y_lid - y_floor, NAN, "a");
     lub_summary_put(ctx, "initial_height", h_init, NAN, "a");
     lub_summary_put(ctx, "dt", dt, NAN, "1/gd");
-    lub_summary_put(ctx, "dt_min", ctl.dt_min, NAN, "1/gd");
-    lub_summary_put(ctx, "dt_changes", (double)ctl.changes, NAN, "1");
+    lub_summary_put(ctx, "dt_min", lp.ctl.dt_min, NAN, "1/gd");
+    lub_summary_put(ctx, "dt_changes", (double)lp.ctl.changes, NAN, "1");
     lub_summary_put(ctx, "dt_critical", dt_crit, NAN, "1/gd");
     lub_summary_put(ctx, "rebuilds", (double)S.rebuilds, NAN, "1");
-    lub_summary_put(ctx, "dt_stiffness_ratio", ctl.ratio_max, NAN, "1");
+    lub_summary_put(ctx, "dt_stiffness_ratio", lp.ctl.ratio_max, NAN, "1");
     lub_summary_put(ctx, "solid_volume", vsum, NAN, "a^3");
     lub_summary_put(ctx, "initial_phi", binfo.layer_phi, NAN, "1");
 
@@ -970,7 +964,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (S.lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
     lub_warn_fixed_dt(warn, p.dt, dt_crit, "dt_critical");
-    lub_warn_fixed_dt_stiffness(warn, p.dt, dt_crit, ctl.ratio_max, LUB_SHEAR_DT_STIFFNESS_MAX);
+    lub_warn_fixed_dt_stiffness(warn, p.dt, dt_crit, lp.ctl.ratio_max, LUB_SHEAR_DT_STIFFNESS_MAX);
     if (crushed_fraction > LUB_CRUSHED_CONTACT_FRACTION_MAX) /* the message's "1 %" */
         json_array_append_new(warn,
                               json_string("asperities crushed in more than 1 % of the contacts "

@@ -433,7 +433,8 @@ typedef struct {
 /* The loop state, the series and the system into path (a new file). 0, or -1 with why[len]. */
 static int ss_checkpoint_write(const char *path, const json_t *resolved, const ss_loop *lp,
                                const ss_series *ser, int64_t frames_in_file,
-                               const lub_shear_system *sys, char *why, size_t len)
+                               const lub_shear_system *sys, const char *output_file, char *why,
+                               size_t len)
 {
     lub_ckpt *c = lub_ckpt_create(path, why, len);
     if (!c)
@@ -441,6 +442,7 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
     char *spec = lub_json_dumps(resolved, JSON_COMPACT | JSON_SORT_KEYS);
     int rc = !spec || lub_ckpt_put_text(c, "scene", "simple_shear") ||
              lub_ckpt_put_text(c, "spec_resolved", spec) ||
+             lub_ckpt_put_text(c, "output_file", output_file) ||
              lub_ckpt_put_i64(c, "run/step", lp->step) ||
              lub_ckpt_put_f64(c, "run/strain", lp->strain) ||
              lub_ckpt_put_f64(c, "run/servo_filtered_pressure", lp->p_f) ||
@@ -819,6 +821,19 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     int64_t step;
     for (step = lp.step; step < lp.sched.nsteps; ++step) {
 
+        if (ctx->periodic && lub_periodic_due(ctx->periodic, step)) {
+            /* the state before step `step`, as at a stop (the run then goes on) */
+            lp.step = step;
+            const int64_t in_file = lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+            char why[400] = "";
+            if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
+                if (ss_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &ser, in_file,
+                                        &sys, LUB_PERIODIC_OUTPUT, why, sizeof why) == 0)
+                    lub_periodic_publish(ctx->periodic);
+                else
+                    lub_periodic_failed(ctx->periodic, why);
+            }
+        }
         if (ctx->stop_requested && *ctx->stop_requested) {
             exit_code = LUB_EXIT_INTERRUPTED;
             stopped_by_request = 1;
@@ -999,7 +1014,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
         char why[400] = "";
         if (ss_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &ser, frames_in_file, &sys,
-                                why, sizeof why) == 0) {
+                                "result.h5", why, sizeof why) == 0) {
             ctx->checkpoint_written = 1;
         } else {
             remove(ctx->checkpoint_path);

@@ -51,6 +51,7 @@ void lubd_config_defaults(lubd_config *c, const char *argv0)
     c->mem_mb = 8192;
     c->fsize_mb = 16384;
     c->grace_s = 10;
+    c->checkpoint_s = 600;
 }
 
 void lubd_config_finish(lubd_config *c)
@@ -87,6 +88,8 @@ void lubd_config_usage(void)
             "  --cpu-s N --mem-mb N --fsize-mb N   engine limits [86400, 8192, 16384]; 0=off\n"
             "  --grace-s N        SIGTERM->SIGKILL delay on cancel [10]\n"
             "  --engine-threads N threads per engine run [engine default]\n"
+            "  --checkpoint-s N   engine checkpoint every N s; a job requeued after its\n"
+            "                     worker died continues from it [600]; 0=off\n"
             "  --init-defaults    create RUN and a local admin token (RUN/local-token)\n"
             "  --quiet            no start-up banner\n");
 }
@@ -142,6 +145,7 @@ int lubd_config_parse(lubd_config *c, int argc, char **argv, int first)
         INT_OPT("--fsize-mb", c->fsize_mb, 0, 1L << 30)
         INT_OPT("--grace-s", c->grace_s, 0, 3600)
         INT_OPT("--engine-threads", c->engine_threads, 0, 1024)
+        INT_OPT("--checkpoint-s", c->checkpoint_s, 0, 10000000)
         if (strcmp(o, "--max-body-kb") == 0) {
             if (want_int(o, v, 1, 1L << 20, &x) != 0)
                 return -1;

@@ -25,6 +25,9 @@ typedef struct {
     long cpu_s, mem_mb, fsize_mb; /* engine rlimits (0 = unlimited) */
     int grace_s;                  /* SIGTERM -> SIGKILL delay when cancelling */
     int engine_threads;           /* --threads for the engine (0 = engine default) */
+    int checkpoint_s;             /* --checkpoint-every for the engine: a checkpoint every so many
+                                     seconds of a simple_shear or resuspension run, from which a
+                                     job requeued after its worker died continues (0 = off) */
     int init_defaults;            /* create ./run and a local admin token if none exists */
     int quiet;
 } lubd_config;

@@ -29,7 +29,7 @@ int lubd_engine_spawn(const lubd_engine_opts *o, lubd_engine_proc *p)
         return -1;
     char threads[32];
     snprintf(threads, sizeof threads, "%d", o->threads);
-    const char *argv[10];
+    const char *argv[14];
     int a = 0;
     argv[a++] = o->engine;
     argv[a++] = "run";
@@ -42,6 +42,12 @@ int lubd_engine_spawn(const lubd_engine_opts *o, lubd_engine_proc *p)
     }
     if (o->resume)
         argv[a++] = "--resume";
+    char every[32];
+    snprintf(every, sizeof every, "%d", o->checkpoint_s);
+    if (o->checkpoint_s > 0) {
+        argv[a++] = "--checkpoint-every";
+        argv[a++] = every;
+    }
     argv[a] = NULL;
     pid_t parent = getpid();
     pid_t pid = fork();

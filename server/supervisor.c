@@ -70,6 +70,7 @@ static void build_argv(const lubd_config *c, int index, worker_argv *w)
     NUM("--fsize-mb", c->fsize_mb)
     NUM("--grace-s", c->grace_s)
     NUM("--engine-threads", c->engine_threads)
+    NUM("--checkpoint-s", c->checkpoint_s)
 #undef NUM
     w->argv[a] = NULL;
 }

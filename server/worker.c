@@ -157,16 +157,23 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     snprintf(result_dir, sizeof result_dir, "%s/result", job_dir);
 
     char msg[900];
-    /* An attempt released when the service stopped runs again under the same number: its
-     * engine left out/checkpoint.h5 (with out/result.h5) where the scene supports it, and the
-     * run continues from there (lubdem run --resume) instead of from the beginning. The rest
-     * of the folder (the leftovers of a crash) is cleared as before. */
-    char keep_dir[1400], ckpt_path[1500];
+    /* A job that ran before continues from its engine's checkpoint (lubdem run --resume)
+     * instead of from the beginning: an attempt released when the service stopped runs again
+     * under the same number, and its engine left out/checkpoint.h5 when it stopped; a job
+     * requeued after its worker died runs as the next attempt, and the previous attempt's
+     * engine left the last of its periodic checkpoints (--checkpoint-s). That out folder is
+     * kept (moved aside, then into this attempt's folder); the rest of the attempt folder (the
+     * leftovers of a crash) is cleared as before. */
+    char keep_dir[1400], ckpt_path[1500], prev_out[1400];
     snprintf(keep_dir, sizeof keep_dir, "%s/resume-out", job_dir);
-    snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", out_dir);
+    snprintf(prev_out, sizeof prev_out, "%s/attempt-%d/out", job_dir, c->attempt - 1);
     int resume = 0;
-    if (lubd_rm_rf(keep_dir) == 0 && access(ckpt_path, F_OK) == 0 && rename(out_dir, keep_dir) == 0)
-        resume = 1;
+    const char *sources[2] = {out_dir, c->attempt > 1 ? prev_out : NULL};
+    if (lubd_rm_rf(keep_dir) == 0)
+        for (int k = 0; k < 2 && !resume && sources[k]; ++k) {
+            snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", sources[k]);
+            resume = access(ckpt_path, F_OK) == 0 && rename(sources[k], keep_dir) == 0;
+        }
     if (lubd_rm_rf(attempt_dir) != 0 || lubd_mkdir_p(attempt_dir, 0750) != 0 ||
         (resume && rename(keep_dir, out_dir) != 0) ||
         lubd_write_file_atomic(spec_path, c->spec_json, strlen(c->spec_json)) != 0) {
@@ -183,9 +190,16 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     }
     dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt, w->name,
             resume ? ", continuing from the checkpoint of its stopped run" : "");
-    lubd_engine_opts eo = {cfg->engine,   spec_path,           out_dir,
-                           log_fd,        cfg->cpu_s,          cfg->mem_mb,
-                           cfg->fsize_mb, cfg->engine_threads, resume};
+    lubd_engine_opts eo = {.engine = cfg->engine,
+                           .spec = spec_path,
+                           .out_dir = out_dir,
+                           .log_fd = log_fd,
+                           .cpu_s = cfg->cpu_s,
+                           .mem_mb = cfg->mem_mb,
+                           .fsize_mb = cfg->fsize_mb,
+                           .threads = cfg->engine_threads,
+                           .resume = resume,
+                           .checkpoint_s = cfg->checkpoint_s};
     lubd_engine_proc ep;
     if (lubd_engine_spawn(&eo, &ep) != 0) {
         snprintf(msg, sizeof msg, "system error: cannot start the engine: %s", strerror(errno));

@@ -6,6 +6,7 @@ import hashlib
 import json
 import os
 import shutil
+import signal
 import subprocess
 import time
 
@@ -282,6 +283,43 @@ def run():
                 % (summ["results"]["mu"]["value"], ref["results"]["mu"]["value"]))
     finally:
         srv5.stop()
+
+    # kill -9 of the worker while a simple_shear job runs with periodic checkpoints
+    # (--checkpoint-s 1): the job is requeued when its lease expires, and its second attempt
+    # continues from the first attempt's last checkpoint, to the same results.
+    srv6 = T.Server(a, "resume9", workers=1,
+                    extra=["--checkpoint-s", "1", "--lease-s", "2"]).fresh()
+    tok = srv6.token("nine")
+    srv6.start()
+    try:
+        st, _, doc = srv6.request("POST", "/processes/simple_shear/execution", tok,
+                                  {"inputs": inputs})
+        T.check(st == 201, "submit simple_shear")
+        jid = doc["jobID"]
+        out1 = os.path.join(srv6.run, "jobs", jid, "attempt-1", "out")
+        deadline = time.time() + 120
+        while time.time() < deadline and not (
+                doc["status"] == "running" and doc.get("progress", 0) >= 5 and
+                os.path.exists(os.path.join(out1, "checkpoint.h5"))):
+            time.sleep(0.1)
+            st, _, doc = srv6.request("GET", "/jobs/" + jid, tok)
+        T.check(doc["status"] == "running" and os.path.exists(os.path.join(out1, "checkpoint.h5")),
+                "periodic checkpoint before the kill: %s" % doc)
+        for w in srv6.worker_pids():
+            os.kill(w, signal.SIGKILL)
+        doc = T.wait_final(srv6, tok, jid, timeout=300)
+        T.check(doc["status"] == "successful" and doc["attempt"] == 2,
+                "job successful in attempt 2 after the kill: %s" % doc)
+        log2 = open(os.path.join(srv6.run, "jobs", jid, "attempt-2", "log")).read()
+        T.check("continuing from the checkpoint" in log2, "attempt 2 continued from the checkpoint")
+        st, _, res = srv6.request("GET", "/jobs/%s/results" % jid, tok)
+        summ = res["summary"]
+        T.check(summ.get("resumed_from_step", 0) > 0 and ref["results"] == summ["results"] and
+                not [n for n in res["outputs"] if n.startswith("checkpoint")],
+                "results after the kill equal the uninterrupted run's (from step %s)"
+                % summ.get("resumed_from_step"))
+    finally:
+        srv6.stop()
 
 
 T.main(run)

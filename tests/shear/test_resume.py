@@ -22,7 +22,11 @@ SPEC --out DIR --resume` continues it. Checked:
     equality with the uninterrupted run (its summary, every time series, snapshot and profile);
  7. the CPU-time limit (a soft RLIMIT_CPU of 3 s, as ulimit -S -t or lubdemd --cpu-s set it):
     the run stops at SIGXCPU like at SIGTERM (exit 5, partial, a checkpoint) and says why in
-    its diagnostic and on stderr; it used to be killed by the signal with nothing written.
+    its diagnostic and on stderr; it used to be killed by the signal with nothing written;
+ 8. kill -9 (no warning) of runs taking periodic checkpoints (--checkpoint-every 0.3 s), after
+    60 % of the run: checkpoint.h5 and checkpoint-result.h5 are there, no summary; --resume
+    continues from the last one to the numbers of the run that never stopped (simple_shear as
+    in 1, resuspension as in 6), and leaves neither file.
 The stop is sent once the progress lines pass a fraction, so that it lands mid-run on any
 machine (the sanitizer build runs ~10 times slower). Usage: test_resume.py LUBDEM WORKDIR
 """
@@ -56,9 +60,10 @@ def write_spec(name, spec):
     return path
 
 
-def run(spec_path, out, *extra, stop_at=None, cpu_s=None):
-    """Runs lubdem; with stop_at, sends SIGTERM once a progress line passes that fraction; with
-    cpu_s, under that soft CPU-time limit (SIGXCPU; no hard limit)."""
+def run(spec_path, out, *extra, stop_at=None, cpu_s=None, sig=signal.SIGTERM):
+    """Runs lubdem; with stop_at, sends sig once a progress line passes that fraction (for
+    SIGKILL, once a periodic checkpoint is there too); with cpu_s, under that soft CPU-time
+    limit (SIGXCPU; no hard limit)."""
     cmd = [LUBDEM, "run", spec_path, "--out", out, *extra]
     limit = None
     if cpu_s is not None:
@@ -72,8 +77,9 @@ def run(spec_path, out, *extra, stop_at=None, cpu_s=None):
             out_lines.append(line)
             if line.startswith("progress "):
                 frac = float(line.split("fraction=")[1].split()[0])
-                if stop_at <= frac < 1.0:
-                    proc.send_signal(signal.SIGTERM)
+                ready = sig != signal.SIGKILL or os.path.exists(os.path.join(out, "checkpoint.h5"))
+                if stop_at <= frac < 1.0 and ready:
+                    proc.send_signal(sig)
                     break
     rest, err = proc.communicate(timeout=600)
     return proc.returncode, "".join(out_lines) + rest, err
@@ -282,6 +288,23 @@ check(rc == 5 and s.get("status") == "partial" and s.get("checkpoint") == "check
       "SIGXCPU" in s.get("diagnostic", "") and "CPU time limit" in err,
       f"7: stopped at the CPU-time limit with a checkpoint (exit {rc}, step {s.get('steps')}, "
       f"{s.get('diagnostic', '')[:120]})")
+
+# ---- 8. kill -9 with periodic checkpoints ----
+for label, spec, ref, threads in (("8a", spec1, ref1, "1"), ("8b", spec6, ref6, "2")):
+    killed = os.path.join(WORK, "killed" + label)
+    shutil.rmtree(killed, ignore_errors=True)
+    rc, _, _ = run(spec, killed, "--threads", threads, "--checkpoint-every", "0.3", stop_at=0.6,
+                   sig=signal.SIGKILL)
+    names = sorted(os.listdir(killed))
+    check(rc == -9 and "checkpoint.h5" in names and "checkpoint-result.h5" in names and
+          "summary.json" not in names, f"{label}: killed with periodic checkpoints left ({names})")
+    rc, _, err = run(spec, killed, "--threads", threads, "--resume", "--checkpoint-every", "0.3")
+    check(rc == 0, f"{label}: resumed after kill -9, exit 0 (got {rc}) {err[-300:]}")
+    compare_runs(ref, killed, label)
+    check(not os.path.exists(os.path.join(killed, "checkpoint-result.h5")) and
+          summary(killed).get("periodic_checkpoints", 0) >= 1,
+          f"{label}: the copy removed at the end; {summary(killed).get('periodic_checkpoints')} "
+          "periodic checkpoints in the continuation")
 
 print(f"resume_failures={len(failures)}")
 sys.exit(1 if failures else 0)
