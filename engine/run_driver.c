@@ -475,8 +475,7 @@ int lub_run_spec(const lub_run_request *req)
     if (checkpoint_kept)
         json_object_set_new(summary, "checkpoint", json_string("checkpoint.h5"));
     if (ctx.periodic)
-        json_object_set_new(summary, "periodic_checkpoints",
-                            json_integer(ctx.periodic->written));
+        json_object_set_new(summary, "periodic_checkpoints", json_integer(ctx.periodic->written));
     if (ctx.diagnostic[0])
         json_object_set_new(summary, "diagnostic", json_string(ctx.diagnostic));
     json_object_set_new(summary, "lubdem_version", json_string(lub_build_version()));

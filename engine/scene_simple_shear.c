@@ -827,8 +827,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             const int64_t in_file = lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
             char why[400] = "";
             if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
-                if (ss_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &ser, in_file,
-                                        &sys, LUB_PERIODIC_OUTPUT, why, sizeof why) == 0)
+                if (ss_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &ser, in_file, &sys,
+                                        LUB_PERIODIC_OUTPUT, why, sizeof why) == 0)
                     lub_periodic_publish(ctx->periodic);
                 else
                     lub_periodic_failed(ctx->periodic, why);
