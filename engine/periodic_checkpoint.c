@@ -75,7 +75,7 @@ int lub_periodic_copy_output(lub_periodic_ckpt *pc, lub_h5 *out)
 {
     char why[400];
     if (lub_h5_output_lost(out, why, sizeof why)) {
-        char text[420];
+        char text[sizeof why + 32];
         snprintf(text, sizeof text, "result.h5 was given up (%s)", why);
         lub_periodic_failed(pc, text);
         return -1;
