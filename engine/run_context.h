@@ -33,8 +33,9 @@ typedef struct lub_run_ctx {
                                     that a continuation can extend it */
     int checkpoint_written;      /* 1: checkpoint_path holds a complete checkpoint */
     const char *resume_path;     /* checkpoint to continue from (NULL: start afresh) */
-    const char *resume_result;   /* the stopped run's result.h5: its rows and snapshots are
-                                    copied into the new one */
+    const char *resume_result;   /* the file holding the checkpoint's rows and snapshots (the
+                                    stopped run's result.h5, or a periodic checkpoint's copy),
+                                    copied into the new result.h5 */
     int resume_rejected;         /* 1: the checkpoint or the old result.h5 cannot be used
                                     (diagnostic says why); the driver keeps the old files and
                                     discards the new ones, exit 2 */

@@ -449,7 +449,6 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
              lub_ckpt_put_f64(c, "run/next_check", lp->next_check) ||
              lub_ckpt_put_f64(c, "run/bonds_sum", lp->bonds_sum) ||
              lub_ckpt_put_i64(c, "run/bonds_samples", lp->bonds_samples) ||
-             lub_ckpt_put_i64(c, "run/frames", lp->frames) ||
              lub_ckpt_put_i64(c, "run/frames_in_file", frames_in_file) ||
              lub_ckpt_put_f64(c, "run/packing_min_gap", lp->packing_min_gap) ||
              lub_step_control_save(c, "run/step_control", &lp->ctl) ||
@@ -525,9 +524,10 @@ static int ss_read_resolved(const json_t *resolved, ss_params *p, lub_error *err
     return rc;
 }
 
-/* The start of a continuation (ctx->resume_path): opens the checkpoint and the stopped run's
- * result.h5, reads the loop state into *lp, the radii and positions into new arrays, and
- * checks that the old file holds the rows and snapshots to be copied. 0, or -1 with
+/* The start of a continuation (ctx->resume_path): opens the checkpoint and the file holding
+ * its rows (ctx->resume_result: the stopped run's result.h5, or the copy a periodic checkpoint
+ * made), reads the loop state into *lp, the radii and positions into new arrays, and checks
+ * that the file holds the rows and snapshots to be copied. 0, or -1 with
  * ctx->resume_rejected and the diagnostic set (everything opened is closed again). */
 static int ss_resume_begin(lub_run_ctx *ctx, int n, lub_ckpt **ckpt, lub_h5_reader **old,
                            ss_loop *lp, int64_t *rows, int64_t *frames, double **radius, vec3 **pos)
@@ -601,7 +601,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     ss_loop resumed;
     memset(&resumed, 0, sizeof resumed);
     lub_ckpt *resume = NULL;   /* the checkpoint a continuation starts from */
-    lub_h5_reader *old = NULL; /* the stopped run's result.h5 */
+    lub_h5_reader *old = NULL; /* the file holding the stopped run's rows */
     int64_t resume_rows = 0, resume_frames = 0;
     char checkpoint_failure[600] = ""; /* why a stopped run left no checkpoint */
     double *radius = NULL;
