@@ -95,3 +95,25 @@ int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_
     free(omega);
     return rc;
 }
+
+int lub_h5_continue_output(const char *path, lub_h5_table *to_table, int nseries,
+                           const char *const *names, const int *ncomp, int64_t rows, lub_h5 *to,
+                           int64_t n, int64_t frames, char *err, size_t len)
+{
+    lub_h5_reader *from = lub_h5r_open(path, err, len);
+    if (!from)
+        return -1;
+    int64_t have = 0;
+    int rc = 0;
+    if (lub_h5r_series_rows(from, names[0], &have) || have < rows) {
+        snprintf(err, len, "%s holds %lld rows of the time series, the checkpoint needs %lld", path,
+                 (long long)have, (long long)rows);
+        rc = -1;
+    }
+    if (rc == 0)
+        rc = lub_h5_continue_table(from, to_table, nseries, names, ncomp, rows, err, len);
+    if (rc == 0)
+        rc = lub_h5_continue_snapshots(from, to, n, frames, err, len);
+    lub_h5r_close(from);
+    return rc;
+}

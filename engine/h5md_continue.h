@@ -30,4 +30,11 @@ int lub_h5_continue_table(lub_h5_reader *from, lub_h5_table *to, int nseries,
 int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_t frames, char *err,
                               size_t len);
 
+/* Both of the above from the file at `path` (opened and closed here): rows [0, rows) of the
+ * table (first checking that its first series holds them), then, when frames > 0, snapshots
+ * [0, frames) of n particles into `to` (whose particle group the caller has defined). */
+int lub_h5_continue_output(const char *path, lub_h5_table *to_table, int nseries,
+                           const char *const *names, const int *ncomp, int64_t rows, lub_h5 *to,
+                           int64_t n, int64_t frames, char *err, size_t len);
+
 #endif

@@ -55,6 +55,31 @@ unsigned char lub_pairs_image_code(const int32_t *c)
     return (unsigned char)(9 * (c[0] + 1) + 3 * (c[1] + 1) + (c[2] + 1));
 }
 
+/* Room for count pairs in the current (not the old) arrays and in the arrays that are not
+ * double-buffered (those follow the largest capacity); contents are not kept where an array
+ * grows. 0 or -1 (no memory). */
+static int grow(lub_pairs *ps, size_t count)
+{
+    if (count > ps->cap || !ps->i) {
+        const size_t cap = count + count / 4 + 64;
+        if (re((void **)&ps->i, cap, sizeof *ps->i) || re((void **)&ps->j, cap, sizeof *ps->j) ||
+            re_lines((void **)&ps->state, cap, sizeof *ps->state) ||
+            re((void **)&ps->active, cap, sizeof *ps->active))
+            return -1;
+        ps->cap = cap;
+    }
+    const size_t fcap = ps->cap > ps->ocap ? ps->cap : ps->ocap;
+    if (fcap > ps->fcap || !ps->near) {
+        if (re((void **)&ps->c, 3 * fcap, sizeof *ps->c) ||
+            re((void **)&ps->near, fcap, sizeof *ps->near) ||
+            re((void **)&ps->img, fcap, sizeof *ps->img) ||
+            re((void **)&ps->allow, fcap, sizeof *ps->allow))
+            return -1;
+        ps->fcap = fcap;
+    }
+    return 0;
+}
+
 int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
 {
     size_t nn = nl->npairs;
@@ -78,24 +103,8 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
         ps->cap = c;
     }
     size_t nold = ps->n;
-    if (nn > ps->cap || !ps->i) {
-        size_t cap = nn + nn / 4 + 64;
-        if (re((void **)&ps->i, cap, sizeof *ps->i) || re((void **)&ps->j, cap, sizeof *ps->j) ||
-            re_lines((void **)&ps->state, cap, sizeof *ps->state) || /* rewritten below */
-            re((void **)&ps->active, cap, sizeof *ps->active))
-            return -1;
-        ps->cap = cap;
-    }
-    /* per-pair arrays that are not double-buffered follow the largest capacity */
-    size_t fcap = ps->cap > ps->ocap ? ps->cap : ps->ocap;
-    if (fcap > ps->fcap || !ps->near) {
-        if (re((void **)&ps->c, 3 * fcap, sizeof *ps->c) ||
-            re((void **)&ps->near, fcap, sizeof *ps->near) ||
-            re((void **)&ps->img, fcap, sizeof *ps->img) ||
-            re((void **)&ps->allow, fcap, sizeof *ps->allow))
-            return -1;
-        ps->fcap = fcap;
-    }
+    if (grow(ps, nn)) /* the current arrays' contents are rewritten below */
+        return -1;
 
     /* sorted merge: carry state of (i, j) present in the old list */
     size_t o = 0, carried = 0;
@@ -137,26 +146,9 @@ int lub_pairs_adopt(lub_pairs *ps, const lub_nlist *nl, int n_particles)
 
 int lub_pairs_reserve(lub_pairs *ps, size_t count, int n_particles)
 {
-    if (count > ps->cap || !ps->i) {
-        const size_t cap = count + count / 4 + 64;
-        if (re((void **)&ps->i, cap, sizeof *ps->i) || re((void **)&ps->j, cap, sizeof *ps->j) ||
-            re_lines((void **)&ps->state, cap, sizeof *ps->state) ||
-            re((void **)&ps->active, cap, sizeof *ps->active)) {
-            ps->n = 0;
-            return -1;
-        }
-        ps->cap = cap;
-    }
-    const size_t fcap = ps->cap > ps->ocap ? ps->cap : ps->ocap;
-    if (fcap > ps->fcap || !ps->near) {
-        if (re((void **)&ps->c, 3 * fcap, sizeof *ps->c) ||
-            re((void **)&ps->near, fcap, sizeof *ps->near) ||
-            re((void **)&ps->img, fcap, sizeof *ps->img) ||
-            re((void **)&ps->allow, fcap, sizeof *ps->allow)) {
-            ps->n = 0;
-            return -1;
-        }
-        ps->fcap = fcap;
+    if (grow(ps, count)) {
+        ps->n = 0;
+        return -1;
     }
     ps->n = count;
     ps->n_particles = n_particles;

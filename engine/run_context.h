@@ -26,23 +26,25 @@ typedef struct lub_run_ctx {
     char diagnostic[1024]; /* on LUB_EXIT_NUMERICAL: what failed, where, when */
     /* Continuation of a stopped run (scenes with `resumable`, scene.h; README "Stopping and
      * resuming"). The driver sets the paths; the scene sets the flags. */
-    const char *checkpoint_path; /* where the scene writes its checkpoint when a stop request
-                                    ends its time loop (a temporary name the driver renames to
-                                    DIR/checkpoint.h5); NULL: none */
-    int checkpoint_always;       /* 1 (--keep-checkpoint): also when the run completes, so
-                                    that a continuation can extend it */
-    int checkpoint_written;      /* 1: checkpoint_path holds a complete checkpoint */
-    const char *resume_path;     /* checkpoint to continue from (NULL: start afresh) */
-    const char *resume_result;   /* the file holding the checkpoint's rows and snapshots (the
-                                    stopped run's result.h5, or a periodic checkpoint's copy),
-                                    copied into the new result.h5 */
-    int resume_rejected;         /* 1: the checkpoint or the old result.h5 cannot be used
-                                    (diagnostic says why); the driver keeps the old files and
-                                    discards the new ones, exit 2 */
-    long long resumed_from_step; /* steps the stopped run had done (0: not continued) */
-    lub_periodic_ckpt *periodic; /* checkpoints while the run goes on (--checkpoint-every);
-                                    NULL: none. The scene takes one when lub_periodic_due
-                                    says so, between two steps */
+    const char *checkpoint_path;  /* where the scene writes its checkpoint when a stop request
+                                     ends its time loop (a temporary name the driver renames to
+                                     DIR/checkpoint.h5); NULL: none */
+    int checkpoint_always;        /* 1 (--keep-checkpoint): also when the run completes, so
+                                     that a continuation can extend it */
+    int checkpoint_written;       /* 1: checkpoint_path holds a complete checkpoint */
+    char checkpoint_failure[400]; /* why the checkpoint at the stop could not be written (the
+                                     driver removes it and warns); "" otherwise */
+    const char *resume_path;      /* checkpoint to continue from (NULL: start afresh) */
+    const char *resume_result;    /* the file holding the checkpoint's rows and snapshots (the
+                                     stopped run's result.h5, or a periodic checkpoint's copy),
+                                     copied into the new result.h5 */
+    int resume_rejected;          /* 1: the checkpoint or the old result.h5 cannot be used
+                                     (diagnostic says why); the driver keeps the old files and
+                                     discards the new ones, exit 2 */
+    long long resumed_from_step;  /* steps the stopped run had done (0: not continued) */
+    lub_periodic_ckpt *periodic;  /* checkpoints while the run goes on (--checkpoint-every);
+                                     NULL: none. The scene takes one when lub_periodic_due
+                                     says so, between two steps */
 } lub_run_ctx;
 
 /* Helpers for summary entries. stderr_value < 0 or NaN means "no error bar" (null). */

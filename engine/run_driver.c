@@ -425,14 +425,18 @@ int lub_run_spec(const lub_run_request *req)
         checkpoint_kept = 1;
         unlink(copy_dst);
     } else {
-        if (ctx.checkpoint_written) {
-            char text[600];
+        char text[600] = "";
+        if (ctx.checkpoint_written)
             snprintf(text, sizeof text,
                      "no checkpoint was kept (%s): --resume will start this run afresh",
                      renamed ? strerror(errno) : "result.h5 could not be written");
-            unlink(ckpt_tmp);
+        else if (ctx.checkpoint_failure[0])
+            snprintf(text, sizeof text,
+                     "no checkpoint was written (%s): --resume will start this run afresh",
+                     ctx.checkpoint_failure);
+        unlink(ckpt_tmp);
+        if (text[0])
             append_warning(&ctx, text);
-        }
         const int periodic_taken = ctx.periodic && ctx.periodic->written > 0;
         if (rc == LUB_EXIT_INTERRUPTED && (resuming || periodic_taken)) {
             checkpoint_kept = access(ckpt_dst, F_OK) == 0;

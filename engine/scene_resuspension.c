@@ -314,18 +314,14 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
                                const rs_buffers *b, int nb, const lub_rs_system *S,
                                const char *output_file, char *why, size_t len)
 {
-    lub_ckpt *c = lub_ckpt_create(path, why, len);
+    lub_ckpt *c = lub_run_checkpoint_create(path, "resuspension", resolved, output_file, why, len);
     if (!c)
         return -1;
-    char *spec = lub_json_dumps(resolved, JSON_COMPACT | JSON_SORT_KEYS);
     const int64_t ints[6] = {lp->step, lp->avg_start_step,  lp->nh,
                              lp->navg, lp->below_floor_max, lp->frames_in_file};
     const double reals[6] = {lp->max_ke,      lp->min_lowest, lp->contacts_sum,
                              lp->crushed_sum, lp->y_floor,    lp->y_lid};
     int rc =
-        !spec || lub_ckpt_put_text(c, "scene", "resuspension") ||
-        lub_ckpt_put_text(c, "spec_resolved", spec) ||
-        lub_ckpt_put_text(c, "output_file", output_file) ||
         lub_ckpt_put(c, "run/ints", LUB_CKPT_I64, 6, ints) ||
         lub_ckpt_put(c, "run/reals", LUB_CKPT_F64, 6, reals) ||
         lub_step_control_save(c, "run/step_control", &lp->ctl) ||
@@ -335,11 +331,7 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
         lub_ckpt_put(c, "profiles/vx_volume", LUB_CKPT_F64, (size_t)nb, b->vx_vol) ||
         lub_ckpt_put(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum) ||
         lub_rs_save(c, S);
-    const int closed = lub_ckpt_close(c, why, len); /* why: the first failed write */
-    if (!spec)
-        snprintf(why, len, "out of memory (spec text)");
-    free(spec);
-    return rc || closed ? -1 : 0;
+    return lub_run_checkpoint_close(c, rc, why, len);
 }
 
 /* The loop state of checkpoint c. 0, or -1 with why[len]. */
@@ -600,8 +592,6 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         rs_loop saved;
         memset(&saved, 0, sizeof saved);
         lub_ckpt *ck = lub_ckpt_open(ctx->resume_path, why, sizeof why);
-        lub_h5_reader *old = NULL;
-        int64_t file_rows = 0;
         if (ck && rs_checkpoint_read_loop(ck, &saved, why, sizeof why) == 0) {
             const int64_t left = (saved.sched.nsteps - saved.step) / sample_every + 2;
             if (saved.y_floor != y_floor || saved.y_lid != y_lid ||
@@ -616,23 +606,14 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                        rs_checkpoint_read_samples(ck, &saved, &B, nb)) {
                 snprintf(why, sizeof why, "%s",
                          lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "out of memory (samples)");
-            } else if (!(old = lub_h5r_open(ctx->resume_result, why, sizeof why))) {
-                /* why set */
-            } else if (lub_h5r_series_rows(old, names[0], &file_rows) || file_rows < saved.nh) {
-                snprintf(why, sizeof why, "%s holds %lld rows of the time series, not %lld",
-                         ctx->resume_result, (long long)file_rows, (long long)saved.nh);
-            } else if (lub_h5_continue_table(old, tab, 6, names, ncomp, saved.nh, why,
-                                             sizeof why) == 0 &&
-                       (p.snapshots == 0 ||
-                        lub_h5_continue_snapshots(old, ctx->out, N, saved.frames_in_file, why,
-                                                  sizeof why) == 0)) {
+            } else if (lub_h5_continue_output(
+                           ctx->resume_result, tab, 6, names, ncomp, saved.nh, ctx->out, N,
+                           p.snapshots > 0 ? saved.frames_in_file : 0, why, sizeof why) == 0) {
                 why[0] = '\0';
             }
         }
         if (ck)
             lub_ckpt_close(ck, NULL, 0);
-        if (old)
-            lub_h5r_close(old);
         if (!ck || why[0]) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
                      ctx->resume_path, why[0] ? why : "unreadable");
@@ -782,19 +763,12 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     }
     lub_progress_final(ctx->progress, S.step);
     /* a stop between the sample of a step and the step: that state into the checkpoint */
-    char checkpoint_failure[600] = "";
     if (stopped_at >= 0 && ctx->checkpoint_path) {
         lp.step = stopped_at;
         lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-        char why[400] = "";
-        if (rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5", why,
-                                sizeof why) == 0) {
-            ctx->checkpoint_written = 1;
-        } else {
-            remove(ctx->checkpoint_path);
-            snprintf(checkpoint_failure, sizeof checkpoint_failure,
-                     "no checkpoint was written (%s): --resume will start this run afresh", why);
-        }
+        ctx->checkpoint_written =
+            rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5",
+                                ctx->checkpoint_failure, sizeof ctx->checkpoint_failure) == 0;
     }
     if (rc == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable)
         lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", lp.ctl.changes,
@@ -971,8 +945,6 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                           "(crushed_contact_fraction; u_n < -alpha eps a): "
                                           "contact forces exceed alpha stiffness eps, the "
                                           "results depend on /stiffness: raise it"));
-    if (checkpoint_failure[0])
-        json_array_append_new(warn, json_string(checkpoint_failure));
     json_object_set_new(ctx->summary_extra, "warnings", warn);
     json_object_set_new(
         ctx->summary_extra, "units",

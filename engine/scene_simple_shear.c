@@ -29,7 +29,6 @@
 #include <string.h>
 
 #include "h5md_continue.h"
-#include "json_text.h"
 #include "law_spec.h"
 #include "packing.h"
 #include "run_context.h"
@@ -436,14 +435,10 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
                                const lub_shear_system *sys, const char *output_file, char *why,
                                size_t len)
 {
-    lub_ckpt *c = lub_ckpt_create(path, why, len);
+    lub_ckpt *c = lub_run_checkpoint_create(path, "simple_shear", resolved, output_file, why, len);
     if (!c)
         return -1;
-    char *spec = lub_json_dumps(resolved, JSON_COMPACT | JSON_SORT_KEYS);
-    int rc = !spec || lub_ckpt_put_text(c, "scene", "simple_shear") ||
-             lub_ckpt_put_text(c, "spec_resolved", spec) ||
-             lub_ckpt_put_text(c, "output_file", output_file) ||
-             lub_ckpt_put_i64(c, "run/step", lp->step) ||
+    int rc = lub_ckpt_put_i64(c, "run/step", lp->step) ||
              lub_ckpt_put_f64(c, "run/strain", lp->strain) ||
              lub_ckpt_put_f64(c, "run/servo_filtered_pressure", lp->p_f) ||
              lub_ckpt_put_f64(c, "run/next_check", lp->next_check) ||
@@ -460,11 +455,7 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
         rc = lub_ckpt_put(c, name, LUB_CKPT_F64, ser->n, ser->v[k]);
     }
     rc = rc || lub_shear_save(c, sys);
-    const int closed = lub_ckpt_close(c, why, len); /* why: the first failed write */
-    if (!spec)
-        snprintf(why, len, "out of memory (spec text)");
-    free(spec);
-    return rc || closed ? -1 : 0;
+    return lub_run_checkpoint_close(c, rc, why, len);
 }
 
 /* The loop state (lp: all but the series) of checkpoint c; the series are read by
@@ -524,17 +515,14 @@ static int ss_read_resolved(const json_t *resolved, ss_params *p, lub_error *err
     return rc;
 }
 
-/* The start of a continuation (ctx->resume_path): opens the checkpoint and the file holding
- * its rows (ctx->resume_result: the stopped run's result.h5, or the copy a periodic checkpoint
- * made), reads the loop state into *lp, the radii and positions into new arrays, and checks
- * that the file holds the rows and snapshots to be copied. 0, or -1 with
- * ctx->resume_rejected and the diagnostic set (everything opened is closed again). */
-static int ss_resume_begin(lub_run_ctx *ctx, int n, lub_ckpt **ckpt, lub_h5_reader **old,
-                           ss_loop *lp, int64_t *rows, int64_t *frames, double **radius, vec3 **pos)
+/* The start of a continuation (ctx->resume_path): opens the checkpoint, reads the loop state
+ * into *lp (rows and snapshots to copy into *rows, *frames), the radii and positions into new
+ * arrays. 0, or -1 with ctx->resume_rejected and the diagnostic set (the checkpoint closed). */
+static int ss_resume_begin(lub_run_ctx *ctx, int n, lub_ckpt **ckpt, ss_loop *lp, int64_t *rows,
+                           int64_t *frames, double **radius, vec3 **pos)
 {
     char why[512] = "";
     int saved_n = 0;
-    int64_t file_rows = 0, file_frames = 0, file_n = 0;
     *ckpt = lub_ckpt_open(ctx->resume_path, why, sizeof why);
     if (*ckpt && ss_checkpoint_read_loop(*ckpt, lp, rows, frames, why, sizeof why) == 0) {
         if (lub_shear_saved_particles(*ckpt, &saved_n, radius) || saved_n != n) {
@@ -544,16 +532,6 @@ static int ss_resume_begin(lub_run_ctx *ctx, int n, lub_ckpt **ckpt, lub_h5_read
             snprintf(why, sizeof why, "out of memory (positions)");
         } else if (lub_ckpt_get(*ckpt, "system/x", LUB_CKPT_F64, 3 * (size_t)n, *pos)) {
             snprintf(why, sizeof why, "%s", lub_ckpt_error(*ckpt));
-        } else if (!(*old = lub_h5r_open(ctx->resume_result, why, sizeof why))) {
-            /* why set */
-        } else if (lub_h5r_series_rows(*old, "mu", &file_rows) || file_rows < *rows) {
-            snprintf(why, sizeof why,
-                     "%s holds %lld rows of the time series, the checkpoint needs %lld",
-                     ctx->resume_result, (long long)file_rows, (long long)*rows);
-        } else if (*frames > 0 &&
-                   (lub_h5r_frames(*old, &file_frames, &file_n) || file_frames < *frames)) {
-            snprintf(why, sizeof why, "%s holds %lld particle snapshots, the checkpoint needs %lld",
-                     ctx->resume_result, (long long)file_frames, (long long)*frames);
         } else {
             return 0;
         }
@@ -563,10 +541,7 @@ static int ss_resume_begin(lub_run_ctx *ctx, int n, lub_ckpt **ckpt, lub_h5_read
     ctx->resume_rejected = 1;
     if (*ckpt)
         lub_ckpt_close(*ckpt, NULL, 0);
-    if (*old)
-        lub_h5r_close(*old);
     *ckpt = NULL;
-    *old = NULL;
     free(*radius);
     free(*pos);
     *radius = NULL;
@@ -600,17 +575,14 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     memset(&lp, 0, sizeof lp);
     ss_loop resumed;
     memset(&resumed, 0, sizeof resumed);
-    lub_ckpt *resume = NULL;   /* the checkpoint a continuation starts from */
-    lub_h5_reader *old = NULL; /* the file holding the stopped run's rows */
+    lub_ckpt *resume = NULL; /* the checkpoint a continuation starts from */
     int64_t resume_rows = 0, resume_frames = 0;
-    char checkpoint_failure[600] = ""; /* why a stopped run left no checkpoint */
     double *radius = NULL;
     vec3 *pos = NULL;
     lub_cell cell;
     lub_cell_init_box(&cell, 1.0, 1.0, 1.0); /* a continuation's cell comes from its checkpoint */
     if (ctx->resume_path) {
-        if (ss_resume_begin(ctx, n, &resume, &old, &resumed, &resume_rows, &resume_frames, &radius,
-                            &pos))
+        if (ss_resume_begin(ctx, n, &resume, &resumed, &resume_rows, &resume_frames, &radius, &pos))
             return LUB_EXIT_BAD_SPEC;
         lp.packing_min_gap = resumed.packing_min_gap;
     } else {
@@ -782,19 +754,15 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         exit_code = LUB_EXIT_IO;
         goto cleanup;
     }
-    if (old) { /* the stopped run's rows, then its snapshots, unchanged */
+    if (ctx->resume_path) { /* the stopped run's rows, then its snapshots, unchanged */
         char why[600] = "";
-        if (lub_h5_continue_table(old, tab, 17, tnames, tnc, resume_rows, why, sizeof why) == 0 &&
-            p.snapshots > 0) {
-            const char *bnd[3] = {"periodic", "periodic", "periodic"};
-            if (lub_h5_particles_define(ctx->out, n, radius, bnd))
-                snprintf(why, sizeof why, "%s", lub_h5_last_error(ctx->out));
-            else
-                lub_h5_continue_snapshots(old, ctx->out, n, resume_frames, why, sizeof why);
-            lp.frames = resume_frames;
-        }
-        lub_h5r_close(old);
-        old = NULL;
+        const char *bnd[3] = {"periodic", "periodic", "periodic"};
+        if (p.snapshots > 0 && lub_h5_particles_define(ctx->out, n, radius, bnd))
+            snprintf(why, sizeof why, "%s", lub_h5_last_error(ctx->out));
+        else
+            lub_h5_continue_output(ctx->resume_result, tab, 17, tnames, tnc, resume_rows, ctx->out,
+                                   n, p.snapshots > 0 ? resume_frames : 0, why, sizeof why);
+        lp.frames = p.snapshots > 0 ? resume_frames : 0;
         if (why[0]) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
                      ctx->resume_result, why);
@@ -1012,15 +980,10 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lp.step = step;
         const int64_t frames_in_file =
             lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-        char why[400] = "";
-        if (ss_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &ser, frames_in_file, &sys,
-                                "result.h5", why, sizeof why) == 0) {
-            ctx->checkpoint_written = 1;
-        } else {
-            remove(ctx->checkpoint_path);
-            snprintf(checkpoint_failure, sizeof checkpoint_failure,
-                     "no checkpoint was written (%s): --resume will start this run afresh", why);
-        }
+        ctx->checkpoint_written =
+            ss_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &ser, frames_in_file, &sys,
+                                "result.h5", ctx->checkpoint_failure,
+                                sizeof ctx->checkpoint_failure) == 0;
     }
     /* the step's advice where the step is the likely cause (not for a cell squeezed below
      * the listing distance, unless /dt was fixed above the bound) */
@@ -1152,8 +1115,6 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         json_t *warnings = json_array();
         for (int w = 0; w < n_warnings; ++w)
             json_array_append_new(warnings, json_string(warning_text[w]));
-        if (checkpoint_failure[0])
-            json_array_append_new(warnings, json_string(checkpoint_failure));
         json_object_set_new(ctx->summary_extra, "warnings", warnings);
         lub_summary_put(ctx, "elastic_number", checks.elastic_number, NAN, "1");
         json_t *terms = json_array();
@@ -1211,8 +1172,6 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
 cleanup:
     if (resume)
         lub_ckpt_close(resume, NULL, 0);
-    if (old)
-        lub_h5r_close(old);
     free(pos);
     for (int k = 0; k < S_COUNT; ++k)
         free(ser.v[k]);

@@ -2,7 +2,10 @@
 #include "state_checkpoint.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "json_text.h"
 
 _Static_assert(sizeof(lub_pair_state) == 8 * sizeof(double), "a pair state is 8 doubles");
 
@@ -166,4 +169,31 @@ int lub_schedule_load(lub_ckpt *c, const char *name, lub_schedule *sc)
             return -1;
     }
     return 0;
+}
+
+lub_ckpt *lub_run_checkpoint_create(const char *path, const char *scene, const json_t *resolved,
+                                    const char *output_file, char *why, size_t len)
+{
+    lub_ckpt *c = lub_ckpt_create(path, why, len);
+    if (!c)
+        return NULL;
+    char *spec = lub_json_dumps(resolved, JSON_COMPACT | JSON_SORT_KEYS);
+    const int no_spec = !spec;
+    const int rc = no_spec || lub_ckpt_put_text(c, "scene", scene) ||
+                   lub_ckpt_put_text(c, "spec_resolved", spec) ||
+                   lub_ckpt_put_text(c, "output_file", output_file);
+    free(spec);
+    if (rc) {
+        lub_ckpt_close(c, why, len);
+        if (no_spec)
+            snprintf(why, len, "out of memory (spec text)");
+        return NULL;
+    }
+    return c;
+}
+
+int lub_run_checkpoint_close(lub_ckpt *c, int failed, char *why, size_t len)
+{
+    const int closed = lub_ckpt_close(c, why, len); /* why: the first failed write */
+    return failed || closed ? -1 : 0;
 }

@@ -13,11 +13,22 @@
 #ifndef LUBDEM_STATE_CHECKPOINT_H
 #define LUBDEM_STATE_CHECKPOINT_H
 
+#include <jansson.h>
+
 #include "checkpoint_file.h"
 #include "pair_store.h"
 #include "periodic_cell.h"
 #include "step_schedule.h"
 #include "step_stiffness.h"
+
+/* A new checkpoint at path for a run of `scene`: its resolved spec (text "spec_resolved", which
+ * --resume compares) and the file that holds its rows (text "output_file"). NULL with why[len]
+ * on failure (nothing left open). */
+lub_ckpt *lub_run_checkpoint_create(const char *path, const char *scene, const json_t *resolved,
+                                    const char *output_file, char *why, size_t len);
+/* Closes a checkpoint made by lub_run_checkpoint_create; 0, or -1 when `failed` (a put of the
+ * caller's failed) or the close failed, with why[len] the first failed write. */
+int lub_run_checkpoint_close(lub_ckpt *c, int failed, char *why, size_t len);
 
 _Static_assert(sizeof(vec3) == 3 * sizeof(double), "vec3 arrays are stored as doubles");
 
