@@ -26,7 +26,12 @@ SPEC --out DIR --resume` continues it. Checked:
  8. kill -9 (no warning) of runs taking periodic checkpoints (--checkpoint-every 0.3 s), after
     60 % of the run: checkpoint.h5 and checkpoint-result.h5 are there, no summary; --resume
     continues from the last one to the numbers of the run that never stopped (simple_shear as
-    in 1, resuspension as in 6), and leaves neither file.
+    in 1, resuspension as in 6), and leaves neither file;
+ 9. another thread count: the 1-thread run stopped in 1, continued on 2 threads. It is not the
+    same run bit for bit (the pair sums add in another order), so: its rows up to the stop are
+    the stopped run's, the first sample after it agrees with the 1-thread run to round-off
+    (relative 1e-6, where a wrong state would differ at once), and every result with an error
+    bar agrees with the 1-thread run's within 5 combined standard errors.
 The stop is sent once the progress lines pass a fraction, so that it lands mid-run on any
 machine. The sanitizer build (~5 times slower) runs every case on a shorter strain (the
 equalities do not depend on it). Usage: test_resume.py LUBDEM WORKDIR [--sanitized]
@@ -187,6 +192,10 @@ check(rc == 2 and "checkpoint" in err, f"3: truncated checkpoint refused (got {r
       f"{err.strip()[-200:]})")
 check(digest(bad_dir) == before_bad, "3: folder unchanged")
 
+res9 = os.path.join(WORK, "res9")  # for 9: the same stopped run, continued on 2 threads
+shutil.rmtree(res9, ignore_errors=True)
+shutil.copytree(res1, res9)
+
 # ---- 1 (cont.): resume ----
 rc, out, err = run(spec1, res1, "--resume")
 check(rc == 0, f"1: resumed run exit 0 (got {rc}) {err[-300:]}")
@@ -307,6 +316,50 @@ for label, spec, ref, threads in (("8a", spec1, ref1, "1"), ("8b", spec6, ref6, 
           summary(killed).get("periodic_checkpoints", 0) >= 1,
           f"{label}: the copy removed at the end; {summary(killed).get('periodic_checkpoints')} "
           "periodic checkpoints in the continuation")
+
+# ---- 9. continued on another thread count ----
+rc, _, err = run(spec1, res9, "--threads", "2", "--resume")
+s9, r1 = summary(res9), summary(ref1)
+check(rc == 0 and s9["threads"] == 2 and s9.get("resumed_from_step") == stopped_steps,
+      f"9: the 1-thread run continued on {s9.get('threads')} threads from step "
+      f"{s9.get('resumed_from_step')} (exit {rc}) {err[-200:]}")
+series_a = {k: v for k, v in h5_items(os.path.join(ref1, "result.h5")).items()
+            if k.startswith("observables/") and k.endswith("/value")}
+series_b = {k: v for k, v in h5_items(os.path.join(res9, "result.h5")).items()
+            if k.startswith("observables/") and k.endswith("/value")}
+with h5py.File(os.path.join(ref1, "result.h5"), "r") as fa, \
+        h5py.File(os.path.join(res9, "result.h5"), "r") as fb:
+    steps_a, steps_b = fa["observables/mu/step"][()], fb["observables/mu/step"][()]
+before = int(np.searchsorted(steps_a, stopped_steps, side="right"))
+check(set(series_a) == set(series_b) and same_bits(steps_a[:before], steps_b[:before]) and
+      all(same_bits(series_a[k][:before], series_b[k][:before]) for k in series_a),
+      f"9: the {before} rows of the {len(series_a)} time series up to the stop are the stopped "
+      "run's")
+worst = 0.0
+for k in series_a:
+    va = np.asarray(series_a[k][before], dtype=float)
+    vb = np.asarray(series_b[k][before], dtype=float)
+    worst = max(worst, float(np.max(np.abs(va - vb) / np.maximum(np.abs(va), 1e-300))))
+check(steps_b[before] == steps_a[before] and worst < 1e-6,
+      f"9: first sample after the stop (step {steps_b[before]}) within round-off of the "
+      f"1-thread run's (largest relative difference {worst:.1e})")
+later = sum(not same_bits(series_a[k], series_b[k]) for k in series_a)
+print(f"9: {later} of {len(series_a)} time series differ from the 1-thread run's somewhere "
+      "after the stop")
+far = []
+compared = 0
+for k, a_ in r1["results"].items():
+    b_ = s9["results"].get(k, {})
+    if not isinstance(a_, dict) or a_.get("stderr") is None or b_.get("stderr") is None:
+        continue
+    compared += 1
+    tol = 5.0 * (a_["stderr"] ** 2 + b_["stderr"] ** 2) ** 0.5
+    if abs(a_["value"] - b_["value"]) > tol:
+        far.append((k, a_["value"], b_["value"], tol))
+check(compared > 0 and not far,
+      f"9: {compared} results with error bars within 5 combined standard errors of the 1-thread "
+      f"run's (mu {s9['results']['mu']['value']:.4g} / {r1['results']['mu']['value']:.4g})"
+      + (f"; outside: {far[:3]}" if far else ""))
 
 print(f"resume_failures={len(failures)}")
 sys.exit(1 if failures else 0)
