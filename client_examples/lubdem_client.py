@@ -8,11 +8,15 @@
     res = c.results(job["jobID"])                    # summary inline + files
     summary = c.summary(job["jobID"])                # also of a failed job, where there is one
     c.download(job["jobID"], "result.h5", "out.h5")  # resumable, sha256-checked
+    c.outputs(job["jobID"])                          # the files, also of a failed job
 
 Command line:
     lubdem_client.py [--url URL] [--token T] submit PROCESS '{"duration": 2}' [--wait]
                      [--download FILE] [--timeout S] [--key KEY] [--fail-on-warnings]
-    lubdem_client.py status JOB | results JOB | list [--status S] | dismiss JOB
+    lubdem_client.py status JOB | results JOB | list [--status S] | dismiss JOB | log JOB
+    lubdem_client.py download JOB [DIR]   every file of an ended job into DIR (default: JOB);
+                     a failed job's too (its partial result.h5, the checkpoint of a run
+                     stopped at its CPU limit), then exit 1 with the job's message
 Token: --token, $LUBDEM_TOKEN, or ./run/local-token.
 submit --wait/--download prints the run's warnings (its summary's own validity checks) as
 'warning: ...' lines on stderr; with --fail-on-warnings it then exits 4.
@@ -135,6 +139,18 @@ class Client:
                 return e.problem.get("summary")
             raise
 
+    def outputs(self, job_id):
+        """The files of a job that has ended ({name: {href, type, size, sha256}}): of a
+        successful job, or what the engine of a failed one wrote and the service kept (its
+        summary, a partial or failed result.h5, a stopped run's checkpoint.h5); {} when
+        there are none."""
+        try:
+            return self.results(job_id).get("outputs") or {}
+        except ApiError as e:
+            if isinstance(e.problem, dict) and e.status in (422, 500):
+                return e.problem.get("outputs") or {}
+            raise
+
     def warnings(self, job_id):
         """The warnings of a successful job's summary (its advisory validity checks)."""
         summary = self.results(job_id).get("summary") or {}
@@ -153,7 +169,11 @@ class Client:
     def download(self, job_id, name, path, chunk=1 << 20):
         """Streams an output to `path`, resuming a partial file with a Range request, and
         checks size and sha256 against the results document."""
-        want = self.results(job_id)["outputs"][name]
+        outputs = self.outputs(job_id)
+        if name not in outputs:
+            raise KeyError("job %s has no output %r (it has: %s)"
+                           % (job_id, name, ", ".join(sorted(outputs)) or "none"))
+        want = outputs[name]
         have = os.path.getsize(path) if os.path.exists(path) else 0
         if have > want["size"]:
             have = 0
@@ -183,6 +203,29 @@ class Client:
         return path
 
 
+def download_all(c, job_id, directory):
+    """Downloads every file of an ended job into `directory`. 0 for a successful job, 1 for a
+    failed one (its files are downloaded first), 1 for a job that has not ended."""
+    job = c.status(job_id)
+    if job["status"] not in ENDED:
+        print("error: job %s is %s; its files come when it has ended" % (job_id, job["status"]),
+              file=sys.stderr)
+        return 1
+    os.makedirs(directory, exist_ok=True)
+    outputs = c.outputs(job_id)
+    for name in sorted(outputs):
+        print(c.download(job_id, name, os.path.join(directory, name)))
+    if job["status"] == "successful":
+        return 0
+    print("error: job %s %s: %s" % (job_id, job["status"], job.get("message", "")),
+          file=sys.stderr)
+    if "checkpoint.h5" in outputs:
+        print("the run stopped with a checkpoint: continue it with `lubdem run SPEC --out %s "
+              "--resume`, SPEC being the job's inputs with \"scene\": \"%s\""
+              % (directory, job.get("processID", "")), file=sys.stderr)
+    return 1
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--url", default=os.environ.get("LUBDEM_URL", "http://127.0.0.1:8080"))
@@ -198,6 +241,9 @@ def main(argv=None):
     s.add_argument("--fail-on-warnings", action="store_true")
     for name in ("status", "results", "dismiss", "log"):
         sub.add_parser(name).add_argument("job")
+    d = sub.add_parser("download")
+    d.add_argument("job")
+    d.add_argument("dir", nargs="?")
     lst = sub.add_parser("list")
     lst.add_argument("--status")
     a = p.parse_args(argv)
@@ -224,10 +270,12 @@ def main(argv=None):
             print(json.dumps(c.dismiss(a.job), indent=1))
         elif a.cmd == "log":
             sys.stdout.write(c.log(a.job))
+        elif a.cmd == "download":
+            return download_all(c, a.job, a.dir or a.job)
         elif a.cmd == "list":
             for j in c.jobs(a.status):
                 print(j["jobID"], j["processID"], j["status"], j.get("progress", 0))
-    except (ApiError, JobFailed, TimeoutError) as e:
+    except (ApiError, JobFailed, TimeoutError, KeyError, IOError) as e:
         print("error:", e, file=sys.stderr)
         return 1
     return 0

@@ -191,6 +191,36 @@ enum MHD_Result lubd_api_dismiss(lubd_request *r, const char *id)
     return lubd_reply_json(r, 200, lubd_status_json(&after, r->base, r->user.is_admin));
 }
 
+/* The outputs document of a finished job ({name: {href, type, size, sha256}}) and, in
+ * *summary, its summary.json (NULL when it has none). NULL on a database error. */
+static json_t *outputs_json(lubd_request *r, const char *id, json_t **summary)
+{
+    *summary = NULL;
+    lubd_result_file *files;
+    int n;
+    sqlite3 *db = lubd_db_acquire(&r->srv->pool);
+    int rc = lubd_queue_results(db, id, &files, &n);
+    lubd_db_release(&r->srv->pool, db);
+    if (rc != 0)
+        return NULL;
+    json_t *outputs = json_object();
+    for (int i = 0; i < n; ++i) {
+        char href[1200];
+        snprintf(href, sizeof href, "%s/jobs/%s/results/%s", r->base, id, files[i].name);
+        json_object_set_new(outputs, files[i].name,
+                            json_pack("{s:s, s:s, s:I, s:s}", "href", href, "type",
+                                      files[i].media_type, "size", (json_int_t)files[i].size,
+                                      "sha256", files[i].sha256));
+        if (strcmp(files[i].name, "summary.json") == 0) {
+            char path[1400];
+            snprintf(path, sizeof path, "%s/%s/result/summary.json", r->srv->cfg->jobs_dir, id);
+            *summary = json_load_file(path, JSON_PRESERVE_ORDER, NULL);
+        }
+    }
+    free(files);
+    return outputs;
+}
+
 enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
 {
     lubd_fault f;
@@ -208,50 +238,41 @@ enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
                   "job %s was dismissed: %s", id, j.message);
         return lubd_reply_fault(r, &f);
     }
+    json_t *summary;
+    json_t *outputs = outputs_json(r, id, &summary);
+    if (!outputs) {
+        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
+        return lubd_reply_fault(r, &f);
+    }
     if (strcmp(j.state, "failed") == 0) {
         int system = strcmp(j.failure_kind, "system") == 0;
         lubd_fail(&f, system ? 500 : 422, LUBD_PT_BASE "job-failed", "Job failed", NULL,
                   "job %s failed (%s): %s", id, j.failure_kind, j.message);
-        /* the engine's summary of the failed attempt, where it wrote one: its diagnostic, and
-         * the results of a run whose result.h5 could not be written (exit 4) */
-        char path[1400];
-        snprintf(path, sizeof path, "%s/%s/attempt-%d/out/summary.json", r->srv->cfg->jobs_dir, id,
-                 j.attempt);
-        json_t *summary = j.attempt > 0 ? json_load_file(path, JSON_PRESERVE_ORDER, NULL) : NULL;
-        if (!json_is_object(summary)) {
+        /* What the failed attempt's engine wrote, where it wrote anything: its summary (the
+         * diagnostic, and the results of a run whose result.h5 could not be written) and the
+         * files it kept (a partial or failed result.h5, a stopped run's checkpoint), served
+         * like a successful job's. Jobs that failed before the files were kept (or whose files
+         * could not be moved) have their summary in the attempt's folder only. */
+        if (!summary && j.attempt > 0) {
+            char path[1400];
+            snprintf(path, sizeof path, "%s/%s/attempt-%d/out/summary.json", r->srv->cfg->jobs_dir,
+                     id, j.attempt);
+            summary = json_load_file(path, JSON_PRESERVE_ORDER, NULL);
+        }
+        if (!json_is_object(summary) && json_object_size(outputs) == 0) {
             json_decref(summary);
+            json_decref(outputs);
             return lubd_reply_fault(r, &f);
         }
         json_t *body = lubd_fault_json(&f, r->url);
-        json_object_set_new(body, "summary", summary);
+        if (json_is_object(summary))
+            json_object_set_new(body, "summary", summary);
+        else
+            json_decref(summary);
+        json_object_set_new(body, "outputs", outputs);
         struct MHD_Response *resp = lubd_json_response(body, "application/problem+json");
         return resp ? lubd_queue(r, (unsigned)f.status, resp) : MHD_NO;
     }
-    lubd_result_file *files;
-    int n;
-    sqlite3 *db = lubd_db_acquire(&r->srv->pool);
-    int rc = lubd_queue_results(db, id, &files, &n);
-    lubd_db_release(&r->srv->pool, db);
-    if (rc != 0) {
-        lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
-        return lubd_reply_fault(r, &f);
-    }
-    json_t *outputs = json_object();
-    json_t *summary = NULL;
-    for (int i = 0; i < n; ++i) {
-        char href[1200];
-        snprintf(href, sizeof href, "%s/jobs/%s/results/%s", r->base, id, files[i].name);
-        json_object_set_new(outputs, files[i].name,
-                            json_pack("{s:s, s:s, s:I, s:s}", "href", href, "type",
-                                      files[i].media_type, "size", (json_int_t)files[i].size,
-                                      "sha256", files[i].sha256));
-        if (strcmp(files[i].name, "summary.json") == 0) {
-            char path[1400];
-            snprintf(path, sizeof path, "%s/%s/result/summary.json", r->srv->cfg->jobs_dir, id);
-            summary = json_load_file(path, JSON_PRESERVE_ORDER, NULL);
-        }
-    }
-    free(files);
     char self[1200];
     snprintf(self, sizeof self, "%s/jobs/%s/results", r->base, id);
     json_t *o =

@@ -173,9 +173,11 @@ static int finish_row(sqlite3 *db, const lubd_claim *c, const char *state, const
     return rc == SQLITE_DONE ? 0 : sql_err(db);
 }
 
-int lubd_lease_succeed(sqlite3 *db, const lubd_claim *c, const char *out_dir,
-                       const char *result_dir, const lubd_output_file *files, int n,
-                       const char *message)
+/* Moves out_dir to result_dir, registers its files and finishes the row in `state`, in one
+ * transaction under the lease. */
+static int finish_with_outputs(sqlite3 *db, const lubd_claim *c, const char *state,
+                               const char *kind, const char *message, const char *out_dir,
+                               const char *result_dir, const lubd_output_file *files, int n)
 {
     if (lubd_db_begin(db) != 0)
         return -1;
@@ -185,7 +187,7 @@ int lubd_lease_succeed(sqlite3 *db, const lubd_claim *c, const char *out_dir,
         return ours;
     }
     /* A result_dir can only be a leftover of an attempt that crashed between its rename and
-     * its COMMIT (never served: the job was not successful). Replace it. */
+     * its COMMIT (never served: the job had not finished). Replace it. */
     struct stat sb;
     if (stat(result_dir, &sb) == 0 && lubd_rm_rf(result_dir) != 0) {
         fprintf(stderr, "lubdemd worker: cannot remove %s: %s\n", result_dir, strerror(errno));
@@ -221,7 +223,7 @@ int lubd_lease_succeed(sqlite3 *db, const lubd_claim *c, const char *out_dir,
         sqlite3_finalize(st);
         st = NULL;
     }
-    if (finish_row(db, c, "successful", NULL, message) != 0 || lubd_db_commit(db) != 0)
+    if (finish_row(db, c, state, kind, message) != 0 || lubd_db_commit(db) != 0)
         goto fail;
     return 1;
 fail:
@@ -230,6 +232,20 @@ fail:
     sqlite3_finalize(st);
     lubd_db_rollback(db);
     return -1;
+}
+
+int lubd_lease_succeed(sqlite3 *db, const lubd_claim *c, const char *out_dir,
+                       const char *result_dir, const lubd_output_file *files, int n,
+                       const char *message)
+{
+    return finish_with_outputs(db, c, "successful", NULL, message, out_dir, result_dir, files, n);
+}
+
+int lubd_lease_fail_with_outputs(sqlite3 *db, const lubd_claim *c, const char *kind,
+                                 const char *message, const char *out_dir, const char *result_dir,
+                                 const lubd_output_file *files, int n)
+{
+    return finish_with_outputs(db, c, "failed", kind, message, out_dir, result_dir, files, n);
 }
 
 int lubd_lease_fail(sqlite3 *db, const lubd_claim *c, const char *kind, const char *message)

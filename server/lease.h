@@ -44,6 +44,12 @@ int lubd_lease_succeed(sqlite3 *db, const lubd_claim *c, const char *out_dir,
                        const char *message);
 /* Failure (not retried). kind: "executor" or "system". 1 done, 0 lease lost, -1 error. */
 int lubd_lease_fail(sqlite3 *db, const lubd_claim *c, const char *kind, const char *message);
+/* Failure that keeps what the engine wrote (its summary, a partial or failed result.h5, the
+ * checkpoint of a stopped run): as lubd_lease_succeed, but the job ends failed; the files
+ * are served like a successful job's. Same returns. */
+int lubd_lease_fail_with_outputs(sqlite3 *db, const lubd_claim *c, const char *kind,
+                                 const char *message, const char *out_dir, const char *result_dir,
+                                 const lubd_output_file *files, int n);
 /* Gives the job back to the queue without consuming an attempt (graceful shutdown). */
 int lubd_lease_release(sqlite3 *db, const lubd_claim *c);
 /* After a dismissal: drops the lease fields if the job still carries our token. */

@@ -143,70 +143,14 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
 
 typedef enum { END_EXITED, END_LOST, END_SHUTDOWN } end_reason;
 
-/* Runs one claimed job to its end. */
-static void run_job(worker_ctx *w, lubd_claim *c)
+/* Watches a started engine to its end: copies its output into the log, turns its progress
+ * lines into heartbeats, and stops it (SIGTERM, then SIGKILL after the grace time) when the
+ * service stops or the lease is lost. Leaves the engine's wait status in *status_out. */
+static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
+                                   const lubd_engine_proc *ep_in, int log_fd, int *status_out)
 {
     const lubd_config *cfg = w->cfg;
-    char job_dir[1200], attempt_dir[1300], out_dir[1400], spec_path[1400], log_path[1400],
-        result_dir[1300];
-    snprintf(job_dir, sizeof job_dir, "%s/%s", cfg->jobs_dir, c->id);
-    snprintf(attempt_dir, sizeof attempt_dir, "%s/attempt-%d", job_dir, c->attempt);
-    snprintf(out_dir, sizeof out_dir, "%s/out", attempt_dir);
-    snprintf(spec_path, sizeof spec_path, "%s/spec.json", attempt_dir);
-    snprintf(log_path, sizeof log_path, "%s/log", attempt_dir);
-    snprintf(result_dir, sizeof result_dir, "%s/result", job_dir);
-
-    char msg[900];
-    /* A job that ran before continues from its engine's checkpoint (lubdem run --resume)
-     * instead of from the beginning: an attempt released when the service stopped runs again
-     * under the same number, and its engine left out/checkpoint.h5 when it stopped; a job
-     * requeued after its worker died runs as the next attempt, and the previous attempt's
-     * engine left the last of its periodic checkpoints (--checkpoint-s). That out folder is
-     * kept (moved aside, then into this attempt's folder); the rest of the attempt folder (the
-     * leftovers of a crash) is cleared as before. */
-    char keep_dir[1400], ckpt_path[1500], prev_out[1400];
-    snprintf(keep_dir, sizeof keep_dir, "%s/resume-out", job_dir);
-    snprintf(prev_out, sizeof prev_out, "%s/attempt-%d/out", job_dir, c->attempt - 1);
-    int resume = 0;
-    const char *sources[2] = {out_dir, c->attempt > 1 ? prev_out : NULL};
-    if (lubd_rm_rf(keep_dir) == 0)
-        for (int k = 0; k < 2 && !resume && sources[k]; ++k) {
-            snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", sources[k]);
-            resume = access(ckpt_path, F_OK) == 0 && rename(sources[k], keep_dir) == 0;
-        }
-    if (lubd_rm_rf(attempt_dir) != 0 || lubd_mkdir_p(attempt_dir, 0750) != 0 ||
-        (resume && rename(keep_dir, out_dir) != 0) ||
-        lubd_write_file_atomic(spec_path, c->spec_json, strlen(c->spec_json)) != 0) {
-        lubd_pathf(msg, sizeof msg, "system error: cannot prepare %s: %s", attempt_dir,
-                   strerror(errno));
-        lubd_lease_fail(w->db, c, "system", msg);
-        return;
-    }
-    int log_fd = open(log_path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0640);
-    if (log_fd < 0) {
-        snprintf(msg, sizeof msg, "system error: cannot open the log: %s", strerror(errno));
-        lubd_lease_fail(w->db, c, "system", msg);
-        return;
-    }
-    dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt, w->name,
-            resume ? ", continuing from the checkpoint of its stopped run" : "");
-    lubd_engine_opts eo = {.engine = cfg->engine,
-                           .spec = spec_path,
-                           .out_dir = out_dir,
-                           .log_fd = log_fd,
-                           .cpu_s = cfg->cpu_s,
-                           .mem_mb = cfg->mem_mb,
-                           .fsize_mb = cfg->fsize_mb,
-                           .threads = cfg->engine_threads,
-                           .resume = resume,
-                           .checkpoint_s = cfg->checkpoint_s};
-    lubd_engine_proc ep;
-    if (lubd_engine_spawn(&eo, &ep) != 0) {
-        snprintf(msg, sizeof msg, "system error: cannot start the engine: %s", strerror(errno));
-        close(log_fd);
-        lubd_lease_fail(w->db, c, "system", msg);
-        return;
-    }
+    lubd_engine_proc ep = *ep_in;
     double hb_every = cfg->lease_s / 3.0;
     if (hb_every > 1.0)
         hb_every = 1.0;
@@ -289,10 +233,101 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     }
     close(ep.stdout_fd);
     kill(-ep.pid, SIGKILL); /* anything the engine left behind in its group */
+    *status_out = status;
+    return why;
+}
+
+/* Runs one claimed job to its end. */
+static void run_job(worker_ctx *w, lubd_claim *c)
+{
+    const lubd_config *cfg = w->cfg;
+    char job_dir[1200], attempt_dir[1300], out_dir[1400], spec_path[1400], log_path[1400],
+        result_dir[1300];
+    snprintf(job_dir, sizeof job_dir, "%s/%s", cfg->jobs_dir, c->id);
+    snprintf(attempt_dir, sizeof attempt_dir, "%s/attempt-%d", job_dir, c->attempt);
+    snprintf(out_dir, sizeof out_dir, "%s/out", attempt_dir);
+    snprintf(spec_path, sizeof spec_path, "%s/spec.json", attempt_dir);
+    snprintf(log_path, sizeof log_path, "%s/log", attempt_dir);
+    snprintf(result_dir, sizeof result_dir, "%s/result", job_dir);
+
+    char msg[900];
+    /* A job that ran before continues from its engine's checkpoint (lubdem run --resume)
+     * instead of from the beginning: an attempt released when the service stopped runs again
+     * under the same number, and its engine left out/checkpoint.h5 when it stopped; a job
+     * requeued after its worker died runs as the next attempt, and the previous attempt's
+     * engine left the last of its periodic checkpoints (--checkpoint-s). That out folder is
+     * kept (moved aside, then into this attempt's folder); the rest of the attempt folder (the
+     * leftovers of a crash) is cleared as before. */
+    char keep_dir[1400], ckpt_path[1500], prev_out[1400];
+    snprintf(keep_dir, sizeof keep_dir, "%s/resume-out", job_dir);
+    snprintf(prev_out, sizeof prev_out, "%s/attempt-%d/out", job_dir, c->attempt - 1);
+    int resume = 0;
+    const char *sources[2] = {out_dir, c->attempt > 1 ? prev_out : NULL};
+    if (lubd_rm_rf(keep_dir) == 0)
+        for (int k = 0; k < 2 && !resume && sources[k]; ++k) {
+            snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", sources[k]);
+            resume = access(ckpt_path, F_OK) == 0 && rename(sources[k], keep_dir) == 0;
+        }
+    if (lubd_rm_rf(attempt_dir) != 0 || lubd_mkdir_p(attempt_dir, 0750) != 0 ||
+        (resume && rename(keep_dir, out_dir) != 0) ||
+        lubd_write_file_atomic(spec_path, c->spec_json, strlen(c->spec_json)) != 0) {
+        lubd_pathf(msg, sizeof msg, "system error: cannot prepare %s: %s", attempt_dir,
+                   strerror(errno));
+        lubd_lease_fail(w->db, c, "system", msg);
+        return;
+    }
+    int log_fd = open(log_path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0640);
+    if (log_fd < 0) {
+        snprintf(msg, sizeof msg, "system error: cannot open the log: %s", strerror(errno));
+        lubd_lease_fail(w->db, c, "system", msg);
+        return;
+    }
+    dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt, w->name,
+            resume ? ", continuing from the checkpoint of its stopped run" : "");
+    lubd_engine_opts eo = {.engine = cfg->engine,
+                           .spec = spec_path,
+                           .out_dir = out_dir,
+                           .log_fd = log_fd,
+                           .cpu_s = cfg->cpu_s,
+                           .mem_mb = cfg->mem_mb,
+                           .fsize_mb = cfg->fsize_mb,
+                           .threads = cfg->engine_threads,
+                           .resume = resume,
+                           .checkpoint_s = cfg->checkpoint_s};
+    end_reason why;
+    int status = 0;
+    for (;;) {
+        lubd_engine_proc ep;
+        if (lubd_engine_spawn(&eo, &ep) != 0) {
+            snprintf(msg, sizeof msg, "system error: cannot start the engine: %s", strerror(errno));
+            close(log_fd);
+            lubd_lease_fail(w->db, c, "system", msg);
+            return;
+        }
+        why = supervise_engine(w, c, &ep, log_fd, &status);
+        char st_text[200];
+        lubd_describe_status(status, st_text, sizeof st_text);
+        dprintf(log_fd, "lubdemd: engine finished: %s\n", st_text);
+        /* Exit 2 of a continuation is the engine refusing the checkpoint (damaged, cut short,
+         * its rows' file gone, or written for another spec by an older service): the job's
+         * spec itself passed validation at submission. Rather than fail a job for the state
+         * its earlier run left, start it again from the beginning, once. */
+        if (why != END_EXITED || !eo.resume || !WIFEXITED(status) || WEXITSTATUS(status) != 2)
+            break;
+        dprintf(log_fd, "lubdemd: the engine cannot continue from the checkpoint (its reason "
+                        "above); starting the job again from the beginning\n");
+        if (lubd_rm_rf(out_dir) != 0) {
+            lubd_pathf(msg, sizeof msg, "system error: cannot clear %s: %s", out_dir,
+                       strerror(errno));
+            close(log_fd);
+            lubd_lease_fail(w->db, c, "system", msg);
+            return;
+        }
+        eo.resume = 0;
+    }
+    close(log_fd);
     char st_text[200];
     lubd_describe_status(status, st_text, sizeof st_text);
-    dprintf(log_fd, "lubdemd: engine finished: %s\n", st_text);
-    close(log_fd);
 
     if (why == END_SHUTDOWN) {
         lubd_lease_release(w->db, c);
@@ -332,7 +367,20 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     const char *kind = (code == 4 || code == 126 || code == 127) ? "system" : "executor";
     snprintf(msg, sizeof msg, "engine failed (%s)%s%s", st_text, diag[0] ? ": " : "", diag);
-    if (lubd_lease_fail(w->db, c, kind, msg) == 0)
+    /* What the engine wrote is kept and served with the failure: the summary, the partial
+     * result.h5 of a run stopped at its CPU time limit (with the checkpoint it continues
+     * from), the result.h5 of a run that failed numerically (status failed, its series up to
+     * the failure). A half-written file is never there: the engine writes under temporary
+     * names, which collect_outputs skips. */
+    lubd_output_file files[16];
+    char names[16][64];
+    int n = collect_outputs(out_dir, files, names, 16);
+    int done =
+        n > 0 ? lubd_lease_fail_with_outputs(w->db, c, kind, msg, out_dir, result_dir, files, n)
+              : lubd_lease_fail(w->db, c, kind, msg);
+    if (done < 0 && n > 0) /* the files could not be moved: fail without them */
+        done = lubd_lease_fail(w->db, c, kind, msg);
+    if (done == 0)
         lubd_lease_drop(w->db, c);
 }
 

@@ -6,6 +6,8 @@
 #        keeps the run's results (as lubdem does since 2026-12-05)
 #   11 -> the engine crashes (SIGSEGV)
 #   7 -> exit 0 without writing any output
+#   5 -> stopped (exit 5) with a partial summary, a result.h5, a checkpoint.h5 and a leftover
+#        temporary file: the kept files must be served with the failure, the temporary one not
 spec=$2 out=$4
 mkdir -p "$out"
 echo "progress fraction=0.5000 step=10 steps_per_s=1.0e+03 eta_s=1.0"
@@ -20,6 +22,12 @@ case $(tr -d ' \n' < "$spec") in
     kill -SEGV $$ ;;
   *'"duration":7'[,}]*)
     exit 0 ;;
+  *'"duration":5'[,}]*)
+    printf '{"scene": "falling_sphere", "status": "partial", "exit_code": 5, "diagnostic": "stopped at the CPU time limit of this process"}\n' > "$out/summary.json"
+    printf 'partial rows of the fake engine\n' > "$out/result.h5"
+    printf 'state of the fake engine\n' > "$out/checkpoint.h5"
+    printf 'half-written\n' > "$out/.result.h5.tmp"
+    echo "error: stopped at the CPU time limit of this process" >&2; exit 5 ;;
 esac
 echo "error: fake engine: unexpected spec" >&2
 exit 1

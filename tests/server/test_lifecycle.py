@@ -1,13 +1,18 @@
 """Full job life cycle on a live lubdemd with the real engine, for two processes:
 submit -> poll -> results document -> HDF5 download (sha256, ETag/304, Range 206/416) ->
 log -> list/filter/paging -> dismiss (running and finished) -> user isolation, admin view,
-token revocation; an engine killed by its CPU limit fails the job, not retried."""
+token revocation; an engine stopped by its CPU limit fails the job, not retried; graceful stops
+and a killed worker continue simple_shear jobs from their checkpoints; a simple_shear job
+stopped at its CPU limit serves its partial result.h5 and checkpoint, which the engine
+continues after a download; a checkpoint the engine refuses restarts the job from the
+beginning instead of failing it."""
 import hashlib
 import json
 import os
 import shutil
 import signal
 import subprocess
+import sys
 import time
 
 import lubd_testlib as T
@@ -320,6 +325,95 @@ def run():
                 % summ.get("resumed_from_step"))
     finally:
         srv6.stop()
+
+    # A simple_shear job stopped at its CPU time limit fails, and keeps what its engine wrote:
+    # the partial result.h5 and the checkpoint are listed with the failure and served; a user
+    # who downloads them continues the run with the engine (lubdem run --resume) to the
+    # results of the run that never stopped.
+    srv7 = T.Server(a, "cpulimit_shear", workers=1, extra=["--cpu-s", "1"]).fresh()
+    tok = srv7.token("heidi")
+    srv7.start()
+    try:
+        st, _, doc = srv7.request("POST", "/processes/simple_shear/execution", tok,
+                                  {"inputs": inputs})
+        T.check(st == 201, "submit simple_shear")
+        jid = doc["jobID"]
+        doc = T.wait_final(srv7, tok, jid, timeout=120)
+        T.check(doc["status"] == "failed" and "CPU time limit" in doc["message"],
+                "simple_shear job stopped at its CPU limit: %s" % doc)
+        st, _, res = srv7.request("GET", "/jobs/%s/results" % jid, tok)
+        outputs = res.get("outputs") or {}
+        T.check(st == 422 and res["summary"]["status"] == "partial" and
+                sorted(outputs) == ["checkpoint.h5", "result.h5", "summary.json"],
+                "failed job lists its kept files: %s %s" % (st, sorted(outputs)))
+        for name in ("result.h5", "checkpoint.h5"):
+            st, hd, body = srv7.request("GET", "/jobs/%s/results/%s" % (jid, name), tok, raw=True)
+            T.check(st == 200 and hashlib.sha256(body).hexdigest() == outputs[name]["sha256"],
+                    "download of %s -> %s" % (name, st))
+        # the Python client example fetches them all (sha256-checked), says how to continue
+        # and exits 1 for the failed job
+        dl = os.path.join(a.work, "cpulimit_download")
+        shutil.rmtree(dl, ignore_errors=True)
+        client = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                              "client_examples", "lubdem_client.py")
+        p = subprocess.run([sys.executable, client, "--url", "http://127.0.0.1:%d" % srv7.port,
+                            "--token", tok, "download", jid, dl], capture_output=True, text=True,
+                           timeout=60)
+        T.check(p.returncode == 1 and sorted(os.listdir(dl)) == sorted(outputs) and
+                "--resume" in p.stderr and "CPU time limit" in p.stderr,
+                "client download of the failed job: exit %s, %s, %s"
+                % (p.returncode, os.listdir(dl), p.stderr))
+        import h5py
+        with h5py.File(os.path.join(dl, "result.h5"), "r") as h:
+            rows = h["observables/mu/step"].shape[0]
+            T.check(h.attrs["status"] in (b"partial", "partial") and rows > 0,
+                    "the served result.h5 is a valid partial file (%d rows)" % rows)
+        p = subprocess.run([a.engine, "run", spec_path, "--out", dl, "--resume", "--quiet"],
+                           timeout=300, capture_output=True, text=True)
+        cont = json.load(open(os.path.join(dl, "summary.json")))
+        T.check(p.returncode == 0 and cont.get("resumed_from_step", 0) > 0 and
+                cont["results"] == ref["results"] and cont["steps"] == ref["steps"],
+                "the downloaded run continued (from step %s, exit %s) to the uninterrupted "
+                "run's results %s" % (cont.get("resumed_from_step"), p.returncode, p.stderr))
+    finally:
+        srv7.stop()
+
+    # A checkpoint the engine refuses (here cut short after the service stopped) does not fail
+    # the job: the worker starts it again from the beginning, in the same attempt, to the same
+    # results.
+    srv8 = T.Server(a, "refused", workers=1).fresh()
+    tok = srv8.token("ivan")
+    srv8.start()
+    try:
+        st, _, doc = srv8.request("POST", "/processes/simple_shear/execution", tok,
+                                  {"inputs": inputs})
+        jid = doc["jobID"]
+        deadline = time.time() + 120
+        while time.time() < deadline and not (doc["status"] == "running" and
+                                               doc.get("progress", 0) >= 5):
+            time.sleep(0.1)
+            st, _, doc = srv8.request("GET", "/jobs/" + jid, tok)
+    finally:
+        T.check(srv8.stop() == 0, "clean stop with a simple_shear job")
+    ckpt = os.path.join(srv8.run, "jobs", jid, "attempt-1", "out", "checkpoint.h5")
+    T.check(os.path.exists(ckpt), "checkpoint left by the stop")
+    with open(ckpt, "r+b") as f:
+        f.truncate(os.path.getsize(ckpt) // 2)
+    srv8.start()
+    try:
+        doc = T.wait_final(srv8, tok, jid, timeout=300)
+        T.check(doc["status"] == "successful" and doc["attempt"] == 1,
+                "job with a damaged checkpoint successful in attempt 1: %s" % doc)
+        log = open(os.path.join(srv8.run, "jobs", jid, "attempt-1", "log")).read()
+        T.check("cannot continue from the checkpoint" in log and
+                "starting the job again from the beginning" in log,
+                "the job log says the checkpoint was refused and the job restarted")
+        st, _, res = srv8.request("GET", "/jobs/%s/results" % jid, tok)
+        summ = res["summary"]
+        T.check("resumed_from_step" not in summ and summ["results"] == ref["results"],
+                "the restarted job's results equal the uninterrupted run's")
+    finally:
+        srv8.stop()
 
 
 T.main(run)
