@@ -12,6 +12,7 @@
 #include "checkpoint_file.h"
 #include "json_text.h"
 #include "processors.h"
+#include "resume_spec.h"
 #include "run_context.h"
 #include "scene.h"
 
@@ -154,46 +155,6 @@ static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir
     *rc = LUB_EXIT_IO;
 }
 
-/* The first place where a and b differ, as a JSON pointer under `at` into out[len] (the two
- * values there into va/vb, compact JSON, truncated); 0 when they are equal. */
-static int first_difference(const json_t *a, const json_t *b, const char *at, char *out, size_t len,
-                            char *va, char *vb, size_t vlen)
-{
-    if (json_equal(a, b))
-        return 0;
-    if (json_is_object(a) && json_is_object(b)) {
-        const char *key;
-        json_t *value;
-        json_object_foreach ((json_t *)a, key, value) {
-            char sub[512];
-            snprintf(sub, sizeof sub, "%s/%s", at, key);
-            const json_t *other = json_object_get(b, key);
-            if (!other) {
-                snprintf(out, len, "%s", sub);
-                snprintf(vb, vlen, "absent");
-                char *t = lub_json_dumps(value, JSON_COMPACT | JSON_ENCODE_ANY);
-                snprintf(va, vlen, "%s", t ? t : "?");
-                free(t);
-                return 1;
-            }
-            if (first_difference(value, other, sub, out, len, va, vb, vlen))
-                return 1;
-        }
-        json_object_foreach ((json_t *)b, key, value) {
-            if (!json_object_get(a, key))
-                return first_difference(b, a, at, out, len, vb, va, vlen);
-        }
-    }
-    snprintf(out, len, "%s", at[0] ? at : "(root)");
-    char *ta = lub_json_dumps(a, JSON_COMPACT | JSON_ENCODE_ANY);
-    char *tb = lub_json_dumps(b, JSON_COMPACT | JSON_ENCODE_ANY);
-    snprintf(va, vlen, "%s", ta ? ta : "?");
-    snprintf(vb, vlen, "%s", tb ? tb : "?");
-    free(ta);
-    free(tb);
-    return 1;
-}
-
 /* --resume with DIR/checkpoint.h5 present: 0 when the checkpoint belongs to this spec (the same
  * resolved spec, member for member, but for may_differ) and the file holding its rows is there
  * (result.h5 of a stopped run, LUB_PERIODIC_OUTPUT of a periodic checkpoint), whose path goes to
@@ -215,31 +176,20 @@ static int check_resume(const char *ckpt_path, const char *out_dir, const json_t
     free(output);
     char *text = lub_ckpt_get_text(c, "spec_resolved");
     json_t *saved = text ? json_loads(text, 0, NULL) : NULL;
-    json_t *here = json_deep_copy(resolved);
-    for (int k = 0; saved && here && may_differ && may_differ[k]; ++k) { /* checked by run() */
-        json_object_del(saved, may_differ[k]);
-        json_object_del(here, may_differ[k]);
-    }
     int rc = 0;
-    char at[512], was[160], now[160];
+    char differ[600];
     if (!saved) {
         snprintf(why, len, "%s holds no readable spec (%s)", ckpt_path,
                  text ? "invalid JSON" : lub_ckpt_error(c));
         rc = -1;
-    } else if (!here) {
-        snprintf(why, len, "out of memory");
-        rc = -1;
-    } else if (first_difference(here, saved, "", at, sizeof at, now, was, sizeof now)) {
-        char free_members[200] = ""; /* the members a continuation may change */
-        for (int k = 0; may_differ && may_differ[k]; ++k) {
-            const size_t used = strlen(free_members);
-            snprintf(free_members + used, sizeof free_members - used, "%s/%s", k ? ", " : "; only ",
-                     may_differ[k]);
-        }
+    } else if (lub_resume_spec_mismatch(resolved, saved, may_differ, differ, sizeof differ, NULL,
+                                        0) != 0) {
+        char free_members[200]; /* the members a continuation may change */
+        lub_resume_free_members(may_differ, free_members, sizeof free_members);
         snprintf(why, len,
-                 "%s: %s here, %s in the stopped run's spec: continue with the same spec (every "
-                 "member, defaults included%s%s), or run without --resume to start afresh",
-                 at, now, was, free_members, free_members[0] ? " may change" : "");
+                 "%s: continue with the same spec (every member, defaults included%s), or run "
+                 "without --resume to start afresh",
+                 differ, free_members);
         rc = -1;
     } else if (!output_known) {
         snprintf(why, len, "%s does not name the file that holds its time series", ckpt_path);
@@ -252,7 +202,6 @@ static int check_resume(const char *ckpt_path, const char *out_dir, const json_t
         rc = -1;
     }
     json_decref(saved);
-    json_decref(here);
     free(text);
     lub_ckpt_close(c, NULL, 0);
     return rc;
