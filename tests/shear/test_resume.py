@@ -49,6 +49,8 @@ import time
 import h5py
 import numpy as np
 
+from h5_datasets import h5_items, same_bits  # the script's folder
+
 LUBDEM, WORK = sys.argv[1], sys.argv[2]
 SCALE = 0.4 if "--sanitized" in sys.argv[3:] else 1.0  # strains of every case
 failures = []
@@ -95,24 +97,6 @@ def run(spec_path, out, *extra, stop_at=None, cpu_s=None, sig=signal.SIGTERM):
 def summary(out):
     with open(os.path.join(out, "summary.json")) as f:
         return json.load(f)
-
-
-def h5_items(path):
-    """Every dataset of result.h5 except /parameters (build and spec text) as name -> array."""
-    items = {}
-    with h5py.File(path, "r") as f:
-        def visit(name, obj):
-            if isinstance(obj, h5py.Dataset) and not name.startswith("parameters"):
-                items[name] = obj[()]
-        f.visititems(visit)
-    return items
-
-
-def same_bits(a, b):
-    a, b = np.asarray(a), np.asarray(b)
-    if a.shape != b.shape or a.dtype != b.dtype:
-        return False
-    return a.tobytes() == b.tobytes()
 
 
 def compare_runs(ref_dir, res_dir, label):

@@ -1,0 +1,29 @@
+"""Bit-for-bit comparison of two result.h5 files, for the tests that compare a continued run
+with the run that never stopped (test_resume.py, test_slurm_resume.py)."""
+import h5py
+import numpy as np
+
+
+def h5_items(path):
+    """Every dataset of result.h5 except /parameters (build and spec text) as name -> array."""
+    items = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset) and not name.startswith("parameters"):
+                items[name] = obj[()]
+        f.visititems(visit)
+    return items
+
+
+def same_bits(a, b):
+    """The same shape, type and bytes."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
+
+
+def differing(path_a, path_b):
+    """(number of datasets of path_a, names that are missing from path_b or differ)."""
+    a, b = h5_items(path_a), h5_items(path_b)
+    bad = [k for k in a if k not in b or not same_bits(a[k], b[k])]
+    bad += [k for k in b if k not in a]
+    return len(a), bad
