@@ -13,6 +13,7 @@
 Command line:
     lubdem_client.py [--url URL] [--token T] submit PROCESS '{"duration": 2}' [--wait]
                      [--download FILE] [--timeout S] [--key KEY] [--fail-on-warnings]
+                     [--continue-from JOB]   (continue that ended job's run: same inputs)
     lubdem_client.py status JOB | results JOB | list [--status S] | dismiss JOB | log JOB
     lubdem_client.py download JOB [DIR]   every file of an ended job into DIR (default: JOB);
                      a failed job's too (its partial result.h5, the checkpoint of a run
@@ -88,10 +89,16 @@ class Client:
     def processes(self):
         return self._req("GET", "/processes")["processes"]
 
-    def submit(self, process, inputs, idempotency_key=None, priority=None, retries=3):
+    def submit(self, process, inputs, idempotency_key=None, priority=None, retries=3,
+               continue_from=None):
+        """Queues a job; with continue_from (a jobID), one that continues that ended job's run
+        from its checkpoint (same inputs; simple_shear may change /strain, /target_rel_error,
+        /target_min_strain)."""
         body = {"inputs": inputs}
         if priority is not None:
             body["priority"] = priority
+        if continue_from:
+            body["continue_from"] = continue_from
         headers = {"Prefer": "respond-async"}
         if idempotency_key:
             headers["Idempotency-Key"] = idempotency_key
@@ -220,9 +227,11 @@ def download_all(c, job_id, directory):
     print("error: job %s %s: %s" % (job_id, job["status"], job.get("message", "")),
           file=sys.stderr)
     if "checkpoint.h5" in outputs:
-        print("the run stopped with a checkpoint: continue it with `lubdem run SPEC --out %s "
-              "--resume`, SPEC being the job's inputs with \"scene\": \"%s\""
-              % (directory, job.get("processID", "")), file=sys.stderr)
+        print("the run stopped with a checkpoint: continue it in the service (submit %s INPUTS "
+              "--continue-from %s) or here (lubdem run SPEC --out %s --resume, SPEC being the "
+              "job's inputs with \"scene\": \"%s\")"
+              % (job.get("processID", ""), job_id, directory, job.get("processID", "")),
+              file=sys.stderr)
     return 1
 
 
@@ -239,6 +248,8 @@ def main(argv=None):
     s.add_argument("--timeout", type=float, default=600)
     s.add_argument("--key")
     s.add_argument("--fail-on-warnings", action="store_true")
+    s.add_argument("--continue-from", metavar="JOB",
+                   help="continue that ended job's run from its checkpoint")
     for name in ("status", "results", "dismiss", "log"):
         sub.add_parser(name).add_argument("job")
     d = sub.add_parser("download")
@@ -250,7 +261,8 @@ def main(argv=None):
     c = Client(a.url, default_token(a.token))
     try:
         if a.cmd == "submit":
-            job = c.submit(a.process, json.loads(a.inputs), idempotency_key=a.key)
+            job = c.submit(a.process, json.loads(a.inputs), idempotency_key=a.key,
+                           continue_from=a.continue_from)
             print(job["jobID"])
             if a.wait or a.download:
                 c.wait(job["jobID"], timeout=a.timeout)

@@ -69,7 +69,8 @@ CREATE TABLE IF NOT EXISTS idempotency(
   PRIMARY KEY(user_id, key)
 ) STRICT;
 
--- Files of a successful job (registered in the same transaction that marks it successful).
+-- Files of a finished job: all of a successful one, what the engine of a failed one wrote
+-- (registered in the same transaction that marks it successful or failed).
 CREATE TABLE IF NOT EXISTS results(
   job_id     TEXT NOT NULL,
   name       TEXT NOT NULL,

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "api.h"
+#include "continuation.h"
 #include "exec_request.h"
 #include "job_limits.h"
 #include "json_text.h"
@@ -126,6 +127,17 @@ enum MHD_Result lubd_api_execute(lubd_request *r, const char *id)
         lubd_fail(&f, 403, LUBD_PT_BASE "forbidden", "Forbidden", "/priority",
                   "only admins may submit with priority > 0 (got %d)", req.priority);
         return lubd_reply_fault(r, &f);
+    }
+    if (req.continue_from[0]) {
+        lubd_continuation cont = {req.continue_from, r->user.id, r->user.is_admin, id,
+                                  req.resolved};
+        sqlite3 *rdb = lubd_db_acquire(&r->srv->pool);
+        const int bad = lubd_continuation_check(rdb, &cont, &f);
+        lubd_db_release(&r->srv->pool, rdb);
+        if (bad) {
+            lubd_exec_free(&req);
+            return lubd_reply_fault(r, &f);
+        }
     }
     char *spec = lub_json_dumps(req.spec, JSON_COMPACT | JSON_SORT_KEYS);
     lubd_submit in = {r->user.id,

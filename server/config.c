@@ -52,6 +52,7 @@ void lubd_config_defaults(lubd_config *c, const char *argv0)
     c->fsize_mb = 16384;
     c->grace_s = 10;
     c->checkpoint_s = 600;
+    c->keep_checkpoints = 1;
 }
 
 void lubd_config_finish(lubd_config *c)
@@ -90,6 +91,8 @@ void lubd_config_usage(void)
             "  --engine-threads N threads per engine run [engine default]\n"
             "  --checkpoint-s N   engine checkpoint every N s; a job requeued after its\n"
             "                     worker died continues from it [600]; 0=off\n"
+            "  --keep-checkpoints 0|1  a completed simple_shear/resuspension job keeps its\n"
+            "                     checkpoint, which a \"continue_from\" job extends [1]\n"
             "  --init-defaults    create RUN and a local admin token (RUN/local-token)\n"
             "  --quiet            no start-up banner\n");
 }
@@ -146,6 +149,7 @@ int lubd_config_parse(lubd_config *c, int argc, char **argv, int first)
         INT_OPT("--grace-s", c->grace_s, 0, 3600)
         INT_OPT("--engine-threads", c->engine_threads, 0, 1024)
         INT_OPT("--checkpoint-s", c->checkpoint_s, 0, 10000000)
+        INT_OPT("--keep-checkpoints", c->keep_checkpoints, 0, 1)
         if (strcmp(o, "--max-body-kb") == 0) {
             if (want_int(o, v, 1, 1L << 20, &x) != 0)
                 return -1;

@@ -28,6 +28,9 @@ typedef struct {
     int checkpoint_s;             /* --checkpoint-every for the engine: a checkpoint every so many
                                      seconds of a simple_shear or resuspension run, from which a
                                      job requeued after its worker died continues (0 = off) */
+    int keep_checkpoints;         /* 1: a completed simple_shear or resuspension job keeps its
+                                     engine's checkpoint among its files (--keep-checkpoint), so
+                                     a job with "continue_from" can extend it; 0: it does not */
     int init_defaults;            /* create ./run and a local admin token if none exists */
     int quiet;
 } lubd_config;

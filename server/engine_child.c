@@ -29,7 +29,7 @@ int lubd_engine_spawn(const lubd_engine_opts *o, lubd_engine_proc *p)
         return -1;
     char threads[32];
     snprintf(threads, sizeof threads, "%d", o->threads);
-    const char *argv[14];
+    const char *argv[16];
     int a = 0;
     argv[a++] = o->engine;
     argv[a++] = "run";
@@ -48,6 +48,8 @@ int lubd_engine_spawn(const lubd_engine_opts *o, lubd_engine_proc *p)
         argv[a++] = "--checkpoint-every";
         argv[a++] = every;
     }
+    if (o->keep_checkpoint)
+        argv[a++] = "--keep-checkpoint";
     argv[a] = NULL;
     pid_t parent = getpid();
     pid_t pid = fork();

@@ -13,13 +13,14 @@ typedef struct {
     const char *engine; /* path of the lubdem binary */
     const char *spec;   /* spec.json */
     const char *out_dir;
-    int log_fd;       /* stderr of the engine (append mode) */
-    long cpu_s;       /* RLIMIT_CPU, 0 = unlimited */
-    long mem_mb;      /* RLIMIT_AS, 0 = unlimited (sanitizer builds need 0) */
-    long fsize_mb;    /* RLIMIT_FSIZE, 0 = unlimited */
-    int threads;      /* --threads N, 0 = engine default */
-    int resume;       /* --resume: out_dir holds the checkpoint of the job's stopped run */
-    int checkpoint_s; /* --checkpoint-every N (0: not passed) */
+    int log_fd;          /* stderr of the engine (append mode) */
+    long cpu_s;          /* RLIMIT_CPU, 0 = unlimited */
+    long mem_mb;         /* RLIMIT_AS, 0 = unlimited (sanitizer builds need 0) */
+    long fsize_mb;       /* RLIMIT_FSIZE, 0 = unlimited */
+    int threads;         /* --threads N, 0 = engine default */
+    int resume;          /* --resume: out_dir holds the checkpoint of the job's stopped run */
+    int checkpoint_s;    /* --checkpoint-every N (0: not passed) */
+    int keep_checkpoint; /* --keep-checkpoint */
 } lubd_engine_opts;
 
 typedef struct {

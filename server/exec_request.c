@@ -8,8 +8,8 @@
 #include "scene.h"
 #include "sha256.h"
 
-static const char *const allowed_members[] = {"inputs",   "priority",   "outputs",
-                                              "response", "subscriber", NULL};
+static const char *const allowed_members[] = {"inputs",     "priority",      "outputs", "response",
+                                              "subscriber", "continue_from", NULL};
 
 static int check_members(const json_t *body, lubd_fault *f)
 {
@@ -25,7 +25,7 @@ static int check_members(const json_t *body, lubd_fault *f)
             lub_pointer_join(ptr, sizeof ptr, "", key);
             return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", ptr,
                              "unknown member \"%.100s\" (allowed: inputs, priority, outputs, "
-                             "response, subscriber)",
+                             "response, subscriber, continue_from)",
                              key);
         }
     }
@@ -74,6 +74,27 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
             goto fail;
         }
         r->priority = (int)json_integer_value(prio);
+    }
+    json_t *from = json_object_get(r->body, "continue_from");
+    if (from) {
+        const char *id = json_is_string(from) ? json_string_value(from) : "";
+        int ok = strlen(id) == 32;
+        for (const char *p = id; ok && *p; ++p)
+            ok = (*p >= '0' && *p <= '9') || (*p >= 'a' && *p <= 'f');
+        if (!ok) {
+            lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/continue_from",
+                      "/continue_from: must be the jobID of a finished job (32 hexadecimal "
+                      "digits)");
+            goto fail;
+        }
+        if (!lub_scene_find(process_id)->resumable) {
+            lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/continue_from",
+                      "/continue_from: %s runs do not keep checkpoints; only simple_shear and "
+                      "resuspension jobs can be continued",
+                      process_id);
+            goto fail;
+        }
+        memcpy(r->continue_from, id, 33);
     }
     json_t *inputs = json_object_get(r->body, "inputs");
     if (!inputs) {

@@ -157,6 +157,58 @@ int lubd_write_file_atomic(const char *path, const void *data, size_t n)
     return rename(tmp, path);
 }
 
+int lubd_link_or_copy(const char *src, const char *dst)
+{
+    if (link(src, dst) == 0)
+        return 0;
+    if (errno != EXDEV && errno != EPERM && errno != EMLINK && errno != ENOTSUP)
+        return -1;
+    char tmp[4200];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp", dst) >= (int)sizeof tmp) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    int in = open(src, O_RDONLY | O_CLOEXEC);
+    if (in < 0)
+        return -1;
+    int out = open(tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0640);
+    if (out < 0) {
+        int e = errno;
+        close(in);
+        errno = e;
+        return -1;
+    }
+    char buf[1 << 16];
+    ssize_t got;
+    int rc = 0;
+    while (rc == 0 && (got = read(in, buf, sizeof buf)) != 0) {
+        if (got < 0) {
+            if (errno != EINTR)
+                rc = -1;
+            continue;
+        }
+        for (ssize_t done = 0; rc == 0 && done < got;) {
+            ssize_t w = write(out, buf + done, (size_t)(got - done));
+            if (w < 0 && errno != EINTR)
+                rc = -1;
+            else if (w > 0)
+                done += w;
+        }
+    }
+    int e = errno;
+    close(in);
+    if (close(out) != 0 && rc == 0) {
+        rc = -1;
+        e = errno;
+    }
+    if (rc == 0 && rename(tmp, dst) == 0)
+        return 0;
+    e = rc == 0 ? errno : e;
+    unlink(tmp);
+    errno = e;
+    return -1;
+}
+
 int lubd_random_hex(char *out, size_t nbytes)
 {
     unsigned char buf[64];

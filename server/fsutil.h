@@ -16,6 +16,9 @@ int lubd_file_sha256(const char *path, char hex[65], uint64_t *size);
 char *lubd_read_file(const char *path, size_t max, size_t *len);
 /* Writes data to path via path.tmp + fsync + rename. */
 int lubd_write_file_atomic(const char *path, const void *data, size_t n);
+/* dst as a hard link to src, or, where the file system refuses one (another file system, no
+ * hard links), as a copy (written to dst.tmp, then renamed). dst must not exist. */
+int lubd_link_or_copy(const char *src, const char *dst);
 /* snprintf for paths and messages: returns -1 (errno ENAMETOOLONG) if truncated. */
 int lubd_pathf(char *buf, size_t n, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 /* n random bytes from /dev/urandom, hex encoded into out (2n+1 chars). */

@@ -32,7 +32,8 @@ int lubd_lease_claim(sqlite3 *db, const char *worker, int lease_s, lubd_claim *c
                         "updated = " LUBD_SQL_NOW ", progress = 0, message = 'running', "
                         "engine_pid = NULL WHERE id = (SELECT id FROM jobs WHERE state = "
                         "'accepted' ORDER BY priority DESC, seq LIMIT 1) "
-                        "RETURNING id, attempt, spec_json, process_id",
+                        "RETURNING id, attempt, spec_json, process_id, "
+                        "coalesce(json_extract(request_json, '$.continue_from'), '')",
                         &st) != 0) {
         lubd_db_rollback(db);
         return -1;
@@ -47,6 +48,8 @@ int lubd_lease_claim(sqlite3 *db, const char *worker, int lease_s, lubd_claim *c
         c->spec_json = strdup((const char *)sqlite3_column_text(st, 2));
         snprintf(c->process_id, sizeof c->process_id, "%s",
                  (const char *)sqlite3_column_text(st, 3));
+        snprintf(c->continue_from, sizeof c->continue_from, "%s",
+                 (const char *)sqlite3_column_text(st, 4));
         result = c->spec_json ? 1 : -1;
         rc = sqlite3_step(st); /* finish the statement */
     }

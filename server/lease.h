@@ -17,7 +17,8 @@ typedef struct {
     char worker[64];
     char process_id[64];
     int attempt;
-    char *spec_json; /* malloc'd, owned by the claim; free with lubd_lease_clear */
+    char *spec_json;        /* malloc'd, owned by the claim; free with lubd_lease_clear */
+    char continue_from[33]; /* the job whose checkpoint this one continues ("" = none) */
 } lubd_claim;
 
 /* 1 claimed, 0 queue empty, -1 error. */

@@ -41,7 +41,7 @@ static int db_fault(sqlite3 *db, lubd_fault *f)
     "j.seq, j.id, j.user_id, u.name, j.process_id, j.state, j.priority, j.created, "               \
     "coalesce(j.started, -1), coalesce(j.finished, -1), j.updated, j.progress, "                   \
     "coalesce(j.message, ''), coalesce(j.failure_kind, ''), j.attempt, j.max_attempts, "           \
-    "j.purged"
+    "j.purged, coalesce(json_extract(j.request_json, '$.continue_from'), '')"
 
 static void copy_text(char *dst, size_t n, sqlite3_stmt *st, int col)
 {
@@ -68,6 +68,7 @@ static void read_job(sqlite3_stmt *st, lubd_job *j)
     j->attempt = sqlite3_column_int(st, 14);
     j->max_attempts = sqlite3_column_int(st, 15);
     j->purged = sqlite3_column_int(st, 16);
+    copy_text(j->continue_from, sizeof j->continue_from, st, 17);
 }
 
 int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *replayed,
@@ -427,6 +428,24 @@ int lubd_queue_counts(sqlite3 *db, int *accepted, int *running)
     }
     sqlite3_finalize(st);
     return rc == SQLITE_ROW ? 0 : -1;
+}
+
+int lubd_queue_spec(sqlite3 *db, const char *id, char **spec_json)
+{
+    *spec_json = NULL;
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db, "SELECT spec_json FROM jobs WHERE id = ?1", &st) != 0)
+        return -1;
+    sqlite3_bind_text(st, 1, id, -1, SQLITE_STATIC);
+    int rc = sqlite3_step(st), result = 0;
+    if (rc == SQLITE_ROW) {
+        *spec_json = strdup((const char *)sqlite3_column_text(st, 0));
+        result = *spec_json ? 1 : -1;
+    } else if (rc != SQLITE_DONE) {
+        result = -1;
+    }
+    sqlite3_finalize(st);
+    return result;
 }
 
 int lubd_queue_results(sqlite3 *db, const char *id, lubd_result_file **files, int *n)

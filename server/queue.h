@@ -34,6 +34,7 @@ typedef struct {
     char failure_kind[16];
     int attempt, max_attempts;
     int purged;
+    char continue_from[33]; /* the job whose checkpoint this one continues ("" = none) */
 } lubd_job;
 
 typedef struct {
@@ -93,6 +94,10 @@ typedef struct {
     long long size;
     char sha256[65];
 } lubd_result_file;
+
+/* The engine spec a job was submitted with (malloc'd, caller frees): 1 found, 0 no such job,
+ * -1 error. */
+int lubd_queue_spec(sqlite3 *db, const char *id, char **spec_json);
 
 /* Registered files of a job (malloc'd array, caller frees). */
 int lubd_queue_results(sqlite3 *db, const char *id, lubd_result_file **files, int *n);

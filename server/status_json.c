@@ -67,6 +67,12 @@ json_t *lubd_status_json(const lubd_job *j, const char *base, int with_user)
     json_t *links = json_array();
     snprintf(href, sizeof href, "%s/jobs/%s", base, j->id);
     json_array_append_new(links, mklink(href, "self", "application/json", "this job"));
+    if (j->continue_from[0]) {
+        json_object_set_new(o, "continue_from", json_string(j->continue_from));
+        snprintf(href, sizeof href, "%s/jobs/%s", base, j->continue_from);
+        json_array_append_new(links, mklink(href, "continues", "application/json",
+                                            "the job whose checkpoint this one continues"));
+    }
     if (strcmp(j->state, "successful") == 0) {
         snprintf(href, sizeof href, "%s/jobs/%s/results", base, j->id);
         json_array_append_new(links, mklink(href, "http://www.opengis.net/def/rel/ogc/1.0/results",

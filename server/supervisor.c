@@ -71,6 +71,7 @@ static void build_argv(const lubd_config *c, int index, worker_argv *w)
     NUM("--grace-s", c->grace_s)
     NUM("--engine-threads", c->engine_threads)
     NUM("--checkpoint-s", c->checkpoint_s)
+    NUM("--keep-checkpoints", c->keep_checkpoints)
 #undef NUM
     w->argv[a] = NULL;
 }

@@ -22,6 +22,7 @@
 #include "fsutil.h"
 #include "lease.h"
 #include "progress_line.h"
+#include "scene.h"
 
 typedef struct {
     const lubd_config *cfg;
@@ -139,6 +140,34 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
     }
     closedir(d);
     return n;
+}
+
+/* Puts the files a continuation starts from (checkpoint.h5, result.h5 and, after a periodic
+ * checkpoint, checkpoint-result.h5) of job `source`'s kept result into out_dir: hard links,
+ * or copies across file systems. The engine never writes to them (it writes new files under
+ * temporary names and renames them), so the earlier job's files stay as they were. */
+static int take_source_files(const lubd_config *cfg, const char *source, const char *out_dir,
+                             char *msg, size_t len)
+{
+    static const char *const names[] = {"checkpoint.h5", "result.h5", "checkpoint-result.h5"};
+    if (lubd_mkdir_p(out_dir, 0750) != 0) {
+        lubd_pathf(msg, len, "system error: cannot create %s: %s", out_dir, strerror(errno));
+        return -1;
+    }
+    for (int k = 0; k < 3; ++k) {
+        char src[1400], dst[1500];
+        lubd_pathf(src, sizeof src, "%s/%s/result/%s", cfg->jobs_dir, source, names[k]);
+        lubd_pathf(dst, sizeof dst, "%s/%s", out_dir, names[k]);
+        if (k > 0 && access(src, F_OK) != 0)
+            continue; /* the engine names what it misses */
+        if (lubd_link_or_copy(src, dst) != 0) {
+            lubd_pathf(
+                msg, len, "cannot continue job %s: its %s: %s%s", source, names[k], strerror(errno),
+                errno == ENOENT ? " (the job was deleted after this one was submitted)" : "");
+            return -1;
+        }
+    }
+    return 0;
 }
 
 typedef enum { END_EXITED, END_LOST, END_SHUTDOWN } end_reason;
@@ -284,6 +313,21 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     }
     dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt, w->name,
             resume ? ", continuing from the checkpoint of its stopped run" : "");
+    /* A job submitted with "continue_from" that has no checkpoint of its own yet starts from
+     * the earlier job's kept files. */
+    int from_other = !resume && c->continue_from[0];
+    if (from_other) {
+        if (take_source_files(cfg, c->continue_from, out_dir, msg, sizeof msg) != 0) {
+            dprintf(log_fd, "lubdemd: %s\n", msg);
+            close(log_fd);
+            lubd_lease_fail(w->db, c, "executor", msg);
+            return;
+        }
+        dprintf(log_fd, "lubdemd: continuing the run of job %s from its checkpoint\n",
+                c->continue_from);
+        resume = 1;
+    }
+    const lub_scene *scene = lub_scene_find(c->process_id);
     lubd_engine_opts eo = {.engine = cfg->engine,
                            .spec = spec_path,
                            .out_dir = out_dir,
@@ -293,7 +337,9 @@ static void run_job(worker_ctx *w, lubd_claim *c)
                            .fsize_mb = cfg->fsize_mb,
                            .threads = cfg->engine_threads,
                            .resume = resume,
-                           .checkpoint_s = cfg->checkpoint_s};
+                           .checkpoint_s = cfg->checkpoint_s,
+                           .keep_checkpoint =
+                               cfg->keep_checkpoints && scene && scene->resume_may_differ != NULL};
     end_reason why;
     int status = 0;
     for (;;) {
@@ -311,11 +357,12 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         /* Exit 2 of a continuation is the engine refusing the checkpoint (damaged, cut short,
          * its rows' file gone, or written for another spec by an older service): the job's
          * spec itself passed validation at submission. Rather than fail a job for the state
-         * its earlier run left, start it again from the beginning, once. */
-        if (why != END_EXITED || !eo.resume || !WIFEXITED(status) || WEXITSTATUS(status) != 2)
+         * its own earlier run left, start it again, once: from the beginning, or, for a job
+         * that continues another one, from that job's checkpoint. A refused checkpoint of
+         * another job fails the job with the engine's reason. */
+        if (why != END_EXITED || !eo.resume || from_other || !WIFEXITED(status) ||
+            WEXITSTATUS(status) != 2)
             break;
-        dprintf(log_fd, "lubdemd: the engine cannot continue from the checkpoint (its reason "
-                        "above); starting the job again from the beginning\n");
         if (lubd_rm_rf(out_dir) != 0) {
             lubd_pathf(msg, sizeof msg, "system error: cannot clear %s: %s", out_dir,
                        strerror(errno));
@@ -323,7 +370,19 @@ static void run_job(worker_ctx *w, lubd_claim *c)
             lubd_lease_fail(w->db, c, "system", msg);
             return;
         }
-        eo.resume = 0;
+        from_other = c->continue_from[0] != '\0';
+        if (from_other && take_source_files(cfg, c->continue_from, out_dir, msg, sizeof msg)) {
+            dprintf(log_fd, "lubdemd: %s\n", msg);
+            close(log_fd);
+            lubd_lease_fail(w->db, c, "executor", msg);
+            return;
+        }
+        dprintf(log_fd,
+                "lubdemd: the engine cannot continue from the checkpoint (its reason above); "
+                "starting the job again from %s%s\n",
+                from_other ? "the checkpoint of job " : "the beginning",
+                from_other ? c->continue_from : "");
+        eo.resume = from_other;
     }
     close(log_fd);
     char st_text[200];
@@ -374,7 +433,9 @@ static void run_job(worker_ctx *w, lubd_claim *c)
      * names, which collect_outputs skips. */
     lubd_output_file files[16];
     char names[16][64];
-    int n = collect_outputs(out_dir, files, names, 16);
+    /* exit 2: the engine wrote nothing (a refused continuation leaves the files it was
+     * given, which are another job's) */
+    int n = code == 2 ? 0 : collect_outputs(out_dir, files, names, 16);
     int done =
         n > 0 ? lubd_lease_fail_with_outputs(w->db, c, kind, msg, out_dir, result_dir, files, n)
               : lubd_lease_fail(w->db, c, kind, msg);

@@ -18,6 +18,20 @@ import time
 import lubd_testlib as T
 
 
+def submit_running(srv, tok, inputs, ready=lambda jid: True):
+    """Submits a simple_shear job and polls it until it runs at 5 % or more and ready(jid)
+    holds (at most 120 s). Returns the job id and its last status document."""
+    st, _, doc = srv.request("POST", "/processes/simple_shear/execution", tok, {"inputs": inputs})
+    T.check(st == 201, "submit simple_shear")
+    jid = doc["jobID"]
+    deadline = time.time() + 120
+    while time.time() < deadline and not (doc["status"] == "running" and
+                                           doc.get("progress", 0) >= 5 and ready(jid)):
+        time.sleep(0.1)
+        st, _, doc = srv.request("GET", "/jobs/" + jid, tok)
+    return jid, doc
+
+
 def run():
     a = T.args()
     srv = T.Server(a, "lifecycle", workers=2,
@@ -247,15 +261,7 @@ def run():
               "sample_strain": 0.01, "transient_strain": 0.5}
     srv5.start()
     try:
-        st, _, doc = srv5.request("POST", "/processes/simple_shear/execution", tok,
-                                  {"inputs": inputs})
-        T.check(st == 201, "submit simple_shear")
-        jid = doc["jobID"]
-        deadline = time.time() + 120
-        while time.time() < deadline and not (doc["status"] == "running" and
-                                               doc.get("progress", 0) >= 5):
-            time.sleep(0.1)
-            st, _, doc = srv5.request("GET", "/jobs/" + jid, tok)
+        jid, doc = submit_running(srv5, tok, inputs)
         T.check(doc["status"] == "running" and doc["progress"] < 100,
                 "simple_shear running at 5 %% before SIGTERM: %s" % doc)
     finally:
@@ -272,7 +278,8 @@ def run():
         summ = res["summary"]
         T.check(st == 200 and summ.get("resumed_from_step", 0) > 0,
                 "the job continued from step %s" % summ.get("resumed_from_step"))
-        T.check("checkpoint.h5" not in res["outputs"], "no checkpoint among the outputs")
+        T.check("checkpoint.h5" in res["outputs"] and "checkpoint-result.h5" not in res["outputs"],
+                "the completed job keeps its checkpoint (to be extended), not a periodic copy")
         log = open(os.path.join(srv5.run, "jobs", jid, "attempt-1", "log")).read()
         T.check("continuing from the checkpoint" in log, "the job log says it continued")
         spec_path = os.path.join(a.work, "resume_spec.json")
@@ -297,17 +304,12 @@ def run():
     tok = srv6.token("nine")
     srv6.start()
     try:
-        st, _, doc = srv6.request("POST", "/processes/simple_shear/execution", tok,
-                                  {"inputs": inputs})
-        T.check(st == 201, "submit simple_shear")
-        jid = doc["jobID"]
-        out1 = os.path.join(srv6.run, "jobs", jid, "attempt-1", "out")
-        deadline = time.time() + 120
-        while time.time() < deadline and not (
-                doc["status"] == "running" and doc.get("progress", 0) >= 5 and
-                os.path.exists(os.path.join(out1, "checkpoint.h5"))):
-            time.sleep(0.1)
-            st, _, doc = srv6.request("GET", "/jobs/" + jid, tok)
+        def out1_of(jid):
+            return os.path.join(srv6.run, "jobs", jid, "attempt-1", "out")
+        jid, doc = submit_running(
+            srv6, tok, inputs, lambda jid: os.path.exists(os.path.join(out1_of(jid),
+                                                                       "checkpoint.h5")))
+        out1 = out1_of(jid)
         T.check(doc["status"] == "running" and os.path.exists(os.path.join(out1, "checkpoint.h5")),
                 "periodic checkpoint before the kill: %s" % doc)
         for w in srv6.worker_pids():
@@ -320,7 +322,7 @@ def run():
         st, _, res = srv6.request("GET", "/jobs/%s/results" % jid, tok)
         summ = res["summary"]
         T.check(summ.get("resumed_from_step", 0) > 0 and ref["results"] == summ["results"] and
-                not [n for n in res["outputs"] if n.startswith("checkpoint")],
+                "checkpoint-result.h5" not in res["outputs"],
                 "results after the kill equal the uninterrupted run's (from step %s)"
                 % summ.get("resumed_from_step"))
     finally:
@@ -330,7 +332,9 @@ def run():
     # the partial result.h5 and the checkpoint are listed with the failure and served; a user
     # who downloads them continues the run with the engine (lubdem run --resume) to the
     # results of the run that never stopped.
-    srv7 = T.Server(a, "cpulimit_shear", workers=1, extra=["--cpu-s", "1"]).fresh()
+    # (the sanitized engine is about 5 times slower: 2 CPU seconds per job there)
+    srv7 = T.Server(a, "cpulimit_shear", workers=1,
+                    extra=["--cpu-s", "2" if a.sanitized else "1"]).fresh()
     tok = srv7.token("heidi")
     srv7.start()
     try:
@@ -375,6 +379,81 @@ def run():
                 cont["results"] == ref["results"] and cont["steps"] == ref["steps"],
                 "the downloaded run continued (from step %s, exit %s) to the uninterrupted "
                 "run's results %s" % (cont.get("resumed_from_step"), p.returncode, p.stderr))
+
+        # ... or in the service: each job with "continue_from" the one before goes on from
+        # its checkpoint for another CPU second, until the run is complete, with the
+        # uninterrupted run's results
+        chain, last = [jid], doc
+        while last["status"] == "failed" and len(chain) < 60:
+            st, _, doc = srv7.request("POST", "/processes/simple_shear/execution", tok,
+                                      {"inputs": inputs, "continue_from": chain[-1]})
+            T.check(st == 201 and doc.get("continue_from") == chain[-1] and
+                    any(l["rel"] == "continues" for l in doc["links"]),
+                    "continuation of %s submitted: %s %s" % (chain[-1], st, doc))
+            last = T.wait_final(srv7, tok, doc["jobID"], timeout=120)
+            chain.append(doc["jobID"])
+            if last["status"] == "failed":
+                T.check("CPU time limit" in last["message"],
+                        "continuation %d stopped at the CPU limit: %s" % (len(chain), last))
+        st, _, res = srv7.request("GET", "/jobs/%s/results" % chain[-1], tok)
+        summ = res["summary"]
+        T.check(last["status"] == "successful" and summ["results"] == ref["results"] and
+                summ["steps"] == ref["steps"] and "checkpoint.h5" in res["outputs"],
+                "a chain of %d jobs under --cpu-s 1 completed the run with the uninterrupted "
+                "run's results (mu %s / %s)" % (len(chain), summ["results"]["mu"]["value"],
+                                                ref["results"]["mu"]["value"]))
+        print("cpu_limited_chain_jobs=%d" % len(chain))
+        log = open(os.path.join(srv7.run, "jobs", chain[-1], "attempt-1", "log")).read()
+        T.check("continuing the run of job %s" % chain[-2] in log, "the job log names the job")
+
+        # a completed job is extended: /strain may grow, and the extension equals a run asked
+        # for the longer strain from the start
+        # inside one job's CPU time
+        longer = dict(inputs, strain=inputs["strain"] + (0.2 if a.sanitized else 0.5))
+        sys.path.insert(0, os.path.dirname(client))
+        import lubdem_client  # the Python client example submits it
+        doc = lubdem_client.Client("http://127.0.0.1:%d" % srv7.port, tok).submit(
+            "simple_shear", longer, continue_from=chain[-1])
+        T.check(doc.get("continue_from") == chain[-1], "extension submitted: %s" % doc)
+        ext = T.wait_final(srv7, tok, doc["jobID"], timeout=120)
+        st, _, res = srv7.request("GET", "/jobs/%s/results" % doc["jobID"], tok)
+        with open(spec_path, "w") as f:
+            json.dump(dict(longer, scene="simple_shear"), f)
+        direct_long = os.path.join(a.work, "resume_direct_long")
+        shutil.rmtree(direct_long, ignore_errors=True)
+        subprocess.run([a.engine, "run", spec_path, "--out", direct_long, "--quiet"], check=True,
+                       timeout=300)
+        ref_long = json.load(open(os.path.join(direct_long, "summary.json")))
+        T.check(ext["status"] == "successful" and res["summary"]["results"] == ref_long["results"]
+                and res["summary"].get("resumed_from_step") == summ["steps"],
+                "the extension to /strain %s (from step %s) equals a run asked for it: %s"
+                % (longer["strain"], res["summary"].get("resumed_from_step"), ext["message"]))
+
+        # what cannot be continued is refused at submission, with the member at fault
+        bad = [({"inputs": dict(inputs, phi=0.45), "continue_from": chain[-1]},
+                "/inputs/phi", "0.45"),
+               ({"inputs": inputs, "continue_from": "0" * 32}, "/continue_from", "does not exist"),
+               ({"inputs": inputs, "continue_from": "xyz"}, "/continue_from", "jobID"),
+               ({"inputs": dict(inputs, strain=1.0), "continue_from": chain[-1]},
+                "/inputs/strain", "")]
+        for body, pointer, text in bad[:3]:
+            st, _, doc = srv7.request("POST", "/processes/simple_shear/execution", tok, body)
+            T.check(st == 400 and doc["errors"][0]["pointer"] == pointer and text in doc["detail"],
+                    "refused continuation -> %s %s" % (st, doc.get("detail")))
+        st, _, doc = srv7.request("POST", "/processes/falling_sphere/execution", tok,
+                                  {"inputs": {}, "continue_from": chain[-1]})
+        T.check(st == 400 and "only simple_shear and resuspension" in doc["detail"],
+                "continuation of a scene without checkpoints -> %s %s" % (st, doc.get("detail")))
+        # a /strain below what the run did passes the spec check but the engine refuses it:
+        # the job fails with the engine's reason (another job's checkpoint is never replaced
+        # by a fresh start)
+        st, _, doc = srv7.request("POST", "/processes/simple_shear/execution", tok, bad[3][0])
+        last = T.wait_final(srv7, tok, doc["jobID"], timeout=120)
+        T.check(last["status"] == "failed" and "/strain" in last["message"],
+                "continuation to a smaller /strain fails with the engine's reason: %s" % last)
+        st, _, res = srv7.request("GET", "/jobs/%s/results" % doc["jobID"], tok)
+        T.check(st == 422 and not res.get("outputs"),
+                "the refused continuation lists none of the files it was given: %s" % res)
     finally:
         srv7.stop()
 
@@ -385,14 +464,8 @@ def run():
     tok = srv8.token("ivan")
     srv8.start()
     try:
-        st, _, doc = srv8.request("POST", "/processes/simple_shear/execution", tok,
-                                  {"inputs": inputs})
-        jid = doc["jobID"]
-        deadline = time.time() + 120
-        while time.time() < deadline and not (doc["status"] == "running" and
-                                               doc.get("progress", 0) >= 5):
-            time.sleep(0.1)
-            st, _, doc = srv8.request("GET", "/jobs/" + jid, tok)
+        jid, doc = submit_running(srv8, tok, inputs)
+        T.check(doc["status"] == "running", "simple_shear running before SIGTERM: %s" % doc)
     finally:
         T.check(srv8.stop() == 0, "clean stop with a simple_shear job")
     ckpt = os.path.join(srv8.run, "jobs", jid, "attempt-1", "out", "checkpoint.h5")
