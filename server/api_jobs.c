@@ -6,6 +6,7 @@
 #include "api.h"
 #include "fsutil.h"
 #include "queue.h"
+#include "sha256.h"
 #include "status_json.h"
 
 int lubd_load_visible_job(lubd_request *r, const char *id, void *out, lubd_fault *f,
@@ -14,9 +15,7 @@ int lubd_load_visible_job(lubd_request *r, const char *id, void *out, lubd_fault
     lubd_job *j = out;
     if (lubd_authenticate(r, f) != 0)
         return -1;
-    int ok = strlen(id) == 32;
-    for (const char *p = id; ok && *p; ++p)
-        ok = (*p >= '0' && *p <= '9') || (*p >= 'a' && *p <= 'f');
+    const int ok = lubd_is_hex(id, 16);
     int found = 0;
     if (ok) {
         sqlite3 *db = lubd_db_acquire(&r->srv->pool);

@@ -78,10 +78,7 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
     json_t *from = json_object_get(r->body, "continue_from");
     if (from) {
         const char *id = json_is_string(from) ? json_string_value(from) : "";
-        int ok = strlen(id) == 32;
-        for (const char *p = id; ok && *p; ++p)
-            ok = (*p >= '0' && *p <= '9') || (*p >= 'a' && *p <= 'f');
-        if (!ok) {
+        if (!lubd_is_hex(id, 16)) {
             lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/continue_from",
                       "/continue_from: must be the jobID of a finished job (32 hexadecimal "
                       "digits)");

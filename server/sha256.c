@@ -129,3 +129,12 @@ int lubd_ct_equal(const void *a, const void *b, size_t n)
         acc |= (uint8_t)(x[i] ^ y[i]);
     return acc == 0;
 }
+
+int lubd_is_hex(const char *s, size_t n)
+{
+    size_t k = 0;
+    for (; s[k] && k < 2 * n; ++k)
+        if (!((s[k] >= '0' && s[k] <= '9') || (s[k] >= 'a' && s[k] <= 'f')))
+            return 0;
+    return k == 2 * n && s[k] == '\0';
+}

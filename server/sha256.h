@@ -20,6 +20,8 @@ void lubd_sha256_final(lubd_sha256 *c, uint8_t out[32]);
 /* One-shot helper: writes 64 lowercase hex digits + NUL into hex. */
 void lubd_sha256_hex(const void *data, size_t n, char hex[65]);
 void lubd_hex_encode(const uint8_t *in, size_t n, char *out /* 2n+1 */);
+/* 1 when s is exactly 2n lowercase hex digits (a job id: n = 16), else 0. */
+int lubd_is_hex(const char *s, size_t n);
 /* Constant-time equality of two equal-length buffers (1 = equal). */
 int lubd_ct_equal(const void *a, const void *b, size_t n);
 

@@ -32,6 +32,18 @@ def submit_running(srv, tok, inputs, ready=lambda jid: True):
     return jid, doc
 
 
+def engine_run(a, inputs, name):
+    """The engine's own run of a simple_shear job's inputs, outside the service: (its summary,
+    the spec file)."""
+    spec_path = os.path.join(a.work, name + ".json")
+    with open(spec_path, "w") as f:
+        json.dump(dict(inputs, scene="simple_shear"), f)
+    out = os.path.join(a.work, name)
+    shutil.rmtree(out, ignore_errors=True)
+    subprocess.run([a.engine, "run", spec_path, "--out", out, "--quiet"], check=True, timeout=300)
+    return json.load(open(os.path.join(out, "summary.json"))), spec_path
+
+
 def run():
     a = T.args()
     srv = T.Server(a, "lifecycle", workers=2,
@@ -282,14 +294,7 @@ def run():
                 "the completed job keeps its checkpoint (to be extended), not a periodic copy")
         log = open(os.path.join(srv5.run, "jobs", jid, "attempt-1", "log")).read()
         T.check("continuing from the checkpoint" in log, "the job log says it continued")
-        spec_path = os.path.join(a.work, "resume_spec.json")
-        with open(spec_path, "w") as f:
-            json.dump(dict(inputs, scene="simple_shear"), f)
-        direct = os.path.join(a.work, "resume_direct")
-        shutil.rmtree(direct, ignore_errors=True)
-        subprocess.run([a.engine, "run", spec_path, "--out", direct, "--quiet"], check=True,
-                       timeout=300)
-        ref = json.load(open(os.path.join(direct, "summary.json")))
+        ref, spec_path = engine_run(a, inputs, "resume_direct")
         T.check(ref["results"] == summ["results"] and ref["steps"] == summ["steps"],
                 "the resumed job's results equal an uninterrupted run's (mu %s / %s)"
                 % (summ["results"]["mu"]["value"], ref["results"]["mu"]["value"]))
@@ -417,13 +422,7 @@ def run():
         T.check(doc.get("continue_from") == chain[-1], "extension submitted: %s" % doc)
         ext = T.wait_final(srv7, tok, doc["jobID"], timeout=120)
         st, _, res = srv7.request("GET", "/jobs/%s/results" % doc["jobID"], tok)
-        with open(spec_path, "w") as f:
-            json.dump(dict(longer, scene="simple_shear"), f)
-        direct_long = os.path.join(a.work, "resume_direct_long")
-        shutil.rmtree(direct_long, ignore_errors=True)
-        subprocess.run([a.engine, "run", spec_path, "--out", direct_long, "--quiet"], check=True,
-                       timeout=300)
-        ref_long = json.load(open(os.path.join(direct_long, "summary.json")))
+        ref_long, _ = engine_run(a, longer, "resume_direct_long")
         T.check(ext["status"] == "successful" and res["summary"]["results"] == ref_long["results"]
                 and res["summary"].get("resumed_from_step") == summ["steps"],
                 "the extension to /strain %s (from step %s) equals a run asked for it: %s"

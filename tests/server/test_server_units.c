@@ -56,6 +56,12 @@ static void test_sha256(void)
     lubd_hex_encode(d, 32, hex);
     CHECK(strcmp(hex, "cdc76e5c9914fb9281a1c7e284d73e67f1809a48a497200e046d39ccc7112cd0") == 0);
     CHECK(lubd_ct_equal("abc", "abc", 3) && !lubd_ct_equal("abc", "abd", 3));
+    CHECK(lubd_is_hex("0123456789abcdef0123456789abcdef", 16));
+    CHECK(!lubd_is_hex("0123456789abcdef0123456789abcde", 16));   /* one short */
+    CHECK(!lubd_is_hex("0123456789abcdef0123456789abcdef0", 16)); /* one long */
+    CHECK(!lubd_is_hex("0123456789ABCDEF0123456789abcdef", 16));  /* upper case */
+    CHECK(!lubd_is_hex("0123456789abcdeg0123456789abcdef", 16));
+    CHECK(lubd_is_hex("", 0) && !lubd_is_hex("a", 0));
 }
 
 static void test_range(void)
