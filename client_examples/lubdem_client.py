@@ -14,6 +14,7 @@ Command line:
     lubdem_client.py [--url URL] [--token T] submit PROCESS '{"duration": 2}' [--wait]
                      [--download FILE] [--timeout S] [--key KEY] [--fail-on-warnings]
                      [--continue-from JOB]   (continue that ended job's run: same inputs)
+                     [--chain N]   (while a job stops at the CPU limit, continue it: N jobs at most)
     lubdem_client.py status JOB | results JOB | list [--status S] | dismiss JOB | log JOB
     lubdem_client.py download JOB [DIR]   every file of an ended job into DIR (default: JOB);
                      a failed job's too (its partial result.h5, the checkpoint of a run
@@ -115,6 +116,42 @@ class Client:
                 if not idempotency_key or attempt == retries:
                     raise
                 time.sleep(1)
+
+    def stopped_with_checkpoint(self, job_id):
+        """True when the job failed because its run was stopped (the service's CPU time
+        limit) and kept the checkpoint a continuation goes on from."""
+        try:
+            self.results(job_id)
+            return False
+        except ApiError as e:
+            if not isinstance(e.problem, dict) or e.status not in (422, 500):
+                raise
+            summary = e.problem.get("summary") or {}
+            return (summary.get("status") == "partial" and
+                    "checkpoint.h5" in (e.problem.get("outputs") or {}))
+
+    def run_chain(self, process, inputs, max_jobs=100, timeout=600, idempotency_key=None,
+                  continue_from=None, on_job=None):
+        """Runs `inputs` to the end on a service whose CPU time limit is shorter than the run:
+        submits a job and, while it ends stopped with a checkpoint, a job that continues it
+        (continue_from), at most max_jobs in all. Returns the last job's status document
+        (successful, or failed for another reason, or the last stopped one). on_job(doc) is
+        called with each submitted job; with idempotency_key, job k uses key-k (a retried
+        chain finds its jobs again). timeout: per job."""
+        job = None
+        for k in range(max_jobs):
+            key = "%s-%d" % (idempotency_key, k) if idempotency_key else None
+            job = self.submit(process, inputs, idempotency_key=key, continue_from=continue_from)
+            if on_job:
+                on_job(job)
+            try:
+                job = self.wait(job["jobID"], timeout=timeout)
+            except JobFailed:
+                job = self.status(job["jobID"])
+            if job["status"] != "failed" or not self.stopped_with_checkpoint(job["jobID"]):
+                return job
+            continue_from = job["jobID"]
+        return job
 
     def status(self, job_id):
         return self._req("GET", "/jobs/" + job_id)
@@ -250,6 +287,9 @@ def main(argv=None):
     s.add_argument("--fail-on-warnings", action="store_true")
     s.add_argument("--continue-from", metavar="JOB",
                    help="continue that ended job's run from its checkpoint")
+    s.add_argument("--chain", type=int, metavar="N", default=0,
+                   help="with --wait: while a job stops at the service's CPU time limit with a "
+                        "checkpoint, submit one that continues it (at most N jobs in all)")
     for name in ("status", "results", "dismiss", "log"):
         sub.add_parser(name).add_argument("job")
     d = sub.add_parser("download")
@@ -261,10 +301,16 @@ def main(argv=None):
     c = Client(a.url, default_token(a.token))
     try:
         if a.cmd == "submit":
-            job = c.submit(a.process, json.loads(a.inputs), idempotency_key=a.key,
-                           continue_from=a.continue_from)
-            print(job["jobID"])
-            if a.wait or a.download:
+            if a.chain:
+                job = c.run_chain(a.process, json.loads(a.inputs), max_jobs=a.chain,
+                                  timeout=a.timeout, idempotency_key=a.key,
+                                  continue_from=a.continue_from,
+                                  on_job=lambda j: print(j["jobID"], flush=True))
+            else:
+                job = c.submit(a.process, json.loads(a.inputs), idempotency_key=a.key,
+                               continue_from=a.continue_from)
+                print(job["jobID"])
+            if a.wait or a.download or a.chain:
                 c.wait(job["jobID"], timeout=a.timeout)
                 if a.download:
                     c.download(job["jobID"], "result.h5", a.download)
