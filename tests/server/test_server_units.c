@@ -1,10 +1,12 @@
 /* test_server_units.c — unit tests of the server's pure parts and of the queue/lease SQL on a
  * scratch database: SHA-256 vectors, Range parsing, progress lines, execution-request
- * validation, the memory check of submissions, claim order/fencing/reaping. Usage:
+ * validation, the memory check of submissions, claim order/fencing/reaping, hard link or
+ * copy of a continuation's files. Usage:
  * test_server_units SCRATCH_DIR */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -343,6 +345,49 @@ static void test_queue(const char *dir)
     lubd_db_close(db);
 }
 
+/* Reads a whole small file into buf (NUL-terminated); its length, or -1. */
+static long slurp(const char *path, char *buf, size_t n)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -1;
+    size_t got = fread(buf, 1, n - 1, f);
+    fclose(f);
+    buf[got] = '\0';
+    return (long)got;
+}
+
+/* lubd_link_or_copy: a hard link on one file system, a copy across two (/dev/shm, where it
+ * is another file system than dir), never over an existing file. */
+static void test_link_or_copy(const char *dir)
+{
+    char src[600], dst[600], text[64];
+    snprintf(src, sizeof src, "%s/link_src", dir);
+    snprintf(dst, sizeof dst, "%s/link_dst", dir);
+    unlink(dst);
+    CHECK(lubd_write_file_atomic(src, "state\n", 6) == 0);
+    CHECK(lubd_link_or_copy(src, dst) == 0);
+    struct stat a, b;
+    CHECK(stat(src, &a) == 0 && stat(dst, &b) == 0 && a.st_ino == b.st_ino);
+    CHECK(lubd_link_or_copy(src, dst) != 0); /* dst exists: refused, not replaced */
+    char shm[600];
+    snprintf(shm, sizeof shm, "/dev/shm/lubd_link_test_%ld", (long)getpid());
+    struct stat d, m;
+    if (lubd_write_file_atomic(shm, "other fs\n", 9) == 0 && stat(shm, &m) == 0 &&
+        stat(dir, &d) == 0 && m.st_dev != d.st_dev) {
+        unlink(dst);
+        CHECK(lubd_link_or_copy(shm, dst) == 0);
+        CHECK(slurp(dst, text, sizeof text) == 9 && strcmp(text, "other fs\n") == 0);
+        CHECK(stat(dst, &b) == 0 && b.st_ino != m.st_ino);
+    } else {
+        printf("link_or_copy: no second file system at /dev/shm; the copy is not exercised\n");
+    }
+    unlink(shm);
+    CHECK(lubd_link_or_copy("/nonexistent/lubd", dst) != 0);
+    unlink(dst);
+    unlink(src);
+}
+
 int main(int argc, char **argv)
 {
     test_sha256();
@@ -351,6 +396,7 @@ int main(int argc, char **argv)
     test_exec();
     test_job_limits();
     test_queue(argc > 1 ? argv[1] : ".");
+    test_link_or_copy(argc > 1 ? argv[1] : ".");
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else
