@@ -25,6 +25,10 @@ library only; uses lubdem_client.py from this directory).
                      summary gives one; a failed job's values where its run completed but could
                      not write its result.h5, exit code 4)
     --fail-on-warnings  exit 4 when any run reports warnings (its own validity checks)
+    --chain N        on a service whose CPU time limit (lubdemd --cpu-s) is shorter than the
+                     runs: a job that stops at the limit with a checkpoint is continued by a
+                     new job ("continue_from"), up to N jobs per value; the table gives the
+                     last job of each value and how many it took (column `jobs`)   [1: off]
 
 Exit status: 0 all runs successful; 1 a job failed or the wait timed out (the table still
 lists every value, with its status), or the service went away while waiting (the jobs are
@@ -118,15 +122,23 @@ def collect(client, job, observables):
     return row
 
 
-def wait_all(client, job_ids, deadline, poll=2.0):
+def wait_all(client, job_ids, deadline, poll=2.0, cont=None):
     """Polls until every job has ended or the deadline passes; returns the last status document
-    of each job, in order, and the ids still open."""
+    of each job, in order, and the ids still open. With cont(i, doc), called for value i's job
+    that ended stopped with a checkpoint, the job id cont returns (a continuation; None: none)
+    takes its place in job_ids (changed in place)."""
     last = {}
-    open_ids = list(job_ids)
-    while open_ids:
-        for j in open_ids:
-            last[j] = client.status(j)
-        open_ids = [j for j in open_ids if last[j]["status"] not in ENDED]
+    while True:
+        open_now = [i for i, j in enumerate(job_ids)
+                    if j not in last or last[j]["status"] not in ENDED]
+        for i in open_now:
+            doc = last[job_ids[i]] = client.status(job_ids[i])
+            if cont and doc["status"] == "failed" and client.stopped_with_checkpoint(doc["jobID"]):
+                following = cont(i, doc)
+                if following:
+                    job_ids[i] = following
+                    last[following] = {"status": "accepted", "jobID": following}
+        open_ids = [j for j in job_ids if last[j]["status"] not in ENDED]
         if not open_ids or time.time() > deadline:
             break
         time.sleep(poll)
@@ -148,6 +160,7 @@ def main(argv=None):
     p.add_argument("--poll", type=float, default=2.0)
     p.add_argument("--out")
     p.add_argument("--fail-on-warnings", action="store_true")
+    p.add_argument("--chain", type=int, default=1)
     a = p.parse_args(argv)
     try:
         sweep = parse_sweep(a.vary, a.values, a.also)
@@ -187,8 +200,23 @@ def main(argv=None):
         job_ids.append(job["jobID"])
         print("queued %s job %s" % (point, job["jobID"]), flush=True)
 
+    chains = [[j] for j in job_ids]  # every job of each value, the first one first
+
+    def cont(i, doc):
+        """Value i's job stopped at the CPU time limit: the job that continues it."""
+        if len(chains[i]) >= a.chain:
+            return None
+        key = "%s:%s:%d" % (a.key, points[i], len(chains[i])) if a.key else None
+        job = client.submit(a.process, bodies[i], idempotency_key=key,
+                            continue_from=doc["jobID"])
+        chains[i].append(job["jobID"])
+        print("continued %s job %s as job %s" % (points[i], doc["jobID"], job["jobID"]),
+              flush=True)
+        return job["jobID"]
+
     try:
-        jobs, still_open = wait_all(client, job_ids, time.time() + a.timeout, a.poll)
+        jobs, still_open = wait_all(client, job_ids, time.time() + a.timeout, a.poll,
+                                    cont if a.chain > 1 else None)
         rows = [collect(client, job, observables) for job in jobs]
     except (ApiError, OSError) as e:
         print("error: lost the service while waiting (%s); the jobs keep running: %s" % (
@@ -197,7 +225,7 @@ def main(argv=None):
         return 1
 
     # columns named by the pointers: an input may share its name with an observable (Iv)
-    header = [ptr for ptr, _, _ in sweep] + ["job", "status", "steady"]
+    header = [ptr for ptr, _, _ in sweep] + ["job", "jobs", "status", "steady"]
     for o in observables:
         header += [o, o + "_stderr"]
         if any(o in r["obs"] and r["obs"][o][2] is not None for r in rows):
@@ -205,7 +233,7 @@ def main(argv=None):
     header += ["warnings", "message"]
     table = []
     for i, (j, r) in enumerate(zip(job_ids, rows)):
-        line = {"job": j, "status": r["status"], "steady": r["steady"],
+        line = {"job": j, "jobs": len(chains[i]), "status": r["status"], "steady": r["steady"],
                 "warnings": " | ".join(r["warnings"]), "message": r["message"]}
         for ptr, _, vals in sweep:
             line[ptr] = json.dumps(vals[i]) if isinstance(vals[i], str) else vals[i]

@@ -131,13 +131,13 @@ class Client:
                     "checkpoint.h5" in (e.problem.get("outputs") or {}))
 
     def run_chain(self, process, inputs, max_jobs=100, timeout=600, idempotency_key=None,
-                  continue_from=None, on_job=None):
+                  continue_from=None, on_job=None, poll=1.0):
         """Runs `inputs` to the end on a service whose CPU time limit is shorter than the run:
         submits a job and, while it ends stopped with a checkpoint, a job that continues it
         (continue_from), at most max_jobs in all. Returns the last job's status document
         (successful, or failed for another reason, or the last stopped one). on_job(doc) is
         called with each submitted job; with idempotency_key, job k uses key-k (a retried
-        chain finds its jobs again). timeout: per job."""
+        chain finds its jobs again). timeout: per job; poll: seconds between status requests."""
         job = None
         for k in range(max_jobs):
             key = "%s-%d" % (idempotency_key, k) if idempotency_key else None
@@ -145,7 +145,7 @@ class Client:
             if on_job:
                 on_job(job)
             try:
-                job = self.wait(job["jobID"], timeout=timeout)
+                job = self.wait(job["jobID"], timeout=timeout, poll=poll)
             except JobFailed:
                 job = self.status(job["jobID"])
             if job["status"] != "failed" or not self.stopped_with_checkpoint(job["jobID"]):
@@ -283,6 +283,7 @@ def main(argv=None):
     s.add_argument("--wait", action="store_true")
     s.add_argument("--download")
     s.add_argument("--timeout", type=float, default=600)
+    s.add_argument("--poll", type=float, default=1.0, help="seconds between status requests")
     s.add_argument("--key")
     s.add_argument("--fail-on-warnings", action="store_true")
     s.add_argument("--continue-from", metavar="JOB",
@@ -304,14 +305,14 @@ def main(argv=None):
             if a.chain:
                 job = c.run_chain(a.process, json.loads(a.inputs), max_jobs=a.chain,
                                   timeout=a.timeout, idempotency_key=a.key,
-                                  continue_from=a.continue_from,
+                                  continue_from=a.continue_from, poll=a.poll,
                                   on_job=lambda j: print(j["jobID"], flush=True))
             else:
                 job = c.submit(a.process, json.loads(a.inputs), idempotency_key=a.key,
                                continue_from=a.continue_from)
                 print(job["jobID"])
             if a.wait or a.download or a.chain:
-                c.wait(job["jobID"], timeout=a.timeout)
+                c.wait(job["jobID"], timeout=a.timeout, poll=a.poll)
                 if a.download:
                     c.download(job["jobID"], "result.h5", a.download)
                     print("downloaded", a.download)

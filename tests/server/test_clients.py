@@ -3,7 +3,8 @@ with sha256 check, a failing job -> exit 1, a rejected submission -> exit 2, a t
 exit 3, a retried CI step -> same job, a run with warnings -> printed, exit 4 with
 LUBDEM_FAIL_ON_WARNINGS=1), the Python client (exit 4 with --fail-on-warnings) + h5py
 reader, and the flow_curve.py sweep (table and CSV, the same jobs on a second run, a rejected
-value, a timeout, a failed job, the service gone while waiting)."""
+value, a timeout, a failed job, the service gone while waiting, runs longer than the CPU
+limit continued job after job with --chain)."""
 import csv
 import json
 import os
@@ -92,6 +93,23 @@ def run():
             T.check(rc == 1 and "CPU time limit" in out and len(rows) == 1 and
                     rows[0]["status"] == "failed" and rows[0]["mu"] == "",
                     "flow_curve.py failed job:\n%s\n%s" % (out, rows))
+            # flow_curve.py --chain: runs longer than the CPU limit go on in continuation jobs
+            # (continue_from) until complete; the table has each value's last job and how many
+            # it took
+            fc_chain = os.path.join(out_dir, "flow_curve_chain.csv")
+            chained = ('{"control": "pressure", "n_particles": 300, "strain": %s, '
+                       '"transient_strain": 0.5}' % ("2" if a.sanitized else "6"))
+            rc, out = sh(sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
+                         "--values", "0.1,1", "--base", chained, "--poll", "0.1",
+                         "--timeout", "600", "--chain", "40", "--out", fc_chain,
+                         extra_env=slow_env)
+            with open(fc_chain) as f:
+                rows = list(csv.DictReader(f))
+            T.check(rc == 0 and len(rows) == 2 and "continued" in out and
+                    all(r["status"] == "successful" and int(r["jobs"]) > 1 and r["mu"]
+                        for r in rows),
+                    "flow_curve.py --chain:\n%s\n%s" % (out, rows))
+            print("flow_curve_chain_jobs=%s" % ",".join(r["jobs"] for r in rows))
             # the service goes away while flow_curve.py waits: exit 1, the job named
             lost = subprocess.Popen(
                 [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",

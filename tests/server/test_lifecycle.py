@@ -266,10 +266,12 @@ def run():
     # again; the result equals the engine's own run of the same spec that never stopped.
     srv5 = T.Server(a, "resume", workers=1).fresh()
     tok = srv5.token("grace")
-    # 30 strain: about 5 s here, long enough for the stop to land mid-run after the progress
-    # reaches 5 % (heartbeats carry it every second); sanitized engines run ~4 times slower
+    # 10 strain: about 8 s here on the engine's default single thread, long enough for the
+    # stop to land mid-run after the progress reaches 5 % (heartbeats carry it every second);
+    # sanitized engines run ~4 times slower (4 strain there). A chain of CPU-limited jobs
+    # below spends the CPU time of the whole run.
     inputs = {"n_particles": 300, "phi": 0.5, "stiffness": 1e4,
-              "strain": 8.0 if a.sanitized else 30.0,
+              "strain": 4.0 if a.sanitized else 10.0,
               "sample_strain": 0.01, "transient_strain": 0.5}
     srv5.start()
     try:
@@ -402,7 +404,8 @@ def run():
                     "continuation %d stopped at the CPU limit: %s" % (len(chain), last))
         p = subprocess.run([sys.executable, client, "--url", "http://127.0.0.1:%d" % srv7.port,
                             "--token", tok, "submit", "simple_shear", json.dumps(inputs),
-                            "--continue-from", chain[-1], "--chain", "60", "--timeout", "120"],
+                            "--continue-from", chain[-1], "--chain", "60", "--timeout", "120",
+                            "--poll", "0.1"],
                            capture_output=True, text=True, timeout=1800)
         chain += p.stdout.split()
         T.check(p.returncode == 0, "the client's chain ended successful: exit %s, %s"
