@@ -117,18 +117,25 @@ class Client:
                     raise
                 time.sleep(1)
 
+    def ended(self, job_id):
+        """What the service gives of a job that has ended: the results document of a
+        successful job, or the problem of a failed one, with its "summary" and "outputs"
+        where the engine wrote any. Raises ApiError otherwise (not ended: 404, dismissed:
+        410)."""
+        try:
+            return self.results(job_id)
+        except ApiError as e:
+            if isinstance(e.problem, dict) and e.status in (422, 500):
+                return e.problem
+            raise
+
     def stopped_with_checkpoint(self, job_id):
         """True when the job failed because its run was stopped (the service's CPU time
         limit) and kept the checkpoint a continuation goes on from."""
-        try:
-            self.results(job_id)
-            return False
-        except ApiError as e:
-            if not isinstance(e.problem, dict) or e.status not in (422, 500):
-                raise
-            summary = e.problem.get("summary") or {}
-            return (summary.get("status") == "partial" and
-                    "checkpoint.h5" in (e.problem.get("outputs") or {}))
+        doc = self.ended(job_id)
+        return (doc.get("status") in (422, 500) and
+                (doc.get("summary") or {}).get("status") == "partial" and
+                "checkpoint.h5" in (doc.get("outputs") or {}))
 
     def run_chain(self, process, inputs, max_jobs=100, timeout=600, idempotency_key=None,
                   continue_from=None, on_job=None, poll=1.0):
@@ -176,24 +183,14 @@ class Client:
         last attempt of a failed one where the engine wrote one (its diagnostic; for exit code
         4, result.h5 could not be written and the results are those of the whole run); None
         when there is none."""
-        try:
-            return self.results(job_id).get("summary")
-        except ApiError as e:
-            if isinstance(e.problem, dict) and e.status in (422, 500):
-                return e.problem.get("summary")
-            raise
+        return self.ended(job_id).get("summary")
 
     def outputs(self, job_id):
         """The files of a job that has ended ({name: {href, type, size, sha256}}): of a
         successful job, or what the engine of a failed one wrote and the service kept (its
         summary, a partial or failed result.h5, a stopped run's checkpoint.h5); {} when
         there are none."""
-        try:
-            return self.results(job_id).get("outputs") or {}
-        except ApiError as e:
-            if isinstance(e.problem, dict) and e.status in (422, 500):
-                return e.problem.get("outputs") or {}
-            raise
+        return self.ended(job_id).get("outputs") or {}
 
     def warnings(self, job_id):
         """The warnings of a successful job's summary (its advisory validity checks)."""
