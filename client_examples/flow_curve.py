@@ -122,27 +122,24 @@ def collect(client, job, observables):
     return row
 
 
-def wait_all(client, job_ids, deadline, poll=2.0, cont=None):
-    """Polls until every job has ended or the deadline passes; returns the last status document
-    of each job, in order, and the ids still open. With cont(i, doc), called for value i's job
-    that ended stopped with a checkpoint, the job id cont returns (a continuation; None: none)
-    takes its place in job_ids (changed in place)."""
+def wait_all(client, chains, deadline, poll=2.0, cont=None):
+    """Polls the last job of each value's chain (its job ids, the first one first) until every
+    one has ended or the deadline passes; returns the last status document of each, in order,
+    and the ids still open. With cont(i, doc), called for value i's job that ended stopped
+    with a checkpoint, a continuation may be appended to chains[i] (which is then polled)."""
     last = {}
     while True:
-        open_now = [i for i, j in enumerate(job_ids)
-                    if j not in last or last[j]["status"] not in ENDED]
-        for i in open_now:
-            doc = last[job_ids[i]] = client.status(job_ids[i])
+        for i, chain in enumerate(chains):
+            if chain[-1] in last and last[chain[-1]]["status"] in ENDED:
+                continue
+            doc = last[chain[-1]] = client.status(chain[-1])
             if cont and doc["status"] == "failed" and client.stopped_with_checkpoint(doc["jobID"]):
-                following = cont(i, doc)
-                if following:
-                    job_ids[i] = following
-                    last[following] = {"status": "accepted", "jobID": following}
-        open_ids = [j for j in job_ids if last[j]["status"] not in ENDED]
+                cont(i, doc)
+        open_ids = [c[-1] for c in chains if c[-1] not in last or last[c[-1]]["status"] not in ENDED]
         if not open_ids or time.time() > deadline:
             break
         time.sleep(poll)
-    return [last[j] for j in job_ids], open_ids
+    return [last[c[-1]] for c in chains], open_ids
 
 
 def main(argv=None):
@@ -203,25 +200,26 @@ def main(argv=None):
     chains = [[j] for j in job_ids]  # every job of each value, the first one first
 
     def cont(i, doc):
-        """Value i's job stopped at the CPU time limit: the job that continues it."""
+        """Value i's job stopped at the CPU time limit: a job that continues it, while the
+        chain is shorter than --chain."""
         if len(chains[i]) >= a.chain:
-            return None
+            return
         key = "%s:%s:%d" % (a.key, points[i], len(chains[i])) if a.key else None
         job = client.submit(a.process, bodies[i], idempotency_key=key,
                             continue_from=doc["jobID"])
         chains[i].append(job["jobID"])
         print("continued %s job %s as job %s" % (points[i], doc["jobID"], job["jobID"]),
               flush=True)
-        return job["jobID"]
 
     try:
-        jobs, still_open = wait_all(client, job_ids, time.time() + a.timeout, a.poll,
+        jobs, still_open = wait_all(client, chains, time.time() + a.timeout, a.poll,
                                     cont if a.chain > 1 else None)
+        job_ids = [c[-1] for c in chains]
         rows = [collect(client, job, observables) for job in jobs]
     except (ApiError, OSError) as e:
         print("error: lost the service while waiting (%s); the jobs keep running: %s" % (
             e, "the same command with the same --key collects them" if a.key else
-            " ".join(job_ids)), file=sys.stderr)
+            " ".join(c[-1] for c in chains)), file=sys.stderr)
         return 1
 
     # columns named by the pointers: an input may share its name with an observable (Iv)

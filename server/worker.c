@@ -342,6 +342,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
                                cfg->keep_checkpoints && scene && scene->resume_may_differ != NULL};
     end_reason why;
     int status = 0;
+    char st_text[200];
     for (;;) {
         lubd_engine_proc ep;
         if (lubd_engine_spawn(&eo, &ep) != 0) {
@@ -351,7 +352,6 @@ static void run_job(worker_ctx *w, lubd_claim *c)
             return;
         }
         why = supervise_engine(w, c, &ep, log_fd, &status);
-        char st_text[200];
         lubd_describe_status(status, st_text, sizeof st_text);
         dprintf(log_fd, "lubdemd: engine finished: %s\n", st_text);
         /* Exit 2 of a continuation is the engine refusing the checkpoint (damaged, cut short,
@@ -385,8 +385,6 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         eo.resume = from_other;
     }
     close(log_fd);
-    char st_text[200];
-    lubd_describe_status(status, st_text, sizeof st_text);
 
     if (why == END_SHUTDOWN) {
         lubd_lease_release(w->db, c);

@@ -21,9 +21,12 @@ def same_bits(a, b):
     return a.shape == b.shape and a.dtype == b.dtype and a.tobytes() == b.tobytes()
 
 
+def differing_items(a, b):
+    """Names of the datasets of h5_items a and b that are on one side only or differ."""
+    return [k for k in a if k not in b or not same_bits(a[k], b[k])] + [k for k in b if k not in a]
+
+
 def differing(path_a, path_b):
-    """(number of datasets of path_a, names that are missing from path_b or differ)."""
-    a, b = h5_items(path_a), h5_items(path_b)
-    bad = [k for k in a if k not in b or not same_bits(a[k], b[k])]
-    bad += [k for k in b if k not in a]
-    return len(a), bad
+    """(number of datasets of path_a, names that are on one side only or differ)."""
+    a = h5_items(path_a)
+    return len(a), differing_items(a, h5_items(path_b))
