@@ -148,7 +148,8 @@ enum MHD_Result lubd_api_execute(lubd_request *r, const char *id)
                       req.fingerprint,
                       key,
                       req.priority,
-                      r->srv->cfg->max_attempts};
+                      r->srv->cfg->max_attempts,
+                      req.continue_from};
     char job_id[33];
     int replayed = 0, rc = -1;
     lubd_job job;

@@ -1,10 +1,13 @@
 /* continuation.c — checks of a "continue_from" submission (see continuation.h). */
 #include "continuation.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "fsutil.h"
 #include "queue.h"
 #include "resume_spec.h"
 #include "scene.h"
@@ -101,4 +104,77 @@ int lubd_continuation_check(sqlite3 *db, const lubd_continuation *c, lubd_fault 
                         "with --keep-checkpoints 1)",
                         c->source_id);
     return same_run(db, c, scene, f);
+}
+
+int lubd_continuation_link_files(const char *from_dir, const char *to_dir, char *why,
+                                 size_t why_len)
+{
+    static const char *const names[] = {"checkpoint.h5", "result.h5", "checkpoint-result.h5"};
+    if (lubd_mkdir_p(to_dir, 0750) != 0) {
+        const int e = errno;
+        lubd_pathf(why, why_len, "cannot create %s: %s", to_dir, strerror(e));
+        errno = e;
+        return -1;
+    }
+    for (int k = 0; k < 3; ++k) {
+        char src[1400], dst[1400];
+        if (lubd_pathf(src, sizeof src, "%s/%s", from_dir, names[k]) != 0 ||
+            lubd_pathf(dst, sizeof dst, "%s/%s", to_dir, names[k]) != 0) {
+            lubd_pathf(why, why_len, "path too long under %s", from_dir);
+            errno = ENAMETOOLONG;
+            return -1;
+        }
+        if (k > 0 && access(src, F_OK) != 0)
+            continue; /* the engine names what it misses */
+        if (lubd_link_or_copy(src, dst) != 0) {
+            const int e = errno;
+            lubd_pathf(why, why_len, "its %s: %s", names[k], strerror(e));
+            errno = e;
+            return -1;
+        }
+    }
+    return 0;
+}
+
+int lubd_continuation_hand_over(sqlite3 *db, const char *jobs_dir, const char *source_id, char *why,
+                                size_t why_len)
+{
+    sqlite3_stmt *st = NULL;
+    if (sqlite3_prepare_v2(db,
+                           "SELECT id FROM jobs WHERE state IN ('accepted', 'running') AND "
+                           "json_extract(request_json, '$.continue_from') = ?1",
+                           -1, &st, NULL) != SQLITE_OK) {
+        lubd_pathf(why, why_len, "database error: %s", sqlite3_errmsg(db));
+        return -1;
+    }
+    sqlite3_bind_text(st, 1, source_id, -1, SQLITE_STATIC);
+    char from[1200];
+    lubd_pathf(from, sizeof from, "%s/%s/result", jobs_dir, source_id);
+    int n = 0, rc;
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
+        const char *dep = (const char *)sqlite3_column_text(st, 0);
+        char tmp[1300], dst[1300], err[600] = "";
+        lubd_pathf(tmp, sizeof tmp, "%s/%s/." LUBD_CONTINUED_FROM ".tmp", jobs_dir, dep);
+        lubd_pathf(dst, sizeof dst, "%s/%s/" LUBD_CONTINUED_FROM, jobs_dir, dep);
+        if (access(dst, F_OK) == 0) { /* handed over before (a retried delete) */
+            ++n;
+            continue;
+        }
+        if (lubd_rm_rf(tmp) != 0 || lubd_continuation_link_files(from, tmp, err, sizeof err) != 0 ||
+            rename(tmp, dst) != 0) {
+            lubd_pathf(why, why_len,
+                       "cannot keep the files of job %s for job %s, which continues it: %s",
+                       source_id, dep, err[0] ? err : strerror(errno));
+            lubd_rm_rf(tmp);
+            sqlite3_finalize(st);
+            return -1;
+        }
+        ++n;
+    }
+    if (rc != SQLITE_DONE) {
+        lubd_pathf(why, why_len, "database error: %s", sqlite3_errmsg(db));
+        n = -1;
+    }
+    sqlite3_finalize(st);
+    return n;
 }

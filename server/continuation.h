@@ -14,6 +14,7 @@
 
 #include <jansson.h>
 #include <sqlite3.h>
+#include <stddef.h>
 
 #include "problem.h"
 
@@ -29,5 +30,29 @@ typedef struct {
  * user's, another process, not finished, deleted, no checkpoint) or at /inputs/... (a member
  * that must be the earlier job's), 500 on a database error. */
 int lubd_continuation_check(sqlite3 *db, const lubd_continuation *c, lubd_fault *f);
+
+/* The folder, inside a continuation's job folder, that holds the earlier job's files once
+ * that job has been deleted: jobs/<id>/continued-from/. */
+#define LUBD_CONTINUED_FROM "continued-from"
+
+/* Puts the files a continuation starts from (checkpoint.h5, and result.h5 and, after a periodic
+ * checkpoint, checkpoint-result.h5 where from_dir has them) of from_dir into to_dir (created
+ * when missing): hard links, or copies across file systems (lubd_link_or_copy). The engine
+ * never writes to them in place (it writes new files under temporary names and renames them),
+ * so the earlier job's files stay as they were. 0, or -1 with errno set and *why naming the
+ * file (to_dir may then hold some of them). */
+int lubd_continuation_link_files(const char *from_dir, const char *to_dir, char *why,
+                                 size_t why_len);
+
+/* A job being deleted hands its kept files over to the jobs that continue it and have not
+ * ended (accepted or running): each gets hard links in jobs/<id>/continued-from/ (built under a
+ * temporary name and renamed, so that the folder, when there, is complete), which its worker
+ * takes instead of the deleted job's. Called once the source job is marked purged (no
+ * continuation of it can be submitted after that: lubd_queue_submit checks it in its write
+ * transaction) and before its folder is removed. Returns the number of jobs handed the files,
+ * or -1 with *why set (the caller then keeps the source's folder, where the worker finds the
+ * files). */
+int lubd_continuation_hand_over(sqlite3 *db, const char *jobs_dir, const char *source_id, char *why,
+                                size_t why_len);
 
 #endif

@@ -135,6 +135,23 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
         f->retry_after = 10;
         return -1;
     }
+    if (in->continue_from && in->continue_from[0]) {
+        if (lubd_db_prepare(db, "SELECT purged FROM jobs WHERE id = ?1", &st) != 0)
+            goto dberr;
+        sqlite3_bind_text(st, 1, in->continue_from, -1, SQLITE_STATIC);
+        const int rc = sqlite3_step(st);
+        if (rc != SQLITE_ROW && rc != SQLITE_DONE)
+            goto dberr;
+        const int deleted = rc == SQLITE_DONE || sqlite3_column_int(st, 0) != 0;
+        sqlite3_finalize(st);
+        st = NULL;
+        if (deleted) {
+            lubd_db_rollback(db);
+            return lubd_fail(
+                f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/continue_from",
+                "/continue_from: job %s was deleted, with its checkpoint", in->continue_from);
+        }
+    }
     if (lubd_random_hex(job_id, 16) != 0) {
         lubd_db_rollback(db);
         return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL,

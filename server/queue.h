@@ -47,11 +47,14 @@ typedef struct {
     const char *idempotency_key; /* NULL = none */
     int priority;
     int max_attempts;
+    const char *continue_from; /* the job it continues; NULL or "" = none */
 } lubd_submit;
 
 /* Returns 0 with job_id set (*replayed = 1 if an Idempotency-Key matched an earlier
  * identical request), or -1 with *f set (409 key reused with a different body, 429 over the
- * per-user cap with retry_after, 500 database error). */
+ * per-user cap with retry_after, 400 at /continue_from when the job it continues was deleted
+ * (checked in the write transaction, so that a deletion either comes first and refuses the
+ * continuation, or comes after and hands its files over to it), 500 database error). */
 int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *replayed,
                       lubd_fault *f);
 

@@ -21,7 +21,9 @@
 #include "engine_child.h"
 #include "fsutil.h"
 #include "lease.h"
+#include "continuation.h"
 #include "progress_line.h"
+#include "queue.h"
 #include "scene.h"
 
 typedef struct {
@@ -142,32 +144,37 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
     return n;
 }
 
-/* Puts the files a continuation starts from (checkpoint.h5, result.h5 and, after a periodic
- * checkpoint, checkpoint-result.h5) of job `source`'s kept result into out_dir: hard links,
- * or copies across file systems. The engine never writes to them (it writes new files under
- * temporary names and renames them), so the earlier job's files stay as they were. */
-static int take_source_files(const lubd_config *cfg, const char *source, const char *out_dir,
+/* Puts the files a continuation starts from into out_dir: the earlier job's kept files, or,
+ * once that job has been deleted, the links it handed over to this job
+ * (jobs/<id>/continued-from/, lubd_continuation_hand_over). The handed-over folder is complete
+ * whenever it exists, and exists before the earlier job's folder is removed; a deletion that
+ * lands while the files are being linked is met by taking them again from it. Returns 0 (the
+ * earlier job's folder), 1 (the handed-over files) or -1 with msg set. */
+#define HANDED_NOTE " (kept for this job when that job was deleted)"
+
+static int take_source_files(const lubd_config *cfg, const lubd_claim *c, const char *out_dir,
                              char *msg, size_t len)
 {
-    static const char *const names[] = {"checkpoint.h5", "result.h5", "checkpoint-result.h5"};
-    if (lubd_mkdir_p(out_dir, 0750) != 0) {
-        lubd_pathf(msg, len, "system error: cannot create %s: %s", out_dir, strerror(errno));
-        return -1;
-    }
-    for (int k = 0; k < 3; ++k) {
-        char src[1400], dst[1500];
-        lubd_pathf(src, sizeof src, "%s/%s/result/%s", cfg->jobs_dir, source, names[k]);
-        lubd_pathf(dst, sizeof dst, "%s/%s", out_dir, names[k]);
-        if (k > 0 && access(src, F_OK) != 0)
-            continue; /* the engine names what it misses */
-        if (lubd_link_or_copy(src, dst) != 0) {
-            lubd_pathf(
-                msg, len, "cannot continue job %s: its %s: %s%s", source, names[k], strerror(errno),
-                errno == ENOENT ? " (the job was deleted after this one was submitted)" : "");
+    char handed[1300], source[1300], ckpt[1400], why[600] = "";
+    lubd_pathf(handed, sizeof handed, "%s/%s/" LUBD_CONTINUED_FROM, cfg->jobs_dir, c->id);
+    lubd_pathf(source, sizeof source, "%s/%s/result", cfg->jobs_dir, c->continue_from);
+    lubd_pathf(ckpt, sizeof ckpt, "%s/checkpoint.h5", handed);
+    const int was_handed = access(ckpt, F_OK) == 0;
+    const char *from[2] = {was_handed ? handed : source, was_handed ? NULL : handed};
+    for (int k = 0; k < 2 && from[k]; ++k) {
+        if (lubd_rm_rf(out_dir) != 0) {
+            lubd_pathf(msg, len, "system error: cannot clear %s: %s", out_dir, strerror(errno));
             return -1;
         }
+        if (lubd_continuation_link_files(from[k], out_dir, why, sizeof why) == 0)
+            return from[k] == handed;
+        if (errno != ENOENT)
+            break;
     }
-    return 0;
+    lubd_pathf(msg, len, "cannot continue job %s: %s%s", c->continue_from, why,
+               errno == ENOENT ? " (the job was deleted, and its files were not kept for this one)"
+                               : "");
+    return -1;
 }
 
 typedef enum { END_EXITED, END_LOST, END_SHUTDOWN } end_reason;
@@ -317,14 +324,15 @@ static void run_job(worker_ctx *w, lubd_claim *c)
      * the earlier job's kept files. */
     int from_other = !resume && c->continue_from[0];
     if (from_other) {
-        if (take_source_files(cfg, c->continue_from, out_dir, msg, sizeof msg) != 0) {
+        const int taken = take_source_files(cfg, c, out_dir, msg, sizeof msg);
+        if (taken < 0) {
             dprintf(log_fd, "lubdemd: %s\n", msg);
             close(log_fd);
             lubd_lease_fail(w->db, c, "executor", msg);
             return;
         }
-        dprintf(log_fd, "lubdemd: continuing the run of job %s from its checkpoint\n",
-                c->continue_from);
+        dprintf(log_fd, "lubdemd: continuing the run of job %s from its checkpoint%s\n",
+                c->continue_from, taken ? HANDED_NOTE : "");
         resume = 1;
     }
     const lub_scene *scene = lub_scene_find(c->process_id);
@@ -371,7 +379,8 @@ static void run_job(worker_ctx *w, lubd_claim *c)
             return;
         }
         from_other = c->continue_from[0] != '\0';
-        if (from_other && take_source_files(cfg, c->continue_from, out_dir, msg, sizeof msg)) {
+        const int taken = from_other ? take_source_files(cfg, c, out_dir, msg, sizeof msg) : 0;
+        if (taken < 0) {
             dprintf(log_fd, "lubdemd: %s\n", msg);
             close(log_fd);
             lubd_lease_fail(w->db, c, "executor", msg);
@@ -379,9 +388,9 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         }
         dprintf(log_fd,
                 "lubdemd: the engine cannot continue from the checkpoint (its reason above); "
-                "starting the job again from %s%s\n",
+                "starting the job again from %s%s%s\n",
                 from_other ? "the checkpoint of job " : "the beginning",
-                from_other ? c->continue_from : "");
+                from_other ? c->continue_from : "", taken ? HANDED_NOTE : "");
         eo.resume = from_other;
     }
     close(log_fd);
@@ -443,6 +452,21 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         lubd_lease_drop(w->db, c);
 }
 
+/* A continuation that has ended needs no longer the files an earlier job handed over to it
+ * when that job was deleted (a requeued or released job has not ended, and keeps them). */
+static void drop_handed_files(worker_ctx *w, const lubd_claim *c)
+{
+    lubd_job j;
+    if (!c->continue_from[0] || lubd_queue_get(w->db, c->id, &j) != 1 ||
+        strcmp(j.state, "accepted") == 0 || strcmp(j.state, "running") == 0)
+        return;
+    char handed[1300];
+    lubd_pathf(handed, sizeof handed, "%s/%s/" LUBD_CONTINUED_FROM, w->cfg->jobs_dir, c->id);
+    if (lubd_rm_rf(handed) != 0)
+        fprintf(stderr, "lubdemd worker %s: could not delete %s: %s\n", w->name, handed,
+                strerror(errno));
+}
+
 int lubd_worker_main(const lubd_config *cfg, const char *name)
 {
     prctl(PR_SET_PDEATHSIG, SIGKILL); /* the service died: so do we (and our engine) */
@@ -481,6 +505,7 @@ int lubd_worker_main(const lubd_config *cfg, const char *name)
             continue;
         }
         run_job(&w, &c);
+        drop_handed_files(&w, &c);
         lubd_lease_clear(&c);
     }
     sqlite3_finalize(peek);

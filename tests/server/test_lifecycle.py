@@ -5,7 +5,8 @@ token revocation; an engine stopped by its CPU limit fails the job, not retried;
 and a killed worker continue simple_shear jobs from their checkpoints; a simple_shear job
 stopped at its CPU limit serves its partial result.h5 and checkpoint, which the engine
 continues after a download; a checkpoint the engine refuses restarts the job from the
-beginning instead of failing it."""
+beginning instead of failing it (a continuation: from the checkpoint it continues, which a
+deletion of that job while the continuation is queued hands over to it)."""
 import hashlib
 import json
 import os
@@ -499,8 +500,65 @@ def run():
         summ = res["summary"]
         T.check("resumed_from_step" not in summ and summ["results"] == ref["results"],
                 "the restarted job's results equal the uninterrupted run's")
+
+        # Deleting a job whose continuation is queued does not take the continuation's files
+        # away: the deletion hands them over to it (jobs/<id>/continued-from), and it runs
+        # from them. (Until 2026-12-05 such a continuation failed at its start.) The worker is
+        # kept busy by another job meanwhile, so that the continuation waits in the queue.
+        longer = dict(inputs, strain=1.5 * inputs["strain"])
+        busy, _ = submit_running(srv8, tok, inputs)
+        st, _, doc = srv8.request("POST", "/processes/simple_shear/execution", tok,
+                                  {"inputs": longer, "continue_from": jid})
+        T.check(st == 201, "extension of %s submitted: %s %s" % (jid, st, doc))
+        cid = doc["jobID"]
+        st, _, _ = srv8.request("DELETE", "/jobs/" + jid, tok)
+        handed = os.path.join(srv8.run, "jobs", cid, "continued-from")
+        st2, _, doc = srv8.request("GET", "/jobs/" + cid, tok)
+        T.check(st == 200 and doc["status"] == "accepted" and
+                not os.path.exists(os.path.join(srv8.run, "jobs", jid)) and
+                sorted(os.listdir(handed)) == ["checkpoint.h5", "result.h5"],
+                "the deleted job handed its files to the queued extension: %s %s %s"
+                % (st, doc["status"], os.listdir(os.path.join(srv8.run, "jobs", cid))))
+        st, _, doc = srv8.request("POST", "/processes/simple_shear/execution", tok,
+                                  {"inputs": longer, "continue_from": jid})
+        T.check(st == 400 and "was deleted" in doc["detail"],
+                "a continuation of the deleted job is refused: %s %s" % (st, doc.get("detail")))
+        # ... and when the continuation's own checkpoint is refused (cut short while the
+        # service was stopped), it starts again from those handed-over files, not from the
+        # beginning
+        deadline = time.time() + 120
+        while time.time() < deadline and not (doc.get("status") == "running" and
+                                               doc.get("progress", 0) >= 70):
+            time.sleep(0.1)
+            st, _, doc = srv8.request("GET", "/jobs/" + cid, tok)
+        T.check(doc["status"] == "running" and doc["progress"] < 100,
+                "extension running past its start (67 %%) before SIGTERM: %s" % doc)
+    finally:
+        T.check(srv8.stop() == 0, "clean stop with the extension running")
+    ckpt = os.path.join(srv8.run, "jobs", cid, "attempt-1", "out", "checkpoint.h5")
+    T.check(os.path.exists(ckpt), "the extension's checkpoint left by the stop")
+    with open(ckpt, "r+b") as f:
+        f.truncate(os.path.getsize(ckpt) // 2)
+    srv8.start()
+    try:
+        doc = T.wait_final(srv8, tok, cid, timeout=300)
+        T.check(doc["status"] == "successful" and doc["attempt"] == 1,
+                "extension with a damaged checkpoint successful in attempt 1: %s" % doc)
+        log = open(os.path.join(srv8.run, "jobs", cid, "attempt-1", "log")).read()
+        T.check("starting the job again from the checkpoint of job %s (kept for this job when "
+                "that job was deleted)" % jid in log,
+                "the extension's log says it restarted from the deleted job's checkpoint")
+        T.check(not os.path.exists(handed), "the handed-over files are freed once it ended")
+        st, _, res = srv8.request("GET", "/jobs/%s/results" % cid, tok)
+        ext = res["summary"]
+        T.check(T.wait_final(srv8, tok, busy)["status"] == "successful", "the other job ended")
     finally:
         srv8.stop()
+    ref_long, _ = engine_run(a, longer, "refused_long")
+    T.check(ext["results"] == ref_long["results"] and ext["steps"] == ref_long["steps"] and
+            ext.get("resumed_from_step") == ref["steps"],
+            "the extension (from step %s) equals a run asked for /strain %s"
+            % (ext.get("resumed_from_step"), longer["strain"]))
 
 
 T.main(run)

@@ -1,7 +1,8 @@
 /* test_server_units.c — unit tests of the server's pure parts and of the queue/lease SQL on a
  * scratch database: SHA-256 vectors, Range parsing, progress lines, execution-request
  * validation, the memory check of submissions, claim order/fencing/reaping, hard link or
- * copy of a continuation's files. Usage:
+ * copy of a continuation's files, and their hand-over when the job they continue is deleted.
+ * Usage:
  * test_server_units SCRATCH_DIR */
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include "config.h"
+#include "continuation.h"
 #include "db.h"
 #include "exec_request.h"
 #include "fsutil.h"
@@ -194,7 +196,7 @@ static void test_queue(const char *dir)
     for (int i = 0; i < 3; ++i) {
         lubd_submit s = {
             u.id,        10,   "falling_sphere",  "{}", "{\"scene\":\"falling_sphere\"}",
-            ids_prio[i], NULL, atoi(ids_prio[i]), 2};
+            ids_prio[i], NULL, atoi(ids_prio[i]), 2,    NULL};
         int replayed;
         lubd_fault f;
         CHECK(lubd_queue_submit(db, &s, ids[i], &replayed, &f) == 0 && !replayed);
@@ -243,7 +245,7 @@ static void test_queue(const char *dir)
         memset(big, ' ', sizeof big - 3);
         big[0] = '{';
         big[sizeof big - 3] = '}';
-        lubd_submit s = {u.id, 10, "falling_sphere", "{}", big, "fp-full", NULL, 0, 3};
+        lubd_submit s = {u.id, 10, "falling_sphere", "{}", big, "fp-full", NULL, 0, 3, NULL};
         char id_full[33];
         int rep;
         lubd_fault f;
@@ -259,7 +261,7 @@ static void test_queue(const char *dir)
     }
     /* Idempotency: same key + same fingerprint -> same job; other fingerprint -> 409. */
     {
-        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{}", "fp-a", "key-1", 0, 3};
+        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{}", "fp-a", "key-1", 0, 3, NULL};
         char a1[33], a2[33];
         int rep;
         lubd_fault f;
@@ -279,7 +281,7 @@ static void test_queue(const char *dir)
      * a lease expiring between the event INSERT and the UPDATE lost its event; server.kill9
      * caught that once as a job claimed twice without a requeue.) */
     {
-        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{}", "fp-reap", NULL, 10, 3};
+        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{}", "fp-reap", NULL, 10, 3, NULL};
         char ra[33], rb[33];
         int rep;
         lubd_fault f;
@@ -388,6 +390,93 @@ static void test_link_or_copy(const char *dir)
     unlink(src);
 }
 
+/* A deleted job hands its files over to the continuations that have not ended: hard links in
+ * jobs/<id>/continued-from/ (no temporary folder left), none to a continuation that ended,
+ * once only; a continuation of a deleted (purged) or unknown job is refused by the submission
+ * itself, in its write transaction. */
+static void test_hand_over(const char *dir)
+{
+    char path[1024], jobs[1024], f[1400];
+    snprintf(path, sizeof path, "%s/handover.db", dir);
+    snprintf(jobs, sizeof jobs, "%s/handover-jobs", dir);
+    unlink(path);
+    lubd_rm_rf(jobs);
+    sqlite3 *db = lubd_db_open(path, 1);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    char tok[LUBD_TOKEN_MAX], auth[200];
+    lubd_user u;
+    CHECK(lubd_token_create(db, "h", 0, tok) == 0);
+    snprintf(auth, sizeof auth, "Bearer %s", tok);
+    CHECK(lubd_auth_bearer(db, auth, &u) == 0);
+    lubd_submit s = {u.id, 10, "simple_shear", "{}", "{}", "fp-src", NULL, 0, 3, NULL};
+    char src[33], queued[33], ended[33], other[33];
+    int rep;
+    lubd_fault fault;
+    CHECK(lubd_queue_submit(db, &s, src, &rep, &fault) == 0);
+    char req[200];
+    snprintf(req, sizeof req, "{\"continue_from\": \"%s\"}", src);
+    s.request_json = req;
+    s.continue_from = src;
+    s.fingerprint = "fp-q";
+    CHECK(lubd_queue_submit(db, &s, queued, &rep, &fault) == 0);
+    s.fingerprint = "fp-e";
+    CHECK(lubd_queue_submit(db, &s, ended, &rep, &fault) == 0);
+    s.request_json = "{}";
+    s.continue_from = NULL;
+    s.fingerprint = "fp-o";
+    CHECK(lubd_queue_submit(db, &s, other, &rep, &fault) == 0);
+    char sql[300];
+    snprintf(sql, sizeof sql, "UPDATE jobs SET state = 'successful' WHERE id IN ('%s', '%s')", src,
+             ended);
+    CHECK(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK);
+    snprintf(f, sizeof f, "%s/%s/result", jobs, src);
+    CHECK(lubd_mkdir_p(f, 0750) == 0);
+    snprintf(f, sizeof f, "%s/%s/result/checkpoint.h5", jobs, src);
+    CHECK(lubd_write_file_atomic(f, "ckpt\n", 5) == 0);
+    snprintf(f, sizeof f, "%s/%s/result/result.h5", jobs, src);
+    CHECK(lubd_write_file_atomic(f, "rows\n", 5) == 0);
+    char why[900] = "";
+    CHECK(lubd_continuation_hand_over(db, jobs, src, why, sizeof why) == 1);
+    struct stat a, b;
+    char g[1400];
+    snprintf(g, sizeof g, "%s/%s/" LUBD_CONTINUED_FROM "/result.h5", jobs, queued);
+    CHECK(stat(f, &a) == 0 && stat(g, &b) == 0 && a.st_ino == b.st_ino);
+    snprintf(g, sizeof g, "%s/%s/" LUBD_CONTINUED_FROM "/checkpoint.h5", jobs, queued);
+    CHECK(access(g, F_OK) == 0);
+    snprintf(g, sizeof g, "%s/%s/" LUBD_CONTINUED_FROM "/checkpoint-result.h5", jobs, queued);
+    CHECK(access(g, F_OK) != 0); /* not in the source: not made up */
+    snprintf(g, sizeof g, "%s/%s/." LUBD_CONTINUED_FROM ".tmp", jobs, queued);
+    CHECK(access(g, F_OK) != 0);
+    snprintf(g, sizeof g, "%s/%s", jobs, ended);
+    CHECK(access(g, F_OK) != 0);
+    CHECK(lubd_continuation_hand_over(db, jobs, src, why, sizeof why) == 1); /* again: kept */
+    CHECK(lubd_continuation_hand_over(db, jobs, other, why, sizeof why) == 0);
+    /* a source without its checkpoint cannot be handed over: -1 and the reason */
+    CHECK(unlink(f) == 0);
+    snprintf(f, sizeof f, "%s/%s/result/checkpoint.h5", jobs, src);
+    CHECK(unlink(f) == 0);
+    snprintf(g, sizeof g, "%s/%s/" LUBD_CONTINUED_FROM, jobs, queued);
+    CHECK(lubd_rm_rf(g) == 0);
+    CHECK(lubd_continuation_hand_over(db, jobs, src, why, sizeof why) == -1 &&
+          strstr(why, "checkpoint.h5") != NULL && strstr(why, queued) != NULL);
+    CHECK(access(g, F_OK) != 0);
+    /* once the source is purged, or for an unknown job, a continuation is refused */
+    lubd_job j;
+    CHECK(lubd_queue_dismiss(db, src, &j, &rep) == 0 && rep == 1);
+    s.continue_from = src;
+    s.fingerprint = "fp-late";
+    memset(&fault, 0, sizeof fault);
+    CHECK(lubd_queue_submit(db, &s, other, &rep, &fault) == -1 && fault.status == 400 &&
+          strstr(fault.detail, "deleted") != NULL);
+    s.continue_from = "0123456789abcdef0123456789abcdef";
+    CHECK(lubd_queue_submit(db, &s, other, &rep, &fault) == -1 && fault.status == 400);
+    lubd_db_close(db);
+    lubd_rm_rf(jobs);
+    unlink(path);
+}
+
 int main(int argc, char **argv)
 {
     test_sha256();
@@ -397,6 +486,7 @@ int main(int argc, char **argv)
     test_job_limits();
     test_queue(argc > 1 ? argv[1] : ".");
     test_link_or_copy(argc > 1 ? argv[1] : ".");
+    test_hand_over(argc > 1 ? argv[1] : ".");
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else
