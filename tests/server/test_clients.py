@@ -4,7 +4,8 @@ exit 3, a retried CI step -> same job, a run with warnings -> printed, exit 4 wi
 LUBDEM_FAIL_ON_WARNINGS=1), the Python client (exit 4 with --fail-on-warnings) + h5py
 reader, and the flow_curve.py sweep (table and CSV, the same jobs on a second run, a rejected
 value, a timeout, a failed job, the service gone while waiting, runs longer than the CPU
-limit continued job after job with --chain)."""
+limit continued job after job with --chain, found again by a second run with the same
+--key)."""
 import csv
 import json
 import os
@@ -99,10 +100,10 @@ def run():
             fc_chain = os.path.join(out_dir, "flow_curve_chain.csv")
             chained = ('{"control": "pressure", "n_particles": 300, "strain": %s, '
                        '"transient_strain": 0.5}' % ("2" if a.sanitized else "6"))
-            rc, out = sh(sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
+            chain_cmd = [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
                          "--values", "0.1,1", "--base", chained, "--poll", "0.1",
-                         "--timeout", "600", "--chain", "40", "--out", fc_chain,
-                         extra_env=slow_env)
+                         "--timeout", "600", "--chain", "40", "--key", "fc-chain"]
+            rc, out = sh(*chain_cmd, "--out", fc_chain, extra_env=slow_env)
             with open(fc_chain) as f:
                 rows = list(csv.DictReader(f))
             T.check(rc == 0 and len(rows) == 2 and "continued" in out and
@@ -110,6 +111,18 @@ def run():
                         for r in rows),
                     "flow_curve.py --chain:\n%s\n%s" % (out, rows))
             print("flow_curve_chain_jobs=%s" % ",".join(r["jobs"] for r in rows))
+            # the same command again (a CI step retried) finds every job of both chains by
+            # their idempotency keys (KEY:POINT, then KEY:POINT:k) and submits none: the same
+            # table, and as many jobs on the service as before
+            st, _, before = srv.request("GET", "/jobs?limit=1000", tok)
+            fc_again = os.path.join(out_dir, "flow_curve_chain_again.csv")
+            rc2, out2 = sh(*chain_cmd, "--out", fc_again, extra_env=slow_env)
+            st, _, after = srv.request("GET", "/jobs?limit=1000", tok)
+            T.check(rc2 == 0 and open(fc_again).read() == open(fc_chain).read() and
+                    after["numberReturned"] == before["numberReturned"] and
+                    out2.count("continued") == out.count("continued"),
+                    "flow_curve.py --chain again with the same --key: the same jobs (%s -> %s "
+                    "jobs)\n%s" % (before["numberReturned"], after["numberReturned"], out2))
             # the service goes away while flow_curve.py waits: exit 1, the job named
             lost = subprocess.Popen(
                 [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
