@@ -593,7 +593,6 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         memset(&saved, 0, sizeof saved);
         lub_ckpt *ck = lub_ckpt_open(ctx->resume_path, why, sizeof why);
         if (ck && rs_checkpoint_read_loop(ck, &saved, why, sizeof why) == 0) {
-            const int64_t left = (saved.sched.nsteps - saved.step) / sample_every + 2;
             if (saved.y_floor != y_floor || saved.y_lid != y_lid ||
                 saved.sched.n_events != lp.sched.n_events) {
                 snprintf(why, sizeof why,
@@ -601,15 +600,32 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             } else if (lub_rs_restore(ck, &S)) {
                 snprintf(why, sizeof why, "%s",
                          lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "inconsistent pairs");
-            } else if (rs_samples_reserve(&B, nb, saved.nh + left, saved.navg + left, &nsamp_total,
-                                          &nsamp_avg) ||
-                       rs_checkpoint_read_samples(ck, &saved, &B, nb)) {
-                snprintf(why, sizeof why, "%s",
-                         lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "out of memory (samples)");
-            } else if (lub_h5_continue_output(
-                           ctx->resume_result, tab, 6, names, ncomp, saved.nh, ctx->out, N,
-                           p.snapshots > 0 ? saved.frames_in_file : 0, why, sizeof why) == 0) {
-                why[0] = '\0';
+            } else if (saved.sched.t_end != p.strain / gd &&
+                       p.strain < S.time * gd * (1.0 - 1e-12)) {
+                /* a continuation may ask for another /strain (resume_may_differ), not for less
+                 * than the stopped run has done */
+                snprintf(why, sizeof why,
+                         "/strain: %g here, but the stopped run has already sheared to %.6g",
+                         p.strain, S.time * gd);
+            } else {
+                /* ... and then takes the steps of a run asked for that strain from the start
+                 * (lub_schedule_set_end; the checkpoint of a completed run is taken before its
+                 * last sample, which only the run's end forces) */
+                if (saved.sched.t_end != p.strain / gd)
+                    lub_schedule_set_end(&saved.sched, p.strain / gd);
+                const int64_t left =
+                    (saved.sched.nsteps - saved.step) / saved.sched.ev[ev_sample].every + 2;
+                if (rs_samples_reserve(&B, nb, saved.nh + left, saved.navg + left, &nsamp_total,
+                                       &nsamp_avg) ||
+                    rs_checkpoint_read_samples(ck, &saved, &B, nb)) {
+                    snprintf(why, sizeof why, "%s",
+                             lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck)
+                                                   : "out of memory (samples)");
+                } else if (lub_h5_continue_output(
+                               ctx->resume_result, tab, 6, names, ncomp, saved.nh, ctx->out, N,
+                               p.snapshots > 0 ? saved.frames_in_file : 0, why, sizeof why) == 0) {
+                    why[0] = '\0';
+                }
             }
         }
         if (ck)
@@ -629,8 +645,19 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         ctx->resumed_from_step = S.step;
     }
     int64_t stopped_at = -1; /* the loop index a stop request ended the loop at */
+    int end_checkpoint = 0;  /* --keep-checkpoint: written at the last step, before its sample */
     for (int64_t step = first_step; step <= lp.sched.nsteps; ++step) {
         const double t = S.time;
+        if (step == lp.sched.nsteps && ctx->checkpoint_always && ctx->checkpoint_path) {
+            /* A completed run keeps its state before the samples of its last step, which the
+             * end forces (a sample, a snapshot) and a longer run would not take: its extension
+             * (a larger /strain) then takes the steps and samples of the longer run. */
+            lp.step = step;
+            lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+            end_checkpoint =
+                rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5",
+                                    ctx->checkpoint_failure, sizeof ctx->checkpoint_failure) == 0;
+        }
         const int sample = lub_schedule_due(&lp.sched, ev_sample, step) || step == lp.sched.nsteps;
         const int snap =
             ev_snap >= 0 && (lub_schedule_due(&lp.sched, ev_snap, step) || step == lp.sched.nsteps);
@@ -762,6 +789,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             lub_progress_update(ctx->progress, (double)step / (double)lp.sched.nsteps, S.step);
     }
     lub_progress_final(ctx->progress, S.step);
+    ctx->checkpoint_written = end_checkpoint && rc == LUB_EXIT_OK;
     /* a stop between the sample of a step and the step: that state into the checkpoint */
     if (stopped_at >= 0 && ctx->checkpoint_path) {
         lp.step = stopped_at;
@@ -958,6 +986,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     return rc;
 }
 
+/* what a continuation may change: a completed run is extended to a larger /strain */
+static const char *const rs_resume_may_differ[] = {"strain", NULL};
+
 const lub_scene lub_scene_resuspension = {
     .name = "resuspension",
     .title = "Viscous resuspension of buoyant spheres sheared above a rough floor",
@@ -975,4 +1006,5 @@ const lub_scene lub_scene_resuspension = {
     .resolve = rs_resolve,
     .run = rs_run,
     .resumable = 1,
+    .resume_may_differ = rs_resume_may_differ,
 };

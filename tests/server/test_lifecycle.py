@@ -6,7 +6,8 @@ and a killed worker continue simple_shear jobs from their checkpoints; a simple_
 stopped at its CPU limit serves its partial result.h5 and checkpoint, which the engine
 continues after a download; a checkpoint the engine refuses restarts the job from the
 beginning instead of failing it (a continuation: from the checkpoint it continues, which a
-deletion of that job while the continuation is queued hands over to it)."""
+deletion of that job while the continuation is queued hands over to it); completed
+simple_shear and resuspension jobs are extended to a larger strain."""
 import hashlib
 import json
 import os
@@ -35,12 +36,12 @@ def submit_running(srv, tok, inputs, ready=lambda jid: True):
     return jid, doc
 
 
-def engine_run(a, inputs, name):
-    """The engine's own run of a simple_shear job's inputs, outside the service: (its summary,
-    the spec file)."""
+def engine_run(a, inputs, name, scene="simple_shear"):
+    """The engine's own run of a job's inputs, outside the service: (its summary, the spec
+    file)."""
     spec_path = os.path.join(a.work, name + ".json")
     with open(spec_path, "w") as f:
-        json.dump(dict(inputs, scene="simple_shear"), f)
+        json.dump(dict(inputs, scene=scene), f)
     out = os.path.join(a.work, name)
     shutil.rmtree(out, ignore_errors=True)
     subprocess.run([a.engine, "run", spec_path, "--out", out, "--quiet"], check=True, timeout=300)
@@ -552,8 +553,37 @@ def run():
         st, _, res = srv8.request("GET", "/jobs/%s/results" % cid, tok)
         ext = res["summary"]
         T.check(T.wait_final(srv8, tok, busy)["status"] == "successful", "the other job ended")
+
+        # a completed resuspension job keeps its checkpoint too, and is extended to twice its
+        # strain (its end off the sampling grid: the extension must leave out the sample the
+        # short run's end forced)
+        rs = {"n": 150, "width": 12, "strain": 0.3, "average_from": 0.1,
+              "sample_strain": 0.007, "snapshots": 0}
+        rs_long = dict(rs, strain=0.6)
+        st, _, doc = srv8.request("POST", "/processes/resuspension/execution", tok,
+                                  {"inputs": rs})
+        rs_done = T.wait_final(srv8, tok, doc["jobID"], timeout=300)
+        st, _, res = srv8.request("GET", "/jobs/%s/results" % rs_done["jobID"], tok)
+        T.check(rs_done["status"] == "successful" and "checkpoint.h5" in res["outputs"],
+                "a completed resuspension job keeps its checkpoint: %s %s"
+                % (rs_done["status"], sorted(res.get("outputs", {}))))
+        st, _, doc = srv8.request("POST", "/processes/resuspension/execution", tok,
+                                  {"inputs": rs_long, "continue_from": rs_done["jobID"]})
+        T.check(st == 201, "extension of the resuspension job submitted: %s %s" % (st, doc))
+        rs_ext = T.wait_final(srv8, tok, doc["jobID"], timeout=300)
+        st, _, res = srv8.request("GET", "/jobs/%s/results" % doc["jobID"], tok)
+        rs_ext_summary = res.get("summary") or {}
+        T.check(rs_ext["status"] == "successful" and
+                rs_ext_summary.get("resumed_from_step", 0) > 0,
+                "the resuspension extension ended successful (from step %s): %s"
+                % (rs_ext_summary.get("resumed_from_step"), rs_ext.get("message")))
     finally:
         srv8.stop()
+    rs_ref, _ = engine_run(a, rs_long, "rs_long", scene="resuspension")
+    T.check(rs_ext_summary.get("results") == rs_ref["results"] and
+            rs_ext_summary.get("steps") == rs_ref["steps"],
+            "the resuspension extension equals a run asked for /strain 0.6 (%s steps)"
+            % rs_ref["steps"])
     ref_long, _ = engine_run(a, longer, "refused_long")
     T.check(ext["results"] == ref_long["results"] and ext["steps"] == ref_long["steps"] and
             ext.get("resumed_from_step") == ref["steps"],

@@ -32,6 +32,9 @@ SPEC --out DIR --resume` continues it. Checked:
     the stopped run's, the first sample after it agrees with the 1-thread run to round-off
     (relative 1e-6, where a wrong state would differ at once), and every result with an error
     bar agrees with the 1-thread run's within 5 combined standard errors.
+ 10. extension of a completed resuspension run (--keep-checkpoint; its checkpoint is taken
+    before the sample its end forces): --resume with twice the /strain equals, bit for bit, a
+    run asked for it from the start (summary and result.h5); less /strain is refused (exit 2).
 The stop is sent once the progress lines pass a fraction, so that it lands mid-run on any
 machine. The sanitizer build (~5 times slower) runs every case on a shorter strain (the
 equalities do not depend on it). Usage: test_resume.py LUBDEM WORKDIR [--sanitized]
@@ -344,6 +347,46 @@ check(compared > 0 and not far,
       f"9: {compared} results with error bars within 5 combined standard errors of the 1-thread "
       f"run's (mu {s9['results']['mu']['value']:.4g} / {r1['results']['mu']['value']:.4g})"
       + (f"; outside: {far[:3]}" if far else ""))
+
+# ---- 10. extending a completed resuspension run ----
+ext10, ref10 = os.path.join(WORK, "ext10"), os.path.join(WORK, "ref10")
+for d in (ext10, ref10):
+    shutil.rmtree(d, ignore_errors=True)
+# sample_strain 0.007: the short run's end is off the sampling grid, so its last row is the
+# one its end forces, which the longer run does not take
+base10 = {"scene": "resuspension", "n": 150, "width": 12, "average_from": 0.1 * SCALE,
+          "sample_strain": 0.007, "snapshots": 0}
+rc, _, err = run(write_spec("short10", dict(base10, strain=0.3 * SCALE)), ext10, "--threads", "2",
+                 "--keep-checkpoint")
+s = summary(ext10)
+check(rc == 0 and s["status"] == "complete" and s.get("checkpoint") == "checkpoint.h5",
+      f"10: completed resuspension run kept its checkpoint (exit {rc}) {err[-200:]}")
+with h5py.File(os.path.join(ext10, "result.h5"), "r") as h:
+    short_last = int(h["observables/suspension_height/step"][-1])
+before = digest(ext10)
+rc, _, err = run(write_spec("less10", dict(base10, strain=0.2 * SCALE)), ext10, "--threads", "2",
+                 "--resume")
+check(rc == 2 and "/strain" in err and "already" in err and digest(ext10) == before,
+      f"10: /strain below the strain done refused, files unchanged (got {rc}: "
+      f"{err.strip()[-160:]})")
+long10 = write_spec("long10", dict(base10, strain=0.6 * SCALE))
+rc, _, err = run(long10, ext10, "--threads", "2", "--resume")
+check(rc == 0, f"10: extension to twice the strain exit 0 (got {rc}) {err[-300:]}")
+rc, _, err = run(long10, ref10, "--threads", "2")
+s, r = summary(ext10), summary(ref10)
+with h5py.File(os.path.join(ref10, "result.h5"), "r") as h:
+    ref_steps = h["observables/suspension_height/step"][()]
+check(rc == 0 and short_last not in ref_steps and s.get("resumed_from_step") == short_last and
+      s["steps"] == r["steps"],
+      f"10: extended from step {s.get('resumed_from_step')} (the short run's forced last sample, "
+      f"not one of the long run's) to {s['steps']} steps (the long run: {r['steps']})")
+check(s["results"] == r["results"],
+      f"10: all {len(r['results'])} results equal to the long run's (suspension height "
+      f"{s['results']['suspension_height']['value']:.6g})")
+ia, ib = h5_items(os.path.join(ref10, "result.h5")), h5_items(os.path.join(ext10, "result.h5"))
+bad = differing_items(ia, ib)
+check(not bad, f"10: result.h5 equal bit for bit to the long run's ({len(ia)} datasets, "
+      f"{len(ref_steps)} rows)" + (f"; differ: {bad[:5]}" if bad else ""))
 
 print(f"resume_failures={len(failures)}")
 sys.exit(1 if failures else 0)
