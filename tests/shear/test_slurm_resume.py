@@ -12,6 +12,13 @@ time limit again and again (`sbatch --wait`) until its summary says complete, an
     checkpoint), and each later one continued from the step the one before stopped at;
   * the chain's last summary and result.h5 equal, bit for bit, those of the same run made in
     one piece outside Slurm on the same thread count.
+Then the README's second recipe, a job that requeues itself (`lubdem` in the background, the
+batch shell passing TERM on, `scontrol requeue` on exit 5, `--requeue`), submitted once with a
+shorter run (60 strain, about 85 s):
+  * it ran again after its stop (Slurm's Restarts >= 1, "lubdem exit 5" then "lubdem exit 0"
+    in its output), and its summary and result.h5 equal the run in one piece bit for bit;
+  * the same job cancelled with scancel while it runs stops with a checkpoint and is not
+    requeued (JobState CANCELLED, nothing pending 20 s later).
 Needs root (the daemons), slurmctld, slurmd, sbatch, munged and mungekey; exits 77 (skipped)
 without them. Usage: test_slurm_resume.py LUBDEM WORKDIR
 """
@@ -27,7 +34,8 @@ import time
 from h5_datasets import differing  # the script's folder
 
 LUBDEM, WORK = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
-TOOLS = ("slurmctld", "slurmd", "sbatch", "sinfo", "munged", "mungekey")
+TOOLS = ("slurmctld", "slurmd", "sbatch", "sinfo", "squeue", "scontrol", "scancel", "munged",
+         "mungekey")
 failures = []
 
 
@@ -110,6 +118,105 @@ def stop_slurm(d):
             pass
 
 
+def requeue_script(path, spec, out):
+    """The README's self-requeuing batch script for spec into out."""
+    with open(path, "w") as f:
+        f.write(f"""#!/bin/sh
+#SBATCH --time=2
+#SBATCH --signal=B:TERM@60
+#SBATCH --cpus-per-task=2
+#SBATCH --requeue
+#SBATCH --open-mode=append
+#SBATCH --output={out}.slurm.out
+trap 'kill -TERM "$pid" 2>/dev/null' TERM
+{LUBDEM} run {spec} --out {out} --threads 2 --resume &
+pid=$!
+wait "$pid"; rc=$?
+while kill -0 "$pid" 2>/dev/null; do wait "$pid"; rc=$?; done
+echo "lubdem exit $rc"
+if [ "$rc" -eq 5 ] && scontrol show job "$SLURM_JOB_ID" | grep -q JobState=RUNNING; then
+  scontrol requeue "$SLURM_JOB_ID"
+fi
+exit "$rc"
+""")
+
+
+def job_field(env, jid, field):
+    """A field of `scontrol show job` ("" when the job is unknown)."""
+    text = subprocess.run(["scontrol", "show", "job", jid], env=env, capture_output=True,
+                          text=True).stdout
+    for word in text.split():
+        if word.startswith(field + "="):
+            return word.split("=", 1)[1]
+    return ""
+
+
+def in_queue(env, jid):
+    return subprocess.run(["squeue", "-h", "-j", jid, "-o", "%T"], env=env, capture_output=True,
+                          text=True).stdout.strip()
+
+
+def self_requeue(env):
+    """The README's second recipe: one sbatch, the job requeues itself until the run is
+    complete; and a scancel is not undone by it."""
+    spec = os.path.join(WORK, "spec60.json")
+    with open(spec, "w") as f:  # about 85 s on 2 threads here
+        json.dump({"scene": "simple_shear", "n_particles": 1000, "phi": 0.5, "stiffness": 1e4,
+                   "strain": 60, "sample_strain": 0.01, "transient_strain": 0.5}, f)
+    out, ref = os.path.join(WORK, "requeued"), os.path.join(WORK, "ref60")
+    for p in (out, ref):
+        shutil.rmtree(p, ignore_errors=True)
+    if os.path.exists(out + ".slurm.out"):
+        os.unlink(out + ".slurm.out")
+    script = os.path.join(WORK, "requeue.sh")
+    requeue_script(script, spec, out)
+    jid = subprocess.run(["sbatch", "--parsable", script], env=env, capture_output=True,
+                         text=True).stdout.strip()
+    t0 = time.time()
+    # Slurm holds a requeued job until about 2 minutes after its requeue (BeginTime)
+    while time.time() - t0 < 900 and in_queue(env, jid):
+        time.sleep(2)
+    wall = time.time() - t0
+    log = open(out + ".slurm.out").read() if os.path.exists(out + ".slurm.out") else ""
+    s = json.load(open(os.path.join(out, "summary.json")))
+    restarts = job_field(env, jid, "Restarts")
+    print(f"self-requeuing job {jid}: {wall:.0f} s, restarts {restarts}, status {s['status']}, "
+          f"resumed from {s.get('resumed_from_step')}; its output: "
+          f"{[l for l in log.splitlines() if l.startswith('lubdem exit')]}", flush=True)
+    check(s["status"] == "complete" and restarts not in ("", "0") and
+          log.count("lubdem exit 5") >= 1 and "lubdem exit 0" in log and
+          s.get("resumed_from_step", 0) > 0,
+          f"the self-requeuing job stopped, ran again (Restarts={restarts}) and completed the "
+          f"run (from step {s.get('resumed_from_step')})")
+    subprocess.run([LUBDEM, "run", spec, "--out", ref, "--threads", "2", "--quiet"],
+                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, timeout=1800)
+    r = json.load(open(os.path.join(ref, "summary.json")))
+    n, bad = differing(os.path.join(ref, "result.h5"), os.path.join(out, "result.h5"))
+    check(r["results"] == s["results"] and r["steps"] == s["steps"] and not bad,
+          f"the self-requeued run's summary and result.h5 ({n} datasets) equal the run in one "
+          f"piece" + (f"; differ: {bad[:4]}" if bad else ""))
+
+    # scancel: the job stops (with a checkpoint) and stays cancelled
+    shutil.rmtree(out, ignore_errors=True)
+    jid = subprocess.run(["sbatch", "--parsable", script], env=env, capture_output=True,
+                         text=True).stdout.strip()
+    t0 = time.time()
+    while time.time() - t0 < 120 and in_queue(env, jid) != "RUNNING":
+        time.sleep(1)
+    time.sleep(10)
+    subprocess.run(["scancel", jid], env=env, check=True)
+    t0 = time.time()
+    while time.time() - t0 < 60 and in_queue(env, jid):
+        time.sleep(1)
+    time.sleep(20)
+    state, left = job_field(env, jid, "JobState"), in_queue(env, jid)
+    s = json.load(open(os.path.join(out, "summary.json")))
+    check(state == "CANCELLED" and not left and s["status"] == "partial" and
+          os.path.exists(os.path.join(out, "checkpoint.h5")),
+          f"a scancel of the self-requeuing job stops the run with a checkpoint (status "
+          f"{s['status']}) and is not undone (JobState={state}, queue {left!r} 20 s later)")
+
+
 def main():
     # stopped from outside (a ctest timeout, Ctrl-C): still stop the daemons (finally below)
     signal.signal(signal.SIGTERM, lambda *_: sys.exit("stopped by SIGTERM"))
@@ -172,6 +279,7 @@ exec {LUBDEM} run {spec} --out {chain} --threads 2 --resume
         n, bad = differing(os.path.join(ref, "result.h5"), os.path.join(chain, "result.h5"))
         check(not bad, f"the chain's result.h5 equals the run in one piece bit for bit ({n} "
               f"datasets)" + (f"; differ: {bad[:4]}" if bad else ""))
+        self_requeue(env)
     finally:
         subprocess.run(["scancel", "--user", "root"], env=env, capture_output=True)
         stop_slurm(d)
