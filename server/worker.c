@@ -17,11 +17,11 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "continuation.h"
 #include "db.h"
 #include "engine_child.h"
 #include "fsutil.h"
 #include "lease.h"
-#include "continuation.h"
 #include "progress_line.h"
 #include "queue.h"
 #include "scene.h"
@@ -144,14 +144,15 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
     return n;
 }
 
+/* what the job log adds when a continuation starts from files handed over to it */
+#define HANDED_NOTE " (kept for this job when that job was deleted)"
+
 /* Puts the files a continuation starts from into out_dir: the earlier job's kept files, or,
  * once that job has been deleted, the links it handed over to this job
  * (jobs/<id>/continued-from/, lubd_continuation_hand_over). The handed-over folder is complete
  * whenever it exists, and exists before the earlier job's folder is removed; a deletion that
  * lands while the files are being linked is met by taking them again from it. Returns 0 (the
  * earlier job's folder), 1 (the handed-over files) or -1 with msg set. */
-#define HANDED_NOTE " (kept for this job when that job was deleted)"
-
 static int take_source_files(const lubd_config *cfg, const lubd_claim *c, const char *out_dir,
                              char *msg, size_t len)
 {
@@ -452,7 +453,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         lubd_lease_drop(w->db, c);
 }
 
-/* A continuation that has ended needs no longer the files an earlier job handed over to it
+/* A continuation that has ended no longer needs the files an earlier job handed over to it
  * when that job was deleted (a requeued or released job has not ended, and keeps them). */
 static void drop_handed_files(worker_ctx *w, const lubd_claim *c)
 {
