@@ -129,10 +129,12 @@ enum MHD_Result lubd_api_execute(lubd_request *r, const char *id)
         return lubd_reply_fault(r, &f);
     }
     if (req.continue_from[0]) {
+        /* a retried submission gets its job, even once the job it continues is deleted */
         lubd_continuation cont = {req.continue_from, r->user.id, r->user.is_admin, id,
                                   req.resolved};
         sqlite3 *rdb = lubd_db_acquire(&r->srv->pool);
-        const int bad = lubd_continuation_check(rdb, &cont, &f);
+        const int replay = key && lubd_queue_is_replay(rdb, r->user.id, key, req.fingerprint) == 1;
+        const int bad = !replay && lubd_continuation_check(rdb, &cont, &f);
         lubd_db_release(&r->srv->pool, rdb);
         if (bad) {
             lubd_exec_free(&req);

@@ -213,6 +213,23 @@ dberr:
     return -1;
 }
 
+int lubd_queue_is_replay(sqlite3 *db, long long user_id, const char *key, const char *fingerprint)
+{
+    sqlite3_stmt *st = NULL;
+    if (lubd_db_prepare(db,
+                        "SELECT request_sha256 = ?3 FROM idempotency WHERE user_id = ?1 AND "
+                        "key = ?2 AND created >= " LUBD_SQL_NOW " - 86400",
+                        &st) != 0)
+        return -1;
+    sqlite3_bind_int64(st, 1, user_id);
+    sqlite3_bind_text(st, 2, key, -1, SQLITE_STATIC);
+    sqlite3_bind_text(st, 3, fingerprint, -1, SQLITE_STATIC);
+    const int rc = sqlite3_step(st);
+    const int same = rc == SQLITE_ROW ? sqlite3_column_int(st, 0) : 0;
+    sqlite3_finalize(st);
+    return rc == SQLITE_ROW || rc == SQLITE_DONE ? same : -1;
+}
+
 int lubd_queue_get(sqlite3 *db, const char *id, lubd_job *j)
 {
     sqlite3_stmt *st;

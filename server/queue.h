@@ -57,6 +57,11 @@ typedef struct {
  * continuation, or comes after and hands its files over to it), 500 database error). */
 int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *replayed,
                       lubd_fault *f);
+/* 1 when lubd_queue_submit would answer (user_id, key, fingerprint) with the job it made for
+ * the same request earlier (a replay), 0 when not, -1 on a database error. A replay is not
+ * checked again: a retried continuation gets its job even after the job it continues has been
+ * deleted. */
+int lubd_queue_is_replay(sqlite3 *db, long long user_id, const char *key, const char *fingerprint);
 
 /* 1 found, 0 not found, -1 error. */
 int lubd_queue_get(sqlite3 *db, const char *id, lubd_job *j);

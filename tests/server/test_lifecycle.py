@@ -508,8 +508,10 @@ def run():
         # kept busy by another job meanwhile, so that the continuation waits in the queue.
         longer = dict(inputs, strain=1.5 * inputs["strain"])
         busy, _ = submit_running(srv8, tok, inputs)
-        st, _, doc = srv8.request("POST", "/processes/simple_shear/execution", tok,
-                                  {"inputs": longer, "continue_from": jid})
+        ext_body = {"inputs": longer, "continue_from": jid}
+        key = {"Idempotency-Key": "extension-of-deleted"}
+        st, _, doc = srv8.request("POST", "/processes/simple_shear/execution", tok, ext_body,
+                                  headers=key)
         T.check(st == 201, "extension of %s submitted: %s %s" % (jid, st, doc))
         cid = doc["jobID"]
         st, _, _ = srv8.request("DELETE", "/jobs/" + jid, tok)
@@ -524,6 +526,11 @@ def run():
                                   {"inputs": longer, "continue_from": jid})
         T.check(st == 400 and "was deleted" in doc["detail"],
                 "a continuation of the deleted job is refused: %s %s" % (st, doc.get("detail")))
+        st, hd, doc = srv8.request("POST", "/processes/simple_shear/execution", tok, ext_body,
+                                   headers=key)
+        T.check(st == 201 and doc["jobID"] == cid and hd.get("idempotent-replayed") == "true",
+                "... but the retried submission of the queued one gets it again: %s %s"
+                % (st, doc.get("jobID", doc.get("detail"))))
         # ... and when the continuation's own checkpoint is refused (cut short while the
         # service was stopped), it starts again from those handed-over files, not from the
         # beginning

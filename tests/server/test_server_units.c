@@ -393,7 +393,7 @@ static void test_link_or_copy(const char *dir)
 /* A deleted job hands its files over to the continuations that have not ended: hard links in
  * jobs/<id>/continued-from/ (no temporary folder left), none to a continuation that ended,
  * once only; a continuation of a deleted (purged) or unknown job is refused by the submission
- * itself, in its write transaction. */
+ * itself, in its write transaction, unless it is the replay of one made before. */
 static void test_hand_over(const char *dir)
 {
     char path[1024], jobs[1024], f[1400];
@@ -420,7 +420,9 @@ static void test_hand_over(const char *dir)
     s.request_json = req;
     s.continue_from = src;
     s.fingerprint = "fp-q";
+    s.idempotency_key = "key-q";
     CHECK(lubd_queue_submit(db, &s, queued, &rep, &fault) == 0);
+    s.idempotency_key = NULL;
     s.fingerprint = "fp-e";
     CHECK(lubd_queue_submit(db, &s, ended, &rep, &fault) == 0);
     s.request_json = "{}";
@@ -472,6 +474,15 @@ static void test_hand_over(const char *dir)
           strstr(fault.detail, "deleted") != NULL);
     s.continue_from = "0123456789abcdef0123456789abcdef";
     CHECK(lubd_queue_submit(db, &s, other, &rep, &fault) == -1 && fault.status == 400);
+    /* ... but a retried submission (the same key and request) gets its job again */
+    CHECK(lubd_queue_is_replay(db, u.id, "key-q", "fp-q") == 1);
+    CHECK(lubd_queue_is_replay(db, u.id, "key-q", "fp-other") == 0);
+    CHECK(lubd_queue_is_replay(db, u.id, "key-none", "fp-q") == 0);
+    CHECK(lubd_queue_is_replay(db, u.id + 1, "key-q", "fp-q") == 0);
+    s.continue_from = src;
+    s.idempotency_key = "key-q";
+    s.fingerprint = "fp-q";
+    CHECK(lubd_queue_submit(db, &s, other, &rep, &fault) == 0 && rep && strcmp(other, queued) == 0);
     lubd_db_close(db);
     lubd_rm_rf(jobs);
     unlink(path);
