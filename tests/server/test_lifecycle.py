@@ -48,6 +48,21 @@ def engine_run(a, inputs, name, scene="simple_shear"):
     return json.load(open(os.path.join(out, "summary.json"))), spec_path
 
 
+def restart_with_damaged_checkpoint(srv, tok, jid, what):
+    """With the service stopped: cuts the checkpoint that job jid's engine left at the stop to
+    half, starts the service again and waits for the job, which must end successful in its
+    first attempt. Returns the job's log."""
+    ckpt = os.path.join(srv.run, "jobs", jid, "attempt-1", "out", "checkpoint.h5")
+    T.check(os.path.exists(ckpt), "the %s's checkpoint left by the stop" % what)
+    with open(ckpt, "r+b") as f:
+        f.truncate(os.path.getsize(ckpt) // 2)
+    srv.start()
+    doc = T.wait_final(srv, tok, jid, timeout=300)
+    T.check(doc["status"] == "successful" and doc["attempt"] == 1,
+            "%s with a damaged checkpoint successful in attempt 1: %s" % (what, doc))
+    return open(os.path.join(srv.run, "jobs", jid, "attempt-1", "log")).read()
+
+
 def run():
     a = T.args()
     srv = T.Server(a, "lifecycle", workers=2,
@@ -484,16 +499,8 @@ def run():
         T.check(doc["status"] == "running", "simple_shear running before SIGTERM: %s" % doc)
     finally:
         T.check(srv8.stop() == 0, "clean stop with a simple_shear job")
-    ckpt = os.path.join(srv8.run, "jobs", jid, "attempt-1", "out", "checkpoint.h5")
-    T.check(os.path.exists(ckpt), "checkpoint left by the stop")
-    with open(ckpt, "r+b") as f:
-        f.truncate(os.path.getsize(ckpt) // 2)
-    srv8.start()
     try:
-        doc = T.wait_final(srv8, tok, jid, timeout=300)
-        T.check(doc["status"] == "successful" and doc["attempt"] == 1,
-                "job with a damaged checkpoint successful in attempt 1: %s" % doc)
-        log = open(os.path.join(srv8.run, "jobs", jid, "attempt-1", "log")).read()
+        log = restart_with_damaged_checkpoint(srv8, tok, jid, "job")
         T.check("cannot continue from the checkpoint" in log and
                 "starting the job again from the beginning" in log,
                 "the job log says the checkpoint was refused and the job restarted")
@@ -543,16 +550,8 @@ def run():
                 "extension running past its start (67 %%) before SIGTERM: %s" % doc)
     finally:
         T.check(srv8.stop() == 0, "clean stop with the extension running")
-    ckpt = os.path.join(srv8.run, "jobs", cid, "attempt-1", "out", "checkpoint.h5")
-    T.check(os.path.exists(ckpt), "the extension's checkpoint left by the stop")
-    with open(ckpt, "r+b") as f:
-        f.truncate(os.path.getsize(ckpt) // 2)
-    srv8.start()
     try:
-        doc = T.wait_final(srv8, tok, cid, timeout=300)
-        T.check(doc["status"] == "successful" and doc["attempt"] == 1,
-                "extension with a damaged checkpoint successful in attempt 1: %s" % doc)
-        log = open(os.path.join(srv8.run, "jobs", cid, "attempt-1", "log")).read()
+        log = restart_with_damaged_checkpoint(srv8, tok, cid, "extension")
         T.check("starting the job again from the checkpoint of job %s (kept for this job when "
                 "that job was deleted)" % jid in log,
                 "the extension's log says it restarted from the deleted job's checkpoint")
