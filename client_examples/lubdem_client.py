@@ -9,12 +9,15 @@
     summary = c.summary(job["jobID"])                # also of a failed job, where there is one
     c.download(job["jobID"], "result.h5", "out.h5")  # resumable, sha256-checked
     c.outputs(job["jobID"])                          # the files, also of a failed job
+    c.extend(job_id, {"strain": 60})                 # continue a completed run, longer
 
 Command line:
     lubdem_client.py [--url URL] [--token T] submit PROCESS '{"duration": 2}' [--wait]
                      [--download FILE] [--timeout S] [--key KEY] [--fail-on-warnings]
                      [--continue-from JOB]   (continue that ended job's run: same inputs)
                      [--chain N]   (while a job stops at the CPU limit, continue it: N jobs at most)
+    lubdem_client.py extend JOB '{"strain": 60}' [the options of submit]   continue an ended
+                     job's run with its own inputs (its summary's spec), these changed
     lubdem_client.py status JOB | results JOB | list [--status S] | dismiss JOB | log JOB
     lubdem_client.py download JOB [DIR]   every file of an ended job into DIR (default: JOB);
                      a failed job's too (its partial result.h5, the checkpoint of a run
@@ -136,6 +139,25 @@ class Client:
         return (doc.get("status") in (422, 500) and
                 (doc.get("summary") or {}).get("status") == "partial" and
                 "checkpoint.h5" in (doc.get("outputs") or {}))
+
+    def inputs_of(self, job_id):
+        """The inputs an ended job ran with, defaults included: the spec its summary states,
+        without "scene". What a continuation of it submits (the service compares them with
+        the job's own)."""
+        spec = (self.summary(job_id) or {}).get("spec")
+        if not isinstance(spec, dict):
+            raise KeyError("job %s has no summary stating its spec" % job_id)
+        return {k: v for k, v in spec.items() if k != "scene"}
+
+    def extend(self, job_id, changes=None, idempotency_key=None):
+        """Submits a job that continues ended job job_id's run with the job's own inputs, some
+        of them changed: {"strain": 60} extends a completed simple_shear or resuspension run
+        (which kept its checkpoint), {} continues a run stopped at the CPU time limit. Returns
+        the new job's status document."""
+        process = self.status(job_id)["processID"]
+        inputs = dict(self.inputs_of(job_id), **(changes or {}))
+        return self.submit(process, inputs, idempotency_key=idempotency_key,
+                           continue_from=job_id)
 
     def run_chain(self, process, inputs, max_jobs=100, timeout=600, idempotency_key=None,
                   continue_from=None, on_job=None, poll=1.0):
@@ -269,6 +291,21 @@ def download_all(c, job_id, directory):
     return 1
 
 
+def add_run_options(parser):
+    """What submit and extend share: waiting, downloading, the key, the chain."""
+    parser.add_argument("--wait", action="store_true")
+    parser.add_argument("--download")
+    parser.add_argument("--timeout", type=float, default=600)
+    parser.add_argument("--poll", type=float, default=1.0,
+                        help="seconds between status requests")
+    parser.add_argument("--key")
+    parser.add_argument("--fail-on-warnings", action="store_true")
+    parser.add_argument("--chain", type=int, metavar="N", default=0,
+                        help="with --wait: while a job stops at the service's CPU time limit "
+                             "with a checkpoint, submit one that continues it (at most N jobs "
+                             "in all)")
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--url", default=os.environ.get("LUBDEM_URL", "http://127.0.0.1:8080"))
@@ -277,17 +314,14 @@ def main(argv=None):
     s = sub.add_parser("submit")
     s.add_argument("process")
     s.add_argument("inputs", nargs="?", default="{}")
-    s.add_argument("--wait", action="store_true")
-    s.add_argument("--download")
-    s.add_argument("--timeout", type=float, default=600)
-    s.add_argument("--poll", type=float, default=1.0, help="seconds between status requests")
-    s.add_argument("--key")
-    s.add_argument("--fail-on-warnings", action="store_true")
     s.add_argument("--continue-from", metavar="JOB",
                    help="continue that ended job's run from its checkpoint")
-    s.add_argument("--chain", type=int, metavar="N", default=0,
-                   help="with --wait: while a job stops at the service's CPU time limit with a "
-                        "checkpoint, submit one that continues it (at most N jobs in all)")
+    add_run_options(s)
+    x = sub.add_parser("extend", help="continue an ended job's run with its own inputs, "
+                                      "CHANGES applied (e.g. '{\"strain\": 60}')")
+    x.add_argument("job")
+    x.add_argument("changes", nargs="?", default="{}")
+    add_run_options(x)
     for name in ("status", "results", "dismiss", "log"):
         sub.add_parser(name).add_argument("job")
     d = sub.add_parser("download")
@@ -298,7 +332,11 @@ def main(argv=None):
     a = p.parse_args(argv)
     c = Client(a.url, default_token(a.token))
     try:
-        if a.cmd == "submit":
+        if a.cmd == "extend":  # a submit of the job's own inputs, changed, continuing it
+            a.process = c.status(a.job)["processID"]
+            a.inputs = json.dumps(dict(c.inputs_of(a.job), **json.loads(a.changes)))
+            a.continue_from = a.job
+        if a.cmd in ("submit", "extend"):
             if a.chain:
                 job = c.run_chain(a.process, json.loads(a.inputs), max_jobs=a.chain,
                                   timeout=a.timeout, idempotency_key=a.key,
@@ -334,6 +372,9 @@ def main(argv=None):
     except (ApiError, JobFailed, TimeoutError, KeyError, IOError) as e:
         print("error:", e, file=sys.stderr)
         return 1
+    except ValueError as e:  # INPUTS or CHANGES that are not JSON
+        print("error: not JSON:", e, file=sys.stderr)
+        return 2
     return 0
 
 

@@ -5,10 +5,11 @@ LUBDEM_FAIL_ON_WARNINGS=1), the Python client (exit 4 with --fail-on-warnings) +
 reader, and the flow_curve.py sweep (table and CSV, the same jobs on a second run, a rejected
 value, a timeout, a failed job, the service gone while waiting, runs longer than the CPU
 limit continued job after job with --chain, found again by a second run with the same
---key)."""
+--key), and lubdem_client.py extend (a completed run taken further with its own inputs)."""
 import csv
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -114,15 +115,43 @@ def run():
             # the same command again (a CI step retried) finds every job of both chains by
             # their idempotency keys (KEY:POINT, then KEY:POINT:k) and submits none: the same
             # table, and as many jobs on the service as before
-            st, _, before = srv.request("GET", "/jobs?limit=1000", tok)
+            st, _, before = slow.request("GET", "/jobs?limit=1000", tok2)
             fc_again = os.path.join(out_dir, "flow_curve_chain_again.csv")
             rc2, out2 = sh(*chain_cmd, "--out", fc_again, extra_env=slow_env)
-            st, _, after = srv.request("GET", "/jobs?limit=1000", tok)
+            st, _, after = slow.request("GET", "/jobs?limit=1000", tok2)
             T.check(rc2 == 0 and open(fc_again).read() == open(fc_chain).read() and
                     after["numberReturned"] == before["numberReturned"] and
                     out2.count("continued") == out.count("continued"),
                     "flow_curve.py --chain again with the same --key: the same jobs (%s -> %s "
                     "jobs)\n%s" % (before["numberReturned"], after["numberReturned"], out2))
+            # lubdem_client.py extend: the Iv = 1 run, completed, taken 1 strain further with
+            # its own inputs (read from its summary) in a chain of CPU-limited jobs; the
+            # result is the engine's run asked for the longer strain
+            done = rows[1]["job"]
+            rc, out = sh(sys.executable, os.path.join(ce, "lubdem_client.py"), "extend", done,
+                         '{"strain": %s}' % ("3" if a.sanitized else "7"), "--chain", "20",
+                         "--poll", "0.1", "--timeout", "300", extra_env=slow_env)
+            ext_jobs = re.findall(r"\b[0-9a-f]{32}\b", out)  # every job it submitted
+            T.check(rc == 0 and ext_jobs, "lubdem_client.py extend exit %s:\n%s" % (rc, out))
+            st, _, first = slow.request("GET", "/jobs/" + ext_jobs[0], tok2)
+            st, _, res = slow.request("GET", "/jobs/%s/results" % ext_jobs[-1], tok2)
+            ext = res.get("summary") or {}
+            spec = dict(ext.get("spec") or {})
+            ext_dir = os.path.join(out_dir, "extend_direct")
+            shutil.rmtree(ext_dir, ignore_errors=True)
+            with open(ext_dir + ".json", "w") as f:
+                json.dump(spec, f)
+            subprocess.run([a.engine, "run", ext_dir + ".json", "--out", ext_dir, "--quiet"],
+                           check=True, timeout=600, stderr=subprocess.DEVNULL)
+            with open(os.path.join(ext_dir, "summary.json")) as f:
+                direct = json.load(f)
+            T.check(first.get("continue_from") == done and
+                    spec.get("Iv") == 1 and ext.get("resumed_from_step", 0) > 0 and
+                    ext["results"] == direct["results"] and ext["steps"] == direct["steps"],
+                    "lubdem_client.py extend: %d job(s), the longer run's results (mu %s / %s)"
+                    "\n%s" % (len(ext_jobs), ext.get("results", {}).get("mu", {}).get("value"),
+                               direct["results"]["mu"]["value"], out))
+            print("extend_jobs=%d" % len(ext_jobs))
             # the service goes away while flow_curve.py waits: exit 1, the job named
             lost = subprocess.Popen(
                 [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",

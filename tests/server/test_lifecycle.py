@@ -449,8 +449,8 @@ def run():
         longer = dict(inputs, strain=inputs["strain"] + (0.2 if a.sanitized else 0.5))
         sys.path.insert(0, os.path.dirname(client))
         import lubdem_client  # the Python client example submits it
-        doc = lubdem_client.Client("http://127.0.0.1:%d" % srv7.port, tok).submit(
-            "simple_shear", longer, continue_from=chain[-1])
+        doc = lubdem_client.Client("http://127.0.0.1:%d" % srv7.port, tok).extend(
+            chain[-1], {"strain": longer["strain"]})  # the job's own inputs, longer
         T.check(doc.get("continue_from") == chain[-1], "extension submitted: %s" % doc)
         ext = T.wait_final(srv7, tok, doc["jobID"], timeout=120)
         st, _, res = srv7.request("GET", "/jobs/%s/results" % doc["jobID"], tok)
