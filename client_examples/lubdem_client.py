@@ -149,13 +149,18 @@ class Client:
             raise KeyError("job %s has no summary stating its spec" % job_id)
         return {k: v for k, v in spec.items() if k != "scene"}
 
+    def extension_of(self, job_id, changes=None):
+        """(process, inputs) of a job that continues ended job job_id's run with the job's own
+        inputs, `changes` applied."""
+        return (self.status(job_id)["processID"],
+                dict(self.inputs_of(job_id), **(changes or {})))
+
     def extend(self, job_id, changes=None, idempotency_key=None):
         """Submits a job that continues ended job job_id's run with the job's own inputs, some
         of them changed: {"strain": 60} extends a completed simple_shear or resuspension run
         (which kept its checkpoint), {} continues a run stopped at the CPU time limit. Returns
         the new job's status document."""
-        process = self.status(job_id)["processID"]
-        inputs = dict(self.inputs_of(job_id), **(changes or {}))
+        process, inputs = self.extension_of(job_id, changes)
         return self.submit(process, inputs, idempotency_key=idempotency_key,
                            continue_from=job_id)
 
@@ -332,19 +337,19 @@ def main(argv=None):
     a = p.parse_args(argv)
     c = Client(a.url, default_token(a.token))
     try:
-        if a.cmd == "extend":  # a submit of the job's own inputs, changed, continuing it
-            a.process = c.status(a.job)["processID"]
-            a.inputs = json.dumps(dict(c.inputs_of(a.job), **json.loads(a.changes)))
-            a.continue_from = a.job
         if a.cmd in ("submit", "extend"):
-            if a.chain:
-                job = c.run_chain(a.process, json.loads(a.inputs), max_jobs=a.chain,
-                                  timeout=a.timeout, idempotency_key=a.key,
-                                  continue_from=a.continue_from, poll=a.poll,
-                                  on_job=lambda j: print(j["jobID"], flush=True))
+            if a.cmd == "extend":  # the job's own inputs, changed, continuing it
+                process, inputs = c.extension_of(a.job, json.loads(a.changes))
+                continue_from = a.job
             else:
-                job = c.submit(a.process, json.loads(a.inputs), idempotency_key=a.key,
-                               continue_from=a.continue_from)
+                process, inputs, continue_from = a.process, json.loads(a.inputs), a.continue_from
+            if a.chain:
+                job = c.run_chain(process, inputs, max_jobs=a.chain, timeout=a.timeout,
+                                  idempotency_key=a.key, continue_from=continue_from,
+                                  poll=a.poll, on_job=lambda j: print(j["jobID"], flush=True))
+            else:
+                job = c.submit(process, inputs, idempotency_key=a.key,
+                               continue_from=continue_from)
                 print(job["jobID"])
             if a.wait or a.download or a.chain:
                 c.wait(job["jobID"], timeout=a.timeout, poll=a.poll)

@@ -71,6 +71,34 @@ static void read_job(sqlite3_stmt *st, lubd_job *j)
     copy_text(j->continue_from, sizeof j->continue_from, st, 17);
 }
 
+/* An Idempotency-Key names its request for a day. */
+#define IDEMPOTENCY_WINDOW_S "86400"
+
+/* The job an earlier request of this user with this key made (within the window), into
+ * job_id: 1 when it was the same request (fingerprint), 2 when another one, 0 when there is
+ * none, -1 on a database error. */
+static int idempotent_job(sqlite3 *db, long long user_id, const char *key, const char *fingerprint,
+                          char job_id[33])
+{
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db,
+                        "SELECT request_sha256 = ?3, job_id FROM idempotency WHERE user_id = ?1 "
+                        "AND key = ?2 AND created >= " LUBD_SQL_NOW " - " IDEMPOTENCY_WINDOW_S,
+                        &st) != 0)
+        return -1;
+    sqlite3_bind_int64(st, 1, user_id);
+    sqlite3_bind_text(st, 2, key, -1, SQLITE_STATIC);
+    sqlite3_bind_text(st, 3, fingerprint, -1, SQLITE_STATIC);
+    const int rc = sqlite3_step(st);
+    int found = rc == SQLITE_DONE ? 0 : -1;
+    if (rc == SQLITE_ROW) {
+        found = sqlite3_column_int(st, 0) ? 1 : 2;
+        copy_text(job_id, 33, st, 1);
+    }
+    sqlite3_finalize(st);
+    return found;
+}
+
 int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *replayed,
                       lubd_fault *f)
 {
@@ -81,7 +109,7 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
     if (in->idempotency_key) {
         if (lubd_db_prepare(db,
                             "DELETE FROM idempotency WHERE user_id = ?1 AND key = ?2 AND "
-                            "created < " LUBD_SQL_NOW " - 86400",
+                            "created < " LUBD_SQL_NOW " - " IDEMPOTENCY_WINDOW_S,
                             &st) != 0)
             goto dberr;
         sqlite3_bind_int64(st, 1, in->user_id);
@@ -89,20 +117,14 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
         if (sqlite3_step(st) != SQLITE_DONE)
             goto dberr;
         sqlite3_finalize(st);
-        if (lubd_db_prepare(db,
-                            "SELECT request_sha256, job_id FROM idempotency WHERE user_id = ?1 "
-                            "AND key = ?2",
-                            &st) != 0)
+        st = NULL;
+        const int found =
+            idempotent_job(db, in->user_id, in->idempotency_key, in->fingerprint, job_id);
+        if (found < 0)
             goto dberr;
-        sqlite3_bind_int64(st, 1, in->user_id);
-        sqlite3_bind_text(st, 2, in->idempotency_key, -1, SQLITE_STATIC);
-        int rc = sqlite3_step(st);
-        if (rc == SQLITE_ROW) {
-            int same = strcmp((const char *)sqlite3_column_text(st, 0), in->fingerprint) == 0;
-            copy_text(job_id, 33, st, 1);
-            sqlite3_finalize(st);
+        if (found > 0) {
             lubd_db_rollback(db);
-            if (!same)
+            if (found == 2)
                 return lubd_fail(f, 409, LUBD_PT_BASE "idempotency-key-reused",
                                  "Idempotency-Key reused", NULL,
                                  "Idempotency-Key was already used for a different request "
@@ -111,10 +133,6 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
             *replayed = 1;
             return 0;
         }
-        if (rc != SQLITE_DONE)
-            goto dberr;
-        sqlite3_finalize(st);
-        st = NULL;
     }
     if (lubd_db_prepare(db,
                         "SELECT count(*) FROM jobs WHERE user_id = ?1 AND state IN "
@@ -215,19 +233,9 @@ dberr:
 
 int lubd_queue_is_replay(sqlite3 *db, long long user_id, const char *key, const char *fingerprint)
 {
-    sqlite3_stmt *st = NULL;
-    if (lubd_db_prepare(db,
-                        "SELECT request_sha256 = ?3 FROM idempotency WHERE user_id = ?1 AND "
-                        "key = ?2 AND created >= " LUBD_SQL_NOW " - 86400",
-                        &st) != 0)
-        return -1;
-    sqlite3_bind_int64(st, 1, user_id);
-    sqlite3_bind_text(st, 2, key, -1, SQLITE_STATIC);
-    sqlite3_bind_text(st, 3, fingerprint, -1, SQLITE_STATIC);
-    const int rc = sqlite3_step(st);
-    const int same = rc == SQLITE_ROW ? sqlite3_column_int(st, 0) : 0;
-    sqlite3_finalize(st);
-    return rc == SQLITE_ROW || rc == SQLITE_DONE ? same : -1;
+    char job_id[33];
+    const int found = idempotent_job(db, user_id, key, fingerprint, job_id);
+    return found < 0 ? -1 : found == 1;
 }
 
 int lubd_queue_get(sqlite3 *db, const char *id, lubd_job *j)

@@ -25,6 +25,7 @@
 #include "progress_line.h"
 #include "queue.h"
 #include "scene.h"
+#include "status_json.h"
 
 typedef struct {
     const lubd_config *cfg;
@@ -458,8 +459,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
 static void drop_handed_files(worker_ctx *w, const lubd_claim *c)
 {
     lubd_job j;
-    if (!c->continue_from[0] || lubd_queue_get(w->db, c->id, &j) != 1 ||
-        strcmp(j.state, "accepted") == 0 || strcmp(j.state, "running") == 0)
+    if (!c->continue_from[0] || lubd_queue_get(w->db, c->id, &j) != 1 || !lubd_job_finished(&j))
         return;
     char handed[1300];
     lubd_pathf(handed, sizeof handed, "%s/%s/" LUBD_CONTINUED_FROM, w->cfg->jobs_dir, c->id);
