@@ -4,7 +4,7 @@
 #include <string.h>
 
 #include "api.h"
-#include "continuation.h"
+#include "deletion.h"
 #include "fsutil.h"
 #include "queue.h"
 #include "sha256.h"
@@ -182,26 +182,20 @@ enum MHD_Result lubd_api_dismiss(lubd_request *r, const char *id)
         lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
         return lubd_reply_fault(r, &f);
     }
-    char dir[1200];
-    if (purge) {
-        /* Jobs that continue this one and have not ended keep its files (the deletion frees
-         * their space once they end); if they cannot, the folder stays for them. */
-        char why[900];
-        sqlite3 *rdb = lubd_db_acquire(&r->srv->pool);
-        const int handed =
-            lubd_continuation_hand_over(rdb, r->srv->cfg->jobs_dir, id, why, sizeof why);
-        lubd_db_release(&r->srv->pool, rdb);
-        snprintf(dir, sizeof dir, "%s/%s", r->srv->cfg->jobs_dir, id);
-        if (handed < 0)
-            fprintf(stderr, "lubdemd: %s; %s is kept\n", why, dir);
-        else if (lubd_rm_rf(dir) != 0)
-            fprintf(stderr, "lubdemd: could not delete %s\n", dir);
-    } else if (strcmp(j.state, "accepted") == 0 && j.continue_from[0]) {
-        /* a continuation dismissed before it started needs no files handed over to it */
-        snprintf(dir, sizeof dir, "%s/%s/" LUBD_CONTINUED_FROM, r->srv->cfg->jobs_dir, id);
-        if (lubd_rm_rf(dir) != 0)
-            fprintf(stderr, "lubdemd: could not delete %s\n", dir);
-    }
+    /* Jobs that continue this one and have not ended keep its files (the deletion frees
+     * their space once they end); if they cannot, the folder stays for them until then. A
+     * continuation dismissed before it started no longer needs files handed over to it. */
+    char why[1400] = "";
+    int left = 0; /* 0: nothing left on disk that should not be */
+    sqlite3 *rdb = lubd_db_acquire(&r->srv->pool);
+    if (purge)
+        left = lubd_deletion_free(rdb, r->srv->cfg->jobs_dir, id, why, sizeof why);
+    else if (strcmp(j.state, "accepted") == 0 && j.continue_from[0])
+        left = lubd_deletion_continuation_ended(rdb, r->srv->cfg->jobs_dir, id, j.continue_from,
+                                                why, sizeof why);
+    lubd_db_release(&r->srv->pool, rdb);
+    if (left != 0)
+        fprintf(stderr, "lubdemd: %s\n", why);
     return lubd_reply_json(r, 200, lubd_status_json(&after, r->base, r->user.is_admin));
 }
 

@@ -10,6 +10,7 @@
 
 #include "config.h"
 #include "db.h"
+#include "deletion.h"
 #include "fsutil.h"
 #include "http_server.h"
 #include "supervisor.h"
@@ -164,6 +165,8 @@ static int cmd_serve(lubd_config *cfg)
     }
     have_file = cfg->init_defaults && access(token_file, R_OK) == 0;
     lubd_reap_once(db, cfg->quiet);
+    /* what deletions left on disk when the service stopped between their steps */
+    lubd_deletion_sweep(db, cfg->jobs_dir, cfg->quiet);
     lubd_db_close(db);
 
     /* Signals are taken synchronously by the supervisor; block them before any thread. */

@@ -19,6 +19,7 @@
 
 #include "continuation.h"
 #include "db.h"
+#include "deletion.h"
 #include "engine_child.h"
 #include "fsutil.h"
 #include "lease.h"
@@ -455,17 +456,17 @@ static void run_job(worker_ctx *w, lubd_claim *c)
 }
 
 /* A continuation that has ended no longer needs the files an earlier job handed over to it
- * when that job was deleted (a requeued or released job has not ended, and keeps them). */
-static void drop_handed_files(worker_ctx *w, const lubd_claim *c)
+ * when that job was deleted, nor that job's folder if it was kept for it (a requeued or
+ * released job has not ended, and keeps them). */
+static void continuation_ended(worker_ctx *w, const lubd_claim *c)
 {
     lubd_job j;
     if (!c->continue_from[0] || lubd_queue_get(w->db, c->id, &j) != 1 || !lubd_job_finished(&j))
         return;
-    char handed[1300];
-    lubd_pathf(handed, sizeof handed, "%s/%s/" LUBD_CONTINUED_FROM, w->cfg->jobs_dir, c->id);
-    if (lubd_rm_rf(handed) != 0)
-        fprintf(stderr, "lubdemd worker %s: could not delete %s: %s\n", w->name, handed,
-                strerror(errno));
+    char why[1400];
+    if (lubd_deletion_continuation_ended(w->db, w->cfg->jobs_dir, c->id, c->continue_from, why,
+                                         sizeof why) != 0)
+        fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
 }
 
 int lubd_worker_main(const lubd_config *cfg, const char *name)
@@ -506,7 +507,7 @@ int lubd_worker_main(const lubd_config *cfg, const char *name)
             continue;
         }
         run_job(&w, &c);
-        drop_handed_files(&w, &c);
+        continuation_ended(&w, &c);
         lubd_lease_clear(&c);
     }
     sqlite3_finalize(peek);

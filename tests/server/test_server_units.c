@@ -1,7 +1,9 @@
 /* test_server_units.c — unit tests of the server's pure parts and of the queue/lease SQL on a
  * scratch database: SHA-256 vectors, Range parsing, progress lines, execution-request
  * validation, the memory check of submissions, claim order/fencing/reaping, hard link or
- * copy of a continuation's files, and their hand-over when the job they continue is deleted.
+ * copy of a continuation's files, their hand-over when the job they continue is deleted, and
+ * the freeing of what deletions left on disk (a service stopped between their steps, a
+ * hand-over that failed).
  * Usage:
  * test_server_units SCRATCH_DIR */
 #include <stdio.h>
@@ -14,6 +16,7 @@
 #include "config.h"
 #include "continuation.h"
 #include "db.h"
+#include "deletion.h"
 #include "exec_request.h"
 #include "fsutil.h"
 #include "http_range.h"
@@ -488,6 +491,117 @@ static void test_hand_over(const char *dir)
     unlink(path);
 }
 
+/* a file with some bytes at jobs/<id>/<rel> (folders made) */
+static void put_file(const char *jobs, const char *id, const char *rel)
+{
+    char f[1400], d[1400];
+    snprintf(f, sizeof f, "%s/%s/%s", jobs, id, rel);
+    snprintf(d, sizeof d, "%s", f);
+    *strrchr(d, '/') = '\0';
+    CHECK(lubd_mkdir_p(d, 0750) == 0);
+    CHECK(lubd_write_file_atomic(f, "data\n", 5) == 0);
+}
+
+static int exists(const char *jobs, const char *id, const char *rel)
+{
+    char f[1400];
+    snprintf(f, sizeof f, "%s/%s%s%s", jobs, id, rel[0] ? "/" : "", rel);
+    return access(f, F_OK) == 0;
+}
+
+/* a new simple_shear job of user_id (a continuation of `from` unless NULL) */
+static void submit_job(sqlite3 *db, long long user_id, char id[33], const char *from)
+{
+    static int k = 0;
+    char fp[40], req[200];
+    snprintf(fp, sizeof fp, "fp-%d", k++);
+    snprintf(req, sizeof req, "{\"continue_from\": \"%s\"}", from ? from : "");
+    lubd_submit s = {user_id, 20, "simple_shear", from ? req : "{}", "{}", fp, NULL, 0, 3, from};
+    int rep;
+    lubd_fault fault;
+    CHECK(lubd_queue_submit(db, &s, id, &rep, &fault) == 0);
+}
+
+static void test_deletion_sweep(const char *dir)
+{
+    char path[1024], jobs[1024];
+    snprintf(path, sizeof path, "%s/sweep.db", dir);
+    snprintf(jobs, sizeof jobs, "%s/sweep-jobs", dir);
+    unlink(path);
+    lubd_rm_rf(jobs);
+    CHECK(lubd_deletion_sweep(NULL, jobs, 1) == 0); /* no jobs folder yet: nothing to do */
+    sqlite3 *db = lubd_db_open(path, 1);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    char tok[LUBD_TOKEN_MAX], auth[200];
+    lubd_user u;
+    CHECK(lubd_token_create(db, "s", 0, tok) == 0);
+    snprintf(auth, sizeof auth, "Bearer %s", tok);
+    CHECK(lubd_auth_bearer(db, auth, &u) == 0);
+    /* cut: deleted when the service stopped before its hand-over; q_cut continues it.
+     * nockpt: its hand-over fails (no checkpoint); q_nockpt continues it.
+     * e_old: an ended continuation that still holds handed-over files; r_req: one requeued
+     * (accepted again), which keeps them. live: an ended job nobody deleted. */
+    char cut[33], q_cut[33], nockpt[33], q_nockpt[33], e_old[33], r_req[33], live[33];
+    int rep;
+    submit_job(db, u.id, cut, NULL);
+    submit_job(db, u.id, nockpt, NULL);
+    submit_job(db, u.id, live, NULL);
+    submit_job(db, u.id, q_cut, cut);
+    submit_job(db, u.id, q_nockpt, nockpt);
+    submit_job(db, u.id, e_old, live);
+    submit_job(db, u.id, r_req, live);
+    char sql[400];
+    snprintf(sql, sizeof sql,
+             "UPDATE jobs SET state = 'successful' WHERE id IN ('%s', '%s', '%s');"
+             "UPDATE jobs SET state = 'failed' WHERE id = '%s'",
+             cut, nockpt, live, e_old);
+    CHECK(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK);
+    put_file(jobs, cut, "result/checkpoint.h5");
+    put_file(jobs, cut, "result/result.h5");
+    put_file(jobs, nockpt, "result/result.h5");
+    put_file(jobs, live, "result/checkpoint.h5");
+    put_file(jobs, e_old, LUBD_CONTINUED_FROM "/checkpoint.h5");
+    put_file(jobs, r_req, LUBD_CONTINUED_FROM "/checkpoint.h5");
+    put_file("", jobs, "notes/readme.txt");                            /* not a job's folder */
+    put_file(jobs, "0123456789abcdef0123456789abcdef", "result/x.h5"); /* no such job */
+    lubd_job j;
+    CHECK(lubd_queue_dismiss(db, cut, &j, &rep) == 0 && rep == 1);
+    CHECK(lubd_queue_dismiss(db, nockpt, &j, &rep) == 0 && rep == 1);
+    /* nockpt's deletion: the hand-over fails, the folder is kept for q_nockpt */
+    char why[1400] = "";
+    CHECK(lubd_deletion_free(db, jobs, nockpt, why, sizeof why) == 1 &&
+          strstr(why, q_nockpt) != NULL && strstr(why, "is kept") != NULL);
+    CHECK(exists(jobs, nockpt, "result/result.h5"));
+    /* the service starts again: cut's folder is handed over and freed, e_old's handed files
+     * go; nockpt's stays (q_nockpt has not ended), and so does every other folder */
+    CHECK(lubd_deletion_sweep(db, jobs, 1) == 2);
+    CHECK(!exists(jobs, cut, ""));
+    CHECK(exists(jobs, q_cut, LUBD_CONTINUED_FROM "/checkpoint.h5") &&
+          exists(jobs, q_cut, LUBD_CONTINUED_FROM "/result.h5"));
+    CHECK(!exists(jobs, e_old, LUBD_CONTINUED_FROM) && exists(jobs, e_old, ""));
+    CHECK(exists(jobs, r_req, LUBD_CONTINUED_FROM "/checkpoint.h5"));
+    CHECK(exists(jobs, nockpt, "result/result.h5"));
+    CHECK(exists(jobs, live, "result/checkpoint.h5"));
+    CHECK(exists(jobs, "notes", "readme.txt"));
+    CHECK(exists(jobs, "0123456789abcdef0123456789abcdef", "result/x.h5"));
+    CHECK(lubd_deletion_sweep(db, jobs, 1) == 0); /* nothing left to do: nothing freed */
+    /* q_nockpt ends (it could not start without the checkpoint): nockpt's folder goes with it */
+    snprintf(sql, sizeof sql, "UPDATE jobs SET state = 'failed' WHERE id = '%s'", q_nockpt);
+    CHECK(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK);
+    CHECK(lubd_deletion_continuation_ended(db, jobs, q_nockpt, nockpt, why, sizeof why) == 0);
+    CHECK(!exists(jobs, nockpt, ""));
+    /* q_cut ends: its handed-over files go; live (not deleted) is not touched */
+    CHECK(lubd_deletion_continuation_ended(db, jobs, q_cut, cut, why, sizeof why) == 0);
+    CHECK(!exists(jobs, q_cut, LUBD_CONTINUED_FROM));
+    CHECK(lubd_deletion_continuation_ended(db, jobs, r_req, live, why, sizeof why) == 0);
+    CHECK(exists(jobs, live, "result/checkpoint.h5"));
+    lubd_db_close(db);
+    lubd_rm_rf(jobs);
+    unlink(path);
+}
+
 int main(int argc, char **argv)
 {
     test_sha256();
@@ -498,6 +612,7 @@ int main(int argc, char **argv)
     test_queue(argc > 1 ? argv[1] : ".");
     test_link_or_copy(argc > 1 ? argv[1] : ".");
     test_hand_over(argc > 1 ? argv[1] : ".");
+    test_deletion_sweep(argc > 1 ? argv[1] : ".");
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else
