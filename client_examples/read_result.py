@@ -15,6 +15,14 @@ with h5py.File(sys.argv[1], "r") as f:
         if "value" in group:
             v = group["value"]
             print("observable %-24s shape %s  last %s" % (name, v.shape, v[-1] if len(v) else None))
+    net = f.get("pair_network")  # simple_shear with "pair_network": true
+    if net is not None:
+        contact, sliding = net["contact"][()], net["sliding"][()]
+        print("pair network at step %d: %d pairs, %d contacts (%d sliding)"
+              % (net["step"][0], len(contact), contact.sum(), sliding.sum()))
+        if "particles/all/radius" in f:
+            print("contact number Z_c = 2 contacts / N = %.3f"
+                  % (2.0 * contact.sum() / len(f["particles/all/radius"])))
     params = f.get("parameters")
     if params is not None:
         for key in params:

@@ -579,27 +579,39 @@ int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double
     return 0;
 }
 
-int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
-                       const double *data, const char *unit)
+int lub_h5_write_dataset(lub_h5 *f, const char *path, lub_h5_type type, int rank,
+                         const int64_t *dims, const void *data, const char *unit)
 {
     if (rank < 1 || rank > 2)
-        return set_err(f, "write array of rank other than 1 or 2:", name);
+        return set_err(f, "write array of rank other than 1 or 2:", path);
     if (f->lost)
         return 0;
-    char path[512];
-    snprintf(path, sizeof path, "profiles/%s", name);
+    const hid_t file_type = type == LUB_H5_I64  ? H5T_STD_I64LE
+                            : type == LUB_H5_I8 ? H5T_STD_I8LE
+                                                : H5T_IEEE_F64LE;
+    const hid_t mem_type = type == LUB_H5_I64  ? H5T_NATIVE_INT64
+                           : type == LUB_H5_I8 ? H5T_NATIVE_INT8
+                                               : H5T_NATIVE_DOUBLE;
     hsize_t hd[2] = {(hsize_t)dims[0], rank > 1 ? (hsize_t)dims[1] : 1};
     hid_t sp = H5Screate_simple(rank, hd, NULL);
     hid_t l = lcpl_intermediate();
-    hid_t d = H5Dcreate2(f->file, path, H5T_IEEE_F64LE, sp, l, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t d = H5Dcreate2(f->file, path, file_type, sp, l, H5P_DEFAULT, H5P_DEFAULT);
     H5Pclose(l);
-    int rc = d < 0 || H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
+    int rc = d < 0 || H5Dwrite(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
     if (!rc && unit)
         rc = write_string_attr(d, "unit", unit);
     if (d >= 0)
         H5Dclose(d);
     H5Sclose(sp);
     return rc ? write_failed(f, "write", path, -1) : 0;
+}
+
+int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
+                       const double *data, const char *unit)
+{
+    char path[512];
+    snprintf(path, sizeof path, "profiles/%s", name);
+    return lub_h5_write_dataset(f, path, LUB_H5_F64, rank, dims, data, unit);
 }
 
 int lub_h5_flush(lub_h5 *f)

@@ -75,6 +75,13 @@ int64_t lub_h5_snapshots_skipped(const lub_h5 *f, int64_t *first_step, char *why
  * RLIMIT_FSIZE is ignored). */
 void lub_h5_set_byte_limit(lub_h5 *f, uint64_t bytes);
 
+/* A dataset at `path` (relative to the root; missing groups are made), rank 1 or 2,
+ * row-major, of doubles, int64 or int8 values as `type` says, with a "unit" attribute unless
+ * unit is NULL. An existing dataset at path is an error. */
+typedef enum { LUB_H5_F64, LUB_H5_I64, LUB_H5_I8 } lub_h5_type;
+int lub_h5_write_dataset(lub_h5 *f, const char *path, lub_h5_type type, int rank,
+                         const int64_t *dims, const void *data, const char *unit);
+
 /* Free-form dataset under /profiles (rank 1 or 2, row-major), with a "unit" attribute. */
 int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
                        const double *data, const char *unit);

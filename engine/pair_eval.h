@@ -39,6 +39,34 @@ static inline double lub_pair_inv_inertia(const lub_pair_bodies *b, int p)
 
 enum { LUB_PAIR_OUT = -1, LUB_PAIR_OK = 0, LUB_PAIR_NONFINITE = 1 };
 
+/* The law's input for pair k (branch x2 + Hc - x1, the image velocity L H c, the inertia
+ * shares) into *in, the centre gap into *un: LUB_PAIR_OK, or LUB_PAIR_OUT when the pair is
+ * beyond cutoff*a or not allowed by the store's filter (*in then holds only the branch). */
+static inline int lub_pair_input_of(const lub_pairs *ps, size_t k, const lub_cell *cell,
+                                    const lub_pair_bodies *b, double cutoff, double dt,
+                                    lub_pair_input *in, double *un)
+{
+    const int i = ps->i[k], j = ps->j[k];
+    const vec3 shift = lub_cell_shift(cell, &ps->c[3 * k]);
+    const vec3 d = v3_sub(v3_add(b->x[j], shift), b->x[i]);
+    const double ri = b->r[i], rj = b->r[j];
+    in->branch = d;
+    *un = v3_norm(d) - ri - rj;
+    const double a = 0.5 * (ri + rj);
+    if (*un > cutoff * a || !ps->allow[k])
+        return LUB_PAIR_OUT;
+    in->v1 = b->v[i];
+    in->v2 = v3_add(b->v[j], lub_mat_vec(cell->L, shift));
+    in->w1 = b->w[i];
+    in->w2 = b->w[j];
+    in->r1 = ri;
+    in->r2 = rj;
+    in->inv_inertia1 = lub_pair_inv_inertia(b, i);
+    in->inv_inertia2 = lub_pair_inv_inertia(b, j);
+    in->dt = dt;
+    return LUB_PAIR_OK;
+}
+
 /* Evaluates pair k: beyond cutoff*a (or not allowed by the store's filter) it leaves the cut-off
  * (state dropped, nothing added) and LUB_PAIR_OUT is returned; otherwise it enters (fresh state if
  * new), the law is stepped with the image velocity L H c and the inertia share, the near flag is
@@ -50,36 +78,20 @@ static inline int lub_pair_eval(lub_pairs *ps, size_t k, const lub_cell *cell,
                                 double dt, lub_pair_accum *acc, lub_pair_output *o, vec3 *branch,
                                 double *un)
 {
-    const int i = ps->i[k], j = ps->j[k];
-    const vec3 shift = lub_cell_shift(cell, &ps->c[3 * k]);
-    const vec3 d = v3_sub(v3_add(b->x[j], shift), b->x[i]);
-    const double ri = b->r[i], rj = b->r[j];
-    *branch = d;
-    *un = v3_norm(d) - ri - rj;
-    const double a = 0.5 * (ri + rj);
-    if (*un > cutoff * a || !ps->allow[k]) {
+    lub_pair_input in;
+    const int inside = lub_pair_input_of(ps, k, cell, b, cutoff, dt, &in, un);
+    *branch = in.branch;
+    if (inside == LUB_PAIR_OUT) {
         lub_pairs_leave(ps, k);
         return LUB_PAIR_OUT;
     }
     lub_pairs_enter(ps, k);
-    const lub_pair_input in = {
-        .branch = d,
-        .v1 = b->v[i],
-        .v2 = v3_add(b->v[j], lub_mat_vec(cell->L, shift)),
-        .w1 = b->w[i],
-        .w2 = b->w[j],
-        .r1 = ri,
-        .r2 = rj,
-        .inv_inertia1 = lub_pair_inv_inertia(b, i),
-        .inv_inertia2 = lub_pair_inv_inertia(b, j),
-        .dt = dt,
-    };
     if (lub_pair_step(law, &in, &ps->state[k], o) != 0 || !v3_isfinite(o->force1) ||
         !v3_isfinite(o->torque1) || !v3_isfinite(o->torque2))
         return LUB_PAIR_NONFINITE;
     const int near = o->delta < 0.0;
     ps->near[k] = (unsigned char)near;
-    lub_pair_accum_add(acc, i, j, o->force1, o->torque1, o->torque2, near);
+    lub_pair_accum_add(acc, ps->i[k], ps->j[k], o->force1, o->torque1, o->torque2, near);
     return LUB_PAIR_OK;
 }
 

@@ -31,6 +31,7 @@
 #include "h5md_continue.h"
 #include "law_spec.h"
 #include "packing.h"
+#include "pair_network.h"
 #include "run_context.h"
 #include "scene.h"
 #include "scene_summary.h"
@@ -58,6 +59,7 @@ typedef struct {
     int pressure;           /* control */
     double servo_gain, servo_filter_strain;
     int pdf_on;
+    int pair_network; /* write the interaction network at the end (pair_network.h) */
     long long pdf_nt, pdf_np;
     double pdf_start, pdf_interval;
     lub_law_spec law;
@@ -110,6 +112,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                                  "transient_strain",
                                  "sample_strain",
                                  "snapshots",
+                                 "pair_network",
                                  "servo",
                                  "microstructure",
                                  "law",
@@ -164,6 +167,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                         err) ||
         lub_spec_number(spec, "", "sample_strain", samp_r, 1, 0.02, &p->sample_strain, err) ||
         lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 1, &p->snapshots, err) ||
+        lub_spec_bool(spec, "", "pair_network", 1, 0, &p->pair_network, err) ||
         lub_spec_number(spec, "", "drag_viscosity", (lub_range){0.0, 1e3, 0, 0}, 1, 0.0,
                         &p->drag_viscosity, err))
         return -1;
@@ -396,6 +400,64 @@ static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
             edges[3 * r + c] = s->cell.h[c][r]; /* rows = edge vectors */
     return lub_h5_particles_snapshot(ctx->out, s->step, s->time, edges, (const double *)s->x,
                                      (const double *)s->v, (const double *)s->w);
+}
+
+/* /pair_network of result.h5: the interaction network of the system's current state
+ * (pair_network.h), in the units of the run (pressure: a, eta, P; else a, eta, gd). 0, or the
+ * exit code with ctx->diagnostic set. */
+static int ss_write_pair_network(lub_run_ctx *ctx, lub_shear_system *s, int pressure)
+{
+    const char *time_unit = pressure ? "eta/P" : "1/gd";
+    const char *force_unit = pressure ? "P*a^2" : "eta*gd*a^2";
+    const char *torque_unit = pressure ? "P*a^3" : "eta*gd*a^3";
+    lub_pair_network net = {0};
+    const int rc = lub_shear_pair_network(s, &net);
+    if (rc != LUB_SHEAR_OK) {
+        snprintf(
+            ctx->diagnostic, sizeof ctx->diagnostic, "interaction network at step %ld: %s", s->step,
+            rc == LUB_SHEAR_NOMEM ? "out of memory (/pair_network: false avoids it)" : s->fail_msg);
+        return rc == LUB_SHEAR_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
+    }
+    const int64_t one[1] = {1}, rows[1] = {(int64_t)net.n}, vec[2] = {(int64_t)net.n, 3};
+    const int64_t step = s->step;
+    const struct {
+        const char *name;
+        lub_h5_type type;
+        int rank;
+        const void *data;
+        const char *unit;
+    } sets[] = {
+        {"step", LUB_H5_I64, 1, &step, "1"},
+        {"time", LUB_H5_F64, 1, &s->time, time_unit},
+        {"i", LUB_H5_I64, 1, net.i, "1"},
+        {"j", LUB_H5_I64, 1, net.j, "1"},
+        {"image", LUB_H5_I64, 2, net.image, "1"},
+        {"branch", LUB_H5_F64, 2, net.branch, "a"},
+        {"centre_gap", LUB_H5_F64, 1, net.centre_gap, "a"},
+        {"gap", LUB_H5_F64, 1, net.gap, "a"},
+        {"contact", LUB_H5_I8, 1, net.contact, "1"},
+        {"sliding", LUB_H5_I8, 1, net.sliding, "1"},
+        {"force_normal_contact", LUB_H5_F64, 1, net.fn_contact, force_unit},
+        {"force_normal_lubrication", LUB_H5_F64, 1, net.fn_lub, force_unit},
+        {"force_tangential_contact", LUB_H5_F64, 2, net.fs_contact, force_unit},
+        {"force_tangential_lubrication", LUB_H5_F64, 2, net.fs_lub, force_unit},
+        {"torque_roll", LUB_H5_F64, 2, net.torque_roll, torque_unit},
+        {"torque_twist", LUB_H5_F64, 2, net.torque_twist, torque_unit},
+    };
+    int failed = 0;
+    for (size_t k = 0; k < sizeof sets / sizeof sets[0] && !failed; ++k) {
+        char path[96];
+        snprintf(path, sizeof path, "pair_network/%s", sets[k].name);
+        const int64_t *dims = sets[k].rank == 2 ? vec : (k < 2 ? one : rows);
+        failed = lub_h5_write_dataset(ctx->out, path, sets[k].type, sets[k].rank, dims,
+                                      sets[k].data, sets[k].unit) != 0;
+    }
+    lub_pair_network_free(&net);
+    if (failed) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+        return LUB_EXIT_IO;
+    }
+    return LUB_EXIT_OK;
 }
 
 static double ref_phi_m(double mu_m) { return 0.6301 - 0.0794 * (1.0 - exp(-mu_m / 0.4032)); }
@@ -993,6 +1055,13 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     } else if (exit_code == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_el)) {
         lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_el, "dt_elastic");
     }
+    /* the interaction network of the final state, before the last snapshot, which then
+     * shows the positions and box its branch vectors and images refer to */
+    if (p.pair_network && (exit_code == LUB_EXIT_OK || exit_code == LUB_EXIT_INTERRUPTED)) {
+        const int rc = ss_write_pair_network(ctx, &sys, p.pressure);
+        if (rc != LUB_EXIT_OK)
+            exit_code = rc;
+    }
     if (p.snapshots > 0 && exit_code != LUB_EXIT_IO)
         ss_snapshot(ctx, &sys);
 
@@ -1200,6 +1269,10 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
                                : p.strain;
     const int rebuilt = sheared > 1.01 * lub_shear_rebuild_strain(p.cutoff, p.skin);
     need->bytes = lub_shear_min_bytes(n, p.phi, p.radius_std, p.cutoff, p.skin, threads, rebuilt);
+    if (p.pair_network) /* the pairs inside the cut-off, at the end */
+        need->bytes += 0.9 * n *
+                       lub_shear_listed_pairs_estimate(p.phi, p.radius_std, p.cutoff, 0.0) *
+                       LUB_PAIR_NETWORK_PAIR_BYTES;
     need->per_item = need->bytes / n;
     need->member = "/n_particles";
     snprintf(need->what, sizeof need->what,
@@ -1208,9 +1281,10 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
     return 0;
 }
 
-/* the members that only decide when the run ends: a continuation may change them */
+/* the members that only decide when the run ends, or what it writes there: a continuation
+ * may change them */
 static const char *const ss_resume_may_differ[] = {"strain", "target_rel_error",
-                                                   "target_min_strain", NULL};
+                                                   "target_min_strain", "pair_network", NULL};
 
 const lub_scene lub_scene_simple_shear = {
     .name = "simple_shear",

@@ -338,6 +338,11 @@ void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
     s->need_rebuild = 1;
 }
 
+int lub_shear_complete_list(lub_shear_system *s)
+{
+    return s->need_rebuild ? rebuild(s) : LUB_SHEAR_OK;
+}
+
 int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
 {
     if (s->need_rebuild) {

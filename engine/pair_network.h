@@ -1,0 +1,58 @@
+/* pair_network.h — the interaction network of a sheared system: every interacting pair with
+ * its gaps, contact state and the parts of its force and torques.
+ *
+ * The forces are those the system's next step applies: each pair inside the cut-off (and
+ * allowed by the interaction set) is put through the contact law on a COPY of its persistent
+ * state, from the current positions, half-step velocities and spins (a pair entering the
+ * cut-off with a fresh state), exactly as lub_shear_step evaluates it; the system's pair
+ * states are not changed. The pair list is completed first (lub_shear_complete_list): the
+ * positions may move by cell vectors and the cell matrix by a flip, so that a particle
+ * snapshot written after this call shows the positions and box the branch vectors and image
+ * shifts refer to: branch = x_j + H image - x_i.
+ *
+ * Units: those of the system (the simple_shear scene: a = 1, eta = 1, gd = 1 or P = 1).
+ * Signs: forces and torques act on body i (body j receives minus the force; the roll and twist
+ * torques: minus, the torque of the shear force: its own arm); normal parts are components
+ * along n = branch/|branch|, negative when repulsive.
+ * Memory: lub_shear_pair_network allocates the arrays (freed by lub_pair_network_free, also
+ * after a failure); nothing else.
+ * Threads: serial (one pass over the pairs, at the end of a run).
+ */
+#ifndef LUBDEM_PAIR_NETWORK_H
+#define LUBDEM_PAIR_NETWORK_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "shear_system.h"
+
+typedef struct {
+    size_t n;             /* interacting pairs */
+    int64_t *i, *j;       /* [n] particle indices, i < j */
+    int64_t *image;       /* [3n] cell image c of j: branch = x_j + H c - x_i */
+    double *branch;       /* [3n] centre of i to centre of the image of j */
+    double *centre_gap;   /* [n] u_n = |branch| - r_i - r_j (< 0: nominal spheres overlap) */
+    double *gap;          /* [n] u, the lubricated gap of the law's state (> 0) */
+    int8_t *contact;      /* [n] 1 when the asperities touch (u < eps a_ij) */
+    int8_t *sliding;      /* [n] 1 when the contact slides (|F_s,contact| = mu |F_c|) */
+    double *fn_contact;   /* [n] normal contact force along n */
+    double *fn_lub;       /* [n] normal lubrication force along n */
+    double *fs_contact;   /* [3n] tangential contact (friction) force */
+    double *fs_lub;       /* [3n] tangential lubrication force */
+    double *torque_roll;  /* [3n] rolling lubrication torque on i */
+    double *torque_twist; /* [3n] twisting lubrication torque on i */
+} lub_pair_network;
+
+/* Fills *net (its previous arrays are freed) with the network of s at its current state.
+ * Returns LUB_SHEAR_OK; LUB_SHEAR_NOMEM; LUB_SHEAR_CELL_TOO_SMALL (from the list completion,
+ * s->fail_msg set); or LUB_SHEAR_NONFINITE when the law fails for a pair (s->fail_msg names
+ * it). On failure *net is empty. */
+int lub_shear_pair_network(lub_shear_system *s, lub_pair_network *net);
+
+/* Frees the arrays and empties *net (safe on an empty or zeroed network). */
+void lub_pair_network_free(lub_pair_network *net);
+
+/* Heap bytes per pair of a network. */
+#define LUB_PAIR_NETWORK_PAIR_BYTES (24 * 8 + 2)
+
+#endif
