@@ -12,12 +12,15 @@
     not change the run: the summaries of 1 and of the same spec without it are equal;
  4. a completed run without the network (--keep-checkpoint), extended with --resume to a
     larger /strain with /pair_network true (a continuation may change it), ends with the
-    network, equal bit for bit to that of the run asked for the larger strain with it.
+    network, equal bit for bit to that of the run asked for the larger strain with it;
+ 5. a run stopped by SIGTERM (exit 5, partial) writes the network of the state it stopped in,
+    at the step of its last snapshot, with records consistent with that snapshot.
 The element-by-element agreement of the forces with the next step's stress sample is checked
 in C (shear.pair_network). Usage: test_pair_network_cli.py LUBDEM WORKDIR [--sanitized]"""
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 
@@ -161,6 +164,29 @@ def main():
     check(enet is not None and net is not None and
           all(np.array_equal(enet[k], net[k]) for k in net),
           "extended: the extension's network equals the longer run's, bit for bit")
+
+    # 5. stopped by SIGTERM once past a third of a longer run
+    out = os.path.join(work, "stopped")
+    shutil.rmtree(out, ignore_errors=True)
+    path = os.path.join(work, "stopped.json")
+    with open(path, "w") as f:
+        json.dump(dict(base, scene="simple_shear", strain=10 * strain, pair_network=True), f)
+    proc = subprocess.Popen([lubdem, "run", path, "--out", out], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    for line in proc.stdout:
+        if line.startswith("progress ") and 0.3 <= float(line.split("fraction=")[1].split()[0]) < 1:
+            proc.send_signal(signal.SIGTERM)
+            break
+    proc.communicate(timeout=600)
+    snet, ssnap = network(out)
+    st = json.load(open(os.path.join(out, "summary.json")))
+    check(proc.returncode == 5 and st["status"] == "partial" and snet is not None and
+          int(snet["step"][0]) == int(ssnap["position/step"][-1]) == st["steps"],
+          "stopped: exit %s, %s, network at step %s (last snapshot %s, steps %s)"
+          % (proc.returncode, st["status"], snet["step"][0] if snet else None,
+             ssnap["position/step"][-1] if ssnap else None, st["steps"]))
+    if snet is not None:
+        check_records("stopped", snet, ssnap, 0.02, 0.5)
     return 1 if FAIL else 0
 
 
