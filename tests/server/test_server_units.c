@@ -397,22 +397,33 @@ static void test_link_or_copy(const char *dir)
  * jobs/<id>/continued-from/ (no temporary folder left), none to a continuation that ended,
  * once only; a continuation of a deleted (purged) or unknown job is refused by the submission
  * itself, in its write transaction, unless it is the replay of one made before. */
-static void test_hand_over(const char *dir)
+/* A new scratch queue DIR/<name>.db (path) with one user (*u), and the path of its jobs folder
+ * DIR/<name>-jobs (removed if there). NULL when the database cannot be made. */
+static sqlite3 *scratch_queue(const char *dir, const char *name, char path[1024], char jobs[1024],
+                              lubd_user *u)
 {
-    char path[1024], jobs[1024], f[1400];
-    snprintf(path, sizeof path, "%s/handover.db", dir);
-    snprintf(jobs, sizeof jobs, "%s/handover-jobs", dir);
+    snprintf(path, 1024, "%s/%s.db", dir, name);
+    snprintf(jobs, 1024, "%s/%s-jobs", dir, name);
     unlink(path);
     lubd_rm_rf(jobs);
     sqlite3 *db = lubd_db_open(path, 1);
     CHECK(db != NULL);
     if (!db)
-        return;
+        return NULL;
     char tok[LUBD_TOKEN_MAX], auth[200];
-    lubd_user u;
-    CHECK(lubd_token_create(db, "h", 0, tok) == 0);
+    CHECK(lubd_token_create(db, name, 0, tok) == 0);
     snprintf(auth, sizeof auth, "Bearer %s", tok);
-    CHECK(lubd_auth_bearer(db, auth, &u) == 0);
+    CHECK(lubd_auth_bearer(db, auth, u) == 0);
+    return db;
+}
+
+static void test_hand_over(const char *dir)
+{
+    char path[1024], jobs[1024], f[1400];
+    lubd_user u;
+    sqlite3 *db = scratch_queue(dir, "handover", path, jobs, &u);
+    if (!db)
+        return;
     lubd_submit s = {u.id, 10, "simple_shear", "{}", "{}", "fp-src", NULL, 0, 3, NULL};
     char src[33], queued[33], ended[33], other[33];
     int rep;
@@ -525,20 +536,11 @@ static void submit_job(sqlite3 *db, long long user_id, char id[33], const char *
 static void test_deletion_sweep(const char *dir)
 {
     char path[1024], jobs[1024];
-    snprintf(path, sizeof path, "%s/sweep.db", dir);
-    snprintf(jobs, sizeof jobs, "%s/sweep-jobs", dir);
-    unlink(path);
-    lubd_rm_rf(jobs);
-    CHECK(lubd_deletion_sweep(NULL, jobs, 1) == 0); /* no jobs folder yet: nothing to do */
-    sqlite3 *db = lubd_db_open(path, 1);
-    CHECK(db != NULL);
+    lubd_user u;
+    sqlite3 *db = scratch_queue(dir, "sweep", path, jobs, &u);
     if (!db)
         return;
-    char tok[LUBD_TOKEN_MAX], auth[200];
-    lubd_user u;
-    CHECK(lubd_token_create(db, "s", 0, tok) == 0);
-    snprintf(auth, sizeof auth, "Bearer %s", tok);
-    CHECK(lubd_auth_bearer(db, auth, &u) == 0);
+    CHECK(lubd_deletion_sweep(db, jobs, 1) == 0); /* no jobs folder yet: nothing to do */
     /* cut: deleted when the service stopped before its hand-over; q_cut continues it.
      * nockpt: its hand-over fails (no checkpoint); q_nockpt continues it.
      * e_old: an ended continuation that still holds handed-over files; r_req: one requeued
