@@ -8,7 +8,8 @@
  * states are not changed. The pair list is completed first (lub_shear_complete_list): the
  * positions may move by cell vectors and the cell matrix by a flip, so that a particle
  * snapshot written after this call shows the positions and box the branch vectors and image
- * shifts refer to: branch = x_j + H image - x_i.
+ * shifts refer to: branch = x_j + H image - x_i. That rebuild counts in s->rebuilds (and a
+ * flip in s->flips) like any other (the simple_shear scene leaves it out of its summary).
  *
  * Units: those of the system (the simple_shear scene: a = 1, eta = 1, gd = 1 or P = 1).
  * Signs: forces and torques act on body i (body j receives minus the force; the roll and twist

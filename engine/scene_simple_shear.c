@@ -411,7 +411,12 @@ static int ss_write_pair_network(lub_run_ctx *ctx, lub_shear_system *s, int pres
     const char *force_unit = pressure ? "P*a^2" : "eta*gd*a^2";
     const char *torque_unit = pressure ? "P*a^3" : "eta*gd*a^3";
     lub_pair_network net = {0};
+    /* the rebuild the network may do first is not one of the run's steps: the summary's
+     * neighbor_rebuilds and cell_flips stay those of the steps */
+    const long rebuilds = s->rebuilds, flips = s->flips;
     const int rc = lub_shear_pair_network(s, &net);
+    s->rebuilds = rebuilds;
+    s->flips = flips;
     if (rc != LUB_SHEAR_OK) {
         snprintf(
             ctx->diagnostic, sizeof ctx->diagnostic, "interaction network at step %ld: %s", s->step,
@@ -424,32 +429,32 @@ static int ss_write_pair_network(lub_run_ctx *ctx, lub_shear_system *s, int pres
         const char *name;
         lub_h5_type type;
         int rank;
+        const int64_t *dims;
         const void *data;
         const char *unit;
     } sets[] = {
-        {"step", LUB_H5_I64, 1, &step, "1"},
-        {"time", LUB_H5_F64, 1, &s->time, time_unit},
-        {"i", LUB_H5_I64, 1, net.i, "1"},
-        {"j", LUB_H5_I64, 1, net.j, "1"},
-        {"image", LUB_H5_I64, 2, net.image, "1"},
-        {"branch", LUB_H5_F64, 2, net.branch, "a"},
-        {"centre_gap", LUB_H5_F64, 1, net.centre_gap, "a"},
-        {"gap", LUB_H5_F64, 1, net.gap, "a"},
-        {"contact", LUB_H5_I8, 1, net.contact, "1"},
-        {"sliding", LUB_H5_I8, 1, net.sliding, "1"},
-        {"force_normal_contact", LUB_H5_F64, 1, net.fn_contact, force_unit},
-        {"force_normal_lubrication", LUB_H5_F64, 1, net.fn_lub, force_unit},
-        {"force_tangential_contact", LUB_H5_F64, 2, net.fs_contact, force_unit},
-        {"force_tangential_lubrication", LUB_H5_F64, 2, net.fs_lub, force_unit},
-        {"torque_roll", LUB_H5_F64, 2, net.torque_roll, torque_unit},
-        {"torque_twist", LUB_H5_F64, 2, net.torque_twist, torque_unit},
+        {"step", LUB_H5_I64, 1, one, &step, "1"},
+        {"time", LUB_H5_F64, 1, one, &s->time, time_unit},
+        {"i", LUB_H5_I64, 1, rows, net.i, "1"},
+        {"j", LUB_H5_I64, 1, rows, net.j, "1"},
+        {"image", LUB_H5_I64, 2, vec, net.image, "1"},
+        {"branch", LUB_H5_F64, 2, vec, net.branch, "a"},
+        {"centre_gap", LUB_H5_F64, 1, rows, net.centre_gap, "a"},
+        {"gap", LUB_H5_F64, 1, rows, net.gap, "a"},
+        {"contact", LUB_H5_I8, 1, rows, net.contact, "1"},
+        {"sliding", LUB_H5_I8, 1, rows, net.sliding, "1"},
+        {"force_normal_contact", LUB_H5_F64, 1, rows, net.fn_contact, force_unit},
+        {"force_normal_lubrication", LUB_H5_F64, 1, rows, net.fn_lub, force_unit},
+        {"force_tangential_contact", LUB_H5_F64, 2, vec, net.fs_contact, force_unit},
+        {"force_tangential_lubrication", LUB_H5_F64, 2, vec, net.fs_lub, force_unit},
+        {"torque_roll", LUB_H5_F64, 2, vec, net.torque_roll, torque_unit},
+        {"torque_twist", LUB_H5_F64, 2, vec, net.torque_twist, torque_unit},
     };
     int failed = 0;
     for (size_t k = 0; k < sizeof sets / sizeof sets[0] && !failed; ++k) {
         char path[96];
         snprintf(path, sizeof path, "pair_network/%s", sets[k].name);
-        const int64_t *dims = sets[k].rank == 2 ? vec : (k < 2 ? one : rows);
-        failed = lub_h5_write_dataset(ctx->out, path, sets[k].type, sets[k].rank, dims,
+        failed = lub_h5_write_dataset(ctx->out, path, sets[k].type, sets[k].rank, sets[k].dims,
                                       sets[k].data, sets[k].unit) != 0;
     }
     lub_pair_network_free(&net);
