@@ -14,7 +14,9 @@
     larger /strain with /pair_network true (a continuation may change it), ends with the
     network, equal bit for bit to that of the run asked for the larger strain with it;
  5. a run stopped by SIGTERM (exit 5, partial) writes the network of the state it stopped in,
-    at the step of its last snapshot, with records consistent with that snapshot.
+    at the step of its last snapshot, with records consistent with that snapshot;
+ 6. client_examples/pair_network.py on the network of 1: its pair and contact counts, Z_c, a
+    fabric of trace 1 and the four parts' sigma_xy and sigma_yy equal those computed here.
 The element-by-element agreement of the forces with the next step's stress sample is checked
 in C (shear.pair_network). Usage: test_pair_network_cli.py LUBDEM WORKDIR [--sanitized]"""
 import json
@@ -101,6 +103,38 @@ def check_records(name, net, snap, eps, mu):
     check(np.all(net["force_normal_contact"] <= 0), name + ": contact forces repulsive (<= 0)")
 
 
+def check_example(out, net, snap):
+    """6: client_examples/pair_network.py on the network of `out`."""
+    example = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                           "client_examples", "pair_network.py")
+    p = subprocess.run([sys.executable, example, os.path.join(out, "result.h5")],
+                       capture_output=True, text=True, timeout=120)
+    vals = dict(line.split("#")[0].strip().split("=", 1) for line in p.stdout.splitlines()
+                if "=" in line)
+    contacts = int(np.sum(net["contact"] == 1))
+    n = len(snap["radius"])
+    fabric = sum(float(vals.get("fabric_%s" % k, "nan")) for k in ("xx", "yy", "zz"))
+    edges = snap["box/edges/value"][-1]
+    volume = abs(np.linalg.det(edges))
+    nvec = net["branch"] / np.linalg.norm(net["branch"], axis=1)[:, None]
+    parts = {"normal_contact": nvec * net["force_normal_contact"][:, None],
+             "tangential_contact": net["force_tangential_contact"],
+             "normal_lubrication": nvec * net["force_normal_lubrication"][:, None],
+             "tangential_lubrication": net["force_tangential_lubrication"]}
+    worst = 0.0
+    for name, force in parts.items():
+        for comp, (a, b) in (("xy", (0, 1)), ("yy", (1, 1))):
+            want = np.sum(force[:, a] * net["branch"][:, b]) / volume
+            got = float(vals.get("stress_%s_%s" % (name, comp), "nan"))
+            worst = max(worst, abs(got - want) / max(abs(want), 1e-300))
+    check(p.returncode == 0 and int(vals.get("pairs", -1)) == len(net["i"]) and
+          int(vals.get("contacts", -1)) == contacts and
+          abs(float(vals.get("Z_contact", "nan")) - 2.0 * contacts / n) < 1e-5 and
+          abs(fabric - 1.0) < 1e-5 and worst < 1e-5,
+          "example: pair_network.py agrees (exit %s, stress parts within %.1e): %s"
+          % (p.returncode, worst, p.stderr[-300:]))
+
+
 def main():
     lubdem, work = sys.argv[1], sys.argv[2]
     sanitized = "--sanitized" in sys.argv
@@ -130,6 +164,7 @@ def main():
               u["time"] == "1/gd" and u["torque_roll"] == "eta*gd*a^3",
               "volume: units %s" % u)
         print("pair_network_pairs=%d" % len(got))
+        check_example(out, net, snap)
 
     # 2. imposed pressure, Delaunay set
     out = run(lubdem, work, "pressure", dict(base, control="pressure", Iv=0.1, pair_network=True,

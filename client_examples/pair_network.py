@@ -1,0 +1,75 @@
+#!/usr/bin/env python3
+"""pair_network.py - first look at the interaction network of a simple_shear result.h5.
+
+    python3 client_examples/pair_network.py result.h5 [--bins N]
+
+The run must have asked for it ("pair_network": true; /pair_network in result.h5, README
+"Interaction network"). Prints, for the network's state (one `name=value` line per figure):
+pairs and contacts, coordination numbers Z = 2 pairs/N and Z_c = 2 contacts/N, the sliding
+fraction of the contacts, the contact fabric tensor <n n> over the contacts, the stress each
+part of the pair forces carries, (1/V) sum F (x) branch (with the box of the last particle
+snapshot, so the run needs "snapshots" >= 1 for it), and a histogram of the normal contact
+forces over their mean. Units as in the file (forces eta gd a^2 or P a^2, stresses eta gd
+or P).
+(Debian: apt-get install python3-h5py python3-numpy.)"""
+import argparse
+
+import h5py
+import numpy as np
+
+PARTS = (("normal_contact", "force_normal_contact", None),
+         ("tangential_contact", None, "force_tangential_contact"),
+         ("normal_lubrication", "force_normal_lubrication", None),
+         ("tangential_lubrication", None, "force_tangential_lubrication"))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("result")
+    ap.add_argument("--bins", type=int, default=8, help="histogram bins of f/<f> (default 8)")
+    a = ap.parse_args()
+    with h5py.File(a.result, "r") as f:
+        if "pair_network" not in f:
+            raise SystemExit("%s has no /pair_network (run with \"pair_network\": true)"
+                             % a.result)
+        net = {k: f["pair_network/" + k][()] for k in f["pair_network"]}
+        unit = f["pair_network/force_normal_contact"].attrs["unit"]
+        unit = unit.decode() if isinstance(unit, bytes) else str(unit)
+        n = len(f["particles/all/radius"]) if "particles/all/radius" in f else None
+        edges = (f["particles/all/box/edges/value"][-1]
+                 if "particles/all/box/edges/value" in f else None)
+    contact = net["contact"] == 1
+    pairs, contacts = len(contact), int(contact.sum())
+    print("step=%d" % net["step"][0])
+    print("pairs=%d" % pairs)
+    print("contacts=%d" % contacts)
+    print("sliding_fraction=%.6g" % (net["sliding"][contact].mean() if contacts else 0.0))
+    if n:
+        print("Z=%.6g" % (2.0 * pairs / n))
+        print("Z_contact=%.6g" % (2.0 * contacts / n))
+    branch = net["branch"]
+    normal = branch / np.linalg.norm(branch, axis=1)[:, None]
+    if contacts:
+        fabric = np.einsum("ka,kb->ab", normal[contact], normal[contact]) / contacts
+        for a_, b_ in ((0, 0), (1, 1), (2, 2), (0, 1)):
+            print("fabric_%s%s=%.6g" % ("xyz"[a_], "xyz"[b_], fabric[a_, b_]))
+    if edges is not None:
+        volume = abs(np.linalg.det(edges))
+        print("stress_unit=%s" % unit.replace("*a^2", ""))
+        for name, normal_key, vector_key in PARTS:
+            force = (normal * net[normal_key][:, None]) if normal_key else net[vector_key]
+            sigma = force.T @ branch / volume  # sigma_ab = sum F_a branch_b / V
+            print("stress_%s_xy=%.6g" % (name, sigma[0, 1]))
+            print("stress_%s_yy=%.6g" % (name, sigma[1, 1]))
+    if contacts:
+        fn = -net["force_normal_contact"][contact]  # repulsive: positive
+        hist, bounds = np.histogram(fn / fn.mean(), bins=a.bins, range=(0.0, 4.0))
+        print("contact_force_mean=%.6g  # %s" % (fn.mean(), unit))
+        for k in range(a.bins):
+            print("contact_force_hist_%.2f_%.2f=%.6g"
+                  % (bounds[k], bounds[k + 1], hist[k] / contacts))
+        print("contact_force_above_%.2f=%.6g" % (bounds[-1], np.mean(fn / fn.mean() > 4.0)))
+
+
+if __name__ == "__main__":
+    main()
