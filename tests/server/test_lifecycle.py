@@ -619,11 +619,17 @@ def run():
             db.execute("DELETE FROM results WHERE job_id = ?", (rs_ext["jobID"],))
         db.close()
         T.check(os.path.isdir(cut_dir), "the purged job's folder is there before the start")
-        srv8.workers = 1
+        # (still without workers: with one, the continuation could end, and free the kept
+        # folder, before the check)
         srv8.start()
         T.check(not os.path.exists(cut_dir) and os.path.isdir(rs_dir),
                 "the start frees the folder of the deletion cut short, and keeps the one "
                 "kept for a queued continuation")
+    finally:
+        T.check(srv8.stop() == 0, "clean stop with the continuation still queued")
+    try:
+        srv8.workers = 1
+        srv8.start()
         lost = T.wait_final(srv8, tok, lost_id, timeout=120)
         T.check(lost["status"] == "failed" and "checkpoint.h5" in lost.get("message", "") and
                 "not kept for this one" in lost.get("message", ""),
