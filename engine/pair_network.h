@@ -12,12 +12,12 @@
  * flip in s->flips) like any other (the simple_shear scene leaves it out of its summary).
  *
  * Units: those of the system (the simple_shear scene: a = 1, eta = 1, gd = 1 or P = 1).
- * Signs: forces and torques act on body i (body j receives minus the force; the roll and twist
- * torques: minus, the torque of the shear force: its own arm); normal parts are components
- * along n = branch/|branch|, negative when repulsive.
- * Memory: lub_shear_pair_network allocates the arrays (freed by lub_pair_network_free, also
- * after a failure); nothing else.
- * Threads: serial (one pass over the pairs, at the end of a run).
+ * Signs: forces and torques act on body i (body j receives minus the force and minus the roll
+ * and twist torques; the torque of the shear force on j follows from j's own lever arm);
+ * normal parts are components along n = branch/|branch|, negative when repulsive.
+ * Memory: lub_shear_pair_network allocates the arrays, sized to the interacting pairs (freed
+ * by lub_pair_network_free, also after a failure); nothing else.
+ * Threads: serial (two passes over the pairs: count, then evaluate).
  */
 #ifndef LUBDEM_PAIR_NETWORK_H
 #define LUBDEM_PAIR_NETWORK_H
