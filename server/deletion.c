@@ -34,15 +34,25 @@ int lubd_deletion_free(sqlite3 *db, const char *jobs_dir, const char *id, char *
     return 0;
 }
 
-int lubd_deletion_continuation_ended(sqlite3 *db, const char *jobs_dir, const char *id,
-                                     const char *source_id, char *why, size_t why_len)
+/* Removes jobs_dir/<id>/continued-from/: 1 removed, 0 not there, -1 not removable (*why). */
+static int drop_handed_files(const char *jobs_dir, const char *id, char *why, size_t why_len)
 {
     char handed[1300];
     lubd_pathf(handed, sizeof handed, "%s/%s/" LUBD_CONTINUED_FROM, jobs_dir, id);
+    if (access(handed, F_OK) != 0)
+        return 0;
     if (lubd_rm_rf(handed) != 0) {
         lubd_pathf(why, why_len, "could not delete %s: %s", handed, strerror(errno));
         return -1;
     }
+    return 1;
+}
+
+int lubd_deletion_continuation_ended(sqlite3 *db, const char *jobs_dir, const char *id,
+                                     const char *source_id, char *why, size_t why_len)
+{
+    if (drop_handed_files(jobs_dir, id, why, why_len) < 0)
+        return -1;
     lubd_job source;
     if (!source_id[0] || lubd_queue_get(db, source_id, &source) != 1 || !source.purged)
         return 0;
@@ -54,21 +64,11 @@ int lubd_deletion_continuation_ended(sqlite3 *db, const char *jobs_dir, const ch
 static int sweep_one(sqlite3 *db, const char *jobs_dir, const lubd_job *j, char *why,
                      size_t why_len)
 {
-    if (j->purged) {
-        const int rc = lubd_deletion_free(db, jobs_dir, j->id, why, why_len);
-        return rc == 0 ? 1 : -1;
-    }
+    if (j->purged)
+        return lubd_deletion_free(db, jobs_dir, j->id, why, why_len) == 0 ? 1 : -1;
     if (!j->continue_from[0] || !lubd_job_finished(j))
         return 0;
-    char handed[1300];
-    lubd_pathf(handed, sizeof handed, "%s/%s/" LUBD_CONTINUED_FROM, jobs_dir, j->id);
-    if (access(handed, F_OK) != 0)
-        return 0;
-    if (lubd_rm_rf(handed) != 0) {
-        lubd_pathf(why, why_len, "could not delete %s: %s", handed, strerror(errno));
-        return -1;
-    }
-    return 1;
+    return drop_handed_files(jobs_dir, j->id, why, why_len);
 }
 
 int lubd_deletion_sweep(sqlite3 *db, const char *jobs_dir, int quiet)
