@@ -1,5 +1,5 @@
-/* h5md_continue.c — a stopped run's time series and snapshots into its continuation's file
- * (see h5md_continue.h). */
+/* h5md_continue.c — a stopped run's time series, snapshots and frame sets into its continuation's
+ * file (see h5md_continue.h). */
 #include "h5md_continue.h"
 
 #include <stdio.h>
@@ -114,6 +114,94 @@ int lub_h5_continue_output(const char *path, lub_h5_table *to_table, int nseries
         rc = lub_h5_continue_table(from, to_table, nseries, names, ncomp, rows, err, len);
     if (rc == 0)
         rc = lub_h5_continue_snapshots(from, to, n, frames, err, len);
+    lub_h5r_close(from);
+    return rc;
+}
+
+/* The frame index (step, time, row_start, row_count of frames [0, frames)) of group into the
+ * arrays; 0, or -1 with err[len]. */
+static int read_frame_index(lub_h5_reader *from, const char *group, int64_t frames, int64_t *step,
+                            double *time, int64_t *start, int64_t *count, char *err, size_t len)
+{
+    const char *names[4] = {"step", "time", "row_start", "row_count"};
+    void *outs[4] = {step, time, start, count};
+    for (int k = 0; k < 4; ++k) {
+        char path[160];
+        snprintf(path, sizeof path, "/%s/%s", group, names[k]);
+        if (lub_h5r_rows(from, path, k == 1 ? LUB_H5_F64 : LUB_H5_I64, 1, 0, frames, outs[k],
+                         NULL)) {
+            snprintf(err, len, "the stopped run's file does not hold %lld frames of /%s: %s",
+                     (long long)frames, group, lub_h5r_error(from));
+            return -1;
+        }
+    }
+    for (int64_t k = 0, rows = 0; k < frames; rows += count[k], ++k)
+        if (start[k] != rows || count[k] < 0) {
+            snprintf(err, len,
+                     "frame %lld of /%s in the stopped run's file: rows from %lld, "
+                     "%lld of them (expected from %lld)",
+                     (long long)k, group, (long long)start[k], (long long)count[k],
+                     (long long)rows);
+            return -1;
+        }
+    return 0;
+}
+
+int lub_h5_continue_frames(const char *path, lub_h5_frames *to, const char *group, int ncol,
+                           const lub_h5_column *cols, int64_t frames, char *err, size_t len)
+{
+    if (frames <= 0)
+        return 0;
+    lub_h5_reader *from = lub_h5r_open(path, err, len);
+    if (!from)
+        return -1;
+    int64_t *step = malloc((size_t)frames * sizeof *step);
+    double *time = malloc((size_t)frames * sizeof *time);
+    int64_t *start = malloc((size_t)frames * sizeof *start);
+    int64_t *count = malloc((size_t)frames * sizeof *count);
+    void **columns = calloc((size_t)ncol, sizeof *columns);
+    int rc = 0;
+    if (!step || !time || !start || !count || !columns) {
+        snprintf(err, len, "out of memory (frames of /%s of the stopped run)", group);
+        rc = -1;
+    }
+    if (rc == 0)
+        rc = read_frame_index(from, group, frames, step, time, start, count, err, len);
+    int64_t largest = 0;
+    for (int64_t k = 0; k < frames && rc == 0; ++k)
+        largest = count[k] > largest ? count[k] : largest;
+    for (int c = 0; c < ncol && rc == 0; ++c) {
+        const size_t bytes = cols[c].type == LUB_H5_I8 ? 1u : 8u;
+        columns[c] = malloc((size_t)(largest > 0 ? largest : 1) * (size_t)cols[c].ncomp * bytes);
+        if (!columns[c]) {
+            snprintf(err, len, "out of memory (frames of /%s of the stopped run)", group);
+            rc = -1;
+        }
+    }
+    for (int64_t k = 0; k < frames && rc == 0; ++k) {
+        for (int c = 0; c < ncol && rc == 0; ++c) {
+            char col_path[160];
+            snprintf(col_path, sizeof col_path, "/%s/%s", group, cols[c].name);
+            if (lub_h5r_rows(from, col_path, (int)cols[c].type, cols[c].ncomp, start[k], count[k],
+                             columns[c], NULL)) {
+                snprintf(err, len, "cannot read frame %lld of /%s: %s", (long long)k, group,
+                         lub_h5r_error(from));
+                rc = -1;
+            }
+        }
+        if (rc == 0 &&
+            lub_h5_frames_append(to, step[k], time[k], count[k], (const void *const *)columns)) {
+            snprintf(err, len, "cannot copy frame %lld of /%s", (long long)k, group);
+            rc = -1;
+        }
+    }
+    for (int c = 0; c < ncol && columns; ++c)
+        free(columns[c]);
+    free(columns);
+    free(step);
+    free(time);
+    free(start);
+    free(count);
     lub_h5r_close(from);
     return rc;
 }

@@ -1,10 +1,11 @@
 /* h5md_continue.h — the output of a stopped run carried into the result.h5 of its continuation:
- * the first rows of a time-series table and the first particle snapshots of the old file
- * (h5md_reader.h) appended, unchanged, to a new file (h5md_writer.h), after which the continued
- * run appends its own.
+ * the first rows of a time-series table, the first particle snapshots and the first frames of
+ * a frame set of the old file (h5md_reader.h) appended, unchanged, to a new file
+ * (h5md_writer.h), after which the continued run appends its own.
  *
  * Units: as stored. Ownership: borrows the reader and the writer. Memory: one chunk of
- * LUB_H5_CONTINUE_ROWS rows of every series, or one frame, at a time. Error behaviour: 0, or -1
+ * LUB_H5_CONTINUE_ROWS rows of every series, or one frame, at a time (a frame set: the
+ * largest of the copied frames). Error behaviour: 0, or -1
  * with err[len] naming the series or frame that could not be read or written (the old file
  * holds fewer rows or frames than asked for, another shape, an HDF5 error).
  */
@@ -36,5 +37,12 @@ int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_
 int lub_h5_continue_output(const char *path, lub_h5_table *to_table, int nseries,
                            const char *const *names, const int *ncomp, int64_t rows, lub_h5 *to,
                            int64_t n, int64_t frames, char *err, size_t len);
+
+/* Frames [0, frames) of the frame set `group` (its columns cols[ncol], as given to
+ * lub_h5_frames_define) of the file at `path` appended to `to`; frames 0 copies nothing and
+ * opens nothing. The old frames must be numbered as written (row_start of each = the rows
+ * before it). */
+int lub_h5_continue_frames(const char *path, lub_h5_frames *to, const char *group, int ncol,
+                           const lub_h5_column *cols, int64_t frames, char *err, size_t len);
 
 #endif

@@ -2,6 +2,7 @@
 #include "h5md_reader.h"
 
 #include "h5_read.h"
+#include "h5md_writer.h"
 
 #include <errno.h>
 #include <hdf5.h>
@@ -385,4 +386,33 @@ int lub_h5r_frame_read(lub_h5_reader *r, int64_t k, int64_t *step, double *time,
         (pos && read_rows(&r->p_pos, H5T_NATIVE_DOUBLE, k, 1, pos) < 0))
         return fail(r, "result file: cannot read frame %lld of %.200s", (long long)k, r->path);
     return 0;
+}
+
+int lub_h5r_rows(lub_h5_reader *r, const char *path, int type, int ncomp, int64_t row0,
+                 int64_t count, void *out, int64_t *total)
+{
+    dataset d;
+    const int opened = dataset_open(r->file, path, &d);
+    if (opened != 0)
+        return fail(r, "%s: %s", path, opened > 0 ? "absent" : "not a readable dataset");
+    const int rank_ok = ncomp == 1 ? d.rank == 1 : d.rank == 2 && d.dims[1] == (hsize_t)ncomp;
+    const int64_t rows = (int64_t)d.dims[0];
+    int rc = 0;
+    if (!rank_ok) {
+        rc = fail(r, "%s: not %d component%s per row", path, ncomp, ncomp == 1 ? "" : "s");
+    } else if (row0 < 0 || count < 0 || row0 > rows || count > rows - row0) {
+        rc = fail(r, "%s: %lld rows from row %lld asked for, %lld held", path, (long long)count,
+                  (long long)row0, (long long)rows);
+    } else if (count > 0) {
+        const hid_t mtype = type == LUB_H5_I64  ? H5T_NATIVE_INT64
+                            : type == LUB_H5_I8 ? H5T_NATIVE_INT8
+                                                : H5T_NATIVE_DOUBLE;
+        if (read_rows(&d, mtype, row0, count, out))
+            rc = fail(r, "%s: cannot read rows %lld to %lld", path, (long long)row0,
+                      (long long)(row0 + count - 1));
+    }
+    if (rc == 0 && total)
+        *total = rows;
+    dataset_close(&d);
+    return rc;
 }

@@ -51,4 +51,11 @@ int lub_h5r_frames(lub_h5_reader *r, int64_t *frames, int64_t *n_particles);
 int lub_h5r_frame_read(lub_h5_reader *r, int64_t k, int64_t *step, double *time, double *edges,
                        double *pos, double *vel, double *omega);
 
+/* Rows [row0, row0 + count) of the dataset at `path` (from the root; rank 1 with ncomp 1,
+ * or [R][ncomp]) into out (count * ncomp values of `type`, a lub_h5_type of h5md_writer.h:
+ * the frame sets' columns); *total (may be NULL) gets its row count. -1 when it is absent,
+ * of another shape, or the rows are out of range; count 0 reads nothing. */
+int lub_h5r_rows(lub_h5_reader *r, const char *path, int type, int ncomp, int64_t row0,
+                 int64_t count, void *out, int64_t *total);
+
 #endif

@@ -14,6 +14,10 @@
 
 #define ROWS_PER_CHUNK 1024
 #define MAX_TABLES 32
+#define MAX_FRAME_SETS 4
+#define MAX_FRAME_COLUMNS 24
+#define FRAME_CHUNK_ROWS 4096 /* rows of a frame set's column per chunk */
+#define FRAME_INDEX_CHUNK 64  /* frames of its step, time, row_start, row_count per chunk */
 
 struct lub_h5_table {
     lub_h5 *file;
@@ -31,8 +35,24 @@ struct lub_h5_table {
     int64_t nwritten;
 };
 
+struct lub_h5_frames {
+    lub_h5 *file;
+    char group[64];
+    int ncol;
+    lub_h5_type type[MAX_FRAME_COLUMNS];
+    int ncomp[MAX_FRAME_COLUMNS];
+    hid_t col_ds[MAX_FRAME_COLUMNS];
+    hid_t step_ds, time_ds, start_ds, count_ds;
+    int64_t frames, rows, last_step;
+    /* room (lub_h5_frames_skipped) */
+    int64_t skipped, first_skipped_step;
+    char skip_reason[256];
+};
+
 struct lub_h5 {
     hid_t file;
+    lub_h5_frames *frame_sets[MAX_FRAME_SETS];
+    int nframe_sets;
     char err[256];
     lub_h5_table *tables[MAX_TABLES];
     int ntables;
@@ -498,9 +518,11 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const ch
     return 0;
 }
 
-/* 1 if a frame of frame_bytes leaves LUB_H5_SNAPSHOT_RESERVE_BYTES below the file-size limit
- * and on the file system; otherwise 0 with f->skip_reason set. */
-static int snapshot_fits(lub_h5 *f, uint64_t frame_bytes)
+/* 1 if `what` (a frame of frame_bytes: "a snapshot", "a frame of /pair_network") leaves
+ * LUB_H5_SNAPSHOT_RESERVE_BYTES below the file-size limit and on the file system; otherwise 0
+ * with reason[len] set. */
+static int room_for(const lub_h5 *f, const char *what, uint64_t frame_bytes, char *reason,
+                    size_t len)
 {
     hsize_t size = 0;
     if (H5Fget_filesize(f->file, &size) < 0)
@@ -508,23 +530,23 @@ static int snapshot_fits(lub_h5 *f, uint64_t frame_bytes)
     const uint64_t need = (uint64_t)size + frame_bytes + LUB_H5_SNAPSHOT_RESERVE_BYTES;
     const double mb = 1.0 / (1024.0 * 1024.0);
     if (need > f->byte_limit) {
-        snprintf(
-            f->skip_reason, sizeof f->skip_reason,
-            "a snapshot of %.3g MiB would bring result.h5 (%.4g MiB) within %.0f MiB of "
-            "the file-size limit of %.4g MiB this process runs under (RLIMIT_FSIZE: ulimit -f, "
-            "lubdemd --fsize-mb)",
-            frame_bytes * mb, size * mb, (double)LUB_H5_SNAPSHOT_RESERVE_BYTES * mb,
-            f->byte_limit * mb);
+        snprintf(reason, len,
+                 "%s of %.3g MiB would bring result.h5 (%.4g MiB) within %.0f MiB of "
+                 "the file-size limit of %.4g MiB this process runs under (RLIMIT_FSIZE: ulimit "
+                 "-f, lubdemd --fsize-mb)",
+                 what, frame_bytes * mb, size * mb, (double)LUB_H5_SNAPSHOT_RESERVE_BYTES * mb,
+                 f->byte_limit * mb);
         return 0;
     }
     struct statvfs fs;
     if (f->path && statvfs(f->path, &fs) == 0) {
         const uint64_t avail = (uint64_t)fs.f_bavail * (uint64_t)fs.f_frsize;
         if (frame_bytes + LUB_H5_SNAPSHOT_RESERVE_BYTES > avail) {
-            snprintf(f->skip_reason, sizeof f->skip_reason,
-                     "a snapshot of %.3g MiB would leave less than %.0f MiB free on the output "
+            snprintf(reason, len,
+                     "%s of %.3g MiB would leave less than %.0f MiB free on the output "
                      "file system (%.4g MiB free)",
-                     frame_bytes * mb, (double)LUB_H5_SNAPSHOT_RESERVE_BYTES * mb, avail * mb);
+                     what, frame_bytes * mb, (double)LUB_H5_SNAPSHOT_RESERVE_BYTES * mb,
+                     avail * mb);
             return 0;
         }
     }
@@ -556,7 +578,8 @@ int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double
     const uint64_t frame_bytes =
         (uint64_t)f->np * 3u * sizeof(double) * (1u + (vel != NULL) + (omega != NULL)) +
         2u * sizeof(double) + 9u * sizeof(double);
-    if (f->frames_skipped > 0 || !snapshot_fits(f, frame_bytes)) {
+    if (f->frames_skipped > 0 ||
+        !room_for(f, "a snapshot", frame_bytes, f->skip_reason, sizeof f->skip_reason)) {
         if (f->frames_skipped++ == 0)
             f->first_skipped_step = step;
         return 0;
@@ -579,6 +602,20 @@ int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double
     return 0;
 }
 
+static hid_t file_type_of(lub_h5_type type)
+{
+    return type == LUB_H5_I64 ? H5T_STD_I64LE : type == LUB_H5_I8 ? H5T_STD_I8LE : H5T_IEEE_F64LE;
+}
+
+static hid_t mem_type_of(lub_h5_type type)
+{
+    return type == LUB_H5_I64  ? H5T_NATIVE_INT64
+           : type == LUB_H5_I8 ? H5T_NATIVE_INT8
+                               : H5T_NATIVE_DOUBLE;
+}
+
+static size_t value_bytes(lub_h5_type type) { return type == LUB_H5_I8 ? 1u : 8u; }
+
 int lub_h5_write_dataset(lub_h5 *f, const char *path, lub_h5_type type, int rank,
                          const int64_t *dims, const void *data, const char *unit)
 {
@@ -586,12 +623,8 @@ int lub_h5_write_dataset(lub_h5 *f, const char *path, lub_h5_type type, int rank
         return set_err(f, "write array of rank other than 1 or 2:", path);
     if (f->lost)
         return 0;
-    const hid_t file_type = type == LUB_H5_I64  ? H5T_STD_I64LE
-                            : type == LUB_H5_I8 ? H5T_STD_I8LE
-                                                : H5T_IEEE_F64LE;
-    const hid_t mem_type = type == LUB_H5_I64  ? H5T_NATIVE_INT64
-                           : type == LUB_H5_I8 ? H5T_NATIVE_INT8
-                                               : H5T_NATIVE_DOUBLE;
+    const hid_t file_type = file_type_of(type);
+    const hid_t mem_type = mem_type_of(type);
     hsize_t hd[2] = {(hsize_t)dims[0], rank > 1 ? (hsize_t)dims[1] : 1};
     hid_t sp = H5Screate_simple(rank, hd, NULL);
     hid_t l = lcpl_intermediate();
@@ -612,6 +645,135 @@ int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dim
     char path[512];
     snprintf(path, sizeof path, "profiles/%s", name);
     return lub_h5_write_dataset(f, path, LUB_H5_F64, rank, dims, data, unit);
+}
+
+static void frames_free(lub_h5_frames *fr)
+{
+    hid_t ids[4] = {fr->step_ds, fr->time_ds, fr->start_ds, fr->count_ds};
+    for (int k = 0; k < 4; ++k)
+        if (ids[k] >= 0)
+            H5Dclose(ids[k]);
+    for (int c = 0; c < fr->ncol; ++c)
+        if (fr->col_ds[c] >= 0)
+            H5Dclose(fr->col_ds[c]);
+    free(fr);
+}
+
+/* An extendible dataset `name` of group g with a "unit" attribute; H5I_INVALID_HID on error. */
+static hid_t frames_dataset(hid_t g, const char *name, lub_h5_type type, int ncomp,
+                            hsize_t chunk_rows, int compress, const char *unit)
+{
+    const hsize_t width[1] = {(hsize_t)ncomp};
+    hid_t d = create_extendible(g, name, file_type_of(type), ncomp > 1 ? 2 : 1, width, chunk_rows,
+                                compress);
+    if (d >= 0 && unit && write_string_attr(d, "unit", unit)) {
+        H5Dclose(d);
+        d = H5I_INVALID_HID;
+    }
+    return d;
+}
+
+lub_h5_frames *lub_h5_frames_define(lub_h5 *f, const char *group, int ncol,
+                                    const lub_h5_column *cols, const char *time_unit)
+{
+    if (f->nframe_sets >= MAX_FRAME_SETS || ncol < 1 || ncol > MAX_FRAME_COLUMNS ||
+        strlen(group) >= sizeof((lub_h5_frames *)0)->group) {
+        set_err(f, "define the frame set (too many sets or columns, or a long name)", group);
+        return NULL;
+    }
+    lub_h5_frames *fr = calloc(1, sizeof *fr);
+    if (!fr) {
+        set_err(f, "define (out of memory)", group);
+        return NULL;
+    }
+    fr->file = f;
+    snprintf(fr->group, sizeof fr->group, "%s", group);
+    fr->ncol = ncol;
+    fr->last_step = -1;
+    fr->step_ds = fr->time_ds = fr->start_ds = fr->count_ds = H5I_INVALID_HID;
+    for (int c = 0; c < MAX_FRAME_COLUMNS; ++c)
+        fr->col_ds[c] = H5I_INVALID_HID;
+    for (int c = 0; c < ncol; ++c) {
+        if (cols[c].ncomp < 1 || cols[c].ncomp > 9) {
+            set_err(f, "define a column of 1 to 9 components:", cols[c].name);
+            free(fr);
+            return NULL;
+        }
+        fr->type[c] = cols[c].type;
+        fr->ncomp[c] = cols[c].ncomp;
+    }
+    f->frame_sets[f->nframe_sets++] = fr; /* freed by lub_h5_finish, also after an error */
+    if (f->lost)
+        return fr; /* appends do nothing */
+    hid_t g = make_group(f->file, group);
+    int bad = g < 0;
+    if (!bad) {
+        fr->step_ds = frames_dataset(g, "step", LUB_H5_I64, 1, FRAME_INDEX_CHUNK, 0, "1");
+        fr->time_ds = frames_dataset(g, "time", LUB_H5_F64, 1, FRAME_INDEX_CHUNK, 0, time_unit);
+        fr->start_ds = frames_dataset(g, "row_start", LUB_H5_I64, 1, FRAME_INDEX_CHUNK, 0, "1");
+        fr->count_ds = frames_dataset(g, "row_count", LUB_H5_I64, 1, FRAME_INDEX_CHUNK, 0, "1");
+        bad = fr->step_ds < 0 || fr->time_ds < 0 || fr->start_ds < 0 || fr->count_ds < 0;
+        for (int c = 0; c < ncol && !bad; ++c) {
+            fr->col_ds[c] = frames_dataset(g, cols[c].name, cols[c].type, cols[c].ncomp,
+                                           FRAME_CHUNK_ROWS, 1, cols[c].unit);
+            bad = fr->col_ds[c] < 0;
+        }
+        H5Gclose(g);
+    }
+    if (bad && write_failed(f, "create", group, -1))
+        return NULL;
+    return fr;
+}
+
+int lub_h5_frames_append(lub_h5_frames *fr, int64_t step, double time, int64_t rows,
+                         const void *const *columns)
+{
+    lub_h5 *f = fr->file;
+    if (f->lost)
+        return 0;
+    uint64_t frame_bytes = 4u * 8u;
+    for (int c = 0; c < fr->ncol; ++c)
+        frame_bytes += (uint64_t)rows * (uint64_t)fr->ncomp[c] * value_bytes(fr->type[c]);
+    char what[96];
+    snprintf(what, sizeof what, "a frame of /%s", fr->group);
+    if (fr->skipped > 0 ||
+        !room_for(f, what, frame_bytes, fr->skip_reason, sizeof fr->skip_reason)) {
+        if (fr->skipped++ == 0)
+            fr->first_skipped_step = step;
+        return 0;
+    }
+    const int64_t at = fr->frames, start = fr->rows;
+    int rc = append_rows(fr->step_ds, H5T_NATIVE_INT64, 1, NULL, at, 1, &step);
+    rc |= append_rows(fr->time_ds, H5T_NATIVE_DOUBLE, 1, NULL, at, 1, &time);
+    rc |= append_rows(fr->start_ds, H5T_NATIVE_INT64, 1, NULL, at, 1, &start);
+    rc |= append_rows(fr->count_ds, H5T_NATIVE_INT64, 1, NULL, at, 1, &rows);
+    for (int c = 0; c < fr->ncol && rows > 0; ++c) {
+        const hsize_t width[1] = {(hsize_t)fr->ncomp[c]};
+        rc |= append_rows(fr->col_ds[c], mem_type_of(fr->type[c]), fr->ncomp[c] > 1 ? 2 : 1, width,
+                          start, rows, columns[c]);
+    }
+    if (rc)
+        return write_failed(f, "append a frame to", fr->group, step);
+    fr->frames++;
+    fr->rows += rows;
+    fr->last_step = step;
+    return 0;
+}
+
+int64_t lub_h5_frames_written(const lub_h5_frames *fr, int64_t *last_step)
+{
+    if (last_step)
+        *last_step = fr->last_step;
+    return fr->frames;
+}
+
+int64_t lub_h5_frames_skipped(const lub_h5_frames *fr, int64_t *first_step, char *why, size_t len)
+{
+    if (first_step)
+        *first_step = fr->first_skipped_step;
+    if (why && len > 0)
+        snprintf(why, len, "%s", fr->skipped > 0 ? fr->skip_reason : "");
+    return fr->skipped;
 }
 
 int lub_h5_flush(lub_h5 *f)
@@ -635,6 +797,8 @@ int lub_h5_finish(lub_h5 *f, const char *status, char *why, size_t len)
         rc |= table_flush(f->tables[i]);
         table_free(f->tables[i]);
     }
+    for (int i = 0; i < f->nframe_sets; ++i)
+        frames_free(f->frame_sets[i]);
     hid_t handles[6] = {f->p_step, f->p_time, f->p_pos, f->p_vel, f->p_omega, f->p_edges};
     for (int i = 0; i < 6; ++i)
         if (handles[i] >= 0)

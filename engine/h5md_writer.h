@@ -6,6 +6,10 @@
  *   /particles/all/...         optional snapshots: box, position, velocity, angular_velocity,
  *                              radius, id (positions are unwrapped coordinates)
  *   /profiles/<name>           free-form arrays (profiles, distributions), attribute "unit"
+ *   /<group> (frame sets)      records of a varying count per frame (an interaction network):
+ *                              step int64[F], time f64[F], row_start int64[F], row_count
+ *                              int64[F]; columns <name> [R] | [R][ncomp], frame k's rows
+ *                              row_start[k] .. row_start[k] + row_count[k] - 1
  *   /parameters                spec_verbatim, spec_resolved (JSON strings), units, build
  *   root attribute "status"    "running" | "complete" | "partial" | "failed"
  *
@@ -81,6 +85,31 @@ void lub_h5_set_byte_limit(lub_h5 *f, uint64_t bytes);
 typedef enum { LUB_H5_F64, LUB_H5_I64, LUB_H5_I8 } lub_h5_type;
 int lub_h5_write_dataset(lub_h5 *f, const char *path, lub_h5_type type, int rank,
                          const int64_t *dims, const void *data, const char *unit);
+
+/* Frame sets: records whose number changes from frame to frame, all frames' rows
+ * concatenated in each column (layout above; columns chunked by 4096 rows and compressed).
+ * lub_h5_frames_define makes the group and its empty datasets, each with its "unit"
+ * attribute; the set belongs to f (freed by lub_h5_finish; at most 4 sets of at most 24
+ * columns); NULL on an HDF5 error (lub_h5_last_error). Nothing passed in is kept. */
+typedef struct {
+    const char *name;
+    lub_h5_type type;
+    int ncomp; /* 1: a column [R]; 2 to 9: [R][ncomp] */
+    const char *unit;
+} lub_h5_column;
+typedef struct lub_h5_frames lub_h5_frames;
+lub_h5_frames *lub_h5_frames_define(lub_h5 *f, const char *group, int ncol,
+                                    const lub_h5_column *cols, const char *time_unit);
+/* Appends one frame of `rows` records: columns[c] holds rows * ncomp values of column c, of
+ * its type (rows may be 0). Room: as for particle snapshots (LUB_H5_SNAPSHOT_RESERVE_BYTES),
+ * a frame that would not fit is not written, nor is any later one of the set, and the call
+ * returns 0 (lub_h5_frames_skipped). Errors as the other writes (lub_h5_output_lost). */
+int lub_h5_frames_append(lub_h5_frames *fr, int64_t step, double time, int64_t rows,
+                         const void *const *columns);
+/* Frames written so far; *last_step (may be NULL) the step of the last (-1: none). */
+int64_t lub_h5_frames_written(const lub_h5_frames *fr, int64_t *last_step);
+/* Frames not written for lack of room, as lub_h5_snapshots_skipped. */
+int64_t lub_h5_frames_skipped(const lub_h5_frames *fr, int64_t *first_step, char *why, size_t len);
 
 /* Free-form dataset under /profiles (rank 1 or 2, row-major), with a "unit" attribute. */
 int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
