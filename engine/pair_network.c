@@ -25,9 +25,16 @@ void lub_pair_network_free(lub_pair_network *net)
     *net = (lub_pair_network){0};
 }
 
-static int network_alloc(lub_pair_network *net, size_t cap)
+/* Room for `need` pairs: the arrays kept when they have it, otherwise replaced by arrays for
+ * need + need / 4 (a later network of a few more pairs allocates nothing). 0, or -1 with the
+ * network emptied. */
+static int network_reserve(lub_pair_network *net, size_t need)
 {
-    const size_t c = cap > 0 ? cap : 1;
+    if (net->i && need <= net->cap)
+        return 0;
+    lub_pair_network_free(net);
+    const size_t c = need + need / 4 > 0 ? need + need / 4 : 1;
+    net->cap = c;
     net->i = malloc(c * sizeof *net->i);
     net->j = malloc(c * sizeof *net->j);
     net->image = malloc(3 * c * sizeof *net->image);
@@ -42,11 +49,12 @@ static int network_alloc(lub_pair_network *net, size_t cap)
     net->fs_lub = malloc(3 * c * sizeof *net->fs_lub);
     net->torque_roll = malloc(3 * c * sizeof *net->torque_roll);
     net->torque_twist = malloc(3 * c * sizeof *net->torque_twist);
-    return net->i && net->j && net->image && net->branch && net->centre_gap && net->gap &&
-                   net->contact && net->sliding && net->fn_contact && net->fn_lub &&
-                   net->fs_contact && net->fs_lub && net->torque_roll && net->torque_twist
-               ? 0
-               : -1;
+    if (net->i && net->j && net->image && net->branch && net->centre_gap && net->gap &&
+        net->contact && net->sliding && net->fn_contact && net->fn_lub && net->fs_contact &&
+        net->fs_lub && net->torque_roll && net->torque_twist)
+        return 0;
+    lub_pair_network_free(net);
+    return -1;
 }
 
 static void put3(double *dst, size_t k, vec3 v)
@@ -58,7 +66,7 @@ static void put3(double *dst, size_t k, vec3 v)
 
 int lub_shear_pair_network(lub_shear_system *s, lub_pair_network *net)
 {
-    lub_pair_network_free(net);
+    net->n = 0;
     const int rc = lub_shear_complete_list(s);
     if (rc != LUB_SHEAR_OK)
         return rc;
@@ -72,10 +80,8 @@ int lub_shear_pair_network(lub_shear_system *s, lub_pair_network *net)
         inside +=
             lub_pair_input_of(ps, k, &s->cell, &bodies, s->cutoff, s->dt, &in, &un) == LUB_PAIR_OK;
     }
-    if (network_alloc(net, inside) != 0) {
-        lub_pair_network_free(net);
+    if (network_reserve(net, inside) != 0)
         return LUB_SHEAR_NOMEM;
-    }
     size_t m = 0;
     for (size_t k = 0; k < ps->n; ++k) {
         lub_pair_input in;
@@ -92,7 +98,7 @@ int lub_shear_pair_network(lub_shear_system *s, lub_pair_network *net)
                      "pair law non-finite for pair %zu (particles %d, %d; u_n=%.6g) in the "
                      "interaction network at step %ld",
                      k, ps->i[k], ps->j[k], un, s->step);
-            lub_pair_network_free(net);
+            net->n = 0;
             return LUB_SHEAR_NONFINITE;
         }
         net->i[m] = ps->i[k];

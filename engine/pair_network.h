@@ -15,8 +15,10 @@
  * Signs: forces and torques act on body i (body j receives minus the force and minus the roll
  * and twist torques; the torque of the shear force on j follows from j's own lever arm);
  * normal parts are components along n = branch/|branch|, negative when repulsive.
- * Memory: lub_shear_pair_network allocates the arrays, sized to the interacting pairs (freed
- * by lub_pair_network_free, also after a failure); nothing else.
+ * Memory: lub_shear_pair_network sizes the arrays to the interacting pairs (a quarter more
+ * when it allocates) and keeps them for the next call when they are large enough, so that a
+ * network at every snapshot allocates only when the network grows; lub_pair_network_free
+ * frees them (also after a failure).
  * Threads: serial (two passes over the pairs: count, then evaluate).
  */
 #ifndef LUBDEM_PAIR_NETWORK_H
@@ -29,6 +31,7 @@
 
 typedef struct {
     size_t n;             /* interacting pairs */
+    size_t cap;           /* pairs the arrays have room for */
     int64_t *i, *j;       /* [n] particle indices, i < j */
     int64_t *image;       /* [3n] cell image c of j: branch = x_j + H c - x_i */
     double *branch;       /* [3n] centre of i to centre of the image of j */
@@ -44,10 +47,10 @@ typedef struct {
     double *torque_twist; /* [3n] twisting lubrication torque on i */
 } lub_pair_network;
 
-/* Fills *net (its previous arrays are freed) with the network of s at its current state.
- * Returns LUB_SHEAR_OK; LUB_SHEAR_NOMEM; LUB_SHEAR_CELL_TOO_SMALL (from the list completion,
- * s->fail_msg set); or LUB_SHEAR_NONFINITE when the law fails for a pair (s->fail_msg names
- * it). On failure *net is empty. */
+/* Fills *net (zeroed, or from an earlier call) with the network of s at its current state.
+ * Returns LUB_SHEAR_OK; LUB_SHEAR_NOMEM (the arrays freed); LUB_SHEAR_CELL_TOO_SMALL (from the
+ * list completion, s->fail_msg set); or LUB_SHEAR_NONFINITE when the law fails for a pair
+ * (s->fail_msg names it). On failure net->n is 0. */
 int lub_shear_pair_network(lub_shear_system *s, lub_pair_network *net);
 
 /* Frees the arrays and empties *net (safe on an empty or zeroed network). */

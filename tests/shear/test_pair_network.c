@@ -68,7 +68,16 @@ static void check_against_next_step(lub_shear_system *s, const char *what)
                  memcmp(again.fs_contact, net.fs_contact, 3 * net.n * sizeof(double)) == 0 &&
                  memcmp(again.fn_lub, net.fn_lub, net.n * sizeof(double)) == 0,
              "%s: a second network is the same (%zu, %zu pairs)", what, again.n, net.n);
+    /* into the arrays of an earlier network with room: kept (nothing allocated), same records */
+    const int64_t *kept = again.i;
+    const size_t cap = again.cap;
+    rc = lub_shear_pair_network(s, &again);
+    ST_CHECK(rc == LUB_SHEAR_OK && again.i == kept && again.cap == cap && cap >= net.n &&
+                 again.n == net.n && memcmp(again.j, net.j, net.n * sizeof *net.j) == 0 &&
+                 memcmp(again.torque_roll, net.torque_roll, 3 * net.n * sizeof(double)) == 0,
+             "%s: a network into kept arrays (room %zu) is the same", what, cap);
     lub_pair_network_free(&again);
+    ST_CHECK(again.i == NULL && again.cap == 0 && again.n == 0, "%s: freed and emptied", what);
     ST_CHECK(memcmp(st0, s->pairs.state, n2 * sizeof *st0) == 0 &&
                  memcmp(act0, s->pairs.active, n2) == 0 && memcmp(near0, s->pairs.near, n2) == 0,
              "%s: the network leaves the pair states and flags as they were", what);
