@@ -1,16 +1,17 @@
 #!/usr/bin/env python3
 """pair_network.py - first look at the interaction network of a simple_shear result.h5.
 
-    python3 client_examples/pair_network.py result.h5 [--bins N]
+    python3 client_examples/pair_network.py result.h5 [--frame K] [--bins N]
 
-The run must have asked for it ("pair_network": true; /pair_network in result.h5, README
-"Interaction network"). Prints, for the network's state (one `name=value` line per figure):
-pairs and contacts, coordination numbers Z = 2 pairs/N and Z_c = 2 contacts/N, the sliding
-fraction of the contacts, the contact fabric tensor <n n> over the contacts, the stress each
-part of the pair forces carries, (1/V) sum F (x) branch (with the box of the last particle
-snapshot, so the run needs "snapshots" >= 1 for it), and a histogram of the normal contact
-forces over their mean. Units as in the file (forces eta gd a^2 or P a^2, stresses eta gd
-or P).
+The run must have asked for it ("pair_network": "final" or "snapshots"; /pair_network in
+result.h5, README "Interaction network"). Prints, for one frame of the network (the last
+unless --frame K; K < 0 counts from the end; one `name=value` line per figure): the number of
+frames, the frame's step, pairs and contacts, coordination numbers Z = 2 pairs/N and Z_c =
+2 contacts/N, the sliding fraction of the contacts, the contact fabric tensor <n n> over the
+contacts, the stress each part of the pair forces carries, (1/V) sum F (x) branch (with the
+box of the particle snapshot of the frame's step, so the run needs "snapshots" >= 1 for it),
+and a histogram of the normal contact forces over their mean. Units as in the file (forces
+eta gd a^2 or P a^2, stresses eta gd or P).
 (Debian: apt-get install python3-h5py python3-numpy.)"""
 import argparse
 
@@ -26,21 +27,35 @@ PARTS = (("normal_contact", "force_normal_contact", None),
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("result")
+    ap.add_argument("--frame", type=int, default=-1,
+                    help="which frame (default -1: the last; 0: the first)")
     ap.add_argument("--bins", type=int, default=8, help="histogram bins of f/<f> (default 8)")
     a = ap.parse_args()
     with h5py.File(a.result, "r") as f:
         if "pair_network" not in f:
-            raise SystemExit("%s has no /pair_network (run with \"pair_network\": true)"
+            raise SystemExit("%s has no /pair_network (run with \"pair_network\": \"final\")"
                              % a.result)
-        net = {k: f["pair_network/" + k][()] for k in f["pair_network"]}
-        unit = f["pair_network/force_normal_contact"].attrs["unit"]
+        g = f["pair_network"]
+        steps = g["step"][()]
+        if not -len(steps) <= a.frame < len(steps):
+            raise SystemExit("--frame %d: %s holds %d frames" % (a.frame, a.result, len(steps)))
+        k = a.frame % len(steps)
+        # frame k: rows row_start[k] .. row_start[k] + row_count[k] - 1 of every column
+        first, count = int(g["row_start"][k]), int(g["row_count"][k])
+        net = {key: g[key][first:first + count] for key in g
+               if key not in ("step", "time", "row_start", "row_count")}
+        unit = g["force_normal_contact"].attrs["unit"]
         unit = unit.decode() if isinstance(unit, bytes) else str(unit)
         n = len(f["particles/all/radius"]) if "particles/all/radius" in f else None
-        edges = (f["particles/all/box/edges/value"][-1]
-                 if "particles/all/box/edges/value" in f else None)
+        edges = None  # the box of the snapshot taken at the frame's step
+        if "particles/all/box/edges/value" in f:
+            at = np.flatnonzero(f["particles/all/position/step"][()] == steps[k])
+            if len(at):
+                edges = f["particles/all/box/edges/value"][at[-1]]
     contact = net["contact"] == 1
     pairs, contacts = len(contact), int(contact.sum())
-    print("step=%d" % net["step"][0])
+    print("frames=%d" % len(steps))
+    print("step=%d" % steps[k])
     print("pairs=%d" % pairs)
     print("contacts=%d" % contacts)
     print("sliding_fraction=%.6g" % (net["sliding"][contact].mean() if contacts else 0.0))

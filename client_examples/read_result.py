@@ -15,11 +15,15 @@ with h5py.File(sys.argv[1], "r") as f:
         if "value" in group:
             v = group["value"]
             print("observable %-24s shape %s  last %s" % (name, v.shape, v[-1] if len(v) else None))
-    net = f.get("pair_network")  # simple_shear with "pair_network": true
+    net = f.get("pair_network")  # simple_shear with "pair_network": "final" or "snapshots"
     if net is not None:
-        contact, sliding = net["contact"][()], net["sliding"][()]
-        print("pair network at step %d: %d pairs, %d contacts (%d sliding)"
-              % (net["step"][0], len(contact), contact.sum(), sliding.sum()))
+        # frame k: rows row_start[k] .. row_start[k] + row_count[k] - 1 of every column
+        first, count = int(net["row_start"][-1]), int(net["row_count"][-1])
+        contact = net["contact"][first:first + count]
+        sliding = net["sliding"][first:first + count]
+        print("pair network: %d frame(s); the last, at step %d: %d pairs, %d contacts "
+              "(%d sliding)" % (len(net["step"]), net["step"][-1], count, contact.sum(),
+                                sliding.sum()))
         if "particles/all/radius" in f:
             print("contact number Z_c = 2 contacts / N = %.3f"
                   % (2.0 * contact.sum() / len(f["particles/all/radius"])))

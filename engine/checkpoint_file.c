@@ -392,6 +392,11 @@ static int element_count(lub_ckpt *c, const char *name, hid_t d, int one_d, size
     return 0;
 }
 
+int lub_ckpt_has(const lub_ckpt *c, const char *name)
+{
+    return c && name && *name && lub_h5_path_exists(c->file, name) > 0;
+}
+
 int lub_ckpt_count(lub_ckpt *c, const char *name, size_t *count)
 {
     if (!c)

@@ -59,11 +59,14 @@ typedef struct {
     int pressure;           /* control */
     double servo_gain, servo_filter_strain;
     int pdf_on;
-    int pair_network; /* write the interaction network at the end (pair_network.h) */
+    int pair_network; /* SS_NETWORK_*: when to write the interaction network (pair_network.h) */
     long long pdf_nt, pdf_np;
     double pdf_start, pdf_interval;
     lub_law_spec law;
 } ss_params;
+
+/* /pair_network: none, the final state's, or also at every particle snapshot */
+enum { SS_NETWORK_NONE, SS_NETWORK_FINAL, SS_NETWORK_SNAPSHOTS };
 
 static const lub_law_spec_opts ss_law_opts = {
     .allowed_terms = LUB_TERM_ALL,
@@ -88,6 +91,24 @@ static double ss_min_side(double radius_std, double cutoff, double skin)
     double rmax = fmax(1.0 + 3.0 * radius_std, 1.0);
     double dmax = 2.0 * rmax * (1.0 + 0.5 * cutoff) + skin;
     return 2.0 * dmax / 0.8;
+}
+
+/* /pair_network: "none" (default), "final" or "snapshots"; false and true (the first form of
+ * the member) are read as "none" and "final" and replaced by them in place. */
+static int ss_read_pair_network(json_t *spec, int *mode, lub_error *err)
+{
+    static const char *modes[] = {"none", "final", "snapshots", NULL};
+    json_t *given = json_object_get(spec, "pair_network");
+    if (json_is_boolean(given))
+        json_object_set_new(spec, "pair_network",
+                            json_string(json_is_true(given) ? "final" : "none"));
+    const char *mode_name = NULL;
+    if (lub_spec_enum(spec, "", "pair_network", modes, "none", &mode_name, err))
+        return -1;
+    *mode = strcmp(mode_name, "snapshots") == 0 ? SS_NETWORK_SNAPSHOTS
+            : strcmp(mode_name, "final") == 0   ? SS_NETWORK_FINAL
+                                                : SS_NETWORK_NONE;
+    return 0;
 }
 
 static int ss_read(json_t *spec, ss_params *p, lub_error *err)
@@ -167,7 +188,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                         err) ||
         lub_spec_number(spec, "", "sample_strain", samp_r, 1, 0.02, &p->sample_strain, err) ||
         lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 1, &p->snapshots, err) ||
-        lub_spec_bool(spec, "", "pair_network", 1, 0, &p->pair_network, err) ||
+        ss_read_pair_network(spec, &p->pair_network, err) ||
         lub_spec_number(spec, "", "drag_viscosity", (lub_range){0.0, 1e3, 0, 0}, 1, 0.0,
                         &p->drag_viscosity, err))
         return -1;
@@ -402,63 +423,60 @@ static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
                                      (const double *)s->v, (const double *)s->w);
 }
 
-/* /pair_network of result.h5: the interaction network of the system's current state
- * (pair_network.h), in the units of the run (pressure: a, eta, P; else a, eta, gd). 0, or the
- * exit code with ctx->diagnostic set. */
-static int ss_write_pair_network(lub_run_ctx *ctx, lub_shear_system *s, int pressure)
+/* The columns of /pair_network (a frame set of result.h5, h5md_writer.h) in the units of the
+ * run (pressure: a, eta, P; else a, eta, gd), in the order of ss_network_frame's data. */
+enum { SS_NETWORK_COLUMNS = 14 };
+static void ss_network_columns(int pressure, lub_h5_column cols[SS_NETWORK_COLUMNS])
 {
-    const char *time_unit = pressure ? "eta/P" : "1/gd";
-    const char *force_unit = pressure ? "P*a^2" : "eta*gd*a^2";
-    const char *torque_unit = pressure ? "P*a^3" : "eta*gd*a^3";
-    lub_pair_network net = {0};
-    /* the rebuild the network may do first is not one of the run's steps: the summary's
-     * neighbor_rebuilds and cell_flips stay those of the steps */
+    const char *force = pressure ? "P*a^2" : "eta*gd*a^2";
+    const char *torque = pressure ? "P*a^3" : "eta*gd*a^3";
+    const lub_h5_column c[SS_NETWORK_COLUMNS] = {
+        {"i", LUB_H5_I64, 1, "1"},
+        {"j", LUB_H5_I64, 1, "1"},
+        {"image", LUB_H5_I64, 3, "1"},
+        {"branch", LUB_H5_F64, 3, "a"},
+        {"centre_gap", LUB_H5_F64, 1, "a"},
+        {"gap", LUB_H5_F64, 1, "a"},
+        {"contact", LUB_H5_I8, 1, "1"},
+        {"sliding", LUB_H5_I8, 1, "1"},
+        {"force_normal_contact", LUB_H5_F64, 1, force},
+        {"force_normal_lubrication", LUB_H5_F64, 1, force},
+        {"force_tangential_contact", LUB_H5_F64, 3, force},
+        {"force_tangential_lubrication", LUB_H5_F64, 3, force},
+        {"torque_roll", LUB_H5_F64, 3, torque},
+        {"torque_twist", LUB_H5_F64, 3, torque},
+    };
+    memcpy(cols, c, sizeof c);
+}
+
+/* The interaction network of the system's current state (pair_network.h, computed into net,
+ * whose arrays are kept for the next frame) appended to /pair_network. final: no step of this
+ * run follows. 0, or the exit code with ctx->diagnostic set. */
+static int ss_network_frame(lub_run_ctx *ctx, lub_shear_system *s, lub_h5_frames *frames,
+                            lub_pair_network *net, int final)
+{
+    /* The rebuild the network may do first is the one the next step would do: before a step
+     * it counts (the step control adapts the step after each rebuild it sees, and the step
+     * then does none), at the end it is none of the run's, and the summary's
+     * neighbor_rebuilds and cell_flips stay those of the steps. */
     const long rebuilds = s->rebuilds, flips = s->flips;
-    const int rc = lub_shear_pair_network(s, &net);
-    s->rebuilds = rebuilds;
-    s->flips = flips;
+    const int rc = lub_shear_pair_network(s, net);
+    if (final) {
+        s->rebuilds = rebuilds;
+        s->flips = flips;
+    }
     if (rc != LUB_SHEAR_OK) {
-        snprintf(
-            ctx->diagnostic, sizeof ctx->diagnostic, "interaction network at step %ld: %s", s->step,
-            rc == LUB_SHEAR_NOMEM ? "out of memory (/pair_network: false avoids it)" : s->fail_msg);
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "interaction network at step %ld: %s",
+                 s->step,
+                 rc == LUB_SHEAR_NOMEM ? "out of memory (/pair_network: \"none\" avoids it)"
+                                       : s->fail_msg);
         return rc == LUB_SHEAR_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
     }
-    const int64_t one[1] = {1}, rows[1] = {(int64_t)net.n}, vec[2] = {(int64_t)net.n, 3};
-    const int64_t step = s->step;
-    const struct {
-        const char *name;
-        lub_h5_type type;
-        int rank;
-        const int64_t *dims;
-        const void *data;
-        const char *unit;
-    } sets[] = {
-        {"step", LUB_H5_I64, 1, one, &step, "1"},
-        {"time", LUB_H5_F64, 1, one, &s->time, time_unit},
-        {"i", LUB_H5_I64, 1, rows, net.i, "1"},
-        {"j", LUB_H5_I64, 1, rows, net.j, "1"},
-        {"image", LUB_H5_I64, 2, vec, net.image, "1"},
-        {"branch", LUB_H5_F64, 2, vec, net.branch, "a"},
-        {"centre_gap", LUB_H5_F64, 1, rows, net.centre_gap, "a"},
-        {"gap", LUB_H5_F64, 1, rows, net.gap, "a"},
-        {"contact", LUB_H5_I8, 1, rows, net.contact, "1"},
-        {"sliding", LUB_H5_I8, 1, rows, net.sliding, "1"},
-        {"force_normal_contact", LUB_H5_F64, 1, rows, net.fn_contact, force_unit},
-        {"force_normal_lubrication", LUB_H5_F64, 1, rows, net.fn_lub, force_unit},
-        {"force_tangential_contact", LUB_H5_F64, 2, vec, net.fs_contact, force_unit},
-        {"force_tangential_lubrication", LUB_H5_F64, 2, vec, net.fs_lub, force_unit},
-        {"torque_roll", LUB_H5_F64, 2, vec, net.torque_roll, torque_unit},
-        {"torque_twist", LUB_H5_F64, 2, vec, net.torque_twist, torque_unit},
-    };
-    int failed = 0;
-    for (size_t k = 0; k < sizeof sets / sizeof sets[0] && !failed; ++k) {
-        char path[96];
-        snprintf(path, sizeof path, "pair_network/%s", sets[k].name);
-        failed = lub_h5_write_dataset(ctx->out, path, sets[k].type, sets[k].rank, sets[k].dims,
-                                      sets[k].data, sets[k].unit) != 0;
-    }
-    lub_pair_network_free(&net);
-    if (failed) {
+    const void *const data[SS_NETWORK_COLUMNS] = {
+        net->i,          net->j,       net->image,       net->branch,      net->centre_gap,
+        net->gap,        net->contact, net->sliding,     net->fn_contact,  net->fn_lub,
+        net->fs_contact, net->fs_lub,  net->torque_roll, net->torque_twist};
+    if (lub_h5_frames_append(frames, s->step, s->time, (int64_t)net->n, data)) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         return LUB_EXIT_IO;
     }
@@ -496,11 +514,12 @@ typedef struct {
     lub_schedule sched;
 } ss_loop;
 
-/* The loop state, the series and the system into path (a new file). 0, or -1 with why[len]. */
+/* The loop state, the series and the system into path (a new file), with the particle
+ * snapshots and /pair_network frames its output file holds. 0, or -1 with why[len]. */
 static int ss_checkpoint_write(const char *path, const json_t *resolved, const ss_loop *lp,
                                const ss_series *ser, int64_t frames_in_file,
-                               const lub_shear_system *sys, const char *output_file, char *why,
-                               size_t len)
+                               int64_t network_frames_in_file, const lub_shear_system *sys,
+                               const char *output_file, char *why, size_t len)
 {
     lub_ckpt *c = lub_run_checkpoint_create(path, "simple_shear", resolved, output_file, why, len);
     if (!c)
@@ -512,6 +531,7 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
              lub_ckpt_put_f64(c, "run/bonds_sum", lp->bonds_sum) ||
              lub_ckpt_put_i64(c, "run/bonds_samples", lp->bonds_samples) ||
              lub_ckpt_put_i64(c, "run/frames_in_file", frames_in_file) ||
+             lub_ckpt_put_i64(c, "run/network_frames_in_file", network_frames_in_file) ||
              lub_ckpt_put_f64(c, "run/packing_min_gap", lp->packing_min_gap) ||
              lub_step_control_save(c, "run/step_control", &lp->ctl) ||
              lub_schedule_save(c, "run/schedule", &lp->sched) ||
@@ -525,10 +545,11 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
     return lub_run_checkpoint_close(c, rc, why, len);
 }
 
-/* The loop state (lp: all but the series) of checkpoint c; the series are read by
- * ss_checkpoint_read_series once they have room. 0, or -1 with why[len]. */
+/* The loop state (lp: all but the series) of checkpoint c, with the rows, snapshots and
+ * /pair_network frames its output file holds (a checkpoint older than the frames: none); the
+ * series are read by ss_checkpoint_read_series once they have room. 0, or -1 with why[len]. */
 static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int64_t *frames_in_file,
-                                   char *why, size_t len)
+                                   int64_t *network_frames_in_file, char *why, size_t len)
 {
     size_t n_rows = 0;
     if (lub_ckpt_get_i64(c, "run/step", &lp->step) ||
@@ -549,6 +570,12 @@ static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int6
     if (lp->step < 0 || lp->step > lp->sched.nsteps) {
         snprintf(why, len, "inconsistent loop state (step %lld of %lld)", (long long)lp->step,
                  (long long)lp->sched.nsteps);
+        return -1;
+    }
+    *network_frames_in_file = 0;
+    if (lub_ckpt_has(c, "run/network_frames_in_file") &&
+        lub_ckpt_get_i64(c, "run/network_frames_in_file", network_frames_in_file)) {
+        snprintf(why, len, "%s", lub_ckpt_error(c));
         return -1;
     }
     *rows = (int64_t)n_rows;
@@ -583,15 +610,17 @@ static int ss_read_resolved(const json_t *resolved, ss_params *p, lub_error *err
 }
 
 /* The start of a continuation (ctx->resume_path): opens the checkpoint, reads the loop state
- * into *lp (rows and snapshots to copy into *rows, *frames), the radii and positions into new
- * arrays. 0, or -1 with ctx->resume_rejected and the diagnostic set (the checkpoint closed). */
+ * into *lp (rows, snapshots and network frames to copy into *rows, *frames, *network_frames),
+ * the radii and positions into new arrays. 0, or -1 with ctx->resume_rejected and the
+ * diagnostic set (the checkpoint closed). */
 static int ss_resume_begin(lub_run_ctx *ctx, int n, lub_ckpt **ckpt, ss_loop *lp, int64_t *rows,
-                           int64_t *frames, double **radius, vec3 **pos)
+                           int64_t *frames, int64_t *network_frames, double **radius, vec3 **pos)
 {
     char why[512] = "";
     int saved_n = 0;
     *ckpt = lub_ckpt_open(ctx->resume_path, why, sizeof why);
-    if (*ckpt && ss_checkpoint_read_loop(*ckpt, lp, rows, frames, why, sizeof why) == 0) {
+    if (*ckpt &&
+        ss_checkpoint_read_loop(*ckpt, lp, rows, frames, network_frames, why, sizeof why) == 0) {
         if (lub_shear_saved_particles(*ckpt, &saved_n, radius) || saved_n != n) {
             snprintf(why, sizeof why, "%s",
                      lub_ckpt_error(*ckpt)[0] ? lub_ckpt_error(*ckpt) : "another particle count");
@@ -643,13 +672,17 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     ss_loop resumed;
     memset(&resumed, 0, sizeof resumed);
     lub_ckpt *resume = NULL; /* the checkpoint a continuation starts from */
-    int64_t resume_rows = 0, resume_frames = 0;
+    int64_t resume_rows = 0, resume_frames = 0, resume_network_frames = 0;
+    lub_h5_frames *network = NULL; /* /pair_network, when asked for */
+    lub_pair_network net = {0};    /* its arrays, kept from frame to frame */
+    int64_t last_snapshot_step = -1;
     double *radius = NULL;
     vec3 *pos = NULL;
     lub_cell cell;
     lub_cell_init_box(&cell, 1.0, 1.0, 1.0); /* a continuation's cell comes from its checkpoint */
     if (ctx->resume_path) {
-        if (ss_resume_begin(ctx, n, &resume, &resumed, &resume_rows, &resume_frames, &radius, &pos))
+        if (ss_resume_begin(ctx, n, &resume, &resumed, &resume_rows, &resume_frames,
+                            &resume_network_frames, &radius, &pos))
             return LUB_EXIT_BAD_SPEC;
         lp.packing_min_gap = resumed.packing_min_gap;
     } else {
@@ -821,14 +854,26 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         exit_code = LUB_EXIT_IO;
         goto cleanup;
     }
-    if (ctx->resume_path) { /* the stopped run's rows, then its snapshots, unchanged */
+    lub_h5_column network_cols[SS_NETWORK_COLUMNS];
+    ss_network_columns(p.pressure, network_cols);
+    if (p.pair_network != SS_NETWORK_NONE &&
+        !(network = lub_h5_frames_define(ctx->out, "pair_network", SS_NETWORK_COLUMNS, network_cols,
+                                         p.pressure ? "eta/P" : "1/gd"))) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+        exit_code = LUB_EXIT_IO;
+        goto cleanup;
+    }
+    if (ctx->resume_path) { /* the stopped run's rows, snapshots and network frames, unchanged */
         char why[600] = "";
         const char *bnd[3] = {"periodic", "periodic", "periodic"};
         if (p.snapshots > 0 && lub_h5_particles_define(ctx->out, n, radius, bnd))
             snprintf(why, sizeof why, "%s", lub_h5_last_error(ctx->out));
-        else
-            lub_h5_continue_output(ctx->resume_result, tab, 17, tnames, tnc, resume_rows, ctx->out,
-                                   n, p.snapshots > 0 ? resume_frames : 0, why, sizeof why);
+        else if (lub_h5_continue_output(ctx->resume_result, tab, 17, tnames, tnc, resume_rows,
+                                        ctx->out, n, p.snapshots > 0 ? resume_frames : 0, why,
+                                        sizeof why) == 0 &&
+                 network)
+            lub_h5_continue_frames(ctx->resume_result, network, "pair_network", SS_NETWORK_COLUMNS,
+                                   network_cols, resume_network_frames, why, sizeof why);
         lp.frames = p.snapshots > 0 ? resume_frames : 0;
         if (why[0]) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
@@ -839,12 +884,16 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         }
     } else if (p.snapshots > 0) {
         const char *bnd[3] = {"periodic", "periodic", "periodic"};
+        if (p.pair_network == SS_NETWORK_SNAPSHOTS &&
+            (exit_code = ss_network_frame(ctx, &sys, network, &net, 0)) != LUB_EXIT_OK)
+            goto cleanup;
         if (lub_h5_particles_define(ctx->out, n, radius, bnd) || ss_snapshot(ctx, &sys)) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
             exit_code = LUB_EXIT_IO;
             goto cleanup;
         }
         lp.frames = 1;
+        last_snapshot_step = sys.step;
     }
 
     /* ---- time loop ---- */
@@ -860,10 +909,12 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             /* the state before step `step`, as at a stop (the run then goes on) */
             lp.step = step;
             const int64_t in_file = lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+            const int64_t network_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
             char why[400] = "";
             if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
-                if (ss_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &ser, in_file, &sys,
-                                        LUB_PERIODIC_OUTPUT, why, sizeof why) == 0)
+                if (ss_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &ser, in_file,
+                                        network_in_file, &sys, LUB_PERIODIC_OUTPUT, why,
+                                        sizeof why) == 0)
                     lub_periodic_publish(ctx->periodic);
                 else
                     lub_periodic_failed(ctx->periodic, why);
@@ -1028,13 +1079,22 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 }
             }
         }
+        /* not within half a spacing of the end, whose snapshot follows the loop (an adapted
+         * step moves the events: the last could fall a step before the end) */
         if (ev_snap >= 0 && lub_schedule_due(&lp.sched, ev_snap, step) &&
-            step + 1 < lp.sched.nsteps) {
+            step + 1 < lp.sched.nsteps &&
+            lp.sched.t_end - sys.time > 0.5 * lp.sched.ev[ev_snap].spacing) {
+            /* the network first: its list completion may move positions by cell vectors
+             * (pair_network.h), which the snapshot then shows */
+            if (p.pair_network == SS_NETWORK_SNAPSHOTS &&
+                (exit_code = ss_network_frame(ctx, &sys, network, &net, 0)) != LUB_EXIT_OK)
+                break;
             if (ss_snapshot(ctx, &sys)) {
                 exit_code = LUB_EXIT_IO;
                 break;
             }
             lp.frames++;
+            last_snapshot_step = sys.step;
         }
         lub_progress_update(ctx->progress, (double)(step + 1) / (double)lp.sched.nsteps, step + 1);
     }
@@ -1047,9 +1107,10 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lp.step = step;
         const int64_t frames_in_file =
             lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+        const int64_t network_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
         ctx->checkpoint_written =
-            ss_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &ser, frames_in_file, &sys,
-                                "result.h5", ctx->checkpoint_failure,
+            ss_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &ser, frames_in_file,
+                                network_in_file, &sys, "result.h5", ctx->checkpoint_failure,
                                 sizeof ctx->checkpoint_failure) == 0;
     }
     /* the step's advice where the step is the likely cause (not for a cell squeezed below
@@ -1060,14 +1121,20 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     } else if (exit_code == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_el)) {
         lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_el, "dt_elastic");
     }
-    /* the interaction network of the final state, before the last snapshot, which then
-     * shows the positions and box its branch vectors and images refer to */
-    if (p.pair_network && (exit_code == LUB_EXIT_OK || exit_code == LUB_EXIT_INTERRUPTED)) {
-        const int rc = ss_write_pair_network(ctx, &sys, p.pressure);
+    /* the interaction network of the final state (unless a snapshot's frame already shows
+     * it), before the last snapshot, which then shows the positions and box its branch
+     * vectors and images refer to */
+    int64_t network_last_step = -1;
+    if (network)
+        lub_h5_frames_written(network, &network_last_step);
+    if (network && network_last_step != sys.step &&
+        (exit_code == LUB_EXIT_OK || exit_code == LUB_EXIT_INTERRUPTED)) {
+        const int rc = ss_network_frame(ctx, &sys, network, &net, 1);
         if (rc != LUB_EXIT_OK)
             exit_code = rc;
     }
-    if (p.snapshots > 0 && exit_code != LUB_EXIT_IO)
+    /* the final state, unless the loop's last snapshot shows it (a stop just after it) */
+    if (p.snapshots > 0 && exit_code != LUB_EXIT_IO && last_snapshot_step != sys.step)
         ss_snapshot(ctx, &sys);
 
     /* ---- statistics and summary (also for partial runs) ---- */
@@ -1189,6 +1256,23 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         json_t *warnings = json_array();
         for (int w = 0; w < n_warnings; ++w)
             json_array_append_new(warnings, json_string(warning_text[w]));
+        int64_t network_first_skipped = 0;
+        char network_why[256] = "";
+        const int64_t network_skipped = network
+                                            ? lub_h5_frames_skipped(network, &network_first_skipped,
+                                                                    network_why, sizeof network_why)
+                                            : 0;
+        if (network_skipped > 0) {
+            char text[512];
+            snprintf(text, sizeof text,
+                     "%lld frame%s of /pair_network from step %lld on %s not written: %s; the "
+                     "other outputs are not affected; ask for \"final\" only (or run with more "
+                     "room)",
+                     (long long)network_skipped, network_skipped == 1 ? "" : "s",
+                     (long long)network_first_skipped, network_skipped == 1 ? "was" : "were",
+                     network_why);
+            json_array_append_new(warnings, json_string(text));
+        }
         json_object_set_new(ctx->summary_extra, "warnings", warnings);
         lub_summary_put(ctx, "elastic_number", checks.elastic_number, NAN, "1");
         json_t *terms = json_array();
@@ -1254,6 +1338,7 @@ cleanup:
     free(ratio_z);
     free(radius);
     lub_shear_free(&sys);
+    lub_pair_network_free(&net);
     return exit_code;
 }
 
@@ -1274,8 +1359,8 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
                                : p.strain;
     const int rebuilt = sheared > 1.01 * lub_shear_rebuild_strain(p.cutoff, p.skin);
     need->bytes = lub_shear_min_bytes(n, p.phi, p.radius_std, p.cutoff, p.skin, threads, rebuilt);
-    if (p.pair_network) /* the pairs inside the cut-off, at the end */
-        need->bytes += 0.9 * n *
+    if (p.pair_network != SS_NETWORK_NONE) /* the pairs inside the cut-off, and a quarter more */
+        need->bytes += 1.25 * 0.9 * n *
                        lub_shear_listed_pairs_estimate(p.phi, p.radius_std, p.cutoff, 0.0) *
                        LUB_PAIR_NETWORK_PAIR_BYTES;
     need->per_item = need->bytes / n;

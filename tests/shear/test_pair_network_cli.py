@@ -16,7 +16,17 @@
  5. a run stopped by SIGTERM (exit 5, partial) writes the network of the state it stopped in,
     at the step of its last snapshot, with records consistent with that snapshot;
  6. client_examples/pair_network.py on the network of 1: its pair and contact counts, Z_c, a
-    fabric of trace 1 and the four parts' sigma_xy and sigma_yy equal those computed here.
+    fabric of trace 1 and the four parts' sigma_xy and sigma_yy equal those computed here;
+ 7. "pair_network": "snapshots": a frame with every particle snapshot (the first at step 0),
+    each at its snapshot's step, with records consistent with that snapshot and exactly the
+    pairs inside the cut-off; the frames' rows are numbered as row_start and row_count say;
+    the run's summary results and time series are those of the same run with "final" only,
+    whose network equals the last frame bit for bit; "final" writes one frame, true is read
+    as "final" (the resolved spec says so); a value out of the enum is refused naming
+    /pair_network;
+ 8. that run stopped by SIGTERM and continued with --resume: the continuation's file holds
+    the same frames as the uninterrupted run's, bit for bit (the stopped run's copied, then
+    its own), and the stopped run's file ends with the network of its stop.
 The element-by-element agreement of the forces with the next step's stress sample is checked
 in C (shear.pair_network). Usage: test_pair_network_cli.py LUBDEM WORKDIR [--sanitized]"""
 import json
@@ -51,7 +61,11 @@ def run(lubdem, work, name, spec, *extra, fresh=True):
     return out
 
 
+INDEX = ("step", "time", "row_start", "row_count")
+
+
 def network(out):
+    """All frames of /pair_network (columns as stored), and the particle snapshots."""
     with h5py.File(os.path.join(out, "result.h5"), "r") as f:
         if "pair_network" not in f:
             return None, None
@@ -62,6 +76,12 @@ def network(out):
         snap = {k: f["particles/all/" + k][()] for k in
                 ("position/value", "position/step", "box/edges/value", "radius")}
     return net, dict(snap, units=units)
+
+
+def frame(net, k):
+    """Frame k of a network: its rows of every column, and its index entries."""
+    a, n = int(net["row_start"][k]), int(net["row_count"][k])
+    return {key: (v[k:k + 1] if key in INDEX else v[a:a + n]) for key, v in net.items()}
 
 
 def inside_cutoff(x, edges, r, cutoff):
@@ -77,9 +97,10 @@ def inside_cutoff(x, edges, r, cutoff):
     return set(zip(ii[keep].tolist(), jj[keep].tolist()))
 
 
-def check_records(name, net, snap, eps, mu):
-    x = snap["position/value"][-1]
-    edges = snap["box/edges/value"][-1]
+def check_records(name, net, snap, eps, mu, at=-1):
+    """net: one frame; at: the index of its particle snapshot."""
+    x = snap["position/value"][at]
+    edges = snap["box/edges/value"][at]
     r = snap["radius"]
     i, j = net["i"], net["j"]
     check(np.all(i < j) and i.min() >= 0 and j.max() < len(r), name + ": indices i < j < n")
@@ -96,11 +117,45 @@ def check_records(name, net, snap, eps, mu):
     fs = np.linalg.norm(net["force_tangential_contact"], axis=1)
     lim = mu * np.abs(net["force_normal_contact"])
     sl = net["sliding"] == 1
-    check(sl.any() and np.all(net["contact"][sl] == 1) and
+    check((sl.any() or at == 0) and np.all(net["contact"][sl] == 1) and
           np.abs(fs[sl] - lim[sl]).max() <= 1e-12 * (1 + lim[sl].max()) and
           np.all(fs[~sl] <= lim[~sl] * (1 + 1e-12)),
           name + ": sliding contacts at mu |F_c|, the others below it (%d sliding)" % sl.sum())
     check(np.all(net["force_normal_contact"] <= 0), name + ": contact forces repulsive (<= 0)")
+
+
+def check_frames(name, net, snap):
+    """7, 8: one frame per snapshot, at its step, consistent with it, the rows numbered as
+    the index says; each frame's pairs are those inside the cut-off."""
+    frames = len(net["step"])
+    starts = np.concatenate([[0], np.cumsum(net["row_count"])[:-1]])
+    check(frames == len(snap["position/step"]) and
+          np.array_equal(net["step"], snap["position/step"]) and
+          np.array_equal(net["row_start"], starts) and
+          int(net["row_count"].sum()) == len(net["i"]),
+          "%s: a frame at each snapshot's step (%s; snapshots %s), rows as indexed"
+          % (name, net["step"].tolist(), snap["position/step"].tolist()))
+    if frames != len(snap["position/step"]):
+        return
+    for k in range(frames):
+        fk = frame(net, k)
+        check_records("%s frame %d" % (name, k), fk, snap, 0.02, 0.5, at=k)
+        want = inside_cutoff(snap["position/value"][k], snap["box/edges/value"][k],
+                             snap["radius"], 2.0)
+        got = set(zip(fk["i"].tolist(), fk["j"].tolist()))
+        check(got == want and len(got) == len(fk["i"]),
+              "%s frame %d: the pairs inside the cut-off (%d; brute force %d)"
+              % (name, k, len(got), len(want)))
+
+
+def same_observables(out_a, out_b):
+    with h5py.File(os.path.join(out_a, "result.h5"), "r") as fa, \
+            h5py.File(os.path.join(out_b, "result.h5"), "r") as fb:
+        names = []
+        fa["observables"].visit(lambda k: names.append(k)
+                                if isinstance(fa["observables"][k], h5py.Dataset) else None)
+        return len(names) > 0 and all(
+            np.array_equal(fa["observables"][k][()], fb["observables"][k][()]) for k in names)
 
 
 def check_example(out, net, snap):
@@ -222,6 +277,74 @@ def main():
              ssnap["position/step"][-1] if ssnap else None, st["steps"]))
     if snet is not None:
         check_records("stopped", snet, ssnap, 0.02, 0.5)
+
+    # 7. a frame at every snapshot
+    every = dict(base, strain=3 * strain, snapshots=5)
+    out_all = run(lubdem, work, "snapshots", dict(every, pair_network="snapshots"))
+    anet, asnap = network(out_all)
+    out_final = run(lubdem, work, "final", dict(every, pair_network="final"))
+    fnet, _ = network(out_final)
+    check(anet is not None and fnet is not None, "snapshots, final: /pair_network written")
+    if anet is not None and fnet is not None:
+        check_frames("snapshots", anet, asnap)
+        sa = json.load(open(os.path.join(out_all, "summary.json")))
+        sf = json.load(open(os.path.join(out_final, "summary.json")))
+        check(int(anet["step"][0]) == 0 and int(anet["step"][-1]) == sa["steps"] and
+              len(anet["step"]) == 6,
+              "snapshots: 6 frames (5 snapshots and the initial state) from step 0 to the last "
+              "(%s)" % anet["step"].tolist())
+        last = frame(anet, len(anet["step"]) - 1)
+        check(len(fnet["step"]) == 1 and int(fnet["row_start"][0]) == 0 and
+              all(np.array_equal(last[k], fnet[k]) for k in fnet if k != "row_start"),
+              "final: one frame, equal bit for bit to the last of \"snapshots\"")
+        check(sa["results"] == sf["results"] and sa["steps"] == sf["steps"] and
+              same_observables(out_all, out_final),
+              "snapshots: the frames do not change the run (results, steps, time series)")
+    with h5py.File(os.path.join(out, "result.h5"), "r") as f:
+        resolved = json.loads(f["parameters/spec_resolved"][()])
+    check(resolved.get("pair_network") == "final", "true is read as \"final\" (%s)"
+          % resolved.get("pair_network"))
+    bad = os.path.join(work, "bad.json")
+    with open(bad, "w") as f:
+        json.dump(dict(base, scene="simple_shear", pair_network="sometimes"), f)
+    p = subprocess.run([lubdem, "run", bad, "--out", os.path.join(work, "bad")],
+                       capture_output=True, text=True, timeout=60)
+    check(p.returncode == 2 and "/pair_network" in p.stderr and "snapshots" in p.stderr,
+          "bad value refused naming /pair_network (exit %s: %s)" % (p.returncode,
+                                                                   p.stderr.strip()[-200:]))
+
+    # 8. stopped and continued
+    out = os.path.join(work, "resumed")
+    shutil.rmtree(out, ignore_errors=True)
+    path = os.path.join(work, "resumed.json")
+    with open(path, "w") as f:
+        json.dump(dict(every, scene="simple_shear", pair_network="snapshots"), f)
+    proc = subprocess.Popen([lubdem, "run", path, "--out", out], stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    for line in proc.stdout:
+        if line.startswith("progress ") and 0.45 <= float(line.split("fraction=")[1].split()[0]) < 1:
+            proc.send_signal(signal.SIGTERM)
+            break
+    proc.communicate(timeout=600)
+    tnet, tsnap = network(out)
+    st = json.load(open(os.path.join(out, "summary.json")))
+    check(proc.returncode == 5 and tnet is not None and
+          int(tnet["step"][-1]) == st["steps"] == int(tsnap["position/step"][-1]) and
+          0 < st["steps"] < sa["steps"],
+          "resumed: stopped (exit %s) at step %s with the network of its stop (%s)"
+          % (proc.returncode, st["steps"], tnet["step"].tolist() if tnet else None))
+    if tnet is not None:
+        check_frames("stopped with frames", tnet, tsnap)
+    p = subprocess.run([lubdem, "run", path, "--out", out, "--quiet", "--resume"],
+                       capture_output=True, text=True, timeout=600)
+    rnet, rsnap = network(out)
+    check(p.returncode == 0 and rnet is not None and anet is not None and
+          sorted(rnet) == sorted(anet) and all(np.array_equal(rnet[k], anet[k]) for k in anet),
+          "resumed: the continuation's frames equal the uninterrupted run's bit for bit "
+          "(exit %s; steps %s against %s)"
+          % (p.returncode, rnet["step"].tolist() if rnet else None,
+             anet["step"].tolist() if anet else None))
+    print("pair_network_frames=%d" % (len(anet["step"]) if anet is not None else 0))
     return 1 if FAIL else 0
 
 
