@@ -64,42 +64,41 @@ static void put3(double *dst, size_t k, vec3 v)
     dst[3 * k + 2] = v.z;
 }
 
-int lub_shear_pair_network(lub_shear_system *s, lub_pair_network *net)
+int lub_pair_network_build(const lub_pair_network_source *src, lub_pair_network *net,
+                           char *fail_msg, size_t len)
 {
     net->n = 0;
-    const int rc = lub_shear_complete_list(s);
-    if (rc != LUB_SHEAR_OK)
-        return rc;
-    const lub_pairs *ps = &s->pairs;
-    const lub_pair_bodies bodies = {
-        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
+    const lub_pairs *ps = src->pairs;
     size_t inside = 0; /* the arrays hold the interacting pairs, not every listed one */
     for (size_t k = 0; k < ps->n; ++k) {
         lub_pair_input in;
         double un;
         inside +=
-            lub_pair_input_of(ps, k, &s->cell, &bodies, s->cutoff, s->dt, &in, &un) == LUB_PAIR_OK;
+            ps->i[k] < src->n_free && lub_pair_input_of(ps, k, src->cell, &src->bodies, src->cutoff,
+                                                        src->dt, &in, &un) == LUB_PAIR_OK;
     }
     if (network_reserve(net, inside) != 0)
-        return LUB_SHEAR_NOMEM;
+        return LUB_PAIR_NETWORK_NOMEM;
     size_t m = 0;
     for (size_t k = 0; k < ps->n; ++k) {
         lub_pair_input in;
         double un;
-        if (lub_pair_input_of(ps, k, &s->cell, &bodies, s->cutoff, s->dt, &in, &un) == LUB_PAIR_OUT)
+        if (ps->i[k] >= src->n_free || /* i < j: two fixed bodies never interact */
+            lub_pair_input_of(ps, k, src->cell, &src->bodies, src->cutoff, src->dt, &in, &un) ==
+                LUB_PAIR_OUT)
             continue;
         lub_pair_state st = ps->state[k];
         if (!ps->active[k])
             lub_pair_state_reset(&st); /* as lub_pairs_enter: a pair entering the cut-off */
         lub_pair_output o;
-        if (lub_pair_step(&s->law, &in, &st, &o) != 0 || !v3_isfinite(o.force1) ||
+        if (lub_pair_step(src->law, &in, &st, &o) != 0 || !v3_isfinite(o.force1) ||
             !v3_isfinite(o.torque1) || !v3_isfinite(o.torque2)) {
-            snprintf(s->fail_msg, sizeof s->fail_msg,
+            snprintf(fail_msg, len,
                      "pair law non-finite for pair %zu (particles %d, %d; u_n=%.6g) in the "
                      "interaction network at step %ld",
-                     k, ps->i[k], ps->j[k], un, s->step);
+                     k, ps->i[k], ps->j[k], un, src->step);
             net->n = 0;
-            return LUB_SHEAR_NONFINITE;
+            return LUB_PAIR_NETWORK_NONFINITE;
         }
         net->i[m] = ps->i[k];
         net->j[m] = ps->j[k];
@@ -119,5 +118,27 @@ int lub_shear_pair_network(lub_shear_system *s, lub_pair_network *net)
         ++m;
     }
     net->n = m;
-    return LUB_SHEAR_OK;
+    return LUB_PAIR_NETWORK_OK;
+}
+
+int lub_shear_pair_network(lub_shear_system *s, lub_pair_network *net)
+{
+    net->n = 0;
+    const int rc = lub_shear_complete_list(s);
+    if (rc != LUB_SHEAR_OK)
+        return rc;
+    const lub_pair_network_source src = {
+        .pairs = &s->pairs,
+        .cell = &s->cell,
+        .bodies = {.x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share},
+        .law = &s->law,
+        .cutoff = s->cutoff,
+        .dt = s->dt,
+        .n_free = s->n,
+        .step = s->step};
+    switch (lub_pair_network_build(&src, net, s->fail_msg, sizeof s->fail_msg)) {
+    case LUB_PAIR_NETWORK_OK: return LUB_SHEAR_OK;
+    case LUB_PAIR_NETWORK_NOMEM: return LUB_SHEAR_NOMEM;
+    default: return LUB_SHEAR_NONFINITE;
+    }
 }

@@ -1,21 +1,26 @@
-/* pair_network.h — the interaction network of a sheared system: every interacting pair with
- * its gaps, contact state and the parts of its force and torques.
+/* pair_network.h — the interaction network of a system of lubricated spheres (a sheared
+ * periodic cell, a resuspending bed): every interacting pair with its gaps, contact state and
+ * the parts of its force and torques.
  *
  * The forces are those the system's next step applies: each pair inside the cut-off (and
  * allowed by the interaction set) is put through the contact law on a COPY of its persistent
  * state, from the current positions, half-step velocities and spins (a pair entering the
- * cut-off with a fresh state), exactly as lub_shear_step evaluates it; the system's pair
- * states are not changed. The pair list is completed first (lub_shear_complete_list): the
+ * cut-off with a fresh state), exactly as the step evaluates it; the system's pair states are
+ * not changed. lub_pair_network_build does this for any system's pairs (its list complete);
+ * lub_shear_pair_network completes the list of a sheared system first
+ * (lub_shear_complete_list; the resuspension scene calls lub_rs_complete_list): the
  * positions may move by cell vectors and the cell matrix by a flip, so that a particle
  * snapshot written after this call shows the positions and box the branch vectors and image
- * shifts refer to: branch = x_j + H image - x_i. That rebuild counts in s->rebuilds (and a
- * flip in s->flips) like any other (the simple_shear scene leaves it out of its summary).
+ * shifts refer to: branch = x_j + H image - x_i. That rebuild is the one the next step would
+ * do (which then does none): it counts in s->rebuilds (and a flip in s->flips) like any
+ * other, and the step control must see it; after the last step the scenes leave it out of
+ * their summary.
  *
  * Units: those of the system (the simple_shear scene: a = 1, eta = 1, gd = 1 or P = 1).
  * Signs: forces and torques act on body i (body j receives minus the force and minus the roll
  * and twist torques; the torque of the shear force on j follows from j's own lever arm);
  * normal parts are components along n = branch/|branch|, negative when repulsive.
- * Memory: lub_shear_pair_network sizes the arrays to the interacting pairs (a quarter more
+ * Memory: lub_pair_network_build sizes the arrays to the interacting pairs (a quarter more
  * when it allocates) and keeps them for the next call when they are large enough, so that a
  * network at every snapshot allocates only when the network grows; lub_pair_network_free
  * frees them (also after a failure).
@@ -27,6 +32,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "pair_eval.h"
 #include "shear_system.h"
 
 typedef struct {
@@ -46,6 +52,29 @@ typedef struct {
     double *torque_roll;  /* [3n] rolling lubrication torque on i */
     double *torque_twist; /* [3n] twisting lubrication torque on i */
 } lub_pair_network;
+
+/* What a network is built from: the persistent pairs of a system, its cell and bodies (the
+ * half-step velocities and spins), its law, cut-off (in units of the pair mean radius) and
+ * step. Pairs of two bodies both >= n_free (fixed floor spheres) never interact and are left
+ * out. Borrowed, not kept. */
+typedef struct {
+    const lub_pairs *pairs;
+    const lub_cell *cell;
+    lub_pair_bodies bodies;
+    const lub_law_params *law;
+    double cutoff, dt;
+    int n_free;
+    long step; /* for the failure message */
+} lub_pair_network_source;
+
+enum { LUB_PAIR_NETWORK_OK = 0, LUB_PAIR_NETWORK_NOMEM = -1, LUB_PAIR_NETWORK_NONFINITE = -2 };
+
+/* The network of every listed pair inside the cut-off (the list must be complete: the
+ * caller rebuilds it first when due) into *net (zeroed, or from an earlier call; arrays kept
+ * as below). Returns LUB_PAIR_NETWORK_OK, _NOMEM (the arrays freed) or _NONFINITE (fail_msg[len]
+ * names the pair); on failure net->n is 0. The system is not changed. */
+int lub_pair_network_build(const lub_pair_network_source *src, lub_pair_network *net,
+                           char *fail_msg, size_t len);
 
 /* Fills *net (zeroed, or from an earlier call) with the network of s at its current state.
  * Returns LUB_SHEAR_OK; LUB_SHEAR_NOMEM (the arrays freed); LUB_SHEAR_CELL_TOO_SMALL (from the

@@ -31,6 +31,7 @@
 #include "h5md_continue.h"
 #include "law_spec.h"
 #include "packing.h"
+#include "network_output.h"
 #include "pair_network.h"
 #include "run_context.h"
 #include "scene.h"
@@ -59,14 +60,11 @@ typedef struct {
     int pressure;           /* control */
     double servo_gain, servo_filter_strain;
     int pdf_on;
-    int pair_network; /* SS_NETWORK_*: when to write the interaction network (pair_network.h) */
+    int pair_network; /* LUB_NETWORK_*: when to write the interaction network (pair_network.h) */
     long long pdf_nt, pdf_np;
     double pdf_start, pdf_interval;
     lub_law_spec law;
 } ss_params;
-
-/* /pair_network: none, the final state's, or also at every particle snapshot */
-enum { SS_NETWORK_NONE, SS_NETWORK_FINAL, SS_NETWORK_SNAPSHOTS };
 
 static const lub_law_spec_opts ss_law_opts = {
     .allowed_terms = LUB_TERM_ALL,
@@ -91,24 +89,6 @@ static double ss_min_side(double radius_std, double cutoff, double skin)
     double rmax = fmax(1.0 + 3.0 * radius_std, 1.0);
     double dmax = 2.0 * rmax * (1.0 + 0.5 * cutoff) + skin;
     return 2.0 * dmax / 0.8;
-}
-
-/* /pair_network: "none" (default), "final" or "snapshots"; false and true (the first form of
- * the member) are read as "none" and "final" and replaced by them in place. */
-static int ss_read_pair_network(json_t *spec, int *mode, lub_error *err)
-{
-    static const char *modes[] = {"none", "final", "snapshots", NULL};
-    json_t *given = json_object_get(spec, "pair_network");
-    if (json_is_boolean(given))
-        json_object_set_new(spec, "pair_network",
-                            json_string(json_is_true(given) ? "final" : "none"));
-    const char *mode_name = NULL;
-    if (lub_spec_enum(spec, "", "pair_network", modes, "none", &mode_name, err))
-        return -1;
-    *mode = strcmp(mode_name, "snapshots") == 0 ? SS_NETWORK_SNAPSHOTS
-            : strcmp(mode_name, "final") == 0   ? SS_NETWORK_FINAL
-                                                : SS_NETWORK_NONE;
-    return 0;
 }
 
 static int ss_read(json_t *spec, ss_params *p, lub_error *err)
@@ -188,7 +168,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                         err) ||
         lub_spec_number(spec, "", "sample_strain", samp_r, 1, 0.02, &p->sample_strain, err) ||
         lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 1, &p->snapshots, err) ||
-        ss_read_pair_network(spec, &p->pair_network, err) ||
+        lub_spec_pair_network(spec, &p->pair_network, err) ||
         lub_spec_number(spec, "", "drag_viscosity", (lub_range){0.0, 1e3, 0, 0}, 1, 0.0,
                         &p->drag_viscosity, err))
         return -1;
@@ -423,32 +403,6 @@ static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
                                      (const double *)s->v, (const double *)s->w);
 }
 
-/* The columns of /pair_network (a frame set of result.h5, h5md_writer.h) in the units of the
- * run (pressure: a, eta, P; else a, eta, gd), in the order of ss_network_frame's data. */
-enum { SS_NETWORK_COLUMNS = 14 };
-static void ss_network_columns(int pressure, lub_h5_column cols[SS_NETWORK_COLUMNS])
-{
-    const char *force = pressure ? "P*a^2" : "eta*gd*a^2";
-    const char *torque = pressure ? "P*a^3" : "eta*gd*a^3";
-    const lub_h5_column c[SS_NETWORK_COLUMNS] = {
-        {"i", LUB_H5_I64, 1, "1"},
-        {"j", LUB_H5_I64, 1, "1"},
-        {"image", LUB_H5_I64, 3, "1"},
-        {"branch", LUB_H5_F64, 3, "a"},
-        {"centre_gap", LUB_H5_F64, 1, "a"},
-        {"gap", LUB_H5_F64, 1, "a"},
-        {"contact", LUB_H5_I8, 1, "1"},
-        {"sliding", LUB_H5_I8, 1, "1"},
-        {"force_normal_contact", LUB_H5_F64, 1, force},
-        {"force_normal_lubrication", LUB_H5_F64, 1, force},
-        {"force_tangential_contact", LUB_H5_F64, 3, force},
-        {"force_tangential_lubrication", LUB_H5_F64, 3, force},
-        {"torque_roll", LUB_H5_F64, 3, torque},
-        {"torque_twist", LUB_H5_F64, 3, torque},
-    };
-    memcpy(cols, c, sizeof c);
-}
-
 /* The interaction network of the system's current state (pair_network.h, computed into net,
  * whose arrays are kept for the next frame) appended to /pair_network. final: no step of this
  * run follows. 0, or the exit code with ctx->diagnostic set. */
@@ -472,11 +426,7 @@ static int ss_network_frame(lub_run_ctx *ctx, lub_shear_system *s, lub_h5_frames
                                        : s->fail_msg);
         return rc == LUB_SHEAR_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
     }
-    const void *const data[SS_NETWORK_COLUMNS] = {
-        net->i,          net->j,       net->image,       net->branch,      net->centre_gap,
-        net->gap,        net->contact, net->sliding,     net->fn_contact,  net->fn_lub,
-        net->fs_contact, net->fs_lub,  net->torque_roll, net->torque_twist};
-    if (lub_h5_frames_append(frames, s->step, s->time, (int64_t)net->n, data)) {
+    if (lub_network_append(frames, net, s->step, s->time)) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         return LUB_EXIT_IO;
     }
@@ -854,11 +804,13 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         exit_code = LUB_EXIT_IO;
         goto cleanup;
     }
-    lub_h5_column network_cols[SS_NETWORK_COLUMNS];
-    ss_network_columns(p.pressure, network_cols);
-    if (p.pair_network != SS_NETWORK_NONE &&
-        !(network = lub_h5_frames_define(ctx->out, "pair_network", SS_NETWORK_COLUMNS, network_cols,
-                                         p.pressure ? "eta/P" : "1/gd"))) {
+    const char *force_unit = p.pressure ? "P*a^2" : "eta*gd*a^2";
+    const char *torque_unit = p.pressure ? "P*a^3" : "eta*gd*a^3";
+    lub_h5_column network_cols[LUB_NETWORK_COLUMNS];
+    lub_network_columns(force_unit, torque_unit, network_cols);
+    if (p.pair_network != LUB_NETWORK_NONE &&
+        !(network = lub_network_define(ctx->out, force_unit, torque_unit,
+                                       p.pressure ? "eta/P" : "1/gd"))) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         exit_code = LUB_EXIT_IO;
         goto cleanup;
@@ -872,7 +824,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                                         ctx->out, n, p.snapshots > 0 ? resume_frames : 0, why,
                                         sizeof why) == 0 &&
                  network)
-            lub_h5_continue_frames(ctx->resume_result, network, "pair_network", SS_NETWORK_COLUMNS,
+            lub_h5_continue_frames(ctx->resume_result, network, "pair_network", LUB_NETWORK_COLUMNS,
                                    network_cols, resume_network_frames, why, sizeof why);
         lp.frames = p.snapshots > 0 ? resume_frames : 0;
         if (why[0]) {
@@ -884,7 +836,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         }
     } else if (p.snapshots > 0) {
         const char *bnd[3] = {"periodic", "periodic", "periodic"};
-        if (p.pair_network == SS_NETWORK_SNAPSHOTS &&
+        if (p.pair_network == LUB_NETWORK_SNAPSHOTS &&
             (exit_code = ss_network_frame(ctx, &sys, network, &net, 0)) != LUB_EXIT_OK)
             goto cleanup;
         if (lub_h5_particles_define(ctx->out, n, radius, bnd) || ss_snapshot(ctx, &sys)) {
@@ -1086,7 +1038,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             lp.sched.t_end - sys.time > 0.5 * lp.sched.ev[ev_snap].spacing) {
             /* the network first: its list completion may move positions by cell vectors
              * (pair_network.h), which the snapshot then shows */
-            if (p.pair_network == SS_NETWORK_SNAPSHOTS &&
+            if (p.pair_network == LUB_NETWORK_SNAPSHOTS &&
                 (exit_code = ss_network_frame(ctx, &sys, network, &net, 0)) != LUB_EXIT_OK)
                 break;
             if (ss_snapshot(ctx, &sys)) {
@@ -1359,7 +1311,7 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
                                : p.strain;
     const int rebuilt = sheared > 1.01 * lub_shear_rebuild_strain(p.cutoff, p.skin);
     need->bytes = lub_shear_min_bytes(n, p.phi, p.radius_std, p.cutoff, p.skin, threads, rebuilt);
-    if (p.pair_network != SS_NETWORK_NONE) /* the pairs inside the cut-off, and a quarter more */
+    if (p.pair_network != LUB_NETWORK_NONE) /* the pairs inside the cut-off, and a quarter more */
         need->bytes += 1.25 * 0.9 * n *
                        lub_shear_listed_pairs_estimate(p.phi, p.radius_std, p.cutoff, 0.0) *
                        LUB_PAIR_NETWORK_PAIR_BYTES;
