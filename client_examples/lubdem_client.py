@@ -97,7 +97,7 @@ class Client:
                continue_from=None):
         """Queues a job; with continue_from (a jobID), one that continues that ended job's run
         from its checkpoint (same inputs; simple_shear may change /strain, /target_rel_error,
-        /target_min_strain, /pair_network, resuspension /strain)."""
+        /target_min_strain, /pair_network, resuspension /strain, /pair_network)."""
         body = {"inputs": inputs}
         if priority is not None:
             body["priority"] = priority

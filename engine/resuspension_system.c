@@ -189,6 +189,8 @@ static int runaway(lub_rs_system *s, double umax2, double tau, int nmob)
     return 1;
 }
 
+int lub_rs_complete_list(lub_rs_system *s) { return s->need_rebuild ? rebuild(s) : LUB_RS_OK; }
+
 int lub_rs_step(lub_rs_system *s)
 {
     if (s->need_rebuild) {

@@ -116,6 +116,12 @@ vec3 lub_rs_mean_velocity(const lub_rs_system *s, vec3 x);
 /* One time step. Returns LUB_RS_*; on failure s->fail_msg explains. */
 int lub_rs_step(lub_rs_system *s);
 
+/* The neighbour-list rebuild the next step would do first, done now (when due): every pair
+ * inside the cut-off is then listed (an interaction network, pair_network.h). It wraps
+ * positions (the unwrapped ones, lub_rs_unwrapped, do not change) and counts in s->rebuilds,
+ * like the step's own, which then does none. Returns LUB_RS_* (fail_msg set on failure). */
+int lub_rs_complete_list(lub_rs_system *s);
+
 /* Unwrapped position x + H img and matching absolute velocity v + L H img of body i. */
 void lub_rs_unwrapped(const lub_rs_system *s, int i, vec3 *x, vec3 *v);
 

@@ -38,6 +38,7 @@
 #include "h5md_continue.h"
 #include "json_text.h"
 #include "law_spec.h"
+#include "network_output.h"
 #include "resuspension_analysis.h"
 #include "resuspension_bed.h"
 #include "resuspension_checkpoint.h"
@@ -64,6 +65,7 @@ typedef struct {
         interface_width, floor_skip, phi_min, phi_m, phi_window, dt, dt_safety, dt_stiffness_safety,
         cutoff, skin, initial_phi;
     int orientation;
+    int pair_network; /* LUB_NETWORK_*: when to write the interaction network */
     lub_law_spec law;
 } rs_params;
 
@@ -105,6 +107,7 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
                                  "initial_phi",
                                  "seed",
                                  "snapshots",
+                                 "pair_network",
                                  "law",
                                  NULL};
     static const char *orient[] = {"gradient", "vorticity", NULL};
@@ -145,7 +148,8 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
         lub_spec_number(spec, "", "initial_phi", (lub_range){0.05, 0.55, 0, 0}, 1, 0.5,
                         &p->initial_phi, err) ||
         lub_spec_integer(spec, "", "seed", 0, 4294967295LL, 1, 1, &p->seed, err) ||
-        lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 2, &p->snapshots, err))
+        lub_spec_integer(spec, "", "snapshots", 0, 1000, 1, 2, &p->snapshots, err) ||
+        lub_spec_pair_network(spec, &p->pair_network, err))
         return -1;
     p->orientation = strcmp(o, "vorticity") == 0 ? LUB_RS_VORTICITY : LUB_RS_GRADIENT;
     char strain[40], from[40];
@@ -303,6 +307,7 @@ typedef struct {
     int64_t avg_start_step; /* first step averaged into the profiles */
     int64_t nh, navg;       /* height samples (= time-series rows) and averaged profiles */
     int64_t below_floor_max, frames_in_file;
+    int64_t network_frames_in_file; /* /pair_network frames in the output file */
     double max_ke, min_lowest, contacts_sum, crushed_sum;
     double y_floor, y_lid; /* the geometry the bed gave (checked on resuming) */
     lub_step_control ctl;
@@ -324,6 +329,7 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
     int rc =
         lub_ckpt_put(c, "run/ints", LUB_CKPT_I64, 6, ints) ||
         lub_ckpt_put(c, "run/reals", LUB_CKPT_F64, 6, reals) ||
+        lub_ckpt_put_i64(c, "run/network_frames_in_file", lp->network_frames_in_file) ||
         lub_step_control_save(c, "run/step_control", &lp->ctl) ||
         lub_schedule_save(c, "run/schedule", &lp->sched) ||
         lub_ckpt_put(c, "series/height", LUB_CKPT_F64, (size_t)lp->nh, b->series_h) ||
@@ -360,6 +366,12 @@ static int rs_checkpoint_read_loop(lub_ckpt *c, rs_loop *lp, char *why, size_t l
     lp->crushed_sum = reals[3];
     lp->y_floor = reals[4];
     lp->y_lid = reals[5];
+    lp->network_frames_in_file = 0; /* none in a checkpoint older than the frames */
+    if (lub_ckpt_has(c, "run/network_frames_in_file") &&
+        lub_ckpt_get_i64(c, "run/network_frames_in_file", &lp->network_frames_in_file)) {
+        snprintf(why, len, "%s", lub_ckpt_error(c));
+        return -1;
+    }
     return 0;
 }
 
@@ -373,6 +385,48 @@ static int rs_checkpoint_read_samples(lub_ckpt *c, const rs_loop *lp, rs_buffers
                    lub_ckpt_get(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum)
                ? -1
                : 0;
+}
+
+/* The interaction network of the system's current state (pair_network.h: the floor spheres'
+ * pairs with free particles included, theirs with one another left out) into net (arrays
+ * kept for the next frame), appended to /pair_network. final: no step of this run follows
+ * (the rebuild the network may do is then not counted). 0, or the exit code with
+ * ctx->diagnostic set. */
+static int rs_network_frame(lub_run_ctx *ctx, lub_rs_system *S, lub_h5_frames *frames,
+                            lub_pair_network *net, double gd, int final)
+{
+    const long rebuilds = S->rebuilds, flips = S->flips;
+    int rc = lub_rs_complete_list(S);
+    if (rc == LUB_RS_OK) {
+        const lub_pair_network_source src = {
+            .pairs = &S->pairs,
+            .cell = &S->cell,
+            .bodies = {.x = S->x, .v = S->v, .w = S->w, .r = S->r, .inv_i_share = S->inv_i_share},
+            .law = &S->law,
+            .cutoff = S->p.cutoff,
+            .dt = S->p.dt,
+            .n_free = S->n_mobile,
+            .step = S->step};
+        const int b = lub_pair_network_build(&src, net, S->fail_msg, sizeof S->fail_msg);
+        rc = b == LUB_PAIR_NETWORK_OK      ? LUB_RS_OK
+             : b == LUB_PAIR_NETWORK_NOMEM ? LUB_RS_NOMEM
+                                           : LUB_RS_NONFINITE;
+    }
+    if (final) {
+        S->rebuilds = rebuilds;
+        S->flips = flips;
+    }
+    if (rc != LUB_RS_OK) {
+        snprintf(
+            ctx->diagnostic, sizeof ctx->diagnostic, "interaction network at step %ld: %s", S->step,
+            rc == LUB_RS_NOMEM ? "out of memory (/pair_network: \"none\" avoids it)" : S->fail_msg);
+        return rc == LUB_RS_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
+    }
+    if (lub_network_append(frames, net, S->step, S->time * gd)) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+        return LUB_EXIT_IO;
+    }
+    return LUB_EXIT_OK;
 }
 
 static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
@@ -571,11 +625,27 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_h5_table *tab = lub_h5_table_create(ctx->out, 6, names, ncomp, units);
     const char *bnd[3] = {"periodic", "none", "periodic"};
     int snap_ok = p.snapshots == 0 || lub_h5_particles_define(ctx->out, N, B.radius, bnd) == 0;
-    if (!tab || !snap_ok) {
+    /* /pair_network: its arrays (about 3 kB a particle at phi 0.5) are kept from frame to frame */
+    lub_h5_column network_cols[LUB_NETWORK_COLUMNS];
+    lub_network_columns("eta*gd*a^2", "eta*gd*a^3", network_cols);
+    lub_h5_frames *network = p.pair_network != LUB_NETWORK_NONE && tab && snap_ok
+                                 ? lub_network_define(ctx->out, "eta*gd*a^2", "eta*gd*a^3", "1/gd")
+                                 : NULL;
+    lub_pair_network net = {0};
+    int64_t network_last_step = -1;
+    if (!tab || !snap_ok || (p.pair_network != LUB_NETWORK_NONE && !network)) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         lub_rs_free(&S);
         rs_buffers_free(&B);
         return LUB_EXIT_IO;
+    }
+    if (network &&
+        !lub_memory_fits(ctx, 1.25 * 20.0 * (double)S.n * (double)LUB_PAIR_NETWORK_PAIR_BYTES,
+                         "the interaction network (/pair_network, 20 pairs a particle)",
+                         "/pair_network")) {
+        lub_rs_free(&S);
+        rs_buffers_free(&B);
+        return LUB_EXIT_INTERNAL;
     }
     const int64_t snap_every = p.snapshots > 1
                                    ? (lp.sched.nsteps + p.snapshots - 2) / (p.snapshots - 1)
@@ -623,7 +693,11 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                                    : "out of memory (samples)");
                 } else if (lub_h5_continue_output(
                                ctx->resume_result, tab, 6, names, ncomp, saved.nh, ctx->out, N,
-                               p.snapshots > 0 ? saved.frames_in_file : 0, why, sizeof why) == 0) {
+                               p.snapshots > 0 ? saved.frames_in_file : 0, why, sizeof why) == 0 &&
+                           (!network || lub_h5_continue_frames(
+                                            ctx->resume_result, network, "pair_network",
+                                            LUB_NETWORK_COLUMNS, network_cols,
+                                            saved.network_frames_in_file, why, sizeof why) == 0)) {
                     why[0] = '\0';
                 }
             }
@@ -654,6 +728,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
              * (a larger /strain) then takes the steps and samples of the longer run. */
             lp.step = step;
             lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+            lp.network_frames_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
             end_checkpoint =
                 rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5",
                                     ctx->checkpoint_failure, sizeof ctx->checkpoint_failure) == 0;
@@ -716,6 +791,12 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 lp.navg++;
             }
         }
+        /* the network first: its list completion may wrap positions (the snapshot's are
+         * unwrapped, lub_rs_unwrapped) */
+        if (snap && p.pair_network == LUB_NETWORK_SNAPSHOTS &&
+            (rc = rs_network_frame(ctx, &S, network, &net, gd, step == lp.sched.nsteps)) !=
+                LUB_EXIT_OK)
+            break;
         if (snap) {
             for (int i = 0; i < N; ++i) {
                 vec3 xu, vu;
@@ -743,6 +824,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             /* the state after the sample of step `step`, as at a stop (the run then goes on) */
             lp.step = step;
             lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+            lp.network_frames_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
             char why[400] = "";
             if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
                 if (rs_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &B, nb, &S,
@@ -794,10 +876,22 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (stopped_at >= 0 && ctx->checkpoint_path) {
         lp.step = stopped_at;
         lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
+        lp.network_frames_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
         ctx->checkpoint_written =
             rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5",
                                 ctx->checkpoint_failure, sizeof ctx->checkpoint_failure) == 0;
     }
+    /* the network of the final state (after the checkpoint, which keeps the state before the
+     * rebuild the network may do), unless a snapshot's frame already shows it */
+    if (network)
+        lub_h5_frames_written(network, &network_last_step);
+    if (network && network_last_step != S.step &&
+        (rc == LUB_EXIT_OK || rc == LUB_EXIT_INTERRUPTED)) {
+        const int nrc = rs_network_frame(ctx, &S, network, &net, gd, 1);
+        if (nrc != LUB_EXIT_OK)
+            rc = nrc;
+    }
+    lub_pair_network_free(&net);
     if (rc == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable)
         lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", lp.ctl.changes,
                                        p.dt_stiffness_safety, lp.ctl.ratio_max);
@@ -973,6 +1067,21 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                           "(crushed_contact_fraction; u_n < -alpha eps a): "
                                           "contact forces exceed alpha stiffness eps, the "
                                           "results depend on /stiffness: raise it"));
+    int64_t network_first_skipped = 0;
+    char network_why[256] = "";
+    const int64_t network_skipped = network ? lub_h5_frames_skipped(network, &network_first_skipped,
+                                                                    network_why, sizeof network_why)
+                                            : 0;
+    if (network_skipped > 0) {
+        char text[512];
+        snprintf(text, sizeof text,
+                 "%lld frame%s of /pair_network from step %lld on %s not written: %s; the other "
+                 "outputs are not affected; ask for \"final\" only (or run with more room)",
+                 (long long)network_skipped, network_skipped == 1 ? "" : "s",
+                 (long long)network_first_skipped, network_skipped == 1 ? "was" : "were",
+                 network_why);
+        json_array_append_new(warn, json_string(text));
+    }
     json_object_set_new(ctx->summary_extra, "warnings", warn);
     json_object_set_new(
         ctx->summary_extra, "units",
@@ -986,8 +1095,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     return rc;
 }
 
-/* what a continuation may change: a completed run is extended to a larger /strain */
-static const char *const rs_resume_may_differ[] = {"strain", NULL};
+/* what a continuation may change: a completed run is extended to a larger /strain, and may
+ * write the interaction network otherwise */
+static const char *const rs_resume_may_differ[] = {"strain", "pair_network", NULL};
 
 const lub_scene lub_scene_resuspension = {
     .name = "resuspension",

@@ -1,0 +1,203 @@
+#!/usr/bin/env python3
+"""The interaction network of the resuspension scene (/pair_network in result.h5, spec member
+/pair_network; engine/pair_network.h, engine/network_output.h) through the CLI (fast suite):
+ 1. "snapshots", gradient orientation: a frame with every particle snapshot, at its step; in
+    each, i < j, i a free particle, j a free particle or a floor sphere (index >= n); for two
+    free particles the branch vector is x_j - x_i of that snapshot's unwrapped positions up to
+    a cell vector (integer multiples of the edges, to 1e-9 a) and the centre gap is
+    |branch| - r_i - r_j, and the pairs of free particles are exactly those a brute force
+    (minimum image) finds inside the cut-off; contact flags follow gap < eps a, sliding
+    contacts sit at the Coulomb limit; units are stated;
+ 2. the same spec without /pair_network: no group, and the same summary results and time
+    series (the network changes nothing in the run);
+ 3. "final": one frame, equal bit for bit to the last frame of 1;
+ 4. 1 stopped by SIGTERM and continued with --resume: the same frames as 1, bit for bit;
+ 5. the vorticity orientation (a sheared cell), "final": branch vectors as in 1.
+Usage: test_pair_network_cli.py LUBDEM WORKDIR"""
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+FAIL = []
+INDEX = ("step", "time", "row_start", "row_count")
+
+
+def check(cond, what):
+    if not cond:
+        FAIL.append(what)
+        print("FAIL:", what)
+
+
+def run(lubdem, work, name, spec, *extra, fresh=True):
+    out = os.path.join(work, name)
+    if fresh:
+        shutil.rmtree(out, ignore_errors=True)
+    path = os.path.join(work, name + ".json")
+    with open(path, "w") as f:
+        json.dump(dict(spec, scene="resuspension"), f)
+    p = subprocess.run([lubdem, "run", path, "--out", out, "--quiet", "--threads", "1", *extra],
+                       capture_output=True, text=True, timeout=600)
+    check(p.returncode == 0, "%s: exit %s: %s" % (name, p.returncode, p.stderr[-500:]))
+    return out
+
+
+def load(out):
+    with h5py.File(os.path.join(out, "result.h5"), "r") as f:
+        if "pair_network" not in f:
+            return None, None
+        g = f["pair_network"]
+        net = {k: g[k][()] for k in g}
+        units = {k: g[k].attrs["unit"] for k in g}
+        snap = {k: f["particles/all/" + k][()] for k in
+                ("position/value", "position/step", "box/edges/value", "radius")}
+        obs = {}
+        f["observables"].visititems(
+            lambda k, v: obs.__setitem__(k, v[()]) if isinstance(v, h5py.Dataset) else None)
+        spec = json.loads(f["parameters/spec_resolved"][()])
+    units = {k: (u.decode() if isinstance(u, bytes) else u) for k, u in units.items()}
+    return net, dict(snap, units=units, observables=obs, spec=spec)
+
+
+def frame(net, k):
+    a, n = int(net["row_start"][k]), int(net["row_count"][k])
+    return {key: (v[k:k + 1] if key in INDEX else v[a:a + n]) for key, v in net.items()}
+
+
+def check_frame(name, fk, snap, at):
+    law = snap["spec"]["law"]
+    eps, mu, cutoff = law["eps"], law["mu"], snap["spec"]["cutoff"]
+    x, edges, r = snap["position/value"][at], snap["box/edges/value"][at], snap["radius"]
+    n = len(r)
+    i, j = fk["i"], fk["j"]
+    check(len(i) > 0 and np.all(i < j) and np.all(i < n), name + ": i < j, i a free particle")
+    free = j < n
+    check(np.any(~free), name + ": pairs with floor spheres (j >= n) are there")
+    d = fk["branch"][free] - (x[j[free]] - x[i[free]])
+    m = d @ np.linalg.inv(edges)  # rows of edges are the cell vectors
+    check(np.abs(m - np.round(m)).max() < 1e-9,
+          name + ": branch = x_j - x_i up to a cell vector (%.2e)" % np.abs(m - np.round(m)).max())
+    cg = np.linalg.norm(fk["branch"][free], axis=1) - r[i[free]] - r[j[free]]
+    check(np.abs(cg - fk["centre_gap"][free]).max() < 1e-12, name + ": centre gap")
+    a = 0.5 * (r[i[free]] + r[j[free]])
+    check(np.all((fk["gap"][free] < eps * a) == (fk["contact"][free] == 1)),
+          name + ": contact exactly when gap < eps a")
+    fs = np.linalg.norm(fk["force_tangential_contact"], axis=1)
+    lim = mu * np.abs(fk["force_normal_contact"])
+    sl = fk["sliding"] == 1
+    check(np.all(fk["contact"][sl] == 1) and
+          (not sl.any() or np.abs(fs[sl] - lim[sl]).max() <= 1e-12 * (1 + lim[sl].max())) and
+          np.all(fs[~sl] <= lim[~sl] * (1 + 1e-12)),
+          name + ": sliding contacts at mu |F_c|, the others below it")
+    # brute force over the free particles (minimum image in the cell)
+    ii, jj = np.triu_indices(n, 1)
+    s = (x[jj] - x[ii]) @ np.linalg.inv(edges)
+    s -= np.round(s)
+    un = np.linalg.norm(s @ edges, axis=1) - r[ii] - r[jj]
+    keep = un <= cutoff * 0.5 * (r[ii] + r[jj])
+    want = set(zip(ii[keep].tolist(), jj[keep].tolist()))
+    got = set(zip(i[free].tolist(), j[free].tolist()))
+    check(got == want, name + ": the free pairs inside the cut-off (%d; brute force %d)"
+          % (len(got), len(want)))
+
+
+def main():
+    lubdem, work = sys.argv[1], sys.argv[2]
+    os.makedirs(work, exist_ok=True)
+    # 2 strain: long enough (a few seconds) for the stop of 4 to land inside the run
+    base = {"n": 150, "width": 12, "strain": 2, "average_from": 0.2, "sample_strain": 0.05,
+            "inertial_number": 0.05, "density_ratio": 10, "shear_drag_viscosity": 3,
+            "snapshots": 4}
+
+    # 1. a frame with every snapshot
+    out = run(lubdem, work, "snapshots", dict(base, pair_network="snapshots"))
+    net, snap = load(out)
+    summ = json.load(open(os.path.join(out, "summary.json")))
+    check(net is not None, "snapshots: /pair_network written")
+    if net is None:
+        return 1
+    frames = len(net["step"])
+    check(frames == 4 and np.array_equal(net["step"], snap["position/step"]) and
+          np.array_equal(net["row_start"],
+                         np.concatenate([[0], np.cumsum(net["row_count"])[:-1]])),
+          "snapshots: a frame at each snapshot's step (%s; snapshots %s)"
+          % (net["step"].tolist(), snap["position/step"].tolist()))
+    for k in range(min(frames, len(snap["position/step"]))):
+        check_frame("snapshots frame %d" % k, frame(net, k), snap, k)
+    u = snap["units"]
+    check(u["force_normal_contact"] == "eta*gd*a^2" and u["time"] == "1/gd" and
+          u["torque_roll"] == "eta*gd*a^3" and u["branch"] == "a", "units %s" % u)
+    print("pair_network_frames=%d" % frames)
+    print("pair_network_rows_last=%d" % net["row_count"][-1])
+
+    # 2. without it: the same run
+    out2 = run(lubdem, work, "without", base)
+    plain, psnap = load(out2)
+    s2 = json.load(open(os.path.join(out2, "summary.json")))
+    check(plain is None and s2["results"] == summ["results"] and
+          all(np.array_equal(psnap_obs, snap["observables"][k])
+              for k, psnap_obs in h5_observables(out2).items()),
+          "without: no group, the same results and time series")
+
+    # 3. final only
+    out3 = run(lubdem, work, "final", dict(base, pair_network="final"))
+    fnet, _ = load(out3)
+    last = frame(net, frames - 1)
+    check(fnet is not None and len(fnet["step"]) == 1 and
+          all(np.array_equal(last[k], fnet[k]) for k in fnet if k != "row_start"),
+          "final: one frame, equal bit for bit to the last of \"snapshots\"")
+
+    # 4. stopped and continued
+    out4 = os.path.join(work, "resumed")
+    shutil.rmtree(out4, ignore_errors=True)
+    path = os.path.join(work, "resumed.json")
+    with open(path, "w") as f:
+        json.dump(dict(base, scene="resuspension", pair_network="snapshots"), f)
+    proc = subprocess.Popen([lubdem, "run", path, "--out", out4, "--threads", "1"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    for line in proc.stdout:
+        if line.startswith("progress ") and 0.3 <= float(line.split("fraction=")[1].split()[0]) < 0.9:
+            proc.send_signal(signal.SIGTERM)
+            break
+    proc.communicate(timeout=600)
+    tnet, _ = load(out4)
+    st = json.load(open(os.path.join(out4, "summary.json")))
+    check(proc.returncode == 5 and tnet is not None and int(tnet["step"][-1]) == st["steps"],
+          "resumed: stopped (exit %s) with the network of its stop (%s, steps %s)"
+          % (proc.returncode, tnet["step"].tolist() if tnet else None, st.get("steps")))
+    p = subprocess.run([lubdem, "run", path, "--out", out4, "--quiet", "--threads", "1",
+                        "--resume"], capture_output=True, text=True, timeout=600)
+    rnet, _ = load(out4)
+    check(p.returncode == 0 and rnet is not None and sorted(rnet) == sorted(net) and
+          all(np.array_equal(rnet[k], net[k]) for k in net),
+          "resumed: the continuation's frames equal the uninterrupted run's bit for bit (exit %s, "
+          "steps %s against %s)" % (p.returncode, rnet["step"].tolist() if rnet else None,
+                                    net["step"].tolist()))
+
+    # 5. vorticity orientation: a sheared cell
+    out5 = run(lubdem, work, "vorticity", dict(base, orientation="vorticity",
+                                               pair_network="final", snapshots=2))
+    vnet, vsnap = load(out5)
+    check(vnet is not None and len(vnet["step"]) == 1 and
+          int(vnet["step"][0]) == int(vsnap["position/step"][-1]),
+          "vorticity: one frame at the last snapshot's step")
+    if vnet is not None:
+        check_frame("vorticity", frame(vnet, 0), vsnap, -1)
+    return 1 if FAIL else 0
+
+
+def h5_observables(out):
+    with h5py.File(os.path.join(out, "result.h5"), "r") as f:
+        obs = {}
+        f["observables"].visititems(
+            lambda k, v: obs.__setitem__(k, v[()]) if isinstance(v, h5py.Dataset) else None)
+    return obs
+
+
+if __name__ == "__main__":
+    sys.exit(main())
