@@ -752,6 +752,10 @@ int lub_h5_frames_append(lub_h5_frames *fr, int64_t step, double time, int64_t r
         rc |= append_rows(fr->col_ds[c], mem_type_of(fr->type[c]), fr->ncomp[c] > 1 ? 2 : 1, width,
                           start, rows, columns[c]);
     }
+    /* to the file now: the room check of the next frame then sees its size (compressed chunks
+     * otherwise wait in HDF5's chunk cache, up to 1 MiB a column) */
+    for (int c = 0; c < fr->ncol && !rc; ++c)
+        rc |= H5Dflush(fr->col_ds[c]) < 0;
     if (rc)
         return write_failed(f, "append a frame to", fr->group, step);
     fr->frames++;

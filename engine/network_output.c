@@ -1,6 +1,7 @@
 /* network_output.c — /pair_network of result.h5 (see network_output.h). */
 #include "network_output.h"
 
+#include <stdio.h>
 #include <string.h>
 
 int lub_spec_pair_network(json_t *obj, int *mode, lub_error *err)
@@ -57,4 +58,20 @@ int lub_network_append(lub_h5_frames *frames, const lub_pair_network *net, int64
         net->gap,        net->contact, net->sliding,     net->fn_contact,  net->fn_lub,
         net->fs_contact, net->fs_lub,  net->torque_roll, net->torque_twist};
     return lub_h5_frames_append(frames, step, time, (int64_t)net->n, data);
+}
+
+void lub_network_warn_skipped(const lub_h5_frames *frames, json_t *warnings)
+{
+    int64_t first = 0;
+    char why[256] = "";
+    const int64_t skipped = frames ? lub_h5_frames_skipped(frames, &first, why, sizeof why) : 0;
+    if (skipped <= 0)
+        return;
+    char text[512];
+    snprintf(text, sizeof text,
+             "%lld frame%s of /pair_network from step %lld on %s not written: %s; the other "
+             "outputs are not affected; ask for \"final\" only (or run with more room)",
+             (long long)skipped, skipped == 1 ? "" : "s", (long long)first,
+             skipped == 1 ? "was" : "were", why);
+    json_array_append_new(warnings, json_string(text));
 }

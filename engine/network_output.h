@@ -43,4 +43,8 @@ lub_h5_frames *lub_network_define(lub_h5 *out, const char *force_unit, const cha
 int lub_network_append(lub_h5_frames *frames, const lub_pair_network *net, int64_t step,
                        double time);
 
+/* The summary warning for frames of /pair_network skipped for lack of room (lub_h5_frames_
+ * skipped), appended to the JSON array `warnings`; nothing when none was (or frames is NULL). */
+void lub_network_warn_skipped(const lub_h5_frames *frames, json_t *warnings);
+
 #endif

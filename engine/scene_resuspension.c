@@ -1067,21 +1067,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                           "(crushed_contact_fraction; u_n < -alpha eps a): "
                                           "contact forces exceed alpha stiffness eps, the "
                                           "results depend on /stiffness: raise it"));
-    int64_t network_first_skipped = 0;
-    char network_why[256] = "";
-    const int64_t network_skipped = network ? lub_h5_frames_skipped(network, &network_first_skipped,
-                                                                    network_why, sizeof network_why)
-                                            : 0;
-    if (network_skipped > 0) {
-        char text[512];
-        snprintf(text, sizeof text,
-                 "%lld frame%s of /pair_network from step %lld on %s not written: %s; the other "
-                 "outputs are not affected; ask for \"final\" only (or run with more room)",
-                 (long long)network_skipped, network_skipped == 1 ? "" : "s",
-                 (long long)network_first_skipped, network_skipped == 1 ? "was" : "were",
-                 network_why);
-        json_array_append_new(warn, json_string(text));
-    }
+    lub_network_warn_skipped(network, warn);
     json_object_set_new(ctx->summary_extra, "warnings", warn);
     json_object_set_new(
         ctx->summary_extra, "units",

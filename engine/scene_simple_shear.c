@@ -1208,23 +1208,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         json_t *warnings = json_array();
         for (int w = 0; w < n_warnings; ++w)
             json_array_append_new(warnings, json_string(warning_text[w]));
-        int64_t network_first_skipped = 0;
-        char network_why[256] = "";
-        const int64_t network_skipped = network
-                                            ? lub_h5_frames_skipped(network, &network_first_skipped,
-                                                                    network_why, sizeof network_why)
-                                            : 0;
-        if (network_skipped > 0) {
-            char text[512];
-            snprintf(text, sizeof text,
-                     "%lld frame%s of /pair_network from step %lld on %s not written: %s; the "
-                     "other outputs are not affected; ask for \"final\" only (or run with more "
-                     "room)",
-                     (long long)network_skipped, network_skipped == 1 ? "" : "s",
-                     (long long)network_first_skipped, network_skipped == 1 ? "was" : "were",
-                     network_why);
-            json_array_append_new(warnings, json_string(text));
-        }
+        lub_network_warn_skipped(network, warnings);
         json_object_set_new(ctx->summary_extra, "warnings", warnings);
         lub_summary_put(ctx, "elastic_number", checks.elastic_number, NAN, "1");
         json_t *terms = json_array();

@@ -26,62 +26,30 @@
     /pair_network;
  8. that run stopped by SIGTERM and continued with --resume: the continuation's file holds
     the same frames as the uninterrupted run's, bit for bit (the stopped run's copied, then
-    its own), and the stopped run's file ends with the network of its stop.
+    its own), and the stopped run's file ends with the network of its stop;
+ 9. that run under a file-size limit (RLIMIT_FSIZE) 64 MiB + 1.2 MB: the frames that would
+    come within 64 MiB of it are skipped (the first ones written), the run completes with its
+    snapshots and results, and the summary's warnings say how many frames from which step.
 The element-by-element agreement of the forces with the next step's stress sample is checked
 in C (shear.pair_network). Usage: test_pair_network_cli.py LUBDEM WORKDIR [--sanitized]"""
 import json
 import os
+import resource
 import shutil
-import signal
 import subprocess
 import sys
 
 import h5py
 import numpy as np
 
-FAIL = []
-
-
-def check(cond, what):
-    if not cond:
-        FAIL.append(what)
-        print("FAIL:", what)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "framework"))
+from network_cli import FAIL, check, frame, observables, stop_midway  # noqa: E402
+from network_cli import load as network  # noqa: E402
+from network_cli import run as run_spec  # noqa: E402
 
 
 def run(lubdem, work, name, spec, *extra, fresh=True):
-    out = os.path.join(work, name)
-    if fresh:
-        shutil.rmtree(out, ignore_errors=True)
-    path = os.path.join(work, name + ".json")
-    with open(path, "w") as f:
-        json.dump(dict(spec, scene="simple_shear"), f)
-    p = subprocess.run([lubdem, "run", path, "--out", out, "--quiet", *extra],
-                       capture_output=True, text=True, timeout=600)
-    check(p.returncode == 0, "%s: exit %s: %s" % (name, p.returncode, p.stderr[-500:]))
-    return out
-
-
-INDEX = ("step", "time", "row_start", "row_count")
-
-
-def network(out):
-    """All frames of /pair_network (columns as stored), and the particle snapshots."""
-    with h5py.File(os.path.join(out, "result.h5"), "r") as f:
-        if "pair_network" not in f:
-            return None, None
-        g = f["pair_network"]
-        net = {k: g[k][()] for k in g}
-        units = {k: g[k].attrs["unit"] for k in g}
-        units = {k: (u.decode() if isinstance(u, bytes) else u) for k, u in units.items()}
-        snap = {k: f["particles/all/" + k][()] for k in
-                ("position/value", "position/step", "box/edges/value", "radius")}
-    return net, dict(snap, units=units)
-
-
-def frame(net, k):
-    """Frame k of a network: its rows of every column, and its index entries."""
-    a, n = int(net["row_start"][k]), int(net["row_count"][k])
-    return {key: (v[k:k + 1] if key in INDEX else v[a:a + n]) for key, v in net.items()}
+    return run_spec(lubdem, work, name, dict(spec, scene="simple_shear"), *extra, fresh=fresh)
 
 
 def inside_cutoff(x, edges, r, cutoff):
@@ -149,13 +117,8 @@ def check_frames(name, net, snap):
 
 
 def same_observables(out_a, out_b):
-    with h5py.File(os.path.join(out_a, "result.h5"), "r") as fa, \
-            h5py.File(os.path.join(out_b, "result.h5"), "r") as fb:
-        names = []
-        fa["observables"].visit(lambda k: names.append(k)
-                                if isinstance(fa["observables"][k], h5py.Dataset) else None)
-        return len(names) > 0 and all(
-            np.array_equal(fa["observables"][k][()], fb["observables"][k][()]) for k in names)
+    a, b = observables(out_a), observables(out_b)
+    return len(a) > 0 and sorted(a) == sorted(b) and all(np.array_equal(a[k], b[k]) for k in a)
 
 
 def check_example(out, net, snap):
@@ -256,24 +219,15 @@ def main():
           "extended: the extension's network equals the longer run's, bit for bit")
 
     # 5. stopped by SIGTERM once past a third of a longer run
-    out = os.path.join(work, "stopped")
-    shutil.rmtree(out, ignore_errors=True)
-    path = os.path.join(work, "stopped.json")
-    with open(path, "w") as f:
-        json.dump(dict(base, scene="simple_shear", strain=10 * strain, pair_network=True), f)
-    proc = subprocess.Popen([lubdem, "run", path, "--out", out], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-    for line in proc.stdout:
-        if line.startswith("progress ") and 0.3 <= float(line.split("fraction=")[1].split()[0]) < 1:
-            proc.send_signal(signal.SIGTERM)
-            break
-    proc.communicate(timeout=600)
+    out, code = stop_midway(lubdem, work, "stopped", dict(base, scene="simple_shear",
+                                                          strain=10 * strain, pair_network=True),
+                            0.3, 1.0)
     snet, ssnap = network(out)
     st = json.load(open(os.path.join(out, "summary.json")))
-    check(proc.returncode == 5 and st["status"] == "partial" and snet is not None and
+    check(code == 5 and st["status"] == "partial" and snet is not None and
           int(snet["step"][0]) == int(ssnap["position/step"][-1]) == st["steps"],
           "stopped: exit %s, %s, network at step %s (last snapshot %s, steps %s)"
-          % (proc.returncode, st["status"], snet["step"][0] if snet else None,
+          % (code, st["status"], snet["step"][0] if snet else None,
              ssnap["position/step"][-1] if ssnap else None, st["steps"]))
     if snet is not None:
         check_records("stopped", snet, ssnap, 0.02, 0.5)
@@ -314,25 +268,16 @@ def main():
                                                                    p.stderr.strip()[-200:]))
 
     # 8. stopped and continued
-    out = os.path.join(work, "resumed")
-    shutil.rmtree(out, ignore_errors=True)
+    out, code = stop_midway(lubdem, work, "resumed",
+                            dict(every, scene="simple_shear", pair_network="snapshots"), 0.45, 1.0)
     path = os.path.join(work, "resumed.json")
-    with open(path, "w") as f:
-        json.dump(dict(every, scene="simple_shear", pair_network="snapshots"), f)
-    proc = subprocess.Popen([lubdem, "run", path, "--out", out], stdout=subprocess.PIPE,
-                            stderr=subprocess.PIPE, text=True)
-    for line in proc.stdout:
-        if line.startswith("progress ") and 0.45 <= float(line.split("fraction=")[1].split()[0]) < 1:
-            proc.send_signal(signal.SIGTERM)
-            break
-    proc.communicate(timeout=600)
     tnet, tsnap = network(out)
     st = json.load(open(os.path.join(out, "summary.json")))
-    check(proc.returncode == 5 and tnet is not None and
+    check(code == 5 and tnet is not None and
           int(tnet["step"][-1]) == st["steps"] == int(tsnap["position/step"][-1]) and
           0 < st["steps"] < sa["steps"],
           "resumed: stopped (exit %s) at step %s with the network of its stop (%s)"
-          % (proc.returncode, st["steps"], tnet["step"].tolist() if tnet else None))
+          % (code, st["steps"], tnet["step"].tolist() if tnet else None))
     if tnet is not None:
         check_frames("stopped with frames", tnet, tsnap)
     p = subprocess.run([lubdem, "run", path, "--out", out, "--quiet", "--resume"],
@@ -345,6 +290,25 @@ def main():
           % (p.returncode, rnet["step"].tolist() if rnet else None,
              anet["step"].tolist() if anet else None))
     print("pair_network_frames=%d" % (len(anet["step"]) if anet is not None else 0))
+
+    # 9. room: frames of about 0.5 MB under a limit 1.2 MB above the 64 MiB reserve
+    out = os.path.join(work, "limited")
+    shutil.rmtree(out, ignore_errors=True)
+    limit = (64 << 20) + 1200000
+    p = subprocess.run([lubdem, "run", path, "--out", out, "--quiet"], capture_output=True,
+                       text=True, timeout=600,
+                       preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_FSIZE,
+                                                             (limit, limit)))
+    lnet, lsnap = network(out)
+    ls = json.load(open(os.path.join(out, "summary.json"))) if p.returncode == 0 else {}
+    warned = [w for w in ls.get("warnings", []) if "of /pair_network from step" in w]
+    written = len(lnet["step"]) if lnet is not None else 0
+    check(p.returncode == 0 and ls.get("status") == "complete" and 0 < written < 6 and
+          len(lsnap["position/step"]) == 6 and ls.get("results") == sa["results"] and
+          len(warned) == 1 and ("%d frames" % (6 - written)) in warned[0] and
+          ("from step %d" % anet["step"][written]) in warned[0],
+          "limited: %d frames written, the rest skipped and reported (exit %s: %s; %s)"
+          % (written, p.returncode, p.stderr.strip()[-200:], warned))
     return 1 if FAIL else 0
 
 
