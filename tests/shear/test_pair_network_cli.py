@@ -23,7 +23,8 @@
     the run's summary results and time series are those of the same run with "final" only,
     whose network equals the last frame bit for bit; "final" writes one frame, true is read
     as "final" (the resolved spec says so); a value out of the enum is refused naming
-    /pair_network;
+    /pair_network; client_examples/pair_network.py --frame 2 reads frame 2 (its step, counts
+    and stress parts with that snapshot's box);
  8. that run stopped by SIGTERM and continued with --resume: the continuation's file holds
     the same frames as the uninterrupted run's, bit for bit (the stopped run's copied, then
     its own), and the stopped run's file ends with the network of its stop;
@@ -121,18 +122,21 @@ def same_observables(out_a, out_b):
     return len(a) > 0 and sorted(a) == sorted(b) and all(np.array_equal(a[k], b[k]) for k in a)
 
 
-def check_example(out, net, snap):
-    """6: client_examples/pair_network.py on the network of `out`."""
+def check_example(out, net, snap, k=None):
+    """6, 7: client_examples/pair_network.py on frame k (None: its default, the last; net is
+    that frame, snap the particle snapshots) of the network of `out`."""
     example = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                            "client_examples", "pair_network.py")
-    p = subprocess.run([sys.executable, example, os.path.join(out, "result.h5")],
+    p = subprocess.run([sys.executable, example, os.path.join(out, "result.h5")] +
+                       (["--frame", str(k)] if k is not None else []),
                        capture_output=True, text=True, timeout=120)
     vals = dict(line.split("#")[0].strip().split("=", 1) for line in p.stdout.splitlines()
                 if "=" in line)
     contacts = int(np.sum(net["contact"] == 1))
     n = len(snap["radius"])
     fabric = sum(float(vals.get("fabric_%s" % k, "nan")) for k in ("xx", "yy", "zz"))
-    edges = snap["box/edges/value"][-1]
+    at = -1 if k is None else k
+    edges = snap["box/edges/value"][at]
     volume = abs(np.linalg.det(edges))
     nvec = net["branch"] / np.linalg.norm(net["branch"], axis=1)[:, None]
     parts = {"normal_contact": nvec * net["force_normal_contact"][:, None],
@@ -146,6 +150,7 @@ def check_example(out, net, snap):
             got = float(vals.get("stress_%s_%s" % (name, comp), "nan"))
             worst = max(worst, abs(got - want) / max(abs(want), 1e-300))
     check(p.returncode == 0 and int(vals.get("pairs", -1)) == len(net["i"]) and
+          int(vals.get("step", -1)) == int(snap["position/step"][at]) and
           int(vals.get("contacts", -1)) == contacts and
           abs(float(vals.get("Z_contact", "nan")) - 2.0 * contacts / n) < 1e-5 and
           abs(fabric - 1.0) < 1e-5 and worst < 1e-5,
@@ -241,6 +246,7 @@ def main():
     check(anet is not None and fnet is not None, "snapshots, final: /pair_network written")
     if anet is not None and fnet is not None:
         check_frames("snapshots", anet, asnap)
+        check_example(out_all, frame(anet, 2), asnap, k=2)
         sa = json.load(open(os.path.join(out_all, "summary.json")))
         sf = json.load(open(os.path.join(out_final, "summary.json")))
         check(int(anet["step"][0]) == 0 and int(anet["step"][-1]) == sa["steps"] and
