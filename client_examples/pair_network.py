@@ -2,6 +2,7 @@
 """pair_network.py - first look at the interaction network of a simple_shear result.h5.
 
     python3 client_examples/pair_network.py result.h5 [--frame K] [--bins N]
+    python3 client_examples/pair_network.py result.h5 --series
 
 The run must have asked for it ("pair_network": "final" or "snapshots"; /pair_network in
 result.h5, README "Interaction network"). Prints, for one frame of the network (the last
@@ -11,7 +12,9 @@ frames, the frame's step, pairs and contacts, coordination numbers Z = 2 pairs/N
 contacts, the stress each part of the pair forces carries, (1/V) sum F (x) branch (with the
 box of the particle snapshot of the frame's step, so the run needs "snapshots" >= 1 for it),
 and a histogram of the normal contact forces over their mean. Units as in the file (forces
-eta gd a^2 or P a^2, stresses eta gd or P).
+eta gd a^2 or P a^2, stresses eta gd or P). With --series, one line per figure and frame
+instead (frame_K_step, _time, _pairs, _contacts, _Z_contact, _sliding_fraction): how the
+network evolves along a run written with "pair_network": "snapshots".
 (Debian: apt-get install python3-h5py python3-numpy.)"""
 import argparse
 
@@ -30,7 +33,12 @@ def main():
     ap.add_argument("--frame", type=int, default=-1,
                     help="which frame (default -1: the last; 0: the first)")
     ap.add_argument("--bins", type=int, default=8, help="histogram bins of f/<f> (default 8)")
+    ap.add_argument("--series", action="store_true",
+                    help="counts of every frame instead of one frame's analysis")
     a = ap.parse_args()
+    if a.series:
+        series(a.result)
+        return
     with h5py.File(a.result, "r") as f:
         if "pair_network" not in f:
             raise SystemExit("%s has no /pair_network (run with \"pair_network\": \"final\")"
@@ -84,6 +92,29 @@ def main():
             print("contact_force_hist_%.2f_%.2f=%.6g"
                   % (bounds[k], bounds[k + 1], hist[k] / contacts))
         print("contact_force_above_%.2f=%.6g" % (bounds[-1], np.mean(fn / fn.mean() > 4.0)))
+
+
+def series(path):
+    """frame_K_<figure>=value lines for every frame of the network in path."""
+    with h5py.File(path, "r") as f:
+        if "pair_network" not in f:
+            raise SystemExit("%s has no /pair_network" % path)
+        g = f["pair_network"]
+        idx = {key: g[key][()] for key in ("step", "time", "row_start", "row_count")}
+        contact, sliding = g["contact"][()] == 1, g["sliding"][()] == 1
+        n = len(f["particles/all/radius"]) if "particles/all/radius" in f else None
+    print("frames=%d" % len(idx["step"]))
+    for k in range(len(idx["step"])):
+        rows = slice(int(idx["row_start"][k]), int(idx["row_start"][k] + idx["row_count"][k]))
+        c = int(contact[rows].sum())
+        print("frame_%d_step=%d" % (k, idx["step"][k]))
+        print("frame_%d_time=%.9g" % (k, idx["time"][k]))
+        print("frame_%d_pairs=%d" % (k, idx["row_count"][k]))
+        print("frame_%d_contacts=%d" % (k, c))
+        if n:
+            print("frame_%d_Z_contact=%.6g" % (k, 2.0 * c / n))
+        print("frame_%d_sliding_fraction=%.6g"
+              % (k, sliding[rows][contact[rows]].mean() if c else 0.0))
 
 
 if __name__ == "__main__":

@@ -24,7 +24,7 @@
     whose network equals the last frame bit for bit; "final" writes one frame, true is read
     as "final" (the resolved spec says so); a value out of the enum is refused naming
     /pair_network; client_examples/pair_network.py --frame 2 reads frame 2 (its step, counts
-    and stress parts with that snapshot's box);
+    and stress parts with that snapshot's box), --series every frame's counts;
  8. that run stopped by SIGTERM and continued with --resume: the continuation's file holds
     the same frames as the uninterrupted run's, bit for bit (the stopped run's copied, then
     its own), and the stopped run's file ends with the network of its stop;
@@ -158,6 +158,25 @@ def check_example(out, net, snap, k=None):
           % (p.returncode, worst, p.stderr[-300:]))
 
 
+def check_series(out, net, n):
+    """7: client_examples/pair_network.py --series: every frame's step, pairs, contacts, Z_c."""
+    example = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                           "client_examples", "pair_network.py")
+    p = subprocess.run([sys.executable, example, os.path.join(out, "result.h5"), "--series"],
+                       capture_output=True, text=True, timeout=120)
+    vals = dict(line.split("=", 1) for line in p.stdout.splitlines() if "=" in line)
+    good = p.returncode == 0 and int(vals.get("frames", -1)) == len(net["step"])
+    for k in range(len(net["step"])):
+        fk = frame(net, k)
+        c = int(np.sum(fk["contact"] == 1))
+        good = good and int(vals.get("frame_%d_step" % k, -1)) == int(fk["step"][0]) and \
+            int(vals.get("frame_%d_pairs" % k, -1)) == len(fk["i"]) and \
+            int(vals.get("frame_%d_contacts" % k, -1)) == c and \
+            abs(float(vals.get("frame_%d_Z_contact" % k, "nan")) - 2.0 * c / n) < 1e-5
+    check(good, "example: pair_network.py --series agrees with every frame (exit %s: %s)"
+          % (p.returncode, p.stderr[-300:]))
+
+
 def main():
     lubdem, work = sys.argv[1], sys.argv[2]
     sanitized = "--sanitized" in sys.argv
@@ -247,6 +266,7 @@ def main():
     if anet is not None and fnet is not None:
         check_frames("snapshots", anet, asnap)
         check_example(out_all, frame(anet, 2), asnap, k=2)
+        check_series(out_all, anet, len(asnap["radius"]))
         sa = json.load(open(os.path.join(out_all, "summary.json")))
         sf = json.load(open(os.path.join(out_final, "summary.json")))
         check(int(anet["step"][0]) == 0 and int(anet["step"][-1]) == sa["steps"] and
