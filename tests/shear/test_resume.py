@@ -4,10 +4,11 @@ fast suite).
 
 A run stopped by SIGTERM leaves DIR/checkpoint.h5 next to its partial result.h5; `lubdem run
 SPEC --out DIR --resume` continues it. Checked:
- 1. imposed volume, 1 thread, snapshots and microstructure on: stopped at about a third, resumed:
-    exit 0, the checkpoint removed, and summary.json (every result with its error bar, steps,
-    rebuilds, flips) and result.h5 (every time series, snapshot and distribution) equal, bit
-    for bit, to those of the same spec run without a stop;
+ 1. imposed volume, 1 thread, snapshots, microstructure and the interaction network at every
+    snapshot on: stopped at about a third, resumed: exit 0, the checkpoint removed, and
+    summary.json (every result with its error bar, steps, rebuilds, flips) and result.h5 (every
+    time series, snapshot, distribution and network frame) equal, bit for bit, to those of the
+    same spec run without a stop;
  2. imposed pressure (servo), the Delaunay interaction set, 2 threads, stopped twice: the same
     equality with the uninterrupted 2-thread run;
  3. refusals, each exit 2 with the stopped run's files left byte for byte: another /phi
@@ -18,8 +19,9 @@ SPEC --out DIR --resume` continues it. Checked:
     /strain 3 continues it; its time series and distributions equal, bit for bit, those of a
     run asked for 3 from the start, and so do its results; a /strain below the 1.5 already
     done is refused (exit 2, files unchanged);
- 6. resuspension (2 threads, snapshots): stopped at about a third and resumed, the same
-    equality with the uninterrupted run (its summary, every time series, snapshot and profile);
+ 6. resuspension (2 threads, snapshots and network frames): stopped at about a third and
+    resumed, the same equality with the uninterrupted run (its summary, every time series,
+    snapshot, profile and network frame);
  7. the CPU-time limit (a soft RLIMIT_CPU of 3 s, as ulimit -S -t or lubdemd --cpu-s set it):
     the run stops at SIGXCPU like at SIGTERM (exit 5, partial, a checkpoint) and says why in
     its diagnostic and on stderr; it used to be killed by the signal with nothing written;
@@ -135,7 +137,7 @@ os.makedirs(WORK, exist_ok=True)
 # ---- 1. imposed volume, 1 thread ----
 spec1 = write_spec("volume", {
     "scene": "simple_shear", "n_particles": 300, "phi": 0.5, "stiffness": 1e4, "strain": 3.0 * SCALE,
-    "sample_strain": 0.01, "transient_strain": 0.5, "snapshots": 5,
+    "sample_strain": 0.01, "transient_strain": 0.5, "snapshots": 5, "pair_network": "snapshots",
     "microstructure": {"enabled": True, "start_strain": 0.5, "interval_strain": 0.05}})
 ref1, res1 = os.path.join(WORK, "ref1"), os.path.join(WORK, "res1")
 for d in (ref1, res1):
@@ -264,7 +266,7 @@ for d in (ref6, res6):
     shutil.rmtree(d, ignore_errors=True)
 spec6 = write_spec("resuspension", {
     "scene": "resuspension", "n": 150, "width": 12, "strain": 0.6 * SCALE, "average_from": 0.2 * SCALE,
-    "sample_strain": 0.005, "snapshots": 4})
+    "sample_strain": 0.005, "snapshots": 4, "pair_network": "snapshots"})
 rc, _, err = run(spec6, ref6, "--threads", "2")
 check(rc == 0, f"6: uninterrupted resuspension run exit 0 (got {rc}) {err[-300:]}")
 rc, _, _ = run(spec6, res6, "--threads", "2", stop_at=0.3)
