@@ -84,8 +84,8 @@ int lub_pair_network_build(const lub_pair_network_source *src, lub_pair_network 
         lub_pair_input in;
         double un;
         if (ps->i[k] >= src->n_free || /* i < j: two fixed bodies never interact */
-            lub_pair_input_of(ps, k, src->cell, &src->bodies, src->cutoff, src->dt, &in, &un) ==
-                LUB_PAIR_OUT)
+            lub_pair_input_of(ps, k, src->cell, &src->bodies, src->cutoff, src->dt, &in, &un) !=
+                LUB_PAIR_OK) /* as counted above: the arrays have room for exactly these */
             continue;
         lub_pair_state st = ps->state[k];
         if (!ps->active[k])
