@@ -558,6 +558,10 @@ def run():
         T.check("starting the job again from the checkpoint of job %s (kept for this job when "
                 "that job was deleted)" % jid in log,
                 "the extension's log says it restarted from the deleted job's checkpoint")
+        # the worker frees them right after it records the end, which the status shows first
+        deadline = time.time() + 10
+        while time.time() < deadline and os.path.exists(handed):
+            time.sleep(0.1)
         T.check(not os.path.exists(handed), "the handed-over files are freed once it ended")
         st, _, res = srv8.request("GET", "/jobs/%s/results" % cid, tok)
         ext = res["summary"]
