@@ -392,9 +392,12 @@ static int element_count(lub_ckpt *c, const char *name, hid_t d, int one_d, size
     return 0;
 }
 
-int lub_ckpt_has(const lub_ckpt *c, const char *name)
+int lub_ckpt_get_i64_or(lub_ckpt *c, const char *name, int64_t absent, int64_t *v)
 {
-    return c && name && *name && lub_h5_path_exists(c->file, name) > 0;
+    if (c && name && *name && lub_h5_path_exists(c->file, name) > 0)
+        return lub_ckpt_get_i64(c, name, v);
+    *v = absent;
+    return 0;
 }
 
 int lub_ckpt_count(lub_ckpt *c, const char *name, size_t *count)

@@ -49,9 +49,9 @@ int lub_ckpt_put(lub_ckpt *c, const char *name, lub_ckpt_type type, size_t count
 int lub_ckpt_get(lub_ckpt *c, const char *name, lub_ckpt_type type, size_t count, void *data);
 /* Element count of dataset `name` into *count; -1 when missing. */
 int lub_ckpt_count(lub_ckpt *c, const char *name, size_t *count);
-/* 1 when the checkpoint holds `name` (a member newer than some checkpoints), else 0; sets no
- * error. */
-int lub_ckpt_has(const lub_ckpt *c, const char *name);
+/* lub_ckpt_get_i64 of a member newer than some checkpoints: *v = absent when the checkpoint
+ * does not hold `name` (no error set); -1 as lub_ckpt_get_i64 when it holds something else. */
+int lub_ckpt_get_i64_or(lub_ckpt *c, const char *name, int64_t absent, int64_t *v);
 
 /* Convenience scalars: 1-D datasets of one element. */
 int lub_ckpt_put_f64(lub_ckpt *c, const char *name, double v);

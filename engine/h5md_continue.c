@@ -147,11 +147,14 @@ static int read_frame_index(lub_h5_reader *from, const char *group, int64_t fram
     return 0;
 }
 
-int lub_h5_continue_frames(const char *path, lub_h5_frames *to, const char *group, int ncol,
-                           const lub_h5_column *cols, int64_t frames, char *err, size_t len)
+int lub_h5_continue_frames(const char *path, lub_h5_frames *to, int64_t frames, char *err,
+                           size_t len)
 {
     if (frames <= 0)
         return 0;
+    const char *group = NULL;
+    lub_h5_column cols[LUB_H5_FRAME_COLUMNS_MAX];
+    const int ncol = lub_h5_frames_layout(to, &group, cols);
     lub_h5_reader *from = lub_h5r_open(path, err, len);
     if (!from)
         return -1;

@@ -38,11 +38,10 @@ int lub_h5_continue_output(const char *path, lub_h5_table *to_table, int nseries
                            const char *const *names, const int *ncomp, int64_t rows, lub_h5 *to,
                            int64_t n, int64_t frames, char *err, size_t len);
 
-/* Frames [0, frames) of the frame set `group` (its columns cols[ncol], as given to
- * lub_h5_frames_define) of the file at `path` appended to `to`; frames 0 copies nothing and
- * opens nothing. The old frames must be numbered as written (row_start of each = the rows
- * before it). */
-int lub_h5_continue_frames(const char *path, lub_h5_frames *to, const char *group, int ncol,
-                           const lub_h5_column *cols, int64_t frames, char *err, size_t len);
+/* Frames [0, frames) of the file at `path`'s frame set of `to`'s group and columns
+ * (lub_h5_frames_layout) appended to `to`; frames 0 copies nothing and opens nothing. The
+ * old frames must be numbered as written (row_start of each = the rows before it). */
+int lub_h5_continue_frames(const char *path, lub_h5_frames *to, int64_t frames, char *err,
+                           size_t len);
 
 #endif

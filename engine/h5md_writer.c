@@ -15,7 +15,7 @@
 #define ROWS_PER_CHUNK 1024
 #define MAX_TABLES 32
 #define MAX_FRAME_SETS 4
-#define MAX_FRAME_COLUMNS 24
+#define MAX_FRAME_COLUMNS LUB_H5_FRAME_COLUMNS_MAX
 #define FRAME_CHUNK_ROWS 4096 /* rows of a frame set's column per chunk */
 #define FRAME_INDEX_CHUNK 64  /* frames of its step, time, row_start, row_count per chunk */
 
@@ -39,6 +39,7 @@ struct lub_h5_frames {
     lub_h5 *file;
     char group[64];
     int ncol;
+    char name[MAX_FRAME_COLUMNS][48];
     lub_h5_type type[MAX_FRAME_COLUMNS];
     int ncomp[MAX_FRAME_COLUMNS];
     hid_t col_ds[MAX_FRAME_COLUMNS];
@@ -616,35 +617,27 @@ static hid_t mem_type_of(lub_h5_type type)
 
 static size_t value_bytes(lub_h5_type type) { return type == LUB_H5_I8 ? 1u : 8u; }
 
-int lub_h5_write_dataset(lub_h5 *f, const char *path, lub_h5_type type, int rank,
-                         const int64_t *dims, const void *data, const char *unit)
+int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
+                       const double *data, const char *unit)
 {
     if (rank < 1 || rank > 2)
-        return set_err(f, "write array of rank other than 1 or 2:", path);
+        return set_err(f, "write array of rank other than 1 or 2:", name);
     if (f->lost)
         return 0;
-    const hid_t file_type = file_type_of(type);
-    const hid_t mem_type = mem_type_of(type);
+    char path[512];
+    snprintf(path, sizeof path, "profiles/%s", name);
     hsize_t hd[2] = {(hsize_t)dims[0], rank > 1 ? (hsize_t)dims[1] : 1};
     hid_t sp = H5Screate_simple(rank, hd, NULL);
     hid_t l = lcpl_intermediate();
-    hid_t d = H5Dcreate2(f->file, path, file_type, sp, l, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t d = H5Dcreate2(f->file, path, H5T_IEEE_F64LE, sp, l, H5P_DEFAULT, H5P_DEFAULT);
     H5Pclose(l);
-    int rc = d < 0 || H5Dwrite(d, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
+    int rc = d < 0 || H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
     if (!rc && unit)
         rc = write_string_attr(d, "unit", unit);
     if (d >= 0)
         H5Dclose(d);
     H5Sclose(sp);
     return rc ? write_failed(f, "write", path, -1) : 0;
-}
-
-int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
-                       const double *data, const char *unit)
-{
-    char path[512];
-    snprintf(path, sizeof path, "profiles/%s", name);
-    return lub_h5_write_dataset(f, path, LUB_H5_F64, rank, dims, data, unit);
 }
 
 static void frames_free(lub_h5_frames *fr)
@@ -694,11 +687,12 @@ lub_h5_frames *lub_h5_frames_define(lub_h5 *f, const char *group, int ncol,
     for (int c = 0; c < MAX_FRAME_COLUMNS; ++c)
         fr->col_ds[c] = H5I_INVALID_HID;
     for (int c = 0; c < ncol; ++c) {
-        if (cols[c].ncomp < 1 || cols[c].ncomp > 9) {
-            set_err(f, "define a column of 1 to 9 components:", cols[c].name);
+        if (cols[c].ncomp < 1 || cols[c].ncomp > 9 || strlen(cols[c].name) >= sizeof fr->name[c]) {
+            set_err(f, "define a column of 1 to 9 components and a short name:", cols[c].name);
             free(fr);
             return NULL;
         }
+        snprintf(fr->name[c], sizeof fr->name[c], "%s", cols[c].name);
         fr->type[c] = cols[c].type;
         fr->ncomp[c] = cols[c].ncomp;
     }
@@ -767,8 +761,17 @@ int lub_h5_frames_append(lub_h5_frames *fr, int64_t step, double time, int64_t r
 int64_t lub_h5_frames_written(const lub_h5_frames *fr, int64_t *last_step)
 {
     if (last_step)
-        *last_step = fr->last_step;
-    return fr->frames;
+        *last_step = fr ? fr->last_step : -1;
+    return fr ? fr->frames : 0;
+}
+
+int lub_h5_frames_layout(const lub_h5_frames *fr, const char **group,
+                         lub_h5_column cols[LUB_H5_FRAME_COLUMNS_MAX])
+{
+    *group = fr->group;
+    for (int c = 0; c < fr->ncol; ++c)
+        cols[c] = (lub_h5_column){fr->name[c], fr->type[c], fr->ncomp[c], NULL};
+    return fr->ncol;
 }
 
 int64_t lub_h5_frames_skipped(const lub_h5_frames *fr, int64_t *first_step, char *why, size_t len)

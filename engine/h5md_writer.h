@@ -79,12 +79,8 @@ int64_t lub_h5_snapshots_skipped(const lub_h5 *f, int64_t *first_step, char *why
  * RLIMIT_FSIZE is ignored). */
 void lub_h5_set_byte_limit(lub_h5 *f, uint64_t bytes);
 
-/* A dataset at `path` (relative to the root; missing groups are made), rank 1 or 2,
- * row-major, of doubles, int64 or int8 values as `type` says, with a "unit" attribute unless
- * unit is NULL. An existing dataset at path is an error. */
+/* Value types of the frame sets' columns (below). */
 typedef enum { LUB_H5_F64, LUB_H5_I64, LUB_H5_I8 } lub_h5_type;
-int lub_h5_write_dataset(lub_h5 *f, const char *path, lub_h5_type type, int rank,
-                         const int64_t *dims, const void *data, const char *unit);
 
 /* Frame sets: records whose number changes from frame to frame, all frames' rows
  * concatenated in each column (layout above; columns chunked by 4096 rows and compressed).
@@ -98,6 +94,7 @@ typedef struct {
     const char *unit;
 } lub_h5_column;
 typedef struct lub_h5_frames lub_h5_frames;
+enum { LUB_H5_FRAME_COLUMNS_MAX = 24 };
 lub_h5_frames *lub_h5_frames_define(lub_h5 *f, const char *group, int ncol,
                                     const lub_h5_column *cols, const char *time_unit);
 /* Appends one frame of `rows` records: columns[c] holds rows * ncomp values of column c, of
@@ -106,8 +103,13 @@ lub_h5_frames *lub_h5_frames_define(lub_h5 *f, const char *group, int ncol,
  * returns 0 (lub_h5_frames_skipped). Errors as the other writes (lub_h5_output_lost). */
 int lub_h5_frames_append(lub_h5_frames *fr, int64_t step, double time, int64_t rows,
                          const void *const *columns);
-/* Frames written so far; *last_step (may be NULL) the step of the last (-1: none). */
+/* Frames written so far; *last_step (may be NULL) the step of the last (-1: none). A NULL fr
+ * (no set defined) has written none. */
 int64_t lub_h5_frames_written(const lub_h5_frames *fr, int64_t *last_step);
+/* The set's group (owned by fr) and columns as defined (names owned by fr, units NULL); returns
+ * the column count. */
+int lub_h5_frames_layout(const lub_h5_frames *fr, const char **group,
+                         lub_h5_column cols[LUB_H5_FRAME_COLUMNS_MAX]);
 /* Frames not written for lack of room, as lub_h5_snapshots_skipped. */
 int64_t lub_h5_frames_skipped(const lub_h5_frames *fr, int64_t *first_step, char *why, size_t len);
 

@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+enum { LUB_NETWORK_COLUMNS = 14 };
+
 int lub_spec_pair_network(json_t *obj, int *mode, lub_error *err)
 {
     static const char *modes[] = {"none", "final", "snapshots", NULL};
@@ -20,8 +22,9 @@ int lub_spec_pair_network(json_t *obj, int *mode, lub_error *err)
     return 0;
 }
 
-void lub_network_columns(const char *force_unit, const char *torque_unit,
-                         lub_h5_column cols[LUB_NETWORK_COLUMNS])
+/* The columns of /pair_network, in the order lub_network_append writes them. */
+static void network_columns(const char *force_unit, const char *torque_unit,
+                            lub_h5_column cols[LUB_NETWORK_COLUMNS])
 {
     const lub_h5_column c[LUB_NETWORK_COLUMNS] = {
         {"i", LUB_H5_I64, 1, "1"},
@@ -46,7 +49,7 @@ lub_h5_frames *lub_network_define(lub_h5 *out, const char *force_unit, const cha
                                   const char *time_unit)
 {
     lub_h5_column cols[LUB_NETWORK_COLUMNS];
-    lub_network_columns(force_unit, torque_unit, cols);
+    network_columns(force_unit, torque_unit, cols);
     return lub_h5_frames_define(out, "pair_network", LUB_NETWORK_COLUMNS, cols, time_unit);
 }
 

@@ -28,12 +28,6 @@ enum { LUB_NETWORK_NONE, LUB_NETWORK_FINAL, LUB_NETWORK_SNAPSHOTS };
  * *mode a LUB_NETWORK_*, or -1 with err naming /pair_network and the choices. */
 int lub_spec_pair_network(json_t *obj, int *mode, lub_error *err);
 
-enum { LUB_NETWORK_COLUMNS = 14 };
-
-/* The columns of /pair_network, in the order lub_network_append writes them. */
-void lub_network_columns(const char *force_unit, const char *torque_unit,
-                         lub_h5_column cols[LUB_NETWORK_COLUMNS]);
-
 /* Defines /pair_network in out (lub_h5_frames_define); NULL on an HDF5 error. */
 lub_h5_frames *lub_network_define(lub_h5 *out, const char *force_unit, const char *torque_unit,
                                   const char *time_unit);

@@ -366,9 +366,8 @@ static int rs_checkpoint_read_loop(lub_ckpt *c, rs_loop *lp, char *why, size_t l
     lp->crushed_sum = reals[3];
     lp->y_floor = reals[4];
     lp->y_lid = reals[5];
-    lp->network_frames_in_file = 0; /* none in a checkpoint older than the frames */
-    if (lub_ckpt_has(c, "run/network_frames_in_file") &&
-        lub_ckpt_get_i64(c, "run/network_frames_in_file", &lp->network_frames_in_file)) {
+    /* none in a checkpoint older than the frames */
+    if (lub_ckpt_get_i64_or(c, "run/network_frames_in_file", 0, &lp->network_frames_in_file)) {
         snprintf(why, len, "%s", lub_ckpt_error(c));
         return -1;
     }
@@ -626,8 +625,6 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     const char *bnd[3] = {"periodic", "none", "periodic"};
     int snap_ok = p.snapshots == 0 || lub_h5_particles_define(ctx->out, N, B.radius, bnd) == 0;
     /* /pair_network: its arrays (about 3 kB a particle at phi 0.5) are kept from frame to frame */
-    lub_h5_column network_cols[LUB_NETWORK_COLUMNS];
-    lub_network_columns("eta*gd*a^2", "eta*gd*a^3", network_cols);
     lub_h5_frames *network = p.pair_network != LUB_NETWORK_NONE && tab && snap_ok
                                  ? lub_network_define(ctx->out, "eta*gd*a^2", "eta*gd*a^3", "1/gd")
                                  : NULL;
@@ -694,10 +691,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                 } else if (lub_h5_continue_output(
                                ctx->resume_result, tab, 6, names, ncomp, saved.nh, ctx->out, N,
                                p.snapshots > 0 ? saved.frames_in_file : 0, why, sizeof why) == 0 &&
-                           (!network || lub_h5_continue_frames(
-                                            ctx->resume_result, network, "pair_network",
-                                            LUB_NETWORK_COLUMNS, network_cols,
-                                            saved.network_frames_in_file, why, sizeof why) == 0)) {
+                           (!network || lub_h5_continue_frames(ctx->resume_result, network,
+                                                               saved.network_frames_in_file, why,
+                                                               sizeof why) == 0)) {
                     why[0] = '\0';
                 }
             }
@@ -728,7 +724,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
              * (a larger /strain) then takes the steps and samples of the longer run. */
             lp.step = step;
             lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-            lp.network_frames_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
+            lp.network_frames_in_file = lub_h5_frames_written(network, NULL);
             end_checkpoint =
                 rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5",
                                     ctx->checkpoint_failure, sizeof ctx->checkpoint_failure) == 0;
@@ -824,7 +820,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             /* the state after the sample of step `step`, as at a stop (the run then goes on) */
             lp.step = step;
             lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-            lp.network_frames_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
+            lp.network_frames_in_file = lub_h5_frames_written(network, NULL);
             char why[400] = "";
             if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
                 if (rs_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &B, nb, &S,
@@ -876,15 +872,14 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (stopped_at >= 0 && ctx->checkpoint_path) {
         lp.step = stopped_at;
         lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-        lp.network_frames_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
+        lp.network_frames_in_file = lub_h5_frames_written(network, NULL);
         ctx->checkpoint_written =
             rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5",
                                 ctx->checkpoint_failure, sizeof ctx->checkpoint_failure) == 0;
     }
     /* the network of the final state (after the checkpoint, which keeps the state before the
      * rebuild the network may do), unless a snapshot's frame already shows it */
-    if (network)
-        lub_h5_frames_written(network, &network_last_step);
+    lub_h5_frames_written(network, &network_last_step);
     if (network && network_last_step != S.step &&
         (rc == LUB_EXIT_OK || rc == LUB_EXIT_INTERRUPTED)) {
         const int nrc = rs_network_frame(ctx, &S, network, &net, gd, 1);

@@ -522,9 +522,7 @@ static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int6
                  (long long)lp->sched.nsteps);
         return -1;
     }
-    *network_frames_in_file = 0;
-    if (lub_ckpt_has(c, "run/network_frames_in_file") &&
-        lub_ckpt_get_i64(c, "run/network_frames_in_file", network_frames_in_file)) {
+    if (lub_ckpt_get_i64_or(c, "run/network_frames_in_file", 0, network_frames_in_file)) {
         snprintf(why, len, "%s", lub_ckpt_error(c));
         return -1;
     }
@@ -806,8 +804,6 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     }
     const char *force_unit = p.pressure ? "P*a^2" : "eta*gd*a^2";
     const char *torque_unit = p.pressure ? "P*a^3" : "eta*gd*a^3";
-    lub_h5_column network_cols[LUB_NETWORK_COLUMNS];
-    lub_network_columns(force_unit, torque_unit, network_cols);
     if (p.pair_network != LUB_NETWORK_NONE &&
         !(network = lub_network_define(ctx->out, force_unit, torque_unit,
                                        p.pressure ? "eta/P" : "1/gd"))) {
@@ -824,8 +820,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                                         ctx->out, n, p.snapshots > 0 ? resume_frames : 0, why,
                                         sizeof why) == 0 &&
                  network)
-            lub_h5_continue_frames(ctx->resume_result, network, "pair_network", LUB_NETWORK_COLUMNS,
-                                   network_cols, resume_network_frames, why, sizeof why);
+            lub_h5_continue_frames(ctx->resume_result, network, resume_network_frames, why,
+                                   sizeof why);
         lp.frames = p.snapshots > 0 ? resume_frames : 0;
         if (why[0]) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
@@ -861,7 +857,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             /* the state before step `step`, as at a stop (the run then goes on) */
             lp.step = step;
             const int64_t in_file = lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-            const int64_t network_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
+            const int64_t network_in_file = lub_h5_frames_written(network, NULL);
             char why[400] = "";
             if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
                 if (ss_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &ser, in_file,
@@ -1059,7 +1055,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         lp.step = step;
         const int64_t frames_in_file =
             lp.frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-        const int64_t network_in_file = network ? lub_h5_frames_written(network, NULL) : 0;
+        const int64_t network_in_file = lub_h5_frames_written(network, NULL);
         ctx->checkpoint_written =
             ss_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &ser, frames_in_file,
                                 network_in_file, &sys, "result.h5", ctx->checkpoint_failure,
@@ -1077,8 +1073,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
      * it), before the last snapshot, which then shows the positions and box its branch
      * vectors and images refer to */
     int64_t network_last_step = -1;
-    if (network)
-        lub_h5_frames_written(network, &network_last_step);
+    lub_h5_frames_written(network, &network_last_step);
     if (network && network_last_step != sys.step &&
         (exit_code == LUB_EXIT_OK || exit_code == LUB_EXIT_INTERRUPTED)) {
         const int rc = ss_network_frame(ctx, &sys, network, &net, 1);

@@ -155,11 +155,11 @@ int main(int argc, char **argv)
     fr = f ? lub_h5_frames_define(f, "net", 3, cols, "s") : NULL;
     CHECK(fr != NULL);
     char why[512] = "";
-    CHECK(fr && lub_h5_continue_frames(path, fr, "net", 3, cols, 0, why, sizeof why) == 0);
-    CHECK(fr && lub_h5_continue_frames(path, fr, "net", 3, cols, 3, why, sizeof why) == 0);
+    CHECK(fr && lub_h5_continue_frames(path, fr, 0, why, sizeof why) == 0);
+    CHECK(fr && lub_h5_continue_frames(path, fr, 3, why, sizeof why) == 0);
     CHECK(fr && lub_h5_frames_written(fr, &last) == 3 && last == 21);
     CHECK(fr && append(fr, 1) == 0);
-    CHECK(fr && lub_h5_continue_frames(path, fr, "net", 3, cols, 5, why, sizeof why) == -1);
+    CHECK(fr && lub_h5_continue_frames(path, fr, 5, why, sizeof why) == -1);
     CHECK(strstr(why, "5 frames of /net") != NULL);
     printf("too many frames: %s\n", why);
     CHECK(lub_h5_close(f, "complete") == 0);
