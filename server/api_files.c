@@ -18,7 +18,9 @@ static enum MHD_Result serve_fd(lubd_request *r, int fd, uint64_t size, const ch
 {
     if (etag) {
         const char *inm = lubd_header(r, MHD_HTTP_HEADER_IF_NONE_MATCH);
-        if (inm && strstr(inm, etag)) {
+        /* "*" matches any representation (RFC 9110 §13.1.2) */
+        const int any = inm && strspn(inm, " \t*") == strlen(inm) && strchr(inm, '*');
+        if (inm && (any || strstr(inm, etag))) {
             close(fd);
             struct MHD_Response *resp =
                 MHD_create_response_from_buffer(0, NULL, MHD_RESPMEM_PERSISTENT);

@@ -149,7 +149,9 @@ enum MHD_Result lubd_api_jobs(lubd_request *r)
         snprintf(filters + fl, sizeof filters - fl, "&processID=%s", proc);
     json_t *links = json_array();
     char href[1200];
-    snprintf(href, sizeof href, "%s/jobs?limit=%d%s", r->base, q.limit, filters);
+    int hl = snprintf(href, sizeof href, "%s/jobs?limit=%d%s", r->base, q.limit, filters);
+    if (cur && hl > 0 && (size_t)hl < sizeof href) /* this page, not the first */
+        snprintf(href + hl, sizeof href - (size_t)hl, "&cursor=s%lld", q.before_seq);
     json_array_append_new(links, json_pack("{s:s, s:s, s:s}", "href", href, "rel", "self", "type",
                                            "application/json"));
     if (more && n > 0) {
@@ -190,9 +192,12 @@ enum MHD_Result lubd_api_dismiss(lubd_request *r, const char *id)
     sqlite3 *rdb = lubd_db_acquire(&r->srv->pool);
     if (purge)
         left = lubd_deletion_free(rdb, r->srv->cfg->jobs_dir, id, why, sizeof why);
-    else if (strcmp(j.state, "accepted") == 0 && j.continue_from[0])
-        left = lubd_deletion_continuation_ended(rdb, r->srv->cfg->jobs_dir, id, j.continue_from,
-                                                why, sizeof why);
+    else if (strcmp(j.state, "accepted") == 0) { /* a running one is tidied by its worker */
+        left = lubd_deletion_tidy_ended(r->srv->cfg->jobs_dir, &after, why, sizeof why) < 0;
+        if (!left && j.continue_from[0])
+            left = lubd_deletion_continuation_ended(rdb, r->srv->cfg->jobs_dir, id, j.continue_from,
+                                                    why, sizeof why);
+    }
     lubd_db_release(&r->srv->pool, rdb);
     if (left != 0)
         fprintf(stderr, "lubdemd: %s\n", why);

@@ -59,6 +59,31 @@ int lubd_deletion_continuation_ended(sqlite3 *db, const char *jobs_dir, const ch
     return lubd_deletion_free(db, jobs_dir, source_id, why, why_len) == 0 ? 0 : -1;
 }
 
+int lubd_deletion_tidy_ended(const char *jobs_dir, const lubd_job *j, char *why, size_t why_len)
+{
+    if (j->purged || !lubd_job_finished(j))
+        return 0;
+    const int dismissed = strcmp(j->state, "dismissed") == 0;
+    int removed = 0;
+    char dir[1300];
+    for (int k = 0; k <= j->attempt; ++k) {
+        if (k == j->attempt && !dismissed)
+            continue;
+        if (k == 0)
+            lubd_pathf(dir, sizeof dir, "%s/%s/resume-out", jobs_dir, j->id);
+        else
+            lubd_pathf(dir, sizeof dir, "%s/%s/attempt-%d/out", jobs_dir, j->id, k);
+        if (access(dir, F_OK) != 0)
+            continue;
+        if (lubd_rm_rf(dir) != 0) {
+            lubd_pathf(why, why_len, "could not delete %s: %s", dir, strerror(errno));
+            return -1;
+        }
+        ++removed;
+    }
+    return removed;
+}
+
 /* What the sweep does with the folder of job j: 1 freed something, 0 nothing to do, -1 could
  * not (*why says why). */
 static int sweep_one(sqlite3 *db, const char *jobs_dir, const lubd_job *j, char *why,
@@ -66,9 +91,13 @@ static int sweep_one(sqlite3 *db, const char *jobs_dir, const lubd_job *j, char 
 {
     if (j->purged)
         return lubd_deletion_free(db, jobs_dir, j->id, why, why_len) == 0 ? 1 : -1;
-    if (!j->continue_from[0] || !lubd_job_finished(j))
+    if (!lubd_job_finished(j))
         return 0;
-    return drop_handed_files(jobs_dir, j->id, why, why_len);
+    const int tidied = lubd_deletion_tidy_ended(jobs_dir, j, why, why_len);
+    if (tidied < 0 || !j->continue_from[0])
+        return tidied > 0 ? 1 : tidied;
+    const int dropped = drop_handed_files(jobs_dir, j->id, why, why_len);
+    return dropped < 0 ? -1 : (dropped > 0 || tidied > 0);
 }
 
 int lubd_deletion_sweep(sqlite3 *db, const char *jobs_dir, int quiet)
@@ -101,7 +130,7 @@ int lubd_deletion_sweep(sqlite3 *db, const char *jobs_dir, int quiet)
             ++freed;
             if (!quiet)
                 fprintf(stderr, "lubdemd: freed what job %s left on disk (%s)\n", j.id,
-                        j.purged ? "it was deleted" : "files handed over to it");
+                        j.purged ? "it was deleted" : "files it no longer needs");
         }
     }
     closedir(d);

@@ -17,6 +17,8 @@
 #include <sqlite3.h>
 #include <stddef.h>
 
+#include "queue.h"
+
 /* Frees the folder of the purged job `id`: hands its files over to the jobs that continue it
  * and have not ended, then removes jobs_dir/<id>. Returns 0 when the folder is gone (or was
  * not there), 1 when it is kept because the hand-over failed, -1 when it could not be
@@ -33,12 +35,21 @@ int lubd_deletion_free(sqlite3 *db, const char *jobs_dir, const char *id, char *
 int lubd_deletion_continuation_ended(sqlite3 *db, const char *jobs_dir, const char *id,
                                      const char *source_id, char *why, size_t why_len);
 
+/* What the engines of an ended (not purged) job wrote outside its result/ and is never served:
+ * the out/ folders of its earlier attempts (a requeued attempt's partial files that the next
+ * attempt did not take over) and, for a job dismissed while it ran, its last attempt's out/
+ * too; the job's resume-out/. The attempts' logs stay (GET /jobs/{id}/log), and so does the
+ * last out/ of a job that did not end dismissed (a failed job's summary may be read from it).
+ * A job that has not ended is left alone. Returns the number of folders removed, or -1 with
+ * *why set when one could not be. */
+int lubd_deletion_tidy_ended(const char *jobs_dir, const lubd_job *j, char *why, size_t why_len);
+
 /* Takes up what deletions and ended continuations left in jobs_dir: for every folder named
- * after a job, a purged job's folder is freed (lubd_deletion_free) and an ended continuation's
- * continued-from/ is removed. Folders that are no job's are left alone. Prints a line on
- * stderr for every folder it frees unless quiet, and for every one it cannot. Returns the
- * number of folders freed, or -1 when jobs_dir or the database cannot be read (a jobs_dir that
- * does not exist yet is 0). */
+ * after a job, a purged job's folder is freed (lubd_deletion_free), an ended continuation's
+ * continued-from/ is removed and an ended job is tidied (lubd_deletion_tidy_ended). Folders that
+ * are no job's are left alone. Prints a line on stderr for every folder it frees unless quiet, and
+ * for every one it cannot. Returns the number of folders freed, or -1 when jobs_dir or the database
+ * cannot be read (a jobs_dir that does not exist yet is 0). */
 int lubd_deletion_sweep(sqlite3 *db, const char *jobs_dir, int quiet);
 
 #endif

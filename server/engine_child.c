@@ -80,7 +80,8 @@ int lubd_engine_spawn(const lubd_engine_opts *o, lubd_engine_proc *p)
         set_limit(RLIMIT_CPU, o->cpu_s, 1);
         set_limit(RLIMIT_AS, o->mem_mb, 1024L * 1024L);
         set_limit(RLIMIT_FSIZE, o->fsize_mb, 1024L * 1024L);
-        set_limit(RLIMIT_CORE, 0, 1);
+        const struct rlimit no_core = {0, 0}; /* set_limit takes 0 for "no limit" */
+        setrlimit(RLIMIT_CORE, &no_core);
         execv(o->engine, (char *const *)argv);
         static const char msg[] = "error: lubdemd could not execute the engine binary\n";
         ssize_t ignored = write(2, msg, sizeof msg - 1);

@@ -60,7 +60,8 @@ int lubd_rm_rf(const char *path)
     return nftw(path, rm_one, 16, FTW_DEPTH | FTW_PHYS);
 }
 
-int lubd_file_sha256(const char *path, char hex[65], uint64_t *size)
+int lubd_file_sha256(const char *path, char hex[65], uint64_t *size, lubd_hash_tick tick,
+                     void *tick_ctx)
 {
     int fd = open(path, O_RDONLY | O_CLOEXEC);
     if (fd < 0)
@@ -82,6 +83,13 @@ int lubd_file_sha256(const char *path, char hex[65], uint64_t *size)
         if (got == 0)
             break;
         lubd_sha256_update(&c, buf, (size_t)got);
+        const uint64_t tick_bytes = 16u << 20;
+        if (tick && (total + (uint64_t)got) / tick_bytes != total / tick_bytes &&
+            tick(tick_ctx) != 0) {
+            close(fd);
+            errno = ECANCELED;
+            return -1;
+        }
         total += (uint64_t)got;
     }
     close(fd);

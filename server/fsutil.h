@@ -10,8 +10,12 @@
 int lubd_mkdir_p(const char *path, unsigned mode);
 /* Removes a file or a directory tree (no symlink following). Missing path = success. */
 int lubd_rm_rf(const char *path);
-/* SHA-256 (hex) and size of a regular file. */
-int lubd_file_sha256(const char *path, char hex[65], uint64_t *size);
+/* Called while a file is hashed, after every 16 MiB read; a non-zero return stops the hash. */
+typedef int (*lubd_hash_tick)(void *ctx);
+/* SHA-256 (hex) and size of a regular file. tick (may be NULL) lets a long hash keep a lease
+ * alive; when it asks to stop, the call fails with errno ECANCELED. */
+int lubd_file_sha256(const char *path, char hex[65], uint64_t *size, lubd_hash_tick tick,
+                     void *tick_ctx);
 /* Reads at most max bytes; fails with EFBIG if the file is larger. */
 char *lubd_read_file(const char *path, size_t max, size_t *len);
 /* Writes data to path via path.tmp + fsync + rename. */

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 #include "deletion.h"
 #include "fsutil.h"
 #include "http_server.h"
+#include "queue.h"
 #include "supervisor.h"
 #include "tokens.h"
 #include "worker.h"
@@ -35,12 +37,18 @@ static int take_user_opts(int argc, char **argv, const char **user, int *admin)
     return out;
 }
 
-static sqlite3 *open_state(lubd_config *cfg)
+static int lock_queue(const lubd_config *cfg);
+
+/* Creates the run directory and opens the queue; the service (lock_fd not NULL) takes the
+ * queue's lock first, the admin commands do not. */
+static sqlite3 *open_state(lubd_config *cfg, int *lock_fd)
 {
     if (lubd_mkdir_p(cfg->run_dir, 0750) != 0 || lubd_mkdir_p(cfg->jobs_dir, 0750) != 0) {
         fprintf(stderr, "lubdemd: cannot create %s: %s\n", cfg->run_dir, strerror(errno));
         return NULL;
     }
+    if (lock_fd && (*lock_fd = lock_queue(cfg)) < 0)
+        return NULL;
     return lubd_db_open(cfg->db_path, 1);
 }
 
@@ -72,7 +80,7 @@ static int cmd_token(lubd_config *cfg, int argc, char **argv)
     argc = take_user_opts(argc, argv, &user, &admin);
     if (lubd_config_parse(cfg, argc, argv, first) != 0)
         return 2;
-    sqlite3 *db = open_state(cfg);
+    sqlite3 *db = open_state(cfg, NULL);
     if (!db)
         return 1;
     int rc = 0;
@@ -147,6 +155,41 @@ static void banner(const lubd_config *cfg, int port, const char *token_file, int
             cfg->listen_host, port, cfg->listen_host, port);
 }
 
+/* The one service that uses a queue holds an exclusive lock on "<queue>.lock" for its whole
+ * life (the descriptor is closed on exec, so workers and engines do not hold it). Holding it,
+ * the start may take every running lease for the orphan of a service that died. Returns the
+ * descriptor, or -1 after saying why. */
+static int lock_queue(const lubd_config *cfg)
+{
+    char path[1200];
+    if (lubd_pathf(path, sizeof path, "%s.lock", cfg->db_path) != 0) {
+        fprintf(stderr, "lubdemd: path too long: %s.lock\n", cfg->db_path);
+        return -1;
+    }
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0640);
+    if (fd < 0) {
+        fprintf(stderr, "lubdemd: cannot open %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        char pid[32] = "";
+        ssize_t got = pread(fd, pid, sizeof pid - 1, 0);
+        pid[got > 0 ? got : 0] = '\0';
+        pid[strcspn(pid, "\n")] = '\0';
+        fprintf(stderr,
+                "lubdemd: another lubdemd%s%s%s is serving the queue %s (lock %s); stop it first, "
+                "or give this one another --run-dir\n",
+                pid[0] ? " (pid " : "", pid, pid[0] ? ")" : "", cfg->db_path, path);
+        close(fd);
+        return -1;
+    }
+    char mine[32];
+    const int len = snprintf(mine, sizeof mine, "%ld\n", (long)getpid());
+    if (ftruncate(fd, 0) != 0 || pwrite(fd, mine, (size_t)len, 0) != len)
+        fprintf(stderr, "lubdemd: cannot write the pid into %s (the lock holds)\n", path);
+    return fd;
+}
+
 static int cmd_serve(lubd_config *cfg)
 {
     if (cfg->workers > 0 && access(cfg->engine, X_OK) != 0) {
@@ -154,7 +197,8 @@ static int cmd_serve(lubd_config *cfg)
                 cfg->engine);
         return 1;
     }
-    sqlite3 *db = open_state(cfg);
+    int lock_fd = -1;
+    sqlite3 *db = open_state(cfg, &lock_fd);
     if (!db)
         return 1;
     char token_file[1200] = "";
@@ -164,7 +208,14 @@ static int cmd_serve(lubd_config *cfg)
         return 1;
     }
     have_file = cfg->init_defaults && access(token_file, R_OK) == 0;
-    lubd_reap_once(db, cfg->quiet);
+    int requeued = 0, failed = 0;
+    if (lubd_queue_reap_orphans(db, &requeued, &failed) != 0)
+        fprintf(stderr, "lubdemd: cannot requeue the jobs the last service left running\n");
+    else if (!cfg->quiet && (requeued || failed))
+        fprintf(stderr,
+                "lubdemd: %d job(s) left running by a service that died requeued, %d failed after "
+                "their last attempt\n",
+                requeued, failed);
     /* what deletions left on disk when the service stopped between their steps */
     lubd_deletion_sweep(db, cfg->jobs_dir, cfg->quiet);
     lubd_db_close(db);
@@ -193,6 +244,7 @@ static int cmd_serve(lubd_config *cfg)
     int rc = lubd_supervise(cfg, &srv);
     lubd_http_stop(&srv);
     fprintf(stderr, "lubdemd: stopped\n");
+    close(lock_fd); /* after the workers: none of them still runs a job */
     return rc == 0 ? 0 : 1;
 }
 

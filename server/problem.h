@@ -25,6 +25,10 @@ typedef struct {
 /* Fills *f; pointer NULL = not about a single field. Returns -1 (for "return lubd_fail(...)").*/
 int lubd_fail(lubd_fault *f, int status, const char *type, const char *title, const char *pointer,
               const char *fmt, ...) __attribute__((format(printf, 6, 7)));
+/* Cuts an incomplete UTF-8 character off the end of s (what a "%.Ns" or a full buffer leaves
+ * of a multi-byte name), so that the text stays valid for JSON. Applied to pointer and detail
+ * by lubd_fail. */
+void lubd_utf8_trim_tail(char *s);
 /* New JSON object {type,title,status,detail[,instance][,errors:[{pointer,detail}]]}. */
 json_t *lubd_fault_json(const lubd_fault *f, const char *instance);
 

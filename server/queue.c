@@ -375,23 +375,6 @@ int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_
     return 0;
 }
 
-/* Runs sql, whose ?1 is the instant `now` (s), inside the caller's transaction. Returns the
- * number of rows changed, or -1. */
-static int exec_at(sqlite3 *db, const char *sql, double now)
-{
-    sqlite3_stmt *st;
-    if (lubd_db_prepare(db, sql, &st) != 0)
-        return -1;
-    sqlite3_bind_double(st, 1, now);
-    const int rc = sqlite3_step(st);
-    sqlite3_finalize(st);
-    if (rc != SQLITE_DONE) {
-        fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
-        return -1;
-    }
-    return sqlite3_changes(db);
-}
-
 int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
 {
     *requeued = *failed = 0;
@@ -408,7 +391,10 @@ int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
     return lubd_queue_reap_at(db, now, requeued, failed);
 }
 
-int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed)
+/* The reaper's pass: every running lease that ends before `expired_before` is requeued (its
+ * message `why`) or, after its last attempt, failed; `now` stamps the changes. */
+static int reap_leases(sqlite3 *db, double now, double expired_before, const char *why,
+                       int *requeued, int *failed)
 {
     *requeued = *failed = 0;
     if (lubd_db_begin(db) != 0)
@@ -416,7 +402,7 @@ int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed)
     sqlite3_stmt *st;
     const char *ev =
         "INSERT INTO job_events(job_id, at, event, attempt, worker, token) SELECT id, ?1, ?2, "
-        "attempt, worker, lease_token FROM jobs WHERE state = 'running' AND lease_until < ?1 "
+        "attempt, worker, lease_token FROM jobs WHERE state = 'running' AND lease_until < ?4 "
         "AND (attempt < max_attempts) = ?3";
     for (int retry = 1; retry >= 0; --retry) {
         if (lubd_db_prepare(db, ev, &st) != 0)
@@ -424,35 +410,66 @@ int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed)
         sqlite3_bind_double(st, 1, now);
         sqlite3_bind_text(st, 2, retry ? "requeued" : "failed", -1, SQLITE_STATIC);
         sqlite3_bind_int(st, 3, retry);
+        sqlite3_bind_double(st, 4, expired_before);
         int rc = sqlite3_step(st);
         sqlite3_finalize(st);
         if (rc != SQLITE_DONE)
             goto fail;
     }
-    const int nr = exec_at(
-        db,
+    int changed[2];
+    const char *update[2] = {
         "UPDATE jobs SET state = 'accepted', worker = NULL, lease_token = NULL, lease_until = "
-        "NULL, engine_pid = NULL, progress = 0, message = 'requeued: the worker stopped "
-        "heartbeating (lease expired)', updated = ?1 WHERE state = 'running' AND lease_until < "
-        "?1 AND attempt < max_attempts",
-        now);
-    if (nr < 0)
+        "NULL, engine_pid = NULL, progress = 0, message = ?3, updated = ?1 WHERE state = "
+        "'running' AND lease_until < ?2 AND attempt < max_attempts",
+        "UPDATE jobs SET state = 'failed', failure_kind = 'system', worker = NULL, lease_token = "
+        "NULL, lease_until = NULL, message = 'failed: the worker died on every attempt (lease "
+        "expired after the last attempt)', finished = ?1, updated = ?1 WHERE state = 'running' "
+        "AND lease_until < ?2"};
+    for (int k = 0; k < 2; ++k) {
+        if (lubd_db_prepare(db, update[k], &st) != 0)
+            goto fail;
+        sqlite3_bind_double(st, 1, now);
+        sqlite3_bind_double(st, 2, expired_before);
+        if (k == 0)
+            sqlite3_bind_text(st, 3, why, -1, SQLITE_STATIC);
+        const int rc = sqlite3_step(st);
+        sqlite3_finalize(st);
+        if (rc != SQLITE_DONE)
+            goto fail;
+        changed[k] = sqlite3_changes(db);
+    }
+    if (lubd_db_commit(db) != 0)
         goto fail;
-    const int nf = exec_at(db,
-                           "UPDATE jobs SET state = 'failed', failure_kind = 'system', worker = "
-                           "NULL, lease_token = NULL, lease_until = NULL, message = 'failed: the "
-                           "worker died on every attempt (lease expired after the last "
-                           "attempt)', finished = ?1, updated = ?1 WHERE state = 'running' AND "
-                           "lease_until < ?1",
-                           now);
-    if (nf < 0 || lubd_db_commit(db) != 0)
-        goto fail;
-    *requeued = nr;
-    *failed = nf;
+    *requeued = changed[0];
+    *failed = changed[1];
     return 0;
 fail:
+    fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
     lubd_db_rollback(db);
     return -1;
+}
+
+int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed)
+{
+    return reap_leases(db, now, now, "requeued: the worker stopped heartbeating (lease expired)",
+                       requeued, failed);
+}
+
+int lubd_queue_reap_orphans(sqlite3 *db, int *requeued, int *failed)
+{
+    *requeued = *failed = 0;
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db, "SELECT " LUBD_SQL_NOW, &st) != 0)
+        return -1;
+    const int have_now = sqlite3_step(st) == SQLITE_ROW;
+    const double now = have_now ? sqlite3_column_double(st, 0) : 0.0;
+    sqlite3_finalize(st);
+    if (!have_now)
+        return -1;
+    return reap_leases(db, now, 1e300, /* every lease */
+                       "requeued: the service stopped without releasing it (crash or kill -9) "
+                       "and was started again",
+                       requeued, failed);
 }
 
 int lubd_queue_counts(sqlite3 *db, int *accepted, int *running)

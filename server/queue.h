@@ -94,6 +94,12 @@ int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed);
  * same set (SQLite's own 'now' moves between statements). */
 int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed);
 
+/* At the start of the one service that may use the queue (main.c holds its lock): every
+ * running lease is an orphan of a service that died (its workers and engines die with it,
+ * PR_SET_PDEATHSIG), so each is requeued (or failed after its last attempt) now instead of
+ * when its lease would have expired. The attempt counts, as for an expired lease. */
+int lubd_queue_reap_orphans(sqlite3 *db, int *requeued, int *failed);
+
 int lubd_queue_counts(sqlite3 *db, int *accepted, int *running);
 
 typedef struct {

@@ -66,7 +66,8 @@ static const char *media_type_of(const char *name)
     return "application/octet-stream";
 }
 
-/* Last line of the log that is not a progress line, as the failure diagnostic. */
+/* The engine's last line in the log that is not a progress line (the last "error" line if
+ * there is one), as the failure diagnostic; the worker's own "lubdemd: " lines are left out. */
 static void log_diagnostic(const char *log_path, char *out, size_t n)
 {
     out[0] = '\0';
@@ -83,7 +84,8 @@ static void log_diagnostic(const char *log_path, char *out, size_t n)
     buf[got] = '\0';
     char *save = NULL, *best = NULL, *best_error = NULL;
     for (char *line = strtok_r(buf, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
-        if (strncmp(line, "progress ", 9) == 0 || line[0] == '\0')
+        if (strncmp(line, "progress ", 9) == 0 || strncmp(line, "lubdemd: ", 9) == 0 ||
+            line[0] == '\0')
             continue;
         best = line;
         if (strncmp(line, "error", 5) == 0)
@@ -113,8 +115,34 @@ static void summary_diagnostic(const char *out_dir, char *out, size_t n)
     json_decref(s);
 }
 
-/* Enumerates the output files and checksums them. Returns count or -1. */
-static int collect_outputs(const char *out_dir, lubd_output_file *files, char names[][64], int max)
+/* Keeps the lease of a job alive while its outputs are checksummed: a large result.h5 takes
+ * longer than a lease (about 85 MB/s on the 2-core host), and a lease let go there had the
+ * reaper requeue a run that had completed. */
+typedef struct {
+    worker_ctx *w;
+    const lubd_claim *c;
+    double next_beat;
+    int lost; /* the lease was lost or the job dismissed meanwhile */
+} finishing_beat;
+
+static int beat_while_finishing(void *ctx)
+{
+    finishing_beat *b = ctx;
+    const double t = now_s();
+    if (t < b->next_beat)
+        return 0;
+    double every = b->w->cfg->lease_s / 3.0;
+    b->next_beat = t + (every > 1.0 ? 1.0 : every);
+    /* a database error is not a lost lease: the next beat tries again */
+    if (lubd_lease_heartbeat(b->w->db, b->c, b->w->cfg->lease_s, -1, NULL, 0) == 0)
+        b->lost = 1;
+    return b->lost;
+}
+
+/* Enumerates the output files and checksums them, heartbeating through *beat. Returns the
+ * count, or -1 (the folder cannot be read, or beat->lost). */
+static int collect_outputs(const char *out_dir, lubd_output_file *files, char names[][64], int max,
+                           finishing_beat *beat)
 {
     DIR *d = opendir(out_dir);
     if (!d)
@@ -135,15 +163,19 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
             continue;
         uint64_t size;
         lubd_pathf(names[n], 64, "%s", e->d_name);
-        if (lubd_file_sha256(path, files[n].sha256, &size) != 0)
+        if (beat_while_finishing(beat) != 0 ||
+            lubd_file_sha256(path, files[n].sha256, &size, beat_while_finishing, beat) != 0) {
+            if (beat->lost)
+                break;
             continue;
+        }
         files[n].name = names[n];
         files[n].media_type = media_type_of(names[n]);
         files[n].size = (long long)size;
         ++n;
     }
     closedir(d);
-    return n;
+    return beat->lost ? -1 : n;
 }
 
 /* what the job log adds when a continuation starts from files handed over to it */
@@ -406,10 +438,15 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         lubd_lease_drop(w->db, c);
         return;
     }
+    finishing_beat beat = {w, c, 0.0, 0};
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
         lubd_output_file files[16];
         char names[16][64];
-        int n = collect_outputs(out_dir, files, names, 16);
+        int n = collect_outputs(out_dir, files, names, 16, &beat);
+        if (beat.lost) { /* requeued or dismissed meanwhile: the files are not ours to keep */
+            lubd_lease_drop(w->db, c);
+            return;
+        }
         int have_summary = 0, have_h5 = 0;
         for (int i = 0; i < n; ++i) {
             have_summary |= strcmp(files[i].name, "summary.json") == 0;
@@ -445,7 +482,11 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     char names[16][64];
     /* exit 2: the engine wrote nothing (a refused continuation leaves the files it was
      * given, which are another job's) */
-    int n = code == 2 ? 0 : collect_outputs(out_dir, files, names, 16);
+    int n = code == 2 ? 0 : collect_outputs(out_dir, files, names, 16, &beat);
+    if (beat.lost) {
+        lubd_lease_drop(w->db, c);
+        return;
+    }
     int done =
         n > 0 ? lubd_lease_fail_with_outputs(w->db, c, kind, msg, out_dir, result_dir, files, n)
               : lubd_lease_fail(w->db, c, kind, msg);
@@ -455,16 +496,20 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         lubd_lease_drop(w->db, c);
 }
 
-/* A continuation that has ended no longer needs the files an earlier job handed over to it
- * when that job was deleted, nor that job's folder if it was kept for it (a requeued or
- * released job has not ended, and keeps them). */
-static void continuation_ended(worker_ctx *w, const lubd_claim *c)
+/* A job that has ended (a requeued or released one has not) no longer needs what its engines
+ * wrote outside result/ (lubd_deletion_tidy_ended: a dismissed run's files, earlier attempts'
+ * partial files); a continuation no longer needs the files an earlier job handed over to it
+ * when that job was deleted, nor that job's folder if it was kept for it. */
+static void job_ended(worker_ctx *w, const lubd_claim *c)
 {
     lubd_job j;
-    if (!c->continue_from[0] || lubd_queue_get(w->db, c->id, &j) != 1 || !lubd_job_finished(&j))
+    if (lubd_queue_get(w->db, c->id, &j) != 1 || !lubd_job_finished(&j))
         return;
     char why[1400];
-    if (lubd_deletion_continuation_ended(w->db, w->cfg->jobs_dir, c->id, c->continue_from, why,
+    if (lubd_deletion_tidy_ended(w->cfg->jobs_dir, &j, why, sizeof why) < 0)
+        fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
+    if (c->continue_from[0] &&
+        lubd_deletion_continuation_ended(w->db, w->cfg->jobs_dir, c->id, c->continue_from, why,
                                          sizeof why) != 0)
         fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
 }
@@ -507,7 +552,7 @@ int lubd_worker_main(const lubd_config *cfg, const char *name)
             continue;
         }
         run_job(&w, &c);
-        continuation_ended(&w, &c);
+        job_ended(&w, &c);
         lubd_lease_clear(&c);
     }
     sqlite3_finalize(peek);

@@ -3,7 +3,6 @@ POST /processes/falling_sphere/execution, on a queue-only server (--workers 0), 
 loopback load generator (loadgen.c). Prints name=value lines and writes
 /tmp/readme-server-bench.md for the README."""
 import os
-import platform
 import subprocess
 
 import lubd_testlib as T

@@ -4,10 +4,13 @@
 #   3 -> numerical failure: summary.json with a diagnostic, exit 3
 #   4 -> output error (a system failure), exit 4: result.h5 could not be written, summary.json
 #        keeps the run's results (as lubdem does since 2026-12-05)
-#   11 -> the engine crashes (SIGSEGV)
+#   11 -> the engine prints its core-file limit and an assertion, then crashes (SIGSEGV)
 #   7 -> exit 0 without writing any output
 #   5 -> stopped (exit 5) with a partial summary, a result.h5, a checkpoint.h5 and a leftover
 #        temporary file: the kept files must be served with the failure, the temporary one not
+#   13 -> completes (exit 0) with a 1200 MiB result.h5 (sparse: cheap to write, as slow to
+#        checksum as any, 7 s here): its checksumming outlasts a 2 s lease
+#   20 -> runs until it is stopped, a result.h5 written at the start
 spec=$2 out=$4
 mkdir -p "$out"
 echo "progress fraction=0.5000 step=10 steps_per_s=1.0e+03 eta_s=1.0"
@@ -19,7 +22,15 @@ case $(tr -d ' \n' < "$spec") in
     printf '{"scene": "falling_sphere", "status": "failed", "exit_code": 4, "results": {"rebound_height": {"value": 0.25, "stderr": null, "unit": "a"}}, "diagnostic": "cannot write result.h5 in %s: No space left on device (closing the file)"}\n' "$out" > "$out/summary.json"
     echo "error: cannot write result.h5 in $out: No space left on device (closing the file)" >&2; exit 4 ;;
   *'"duration":11'[,}]*)
+    echo "fake engine: core file size limit $(ulimit -c)" >&2
+    echo "lubdem: pair_network.c:88: fill: Assertion \`k < n' failed." >&2
     kill -SEGV $$ ;;
+  *'"duration":13'[,}]*)
+    printf '{"scene": "falling_sphere", "status": "complete"}\n' > "$out/summary.json"
+    truncate -s 1200M "$out/result.h5"; exit 0 ;;
+  *'"duration":20'[,}]*)
+    printf 'rows of a long run\n' > "$out/result.h5"
+    while :; do sleep 0.1; done ;;
   *'"duration":7'[,}]*)
     exit 0 ;;
   *'"duration":5'[,}]*)

@@ -3,8 +3,6 @@ malformed JSON, wrong types, out-of-range, unknown fields (top level and inside 
 oversized bodies (Content-Length and chunked), a job too large for the memory a job may use,
 wrong Content-Type, unknown process, missing/invalid token, another user's job, priority
 without admin rights, bad job ids."""
-import http.client
-import json
 import socket
 
 import lubd_testlib as T
@@ -107,7 +105,17 @@ def run():
         s.close()
         T.check(reply.startswith(b"HTTP/1.1 413"), "chunked oversized -> %r" % reply[:40])
 
-        # Nothing was queued by any of the above.
+        # An input name cut at the pointer's 250 bytes in the middle of a character: the
+        # problem stays valid UTF-8 (it used to come back as "(detail not valid UTF-8)" with
+        # an empty pointer).
+        for name in ("\u00e9" * 130, "a" + "\u20ac" * 90):
+            st, _, doc = srv.request("POST", ex, alice, {"inputs": {name: 1}})
+            ptr = doc.get("errors", [{}])[0].get("pointer", "")
+            T.check(st == 400 and len(ptr.encode()) > 240 and ptr.startswith("/inputs/" + name[:40])
+                    and name.startswith(ptr[len("/inputs/"):]) and ptr in doc["detail"],
+                    "long non-ASCII name -> %s %s" % (st, doc))
+
+                # Nothing was queued by any of the above.
         st, _, lst = srv.request("GET", "/jobs?limit=1000", admin)
         T.check(st == 200 and lst["jobs"] == [], "jobs were queued: %s" % lst["jobs"])
         st, _, health = srv.request("GET", "/health")

@@ -1,13 +1,24 @@
 """Worker failure paths with a fake engine (fake_engine.sh): a numerical failure (diagnostic
 from summary.json), an output error (failure_kind system; result.h5 lost, the summary kept), a
-crash (SIGSEGV), a clean exit without files and a stopped run (exit 5) that left a partial
+crash (SIGSEGV; the diagnostic is the engine's last line, not the worker's, and the engine runs
+without core files), a clean exit without files and a stopped run (exit 5) that left a partial
 result.h5 and a checkpoint. Each job fails once with the engine's diagnostic and is not
 retried; /results answers with the problem and, where the engine wrote any, the failed
 attempt's summary (the results of a run whose result.h5 could not be written) and the files it
 kept, listed under "outputs" and served with their sha256 (never a temporary file); the worker
-survives."""
+survives.
+
+Then, on the same 2 s lease: a run that completes with a 1200 MiB result.h5, whose checksumming
+outlasts the lease, succeeds on its first attempt (the worker heartbeats while it hashes; it
+used to be requeued and the finished run thrown away); a running job that is dismissed leaves
+its log but not the files its engine wrote. Last, on a 60 s lease: a second service on the same
+run directory is refused while the first runs, and a job left running by a service killed with
+SIGKILL runs again at once when the service restarts, not a lease later."""
 import hashlib
 import os
+import resource
+import signal
+import sqlite3
 import sys
 import time
 
@@ -21,13 +32,20 @@ import lubdem_client  # noqa: E402
 def run():
     a = T.args()
     a.engine = os.path.join(os.path.dirname(os.path.abspath(__file__)), "fake_engine.sh")
+    # The service may run where core files are allowed (ulimit -c unlimited): its engines must
+    # not write them (a crash of a large run would leave gigabytes).
+    hard = resource.getrlimit(resource.RLIMIT_CORE)[1]
+    resource.setrlimit(resource.RLIMIT_CORE, (hard, hard))
+    if hard == 0:
+        print("note: core files are not allowed here; the engine's own limit is not tested")
     srv = T.Server(a, "engine_failures", workers=1, extra=["--lease-s", "2"]).fresh()
     tok = srv.token("dave")
     srv.start()
     try:
         cases = {3: ("executor", "NaN in the gap"),
                  4: ("system", "No space left on device"),
-                 11: ("executor", "signal 11"),
+                 11: ("executor", "signal 11 (Segmentation fault): the engine crashed): lubdem: "
+                      "pair_network.c:88: fill: Assertion `k < n' failed."),
                  7: ("executor", "summary.json or result.h5 is missing"),
                  5: ("executor", "CPU time limit")}
         kept = {3: ["summary.json"], 4: ["summary.json"], 11: [], 7: [],
@@ -74,12 +92,109 @@ def run():
             T.check(st == 404, "temporary file of failed job %s -> %s" % (dur, st))
             st, _, log = srv.request("GET", "/jobs/%s/log" % ids[dur], tok, raw=True)
             T.check(st == 200 and b"progress fraction=0.5000" in log, "log of %s" % dur)
+            if dur == 11:
+                T.check(b"core file size limit 0\n" in log, "core files allowed: %s" % log)
         time.sleep(3)  # > lease: nothing comes back to life
         for dur in cases:
             st, _, doc = srv.request("GET", "/jobs/" + ids[dur], tok)
             T.check(doc["status"] == "failed" and doc["attempt"] == 1, "retried: %s" % doc)
         st, _, h = srv.request("GET", "/health")
         T.check(h["workers"]["alive"] == 1 and h["queue"]["running"] == 0, "health %s" % h)
+        big_output(srv, tok)
+        dismissed_while_running(srv, tok)
+    finally:
+        srv.stop()
+    restart_after_kill(a)
+
+
+def submit(srv, tok, duration):
+    st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", tok,
+                             {"inputs": {"duration": duration}})
+    T.check(st == 201, "submit %s -> %s %s" % (duration, st, doc))
+    return doc["jobID"]
+
+
+def wait_running(srv, tok, job, timeout=30):
+    deadline = time.time() + timeout
+    while time.time() < deadline:
+        st, _, doc = srv.request("GET", "/jobs/" + job, tok)
+        if doc["status"] == "running" and doc["progress"] == 50:
+            return doc
+        time.sleep(0.1)
+    raise T.Fail("job %s not running after %s s: %s" % (job, timeout, doc))
+
+
+def big_output(srv, tok):
+    job = submit(srv, tok, 13)
+    final = T.wait_final(srv, tok, job, timeout=180)
+    T.check(final["status"] == "successful" and final["attempt"] == 1,
+            "1200 MiB output on a 2 s lease: %s" % final)
+    st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+    o = res["outputs"]["result.h5"]
+    zeros = hashlib.sha256()
+    block = bytes(1 << 20)
+    for _ in range(1200):
+        zeros.update(block)
+    T.check(o["size"] == 1200 << 20 and o["sha256"] == zeros.hexdigest(),
+            "recorded size and sha256 of the 1200 MiB file: %s" % o)
+    db = sqlite3.connect(os.path.join(srv.run, "queue.db"))
+    events = [e for (e,) in db.execute(
+        "SELECT event FROM job_events WHERE job_id = ? ORDER BY rowid", (job,))]
+    db.close()
+    T.check("requeued" not in events, "events of the 1200 MiB job: %s" % events)
+
+
+def dismissed_while_running(srv, tok):
+    job = submit(srv, tok, 20)
+    wait_running(srv, tok, job)
+    out = os.path.join(srv.run, "jobs", job, "attempt-1", "out")
+    T.check(os.path.exists(os.path.join(out, "result.h5")), "the engine's file in %s" % out)
+    st, _, doc = srv.request("DELETE", "/jobs/" + job, tok)
+    T.check(st == 200 and doc["status"] == "dismissed", "DELETE running -> %s %s" % (st, doc))
+    deadline = time.time() + 20
+    while os.path.exists(out) and time.time() < deadline:
+        time.sleep(0.1)
+    T.check(not os.path.exists(out), "a dismissed run's files stay in %s" % out)
+    st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+    T.check(st == 200 and b"progress fraction=0.5000" in log, "log of the dismissed job: %s" % log)
+
+
+def restart_after_kill(a):
+    srv = T.Server(a, "engine_failures_restart", workers=1, extra=["--lease-s", "60"]).fresh()
+    tok = srv.token("erin")
+    srv.start()
+    try:
+        job = submit(srv, tok, 20)
+        wait_running(srv, tok, job)
+        second = T.Server(a, "engine_failures_restart", workers=1)
+        second.log_path = srv.run + ".second.log"
+        try:
+            second.start(timeout=10)
+            second.stop()
+            raise T.Fail("a second service started on the same run directory")
+        except T.Fail as e:
+            T.check("another lubdemd (pid %d) is serving the queue" % srv.proc.pid in str(e),
+                    "second service: %s" % e)
+        srv.proc.send_signal(signal.SIGKILL)
+        srv.proc.wait(10)
+        srv.proc = None
+        deadline = time.time() + 10
+        while T.engine_processes(srv.run) and time.time() < deadline:
+            time.sleep(0.05)
+        T.check(not T.engine_processes(srv.run), "the engine outlived the killed service")
+        srv.start()
+        t0 = time.time()
+        doc = wait_running(srv, tok, job, timeout=20)
+        T.check(doc["attempt"] == 2 and time.time() - t0 < 15,
+                "job after the restart (lease 60 s): %s after %.1f s" % (doc, time.time() - t0))
+        db = sqlite3.connect(os.path.join(srv.run, "queue.db"))
+        events = [e for (e,) in db.execute(
+            "SELECT event FROM job_events WHERE job_id = ? ORDER BY rowid", (job,))]
+        db.close()
+        T.check(events[-2:] == ["requeued", "claimed"], "events after the restart: %s" % events)
+        st, _, doc = srv.request("DELETE", "/jobs/" + job, tok)
+        T.check(st == 200, "DELETE -> %s" % st)
+        T.wait_final(srv, tok, job, timeout=30)
     finally:
         srv.stop()
 

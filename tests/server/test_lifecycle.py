@@ -124,6 +124,12 @@ def run():
             st, _, _ = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
                                    headers={"If-None-Match": hd["etag"]}, raw=True)
             T.check(st == 304, "If-None-Match -> %s" % st)
+            st, _, _ = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
+                                   headers={"If-None-Match": "*"}, raw=True)
+            T.check(st == 304, "If-None-Match: * -> %s" % st)
+            st, _, _ = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
+                                   headers={"If-None-Match": '"0123"'}, raw=True)
+            T.check(st == 200, "If-None-Match of another file -> %s" % st)
             st, hd, part = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
                                        headers={"Range": "bytes=10-99"}, raw=True)
             T.check(st == 206 and part == data[10:100]
@@ -162,6 +168,8 @@ def run():
         st, _, lst2 = srv.request("GET", path, alice)
         T.check(st == 200 and len(lst2["jobs"]) == 1
                 and lst2["jobs"][0]["jobID"] != lst["jobs"][0]["jobID"], "second page")
+        self2 = [l["href"] for l in lst2["links"] if l["rel"] == "self"]
+        T.check(self2 == [nxt[0]], "the second page's self link %s (fetched %s)" % (self2, nxt[0]))
         st, _, lst = srv.request("GET", "/jobs?processID=two_spheres_shear&status=successful",
                                  alice)
         T.check([j["jobID"] for j in lst["jobs"]] == [jobs["two_spheres_shear"]], "filters")
