@@ -8,7 +8,8 @@
 #include <stddef.h>
 
 /* Compares two resolved specs (lub_spec_resolve) member for member, defaults included, leaving
- * out the top-level members named in may_differ (a scene's resume_may_differ; NULL = none).
+ * out the top-level members named in may_differ (a scene's resume_may_differ; NULL = none);
+ * numbers compare by value (12 and 12.0 agree).
  * Returns 0 when they agree; 1 when they differ, with "POINTER: VALUE here, VALUE in the
  * stopped run's spec" (compact JSON, truncated to fit) in why[len] and, when at is not NULL,
  * the JSON pointer alone in at[at_len]; -1 out of memory (why says so). Pure: neither spec is

@@ -42,6 +42,10 @@ typedef struct lub_run_ctx {
                                      (diagnostic says why); the driver keeps the old files and
                                      discards the new ones, exit 2 */
     long long resumed_from_step;  /* steps the stopped run had done (0: not continued) */
+    int resume_begun;             /* 1 once a continuation has taken up the stopped run's
+                                     state; a continuation that fails before (the memory
+                                     check, say) ran nothing, and the driver keeps the stopped
+                                     run's files as for a refusal (with the failure's exit) */
     lub_periodic_ckpt *periodic;  /* checkpoints while the run goes on (--checkpoint-every);
                                      NULL: none. The scene takes one when lub_periodic_due
                                      says so, between two steps */

@@ -130,7 +130,7 @@ static int fits_in_memory(const lub_scene *scene, const json_t *resolved, lub_ru
  * diagnostic, with this appended. Either way the summary still carries the run's results,
  * and the advice names the spec members that set the output's size where the scene has them. */
 static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir,
-                                  const char *reason, const json_t *resolved)
+                                  const char *reason, const json_t *resolved, int checkpoint_kept)
 {
     char advice[160] = "";
     const int samples = json_object_get(resolved, "sample_strain") != NULL;
@@ -140,11 +140,20 @@ static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir
                  samples ? "raise /sample_strain" : "", samples && snapshots ? ", " : "",
                  snapshots ? "lower /snapshots" : "");
     char text[sizeof ctx->diagnostic];
-    snprintf(text, sizeof text,
-             "cannot write result.h5 in %s: %s; it was removed, and summary.json holds the "
-             "run's results without it; give the run room (free disk space; the file-size limit: "
-             "ulimit -f, lubdemd --fsize-mb)%s",
-             out_dir, reason[0] ? reason : "HDF5 error", advice);
+    if (checkpoint_kept)
+        snprintf(text, sizeof text,
+                 "cannot write result.h5 in %s: %s; this run's file was removed, and "
+                 "summary.json holds the run's results without it; the checkpoint it continued "
+                 "from (or its last periodic one) is kept with the file holding its rows, so "
+                 "lubdem run --resume goes on from there once the run has room (free disk space; "
+                 "the file-size limit: ulimit -f, lubdemd --fsize-mb)%s",
+                 out_dir, reason[0] ? reason : "HDF5 error", advice);
+    else
+        snprintf(text, sizeof text,
+                 "cannot write result.h5 in %s: %s; it was removed, and summary.json holds the "
+                 "run's results without it; give the run room (free disk space; the file-size "
+                 "limit: ulimit -f, lubdemd --fsize-mb)%s",
+                 out_dir, reason[0] ? reason : "HDF5 error", advice);
     if (*rc != LUB_EXIT_OK && *rc != LUB_EXIT_INTERRUPTED) {
         const size_t len = strlen(ctx->diagnostic);
         snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len, "%s%s",
@@ -297,18 +306,29 @@ int lub_run_spec(const lub_run_request *req)
     double t0 = lub_wall_seconds();
     int rc = fits_in_memory(scene, resolved, &ctx) ? scene->run(resolved, &ctx) : LUB_EXIT_INTERNAL;
     double wall = lub_wall_seconds() - t0;
-    if (ctx.resume_rejected) { /* the stopped run's files stay; nothing new is kept */
+    /* A refused continuation, or one that failed before it took up the stopped run (the
+     * memory check, say), ran nothing: the stopped run's files stay as they were (its
+     * checkpoint still continues it), and nothing new is kept. */
+    const int not_begun =
+        resuming && !ctx.resume_begun && rc != LUB_EXIT_OK && rc != LUB_EXIT_INTERRUPTED;
+    if (ctx.resume_rejected || not_begun) {
         lub_h5_finish(h5, "failed", NULL, 0);
         unlink(h5_tmp);
         unlink(ckpt_tmp);
-        fprintf(req->diag, "error: --resume: %s\n", ctx.diagnostic);
+        if (ctx.resume_rejected)
+            fprintf(req->diag, "error: --resume: %s\n", ctx.diagnostic);
+        else
+            fprintf(req->diag,
+                    "error: --resume: %s; the stopped run's files in %s are left as they were "
+                    "(--resume continues from them)\n",
+                    ctx.diagnostic, req->out_dir);
         json_decref(ctx.summary_results);
         json_decref(ctx.summary_extra);
         json_decref(resolved);
-        return LUB_EXIT_BAD_SPEC;
+        return ctx.resume_rejected ? LUB_EXIT_BAD_SPEC : rc;
     }
-    if (rc == LUB_EXIT_OK && req->stop_requested && *req->stop_requested)
-        rc = LUB_EXIT_INTERRUPTED;
+    /* A stop request that came after the scene's last step does not make the run partial: it
+     * completed (every scene that can stop early returns LUB_EXIT_INTERRUPTED when it did). */
     if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested == SIGXCPU) {
         const size_t used = strlen(ctx.diagnostic);
         snprintf(ctx.diagnostic + used, sizeof ctx.diagnostic - used,
@@ -374,25 +394,28 @@ int lub_run_spec(const lub_run_request *req)
         checkpoint_kept = 1;
         unlink(copy_dst);
     } else {
-        char text[600] = "";
-        if (ctx.checkpoint_written)
-            snprintf(text, sizeof text,
-                     "no checkpoint was kept (%s): --resume will start this run afresh",
-                     renamed ? strerror(errno) : "result.h5 could not be written");
-        else if (ctx.checkpoint_failure[0])
-            snprintf(text, sizeof text,
-                     "no checkpoint was written (%s): --resume will start this run afresh",
-                     ctx.checkpoint_failure);
-        unlink(ckpt_tmp);
-        if (text[0])
-            append_warning(&ctx, text);
+        const char *reason = renamed ? strerror(errno) : "result.h5 could not be written";
+        /* The checkpoint this run continued from, or the last periodic one, still goes with
+         * the file holding its rows when the run was stopped, or when it lost its result.h5:
+         * --resume continues from it once the run has room. */
         const int periodic_taken = ctx.periodic && ctx.periodic->written > 0;
-        if (rc == LUB_EXIT_INTERRUPTED && (resuming || periodic_taken)) {
+        if ((rc == LUB_EXIT_INTERRUPTED || h5_failed) && (resuming || periodic_taken)) {
             checkpoint_kept = access(ckpt_dst, F_OK) == 0;
         } else {
             unlink(ckpt_dst);
             unlink(copy_dst);
         }
+        char text[600] = "";
+        const char *then = checkpoint_kept ? "--resume continues from the last one kept"
+                                           : "--resume will start this run afresh";
+        if (ctx.checkpoint_written)
+            snprintf(text, sizeof text, "no checkpoint was kept (%s): %s", reason, then);
+        else if (ctx.checkpoint_failure[0])
+            snprintf(text, sizeof text, "no checkpoint was written (%s): %s",
+                     ctx.checkpoint_failure, then);
+        unlink(ckpt_tmp);
+        if (text[0])
+            append_warning(&ctx, text);
     }
     if (ctx.periodic) {
         unlink(copy_tmp);
@@ -410,7 +433,13 @@ int lub_run_spec(const lub_run_request *req)
     memcpy(scene_diagnostic, ctx.diagnostic, sizeof scene_diagnostic);
     if (h5_failed) {
         unlink(h5_tmp);
-        report_result_h5_lost(&ctx, &rc, req->out_dir, h5_reason, resolved);
+        /* an older result.h5 in DIR is not this run's (a stale one beside this run's summary
+         * was taken for its file), unless it holds the rows of the checkpoint kept */
+        const int rows_in_result =
+            checkpoint_kept && resuming && strcmp(resume_result, h5_dst) == 0;
+        if (!rows_in_result)
+            unlink(h5_dst);
+        report_result_h5_lost(&ctx, &rc, req->out_dir, h5_reason, resolved, checkpoint_kept);
     }
 
     /* summary: fixed members, then whatever the scene added (active_terms, units, ...) */

@@ -713,6 +713,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         first_step = saved.step;
         frames = saved.frames_in_file;
         ctx->resumed_from_step = S.step;
+        ctx->resume_begun = 1;
     }
     int64_t stopped_at = -1; /* the loop index a stop request ended the loop at */
     int end_checkpoint = 0;  /* --keep-checkpoint: written at the last step, before its sample */

@@ -727,6 +727,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         dt = lp.ctl.dt;
         sys.dt = dt;
         ctx->resumed_from_step = lp.step;
+        ctx->resume_begun = 1;
         /* a continuation may ask for another /strain (scene: resume_may_differ), not for less
          * than the stopped run has done: the run then takes the steps of one asked for that
          * strain from the start (lub_schedule_set_end) */

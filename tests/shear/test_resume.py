@@ -21,7 +21,18 @@ SPEC --out DIR --resume` continues it. Checked:
     done is refused (exit 2, files unchanged);
  6. resuspension (2 threads, snapshots and network frames): stopped at about a third and
     resumed, the same equality with the uninterrupted run (its summary, every time series,
-    snapshot, profile and network frame);
+    snapshot, profile and network frame). Before it is resumed, on the stopped run: a
+    continuation that fails before it takes the run up (the memory check, under an
+    address-space limit; not in the sanitizer build) exits 1 and leaves the stopped run's files
+    byte for byte (it used to delete the checkpoint and replace result.h5 by an empty failed
+    file); one whose result.h5 cannot be written (a 52 KiB file-size limit) exits 4 and keeps
+    the checkpoint and the stopped run's result.h5 (it used to delete the checkpoint); the
+    resume itself spells /width 12.0 where the stopped run had 12 (it used to be refused). A
+    fresh run that cannot write its result.h5 in a folder holding another run's removes that
+    file (a stale result.h5 used to stay beside the summary that says it was removed); a
+    SIGTERM sent after the last step (at the progress line of fraction 1) leaves the run
+    complete, exit 0 (it used to be "partial" without a checkpoint, which --resume started
+    afresh);
  7. the CPU-time limit (a soft RLIMIT_CPU of 3 s, as ulimit -S -t or lubdemd --cpu-s set it):
     the run stops at SIGXCPU like at SIGTERM (exit 5, partial, a checkpoint) and says why in
     its diagnostic and on stderr; it used to be killed by the signal with nothing written;
@@ -74,17 +85,23 @@ def write_spec(name, spec):
     return path
 
 
-def run(spec_path, out, *extra, stop_at=None, cpu_s=None, sig=signal.SIGTERM):
+def run(spec_path, out, *extra, stop_at=None, cpu_s=None, sig=signal.SIGTERM, fsize=None,
+        address_space=None):
     """Runs lubdem; with stop_at, sends sig once a progress line passes that fraction (for
-    SIGKILL, once a periodic checkpoint is there too); with cpu_s, under that soft CPU-time
-    limit (SIGXCPU; no hard limit)."""
+    SIGKILL, once a periodic checkpoint is there too; stop_at 1: at the last progress line);
+    with cpu_s, under that soft CPU-time limit (SIGXCPU; no hard limit); fsize and
+    address_space: RLIMIT_FSIZE and RLIMIT_AS in bytes."""
     cmd = [LUBDEM, "run", spec_path, "--out", out, *extra]
-    limit = None
-    if cpu_s is not None:
-        def limit():
-            resource.setrlimit(resource.RLIMIT_CPU, (cpu_s, resource.RLIM_INFINITY))
+    limits = [(resource.RLIMIT_CPU, (cpu_s, resource.RLIM_INFINITY)) if cpu_s else None,
+              (resource.RLIMIT_FSIZE, (fsize, fsize)) if fsize else None,
+              (resource.RLIMIT_AS, (address_space, address_space)) if address_space else None]
+    limits = [x for x in limits if x]
+
+    def limit():
+        for what, value in limits:
+            resource.setrlimit(what, value)
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                            preexec_fn=limit)
+                            preexec_fn=limit if limits else None)
     out_lines = []
     if stop_at is not None:
         for line in proc.stdout:
@@ -92,7 +109,7 @@ def run(spec_path, out, *extra, stop_at=None, cpu_s=None, sig=signal.SIGTERM):
             if line.startswith("progress "):
                 frac = float(line.split("fraction=")[1].split()[0])
                 ready = sig != signal.SIGKILL or os.path.exists(os.path.join(out, "checkpoint.h5"))
-                if stop_at <= frac < 1.0 and ready:
+                if stop_at <= frac and (frac < 1.0 or stop_at >= 1.0) and ready:
                     proc.send_signal(sig)
                     break
     rest, err = proc.communicate(timeout=600)
@@ -273,8 +290,45 @@ rc, _, _ = run(spec6, res6, "--threads", "2", stop_at=0.3)
 s = summary(res6)
 check(rc == 5 and s.get("checkpoint") == "checkpoint.h5" and 0 < s["steps"] < summary(ref6)["steps"],
       f"6: stopped with a checkpoint at step {s['steps']} of {summary(ref6)['steps']} (exit {rc})")
-rc, _, err = run(spec6, res6, "--threads", "2", "--resume")
-check(rc == 0, f"6: resumed run exit 0 (got {rc}) {err[-300:]}")
+before = digest(res6)
+if "--sanitized" not in sys.argv[3:]:  # ASan reserves terabytes of address space
+    # /strain may change on --resume: 4999 needs 0.7 GiB of profiles, refused by the memory check
+    big6 = write_spec("resuspension_big", dict(json.load(open(spec6)), strain=4999))
+    rc, _, err = run(big6, res6, "--resume", address_space=300 << 20)
+    check(rc == 1 and "not enough memory" in err and "left as they were" in err
+          and digest(res6) == before,
+          f"6: a continuation refused by the memory check leaves the stopped run's files "
+          f"(exit {rc}: {err.strip()[-160:]})")
+rc, _, err = run(spec6, res6, "--threads", "2", "--resume", fsize=52 << 10)
+s, now = summary(res6), digest(res6)
+check(rc == 4 and s["exit_code"] == 4 and s.get("checkpoint") == "checkpoint.h5"
+      and "lubdem run --resume goes on from there" in s["diagnostic"]
+      and sorted(now) == sorted(before)
+      and all(now[k] == before[k] for k in ("checkpoint.h5", "result.h5")),
+      f"6: a continuation that cannot write result.h5 keeps the checkpoint and the stopped run's "
+      f"result.h5 (exit {rc}, {sorted(now)}: {s.get('diagnostic', '')[:160]})")
+stale6 = os.path.join(WORK, "stale6")
+shutil.rmtree(stale6, ignore_errors=True)
+shutil.copytree(ref6, stale6)
+rc, _, err = run(spec6, stale6, "--threads", "2", fsize=52 << 10)
+check(rc == 4 and sorted(os.listdir(stale6)) == ["summary.json"],
+      f"6: a run that cannot write result.h5 leaves no other run's result.h5 beside its summary "
+      f"(exit {rc}, {sorted(os.listdir(stale6))})")
+end6 = os.path.join(WORK, "end6")
+shutil.rmtree(end6, ignore_errors=True)
+rc, _, err = run(spec6, end6, "--threads", "2", stop_at=1.0)
+s = summary(end6)
+check(rc == 0 and s["status"] == "complete" and s["results"] == summary(ref6)["results"],
+      f"6: SIGTERM after the last step: complete, exit 0 (exit {rc}, {s['status']})")
+# the stopped run had "width": 12; 12.0 is the same spec
+spec6f = write_spec("resuspension_float", json.load(open(spec6)))
+with open(spec6f) as f:
+    text = f.read()
+with open(spec6f, "w") as f:
+    f.write(text.replace('"width": 12,', '"width": 12.0,'))
+rc, _, err = run(spec6f, res6, "--threads", "2", "--resume")
+check(rc == 0 and '"width": 12.0' in text.replace('"width": 12,', '"width": 12.0,'),
+      f"6: resumed run (/width 12.0) exit 0 (got {rc}) {err[-300:]}")
 compare_runs(ref6, res6, "6")
 
 # ---- 7. the CPU-time limit ----
