@@ -1111,7 +1111,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             ref_of[k] = NAN;
         for (int k = 0; k < S_COUNT; ++k) {
             /* only mean and sem are reported; ratio observables are ratios of time averages
-             * (ss_ratio_stat), the others the mean of their series */
+             * (ss_ratio_stat), the others the mean of their series from the common start
+             * (before 2026-12-06 each from the later of that and its own MSER truncation, so
+             * that the parts of a stress, averaged over other windows, did not add up to it) */
             lub_stats_result sr;
             if (k == S_MU) {
                 ss_ratio_stat(&ser, S_SXY, S_P, start, ratio_z, scratch, &sr);
@@ -1123,8 +1125,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 lub_stats_analyse(ser.v[S_P], ser.n, start, scratch, &sr);
                 sr.sem = gd * sr.sem / (s0 * sr.mean * sr.mean);
                 sr.mean = gd / (s0 * sr.mean);
-            } else {
-                lub_stats_analyse(ser.v[k], ser.n, start, scratch, &sr);
+            } else { /* one window for all: the stress parts add up to their totals */
+                lub_stats_analyse_window(ser.v[k], ser.n, start, scratch, &sr);
             }
             mean_of[k] = sr.mean;
             sem_of[k] = sr.sem;

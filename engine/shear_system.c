@@ -340,7 +340,13 @@ void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
 
 int lub_shear_complete_list(lub_shear_system *s)
 {
-    return s->need_rebuild ? rebuild(s) : LUB_SHEAR_OK;
+    if (s->need_rebuild)
+        return rebuild(s);
+    /* the interaction set the next step will use: a due update of the triangulation is a
+     * function of the positions, so the step's own update gives the same set again */
+    if (s->topology_interval > 0 && s->step % s->topology_interval == 0 && update_topology(s))
+        return LUB_SHEAR_NOMEM;
+    return LUB_SHEAR_OK;
 }
 
 int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)

@@ -148,7 +148,9 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out);
 
 /* Makes the pair list hold every pair inside the cut-off of the current positions: the
  * rebuild (flip, wrap, list, Delaunay flags) that the next step would do first when the last
- * step found the Verlet skin possibly used up; nothing otherwise. The physical state is
+ * step found the Verlet skin possibly used up, or else the Delaunay update the next step
+ * would do first (it then does it again, with the same result); nothing otherwise. The
+ * physical state is
  * unchanged (positions move by cell vectors, the cell matrix by a flip). Returns LUB_SHEAR_OK,
  * LUB_SHEAR_NOMEM or LUB_SHEAR_CELL_TOO_SMALL (fail_msg set). */
 int lub_shear_complete_list(lub_shear_system *s);

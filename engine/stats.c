@@ -117,15 +117,16 @@ double lub_stats_drift_z(const double *x, size_t n, double *scratch)
 void lub_stats_analyse(const double *x, size_t n, size_t min_start, double *scratch,
                        lub_stats_result *r)
 {
-    int steady = 0;
-    size_t d = lub_stats_mser(x, n, 5, &steady);
-    if (d < min_start)
-        d = min_start;
-    if (d > n)
-        d = n;
+    const size_t d = lub_stats_mser(x, n, 5, NULL);
+    lub_stats_analyse_window(x, n, d < min_start ? min_start : d, scratch, r);
+}
+
+void lub_stats_analyse_window(const double *x, size_t n, size_t start, double *scratch,
+                              lub_stats_result *r)
+{
+    const size_t d = start > n ? n : start;
     r->start = d;
     r->n = n - d;
-    (void)steady;
     r->mean = lub_stats_mean(x + d, r->n);
     r->sem = lub_stats_sem(x + d, r->n, scratch);
     double v = lub_stats_var(x + d, r->n);

@@ -66,6 +66,12 @@ double lub_stats_drift_z(const double *x, size_t n, double *scratch);
 void lub_stats_analyse(const double *x, size_t n, size_t min_start, double *scratch,
                        lub_stats_result *r);
 
+/* The same analysis over the window x[start..n) chosen by the caller (no MSER truncation of
+ * its own): series averaged over one common window keep their linear relations (stress parts
+ * that add up to their total). start > n is taken as n. */
+void lub_stats_analyse_window(const double *x, size_t n, size_t start, double *scratch,
+                              lub_stats_result *r);
+
 /* Ratio of two time averages over the same samples, R = mean(x)/mean(y) (e.g. mu =
  * <sigma_xy>/<P> at imposed volume, where the mean of the sampled ratios x_k/y_k is biased by
  * the fluctuations of y), and its standard error by the delta method: the SEM (rule above) of

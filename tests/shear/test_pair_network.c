@@ -175,6 +175,28 @@ int main(void)
              s.pairs.n);
     check_against_next_step(&s, "Delaunay");
     lub_shear_free(&s);
+
+    /* A network taken at a step whose Delaunay update is due holds the set that step uses
+     * (the first version listed the previous update's: 1e-3 off in the lubrication parts). */
+    ST_CHECK(shear_fixture_make(&s, 300, 0.52, &law, 2.0, 1, 9, 1e-2) == 0, "fixture");
+    lub_shear_use_delaunay(&s, 40, 0.05);
+    int due = 0;
+    for (int k = 0; k < 5000 && !due; ++k) {
+        ST_CHECK(lub_shear_step(&s, 0, NULL) == LUB_SHEAR_OK, "step");
+        due = s.step > 200 && s.step % 40 == 0 && !s.need_rebuild;
+    }
+    ST_CHECK(due, "Delaunay: a step whose update is due, with a complete list");
+    unsigned char *before = malloc(s.pairs.n);
+    ST_CHECK(before != NULL, "memory");
+    memcpy(before, s.pairs.allow, s.pairs.n);
+    const size_t listed = s.pairs.n;
+    check_against_next_step(&s, "Delaunay update due");
+    size_t changed = 0;
+    for (size_t k = 0; k < listed && listed == s.pairs.n; ++k)
+        changed += before[k] != s.pairs.allow[k];
+    ST_CHECK(changed > 0, "Delaunay: the due update changed the set (%zu pairs)", changed);
+    free(before);
+    lub_shear_free(&s);
     lub_pair_network empty = {0};
     lub_pair_network_free(&empty); /* safe on an empty network */
     ST_DONE();
