@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""pair_network.py - first look at the interaction network of a simple_shear result.h5.
+"""pair_network.py - first look at the interaction network of a simple_shear or resuspension
+result.h5.
 
     python3 client_examples/pair_network.py result.h5 [--frame K] [--bins N]
     python3 client_examples/pair_network.py result.h5 --series
@@ -8,7 +9,8 @@ The run must have asked for it ("pair_network": "final" or "snapshots"; /pair_ne
 result.h5, README "Interaction network"). Prints, for one frame of the network (the last
 unless --frame K; K < 0 counts from the end; one `name=value` line per figure): the number of
 frames, the frame's step, pairs and contacts, coordination numbers Z = 2 pairs/N and Z_c =
-2 contacts/N, the sliding fraction of the contacts, the contact fabric tensor <n n> over the
+2 contacts/N of the N particles (a pair with a floor sphere of resuspension counts once), the
+sliding fraction of the contacts, the contact fabric tensor <n n> over the
 contacts, the stress each part of the pair forces carries, (1/V) sum F (x) branch (with the
 box of the particle snapshot of the frame's step, so the run needs "snapshots" >= 1 for it),
 and a histogram of the normal contact forces over their mean. Units as in the file (forces
@@ -20,6 +22,13 @@ import argparse
 
 import h5py
 import numpy as np
+
+def ends_on_particles(j, n):
+    """Pair ends that belong to the N particles: pair (i, j) counts twice, once for each, and
+    once when j >= N names a fixed floor sphere of resuspension (j - N), whose coordination
+    is not counted."""
+    return 2 * int(np.count_nonzero(j < n)) + int(np.count_nonzero(j >= n))
+
 
 PARTS = (("normal_contact", "force_normal_contact", None),
          ("tangential_contact", None, "force_tangential_contact"),
@@ -67,9 +76,9 @@ def main():
     print("pairs=%d" % pairs)
     print("contacts=%d" % contacts)
     print("sliding_fraction=%.6g" % (net["sliding"][contact].mean() if contacts else 0.0))
-    if n:
-        print("Z=%.6g" % (2.0 * pairs / n))
-        print("Z_contact=%.6g" % (2.0 * contacts / n))
+    if n:  # pairs with the floor of resuspension count once (ends_on_particles)
+        print("Z=%.6g" % (ends_on_particles(net["j"], n) / n))
+        print("Z_contact=%.6g" % (ends_on_particles(net["j"][contact], n) / n))
     branch = net["branch"]
     normal = branch / np.linalg.norm(branch, axis=1)[:, None]
     if contacts:
@@ -102,6 +111,7 @@ def series(path):
         g = f["pair_network"]
         idx = {key: g[key][()] for key in ("step", "time", "row_start", "row_count")}
         contact, sliding = g["contact"][()] == 1, g["sliding"][()] == 1
+        j = g["j"][()]
         n = len(f["particles/all/radius"]) if "particles/all/radius" in f else None
     print("frames=%d" % len(idx["step"]))
     for k in range(len(idx["step"])):
@@ -112,7 +122,7 @@ def series(path):
         print("frame_%d_pairs=%d" % (k, idx["row_count"][k]))
         print("frame_%d_contacts=%d" % (k, c))
         if n:
-            print("frame_%d_Z_contact=%.6g" % (k, 2.0 * c / n))
+            print("frame_%d_Z_contact=%.6g" % (k, ends_on_particles(j[rows][contact[rows]], n) / n))
         print("frame_%d_sliding_fraction=%.6g"
               % (k, sliding[rows][contact[rows]].mean() if c else 0.0))
 

@@ -15,18 +15,23 @@ with h5py.File(sys.argv[1], "r") as f:
         if "value" in group:
             v = group["value"]
             print("observable %-24s shape %s  last %s" % (name, v.shape, v[-1] if len(v) else None))
-    net = f.get("pair_network")  # simple_shear with "pair_network": "final" or "snapshots"
-    if net is not None:
+    net = f.get("pair_network")  # "pair_network": "final" or "snapshots"
+    if net is not None and len(net["step"]) == 0:  # a run that failed, or had no room for one
+        print("pair network: no frame")
+    elif net is not None:
         # frame k: rows row_start[k] .. row_start[k] + row_count[k] - 1 of every column
         first, count = int(net["row_start"][-1]), int(net["row_count"][-1])
-        contact = net["contact"][first:first + count]
+        contact = net["contact"][first:first + count] == 1
         sliding = net["sliding"][first:first + count]
         print("pair network: %d frame(s); the last, at step %d: %d pairs, %d contacts "
               "(%d sliding)" % (len(net["step"]), net["step"][-1], count, contact.sum(),
                                 sliding.sum()))
         if "particles/all/radius" in f:
-            print("contact number Z_c = 2 contacts / N = %.3f"
-                  % (2.0 * contact.sum() / len(f["particles/all/radius"])))
+            # j >= N: a floor sphere of resuspension, whose end of the pair is not counted
+            n = len(f["particles/all/radius"])
+            j = net["j"][first:first + count][contact]
+            print("contact number Z_c = contact ends on the N particles / N = %.3f"
+                  % ((2 * int((j < n).sum()) + int((j >= n).sum())) / n))
     params = f.get("parameters")
     if params is not None:
         for key in params:

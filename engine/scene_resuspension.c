@@ -1038,9 +1038,10 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     json_object_set_new(ctx->summary_extra, "height_steady", json_boolean(steady));
     json_object_set_new(ctx->summary_extra, "height_transient_end_strain",
                         json_real((double)mser * p.sample_strain));
-    json_object_set_new(
-        ctx->summary_extra, "phi_err_method",
-        json_string(sem_batch_means ? "batch_means_ar1" : "naive (fewer than 32 samples)"));
+    json_object_set_new(ctx->summary_extra, "phi_err_method",
+                        json_string(lp.navg < 2            ? "none (fewer than 2 samples)"
+                                    : sem_batch_means == 1 ? "batch_means_ar1"
+                                                           : "naive (fewer than 32 samples)"));
     json_t *warn = json_array();
     if (gd * sqrt(a / grav) > 5e-2)
         json_array_append_new(warn, json_string("inertial number gd sqrt(a/g) above 5e-2: "

@@ -12,7 +12,11 @@
     series (the network changes nothing in the run);
  3. "final": one frame, equal bit for bit to the last frame of 1;
  4. 1 stopped by SIGTERM and continued with --resume: the same frames as 1, bit for bit;
- 5. the vorticity orientation (a sheared cell), "final": branch vectors as in 1.
+ 5. the vorticity orientation (a sheared cell), "final": branch vectors as in 1;
+ 6. the clients: client_examples/pair_network.py gives the coordination of the free particles,
+    a pair with a floor sphere counted once (Z_contact and the --series lines; they used to
+    count it twice), and client_examples/read_result.py reads a failed run's file whose
+    network has no frame (it used to raise IndexError).
 Usage: test_pair_network_cli.py LUBDEM WORKDIR"""
 import json
 import os
@@ -141,6 +145,46 @@ def main():
           "vorticity: one frame at the last snapshot's step")
     if vnet is not None:
         check_frame("vorticity", frame(vnet, 0), vsnap, -1)
+
+    # 6. the clients
+    clients = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                           "client_examples")
+    h5 = os.path.join(out, "result.h5")
+
+    def figures(*argv):
+        p = subprocess.run([sys.executable, os.path.join(clients, argv[0]), *argv[1:]],
+                           capture_output=True, text=True, timeout=120)
+        return p.returncode, p.stdout, dict(line.split("=", 1) for line in p.stdout.splitlines()
+                                            if "=" in line and " " not in line.split("=")[0])
+    n = len(snap["radius"])
+    ends = []
+    for k in range(frames):
+        fk = frame(net, k)
+        jc = fk["j"][fk["contact"] == 1]
+        ends.append(2 * int((jc < n).sum()) + int((jc >= n).sum()))
+    floor_contacts = sum(int((frame(net, k)["j"][frame(net, k)["contact"] == 1] >= n).sum())
+                         for k in range(frames))
+    code, _, one = figures("pair_network.py", h5)
+    code2, _, ser = figures("pair_network.py", h5, "--series")
+    check(code == 0 and code2 == 0 and floor_contacts > 0 and
+          abs(float(one.get("Z_contact", "nan")) - ends[-1] / n) < 1e-5 and
+          all(abs(float(ser.get("frame_%d_Z_contact" % k, "nan")) - ends[k] / n) < 1e-5
+              for k in range(frames)),
+          "clients: Z_contact of the %d particles counts a floor contact once (%s; ends %s, "
+          "%d floor contacts in all)" % (n, one.get("Z_contact"), ends, floor_contacts))
+    # a step far too large: exit 3 (numerical failure) with a network group of no frame
+    bad = os.path.join(work, "failed")
+    with open(bad + ".json", "w") as f:
+        json.dump({"scene": "resuspension", "n": 100, "width": 12, "strain": 0.5,
+                   "average_from": 0.1, "dt": 0.5, "pair_network": "final"}, f)
+    p = subprocess.run([lubdem, "run", bad + ".json", "--out", bad, "--quiet"],
+                       capture_output=True, text=True, timeout=600)
+    check(p.returncode == 3, "failed: exit %s (3 expected) %s" % (p.returncode, p.stderr[-200:]))
+    empty, _ = load(bad)
+    code, text, _ = figures("read_result.py", os.path.join(bad, "result.h5"))
+    check(empty is not None and len(empty["step"]) == 0 and code == 0 and
+          "pair network: no frame" in text,
+          "clients: read_result.py reads a failed run's network of no frame (exit %s)" % code)
     return 1 if FAIL else 0
 
 

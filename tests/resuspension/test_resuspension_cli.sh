@@ -147,6 +147,17 @@ rc=$?
 [ $rc -eq 2 ] && grep -q "^error: /sample_strain: .* 1e+07 samples.*at least 0.001 " \
   "$work/bad2.err" && ok || bad "1e7 samples: exit $rc: $(cat "$work/bad2.err")"
 
+# one averaged sample: no error bar, and phi_err_method says so (it named batch means)
+echo '{"scene":"resuspension","n":150,"width":12,"strain":0.3,"average_from":0.295,"sample_strain":0.007,"snapshots":0}' \
+  | "$LUBDEM" run - --out "$work/one" --quiet 2> "$work/one.err"
+rc=$?
+[ $rc -eq 0 ] && $PY -c '
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["results"]["averaged_samples"]["value"] == 1, s["results"]["averaged_samples"]
+assert s["phi_err_method"] == "none (fewer than 2 samples)", s["phi_err_method"]' \
+  "$work/one/summary.json" && ok || bad "one averaged sample: exit $rc $(cat "$work/one.err")"
+
 # 20 000 particles under 60 000 KiB of address space (lubdemd --mem-mb sets such a limit): the
 # pair lists do not fit; the diagnostic says so, with the limit and /n (it was " (code -1)").
 # Skipped for a binary that cannot start under the limit (ASan).
