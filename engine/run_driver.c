@@ -2,6 +2,7 @@
 #include "run_driver.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -81,6 +82,20 @@ static int mkdir_p(const char *path)
     }
     struct stat st;
     return (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) ? 0 : -1;
+}
+
+/* Puts a closed file's data on disk (fsync), so that a file renamed into place after a crash of
+ * the machine is the whole file, not an empty or partial one; 0, or -1 with errno set. */
+static int sync_file(const char *path)
+{
+    const int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    const int rc = fsync(fd);
+    const int e = errno;
+    close(fd);
+    errno = e;
+    return rc;
 }
 
 static int write_file_atomic(const char *dir, const char *name, const char *text)
@@ -379,6 +394,10 @@ int lub_run_spec(const lub_run_request *req)
     }
     free(resolved_text);
     free(units_text);
+    if (!h5_failed && sync_file(h5_tmp) != 0) {
+        h5_failed = 1;
+        snprintf(h5_reason, sizeof h5_reason, "%s (putting it on disk)", strerror(errno));
+    }
     if (!h5_failed && rename(h5_tmp, h5_dst) != 0) {
         h5_failed = 1;
         snprintf(h5_reason, sizeof h5_reason, "%s", strerror(errno));
@@ -390,7 +409,8 @@ int lub_run_spec(const lub_run_request *req)
      * continued or took periodic checkpoints (the last checkpoint and the file with its rows
      * still go together) */
     int checkpoint_kept = 0;
-    if (ctx.checkpoint_written && renamed && rename(ckpt_tmp, ckpt_dst) == 0) {
+    if (ctx.checkpoint_written && renamed && sync_file(ckpt_tmp) == 0 &&
+        rename(ckpt_tmp, ckpt_dst) == 0) {
         checkpoint_kept = 1;
         unlink(copy_dst);
     } else {
@@ -467,6 +487,7 @@ int lub_run_spec(const lub_run_request *req)
     errno = 0;
     const int summary_failed = write_file_atomic(req->out_dir, "summary.json", text) != 0;
     const int summary_errno = errno;
+    sync_file(req->out_dir); /* the renames into DIR, on disk too (best effort) */
     free(text);
 
     /* the scene's advisory warnings (summary "warnings"), one line each, for runs that did not

@@ -281,7 +281,7 @@ static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
                 pipe_open = 0;
         }
         double t = now_s();
-        if (*w->stop && kill_at < 0) {
+        if (*w->stop && kill_at < 0 && !exited) { /* an engine that has ended is finished */
             why = END_SHUTDOWN;
             kill(-ep.pid, SIGTERM);
             kill_at = t + cfg->grace_s;
