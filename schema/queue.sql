@@ -68,6 +68,7 @@ CREATE TABLE IF NOT EXISTS idempotency(
   created        REAL NOT NULL,
   PRIMARY KEY(user_id, key)
 ) STRICT;
+CREATE INDEX IF NOT EXISTS idempotency_created ON idempotency(created);
 
 -- Files of a finished job: all of a successful one, what the engine of a failed one wrote
 -- (registered in the same transaction that marks it successful or failed).

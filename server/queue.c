@@ -107,13 +107,13 @@ int lubd_queue_submit(sqlite3 *db, const lubd_submit *in, char job_id[33], int *
     if (lubd_db_begin(db) != 0)
         return db_fault(db, f);
     if (in->idempotency_key) {
+        /* every expired key goes, not only this one: clients that never reuse a key (a CI
+         * pipeline's run ids) would otherwise grow the table without end */
         if (lubd_db_prepare(db,
-                            "DELETE FROM idempotency WHERE user_id = ?1 AND key = ?2 AND "
-                            "created < " LUBD_SQL_NOW " - " IDEMPOTENCY_WINDOW_S,
+                            "DELETE FROM idempotency WHERE created < " LUBD_SQL_NOW
+                            " - " IDEMPOTENCY_WINDOW_S,
                             &st) != 0)
             goto dberr;
-        sqlite3_bind_int64(st, 1, in->user_id);
-        sqlite3_bind_text(st, 2, in->idempotency_key, -1, SQLITE_STATIC);
         if (sqlite3_step(st) != SQLITE_DONE)
             goto dberr;
         sqlite3_finalize(st);

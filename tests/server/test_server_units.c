@@ -497,6 +497,19 @@ static void test_hand_over(const char *dir)
     s.idempotency_key = "key-q";
     s.fingerprint = "fp-q";
     CHECK(lubd_queue_submit(db, &s, other, &rep, &fault) == 0 && rep && strcmp(other, queued) == 0);
+    /* a key older than its day goes at the next keyed submission, whichever its key: a client
+     * that never reuses one does not grow the table without end */
+    CHECK(lubd_db_exec(db, "UPDATE idempotency SET created = created - 90000") == 0);
+    s.continue_from = NULL;
+    s.request_json = "{}";
+    s.idempotency_key = "key-new";
+    s.fingerprint = "fp-new";
+    CHECK(lubd_queue_submit(db, &s, other, &rep, &fault) == 0 && !rep);
+    sqlite3_stmt *count;
+    CHECK(lubd_db_prepare(db, "SELECT count(*) FROM idempotency", &count) == 0);
+    CHECK(sqlite3_step(count) == SQLITE_ROW && sqlite3_column_int(count, 0) == 1);
+    sqlite3_finalize(count);
+    CHECK(lubd_queue_is_replay(db, u.id, "key-new", "fp-new") == 1);
     lubd_db_close(db);
     lubd_rm_rf(jobs);
     unlink(path);
