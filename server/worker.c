@@ -116,7 +116,7 @@ static void summary_diagnostic(const char *out_dir, char *out, size_t n)
 }
 
 /* Keeps the lease of a job alive while its outputs are checksummed: a large result.h5 takes
- * longer than a lease (about 85 MB/s on the 2-core host), and a lease let go there had the
+ * longer than a lease (85-170 MB/s on the 2-core host), and a lease let go there had the
  * reaper requeue a run that had completed. */
 typedef struct {
     worker_ctx *w;
