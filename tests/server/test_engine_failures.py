@@ -148,6 +148,9 @@ def dismissed_while_running(srv, tok):
     job = submit(srv, tok, 20)
     wait_running(srv, tok, job)
     out = os.path.join(srv.run, "jobs", job, "attempt-1", "out")
+    deadline = time.time() + 10  # the fake engine prints its progress line first
+    while not os.path.exists(os.path.join(out, "result.h5")) and time.time() < deadline:
+        time.sleep(0.05)
     T.check(os.path.exists(os.path.join(out, "result.h5")), "the engine's file in %s" % out)
     st, _, doc = srv.request("DELETE", "/jobs/" + job, tok)
     T.check(st == 200 and doc["status"] == "dismissed", "DELETE running -> %s %s" % (st, doc))
