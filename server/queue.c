@@ -375,20 +375,27 @@ int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_
     return 0;
 }
 
-int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
+/* SQLite's clock (LUBD_SQL_NOW) into *now: 0, or -1 after printing the error. */
+static int sql_now(sqlite3 *db, double *now)
 {
-    *requeued = *failed = 0;
     sqlite3_stmt *st;
     if (lubd_db_prepare(db, "SELECT " LUBD_SQL_NOW, &st) != 0)
         return -1;
     const int have_now = sqlite3_step(st) == SQLITE_ROW;
-    const double now = have_now ? sqlite3_column_double(st, 0) : 0.0;
+    *now = have_now ? sqlite3_column_double(st, 0) : 0.0;
     sqlite3_finalize(st);
     if (!have_now) {
         fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
         return -1;
     }
-    return lubd_queue_reap_at(db, now, requeued, failed);
+    return 0;
+}
+
+int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
+{
+    *requeued = *failed = 0;
+    double now;
+    return sql_now(db, &now) != 0 ? -1 : lubd_queue_reap_at(db, now, requeued, failed);
 }
 
 /* The reaper's pass: every running lease that ends before `expired_before` is requeued (its
@@ -458,13 +465,8 @@ int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed)
 int lubd_queue_reap_orphans(sqlite3 *db, int *requeued, int *failed)
 {
     *requeued = *failed = 0;
-    sqlite3_stmt *st;
-    if (lubd_db_prepare(db, "SELECT " LUBD_SQL_NOW, &st) != 0)
-        return -1;
-    const int have_now = sqlite3_step(st) == SQLITE_ROW;
-    const double now = have_now ? sqlite3_column_double(st, 0) : 0.0;
-    sqlite3_finalize(st);
-    if (!have_now)
+    double now;
+    if (sql_now(db, &now) != 0)
         return -1;
     return reap_leases(db, now, 1e300, /* every lease */
                        "requeued: the service stopped without releasing it (crash or kill -9) "
