@@ -56,8 +56,11 @@ def engine_run(a, inputs, name, scene="simple_shear"):
         r = summary["results"]
         for total, comp, sign in (("sigma_xy", "xy", 1.0), ("pressure", "yy", -1.0)):
             parts = [r[k]["value"] for k in r if k.startswith("sigma_%s_" % comp)]
+            values = parts + [r[total]["value"]]
+            T.check(len(parts) == 5 and all(isinstance(x, float) for x in values),
+                    "%s: the five parts of %s and the total: %s" % (name, total, values))
             gap = sum(parts) - sign * r[total]["value"]
-            T.check(len(parts) == 5 and abs(gap) <= 1e-9 * sum(abs(x) for x in parts),
+            T.check(abs(gap) <= 1e-9 * sum(abs(x) for x in parts),
                     "%s: the five parts add up to %s (%.3g off)" % (name, total, gap))
     return summary, spec_path
 
