@@ -120,7 +120,12 @@ int lub_fb_step(lub_fb_system *s, double dt, char *diag, size_t diag_size)
             return -1;
         }
     }
-    s->t += dt;
+    if (dt != s->dt_seg) { /* a new step length: count its steps from here */
+        s->t_seg = s->t;
+        s->step_seg = s->step;
+        s->dt_seg = dt;
+    }
     s->step++;
+    s->t = s->t_seg + (double)(s->step - s->step_seg) * dt;
     return 0;
 }

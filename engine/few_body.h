@@ -57,8 +57,12 @@ typedef struct {
     lub_fb_pair p[LUB_FB_MAX_PAIRS];
     lub_law_params law;
     lub_fb_env env;
-    double t;     /* time of the positions */
+    double t;     /* time of the positions: t_seg + (step - step_seg) dt, counted from the
+                     step, never accumulated (t += dt stops advancing when dt < ulp(t)/2) */
     int64_t step; /* steps done */
+    /* the last change of the step length (lub_fb_step keeps them; zero to start at t = 0) */
+    double t_seg, dt_seg;
+    int64_t step_seg;
 } lub_fb_system;
 
 /* Background flow velocity L x and the fluid spin curl(L x)/2. */
@@ -73,7 +77,8 @@ vec3 lub_fb_flow_spin(const lub_fb_env *e);
 double lub_fb_critical_dt(const lub_fb_system *s);
 
 /* One step of length dt: pair forces at t_n (with v, w at t_{n-1/2}), then velocities to
- * t_{n+1/2} and positions to t_{n+1}. Returns 0, or -1 with a diagnostic in diag if a force
+ * t_{n+1/2} and positions to t_{n+1}; s->t becomes the time of the new positions, from the step
+ * count (s->t above). Returns 0, or -1 with a diagnostic in diag if a force
  * or a position is not finite (the law failed). */
 int lub_fb_step(lub_fb_system *s, double dt, char *diag, size_t diag_size);
 

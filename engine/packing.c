@@ -209,13 +209,29 @@ static int placement_is_free(const placement_grid *g, const lub_cell *cell, cons
     return 1;
 }
 
+/* the clip of the drawn radii (lub_packing_radius_bounds) */
+static void radius_clip(double radius_std, double *lo, double *hi)
+{
+    *lo = fmax(1.0 - 3.0 * radius_std, 0.2);
+    *hi = 1.0 + 3.0 * radius_std;
+}
+
+void lub_packing_radius_bounds(double radius_std, double *lo, double *hi)
+{
+    double c_lo, c_hi;
+    radius_clip(radius_std, &c_lo, &c_hi);
+    *lo = c_lo / c_hi;
+    *hi = c_hi / c_lo;
+}
+
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info)
 {
     const int n = p->n;
     lub_rng rng;
     lub_rng_seed(&rng, p->seed);
-    double lo = fmax(1.0 - 3.0 * p->radius_std, 0.2), hi = 1.0 + 3.0 * p->radius_std;
+    double lo, hi;
+    radius_clip(p->radius_std, &lo, &hi);
     double mean = 0.0;
     for (int i = 0; i < n; ++i) {
         double r = 1.0 + p->radius_std * lub_rng_gauss(&rng);

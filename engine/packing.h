@@ -53,6 +53,12 @@ typedef struct {
  * overlaps within max_sweeps (phi too high), -3 if *p->stop was set (outputs unusable). */
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info);
+/* Every radius lub_packing_generate gives lies in [*lo, *hi]: it draws radii from a normal of
+ * mean 1 and standard deviation radius_std clipped to [c_lo, c_hi] = [max(1 - 3 radius_std,
+ * 0.2), 1 + 3 radius_std] and divides them by their mean (itself in [c_lo, c_hi]), so
+ * lo = c_lo/c_hi and hi = c_hi/c_lo. */
+void lub_packing_radius_bounds(double radius_std, double *lo, double *hi);
+
 /* Above this many spheres the placement is renumbered spatially before the compression
  * (memory locality; see packing.c). */
 #define LUB_PACKING_SORT_MIN_N 65536

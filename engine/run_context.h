@@ -23,7 +23,9 @@ typedef struct lub_run_ctx {
     json_t *summary_extra; /* object: anything else (active_terms, units, diagnostics) */
     int threads;           /* OpenMP threads to use (>= 1): --threads, at most the processors
                               the process may run on */
-    char diagnostic[1024]; /* on LUB_EXIT_NUMERICAL: what failed, where, when */
+    char diagnostic[1024]; /* on LUB_EXIT_NUMERICAL: what failed, where, when; on
+                              LUB_EXIT_BAD_SPEC: "<JSON pointer>: <constraint>" (the driver
+                              prints it as a spec error, --json-errors included) */
     /* Continuation of a stopped run (scenes with `resumable`, scene.h; README "Stopping and
      * resuming"). The driver sets the paths; the scene sets the flags. */
     const char *checkpoint_path;  /* where the scene writes its checkpoint when a stop request

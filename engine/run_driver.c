@@ -30,6 +30,22 @@ static void report_spec_error(FILE *diag, int json_errors, const lub_error *err)
     }
 }
 
+/* A refusal the run makes (exit 2): "error: --resume: ..." or a scene's "<pointer>: ...", as one
+ * line, or with --json-errors as {"pointer": pointer, "message": text} (pointer "" when the
+ * refusal is not about one member). */
+static void report_refusal(FILE *diag, int json_errors, const char *pointer, const char *text)
+{
+    if (json_errors) {
+        json_t *o = json_pack("{s:s, s:s}", "pointer", pointer, "message", text);
+        char *s = o ? json_dumps(o, JSON_COMPACT) : NULL;
+        fprintf(diag, "%s\n", s ? s : "{\"pointer\": \"\", \"message\": \"refused\"}");
+        free(s);
+        json_decref(o);
+    } else {
+        fprintf(diag, "error: %s%s%s\n", pointer, pointer[0] ? ": " : "", text);
+    }
+}
+
 /* Parse + resolve; on failure reports and returns NULL. */
 static json_t *parse_and_resolve(const char *text, FILE *diag, int json_errors)
 {
@@ -505,6 +521,18 @@ int lub_run_spec(const lub_run_request *req)
         (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL || rc == LUB_EXIT_IO))
         fprintf(req->diag, "error: %s\n",
                 ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
+    if (!summary_failed && rc == LUB_EXIT_BAD_SPEC) { /* a refusal only the run could make */
+        const char *colon = ctx.diagnostic[0] == '/' ? strstr(ctx.diagnostic, ": ") : NULL;
+        char pointer[256] = "";
+        if (colon && (size_t)(colon - ctx.diagnostic) < sizeof pointer)
+            memcpy(pointer, ctx.diagnostic, (size_t)(colon - ctx.diagnostic));
+        else
+            colon = NULL;
+        report_refusal(req->diag, req->json_errors, pointer,
+                       colon               ? colon + 2
+                       : ctx.diagnostic[0] ? ctx.diagnostic
+                                           : "refused");
+    }
     if (summary_failed) { /* the diagnostic above would point to a summary that is not there */
         if (scene_rc != LUB_EXIT_OK && scene_rc != LUB_EXIT_INTERRUPTED)
             fprintf(req->diag, "error: %s\n",

@@ -23,7 +23,10 @@ struct lub_run_ctx;
 enum {
     LUB_EXIT_OK = 0,         /* completed; summary status "complete" */
     LUB_EXIT_INTERNAL = 1,   /* unexpected internal error */
-    LUB_EXIT_BAD_SPEC = 2,   /* usage or invalid spec; nothing written */
+    LUB_EXIT_BAD_SPEC = 2,   /* usage or invalid spec; nothing written. From run(): a refusal
+                                only the run can make (the step count once the packing gives
+                                the step, step_count.h), before any step; status "failed",
+                                diagnostic "<JSON pointer>: <constraint>" */
     LUB_EXIT_NUMERICAL = 3,  /* numerical failure (NaN, blow-up); status "failed" + diagnostic */
     LUB_EXIT_IO = 4,         /* cannot write the output */
     LUB_EXIT_INTERRUPTED = 5 /* SIGTERM/SIGINT: valid partial result, status "partial" */

@@ -26,6 +26,7 @@
 #include "run_context.h"
 #include "scene.h"
 #include "scene_summary.h"
+#include "step_count.h"
 
 #define LUB_PI 3.14159265358979323846
 
@@ -44,6 +45,101 @@ static const lub_law_spec_opts fs_law_opts = {
     .default_alpha = 1.0,
 };
 
+/* Defaults of the members the step count depends on (fs_read, fs_check_steps). */
+#define FS_DEFAULT_ST 1e-3
+#define FS_DEFAULT_U0 1.0
+#define FS_DEFAULT_DURATION 10.0
+#define FS_DEFAULT_DT_SAFETY 0.5
+#define FS_DEFAULT_STIFFNESS 1e4
+
+/* The system of a spec at t = 0 (the free sphere at rest above the fixed one) and its step:
+ * what fs_run integrates and what fs_read counts the steps of. Dimensionless set: a = 1,
+ * eta = 1, tau_c = 1 (rho g = 1). */
+typedef struct {
+    double rho, grav, m, W; /* density, gravity, mass and weight of the free sphere */
+    double dt_crit, dt;     /* the elastic bound and the step (/dt, or /dt_safety dt_crit) */
+    lub_law_spec law;       /* the spec's law with its scales set */
+    lub_fb_system s;
+} fs_setup;
+
+static void fs_build(const fs_params *p, fs_setup *o)
+{
+    const double a = 1.0, eta = 1.0;
+    o->rho = p->St * p->St / (2.0 * p->u0);
+    o->grav = 2.0 * p->u0 / (p->St * p->St);
+    o->m = 4.0 / 3.0 * LUB_PI * o->rho * a * a * a;
+    o->W = o->m * o->grav;
+    o->law = p->law;
+    lub_law_spec_scale(&o->law, eta, p->G * o->W / a);
+    lub_fb_system *s = &o->s;
+    memset(s, 0, sizeof *s);
+    s->nb = 2;
+    s->np = 1;
+    s->law = o->law.params;
+    s->env.gravity = v3(0.0, -o->grav, 0.0);
+    s->env.rotation = 0;
+    s->b[0] = (lub_fb_body){.r = a, .inv_m = 0.0, .inv_I = 0.0, .x = v3(0, 0, 0)};
+    s->b[1] =
+        (lub_fb_body){.r = a, .inv_m = 1.0 / o->m, .inv_I = 0.0, .x = v3(0, 2 * a + p->u0, 0)};
+    s->p[0] = (lub_fb_pair){.i = 0, .j = 1, .cutoff = INFINITY};
+    o->dt_crit = lub_fb_critical_dt(s);
+    o->dt = p->dt > 0.0 ? p->dt : p->dt_safety * o->dt_crit;
+}
+
+static double fs_steps(const fs_params *p)
+{
+    fs_setup o;
+    fs_build(p, &o);
+    return lub_step_count(p->duration, o.dt);
+}
+
+/* The step-count rule (step_count.h): the member named is the one whose default brings the
+ * count nearest the allowed range. */
+static int fs_check_steps(const fs_params *p, int stiffness_from_K, lub_error *err)
+{
+    fs_setup o;
+    fs_build(p, &o);
+    const double count = lub_step_count(p->duration, o.dt);
+    if (lub_step_count_ok(count))
+        return 0;
+    const char *stiff = stiffness_from_K ? "/K" : "/stiffness";
+    lub_step_alt alt[5];
+    int n = 0;
+    fs_params q;
+    if (p->dt > 0.0) {
+        q = *p;
+        q.dt = 0.0;
+        alt[n++] = (lub_step_alt){"/dt", fs_steps(&q)};
+    } else {
+        q = *p;
+        q.G = FS_DEFAULT_STIFFNESS;
+        alt[n++] = (lub_step_alt){stiff, fs_steps(&q)};
+        q = *p;
+        q.St = FS_DEFAULT_ST;
+        alt[n++] = (lub_step_alt){"/St", fs_steps(&q)};
+        q = *p;
+        q.u0 = FS_DEFAULT_U0;
+        alt[n++] = (lub_step_alt){"/u0", fs_steps(&q)};
+        q = *p;
+        q.dt_safety = FS_DEFAULT_DT_SAFETY;
+        alt[n++] = (lub_step_alt){"/dt_safety", fs_steps(&q)};
+    }
+    q = *p;
+    q.duration = FS_DEFAULT_DURATION;
+    alt[n++] = (lub_step_alt){"/duration", fs_steps(&q)};
+    char origin[200];
+    if (p->dt > 0.0)
+        snprintf(origin, sizeof origin, "fixed by /dt");
+    else
+        snprintf(origin, sizeof origin,
+                 "/dt_safety %g times dt_critical %.3g, which %s, /St and /u0 set", p->dt_safety,
+                 o.dt_crit, stiffness_from_K ? "/K (the stiffness K/(alpha eps))" : "/stiffness");
+    char duration[48];
+    snprintf(duration, sizeof duration, "/duration %.6g", p->duration);
+    return lub_step_count_fail(err, lub_step_count_culprit(count, alt, n), count, "", "/duration",
+                               duration, o.dt, origin);
+}
+
 static int fs_read(json_t *spec, fs_params *p, lub_error *err)
 {
     static const char *keys[] = {"scene",    "St", "stiffness", "K",       "u0",
@@ -59,11 +155,13 @@ static int fs_read(json_t *spec, fs_params *p, lub_error *err)
     const lub_range unit_interval = {0.0, 1.0, 1, 0};
     long long ns = 0;
     const char *sp = NULL;
-    if (lub_spec_number(spec, "", "St", LUB_POSITIVE, 1, 1e-3, &p->St, err) ||
-        lub_spec_number(spec, "", "u0", LUB_POSITIVE, 1, 1.0, &p->u0, err) ||
-        lub_spec_number(spec, "", "duration", LUB_POSITIVE, 1, 10.0, &p->duration, err) ||
+    if (lub_spec_number(spec, "", "St", LUB_POSITIVE, 1, FS_DEFAULT_ST, &p->St, err) ||
+        lub_spec_number(spec, "", "u0", LUB_POSITIVE, 1, FS_DEFAULT_U0, &p->u0, err) ||
+        lub_spec_number(spec, "", "duration", LUB_POSITIVE, 1, FS_DEFAULT_DURATION, &p->duration,
+                        err) ||
         lub_spec_number(spec, "", "dt", LUB_NONNEGATIVE, 1, 0.0, &p->dt, err) ||
-        lub_spec_number(spec, "", "dt_safety", unit_interval, 1, 0.5, &p->dt_safety, err) ||
+        lub_spec_number(spec, "", "dt_safety", unit_interval, 1, FS_DEFAULT_DT_SAFETY,
+                        &p->dt_safety, err) ||
         lub_spec_integer(spec, "", "samples", 2, 10000000, 1, 1000, &ns, err) ||
         lub_spec_enum(spec, "", "sample_spacing", spacing, "linear", &sp, err))
         return -1;
@@ -82,6 +180,15 @@ static int fs_read(json_t *spec, fs_params *p, lub_error *err)
                             "the contact number K = k_n eps/((4/3) pi a^2 rho g) "
                             "needs /law/eps > 0; give /stiffness instead");
         double G = p->K / (alpha * eps);
+        if (!(G > 0.0) || !isfinite(G)) {
+            char k[40], a[40], e[40];
+            return lub_fail(err, "/K",
+                            "sets the stiffness K/(alpha eps) = %g, which must be positive and "
+                            "finite (/K %s, /law/alpha %s, /law/eps %s); give /stiffness "
+                            "instead, or a /K nearer alpha eps",
+                            G, lub_real_text(p->K, k), lub_real_text(alpha, a),
+                            lub_real_text(eps, e));
+        }
         if (jG) {
             if (lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 0, 0.0, &p->G, err))
                 return -1;
@@ -95,12 +202,13 @@ static int fs_read(json_t *spec, fs_params *p, lub_error *err)
             json_object_set_new(spec, "stiffness", json_real(G));
             p->G = G;
         }
-    } else if (lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 1, 1e4, &p->G, err)) {
+    } else if (lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 1, FS_DEFAULT_STIFFNESS, &p->G,
+                               err)) {
         return -1;
     }
     if (eps > 0.0)
         p->K = alpha * p->G * eps;
-    return 0;
+    return fs_check_steps(p, jK != NULL, err);
 }
 
 static int fs_resolve(json_t *spec, lub_error *err)
@@ -183,26 +291,17 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
 
     /* dimensionless set: a = 1, eta = 1, tau_c = 1 (rho g = 1) */
     const double a = 1.0, eta = 1.0;
-    const double rho = p.St * p.St / (2.0 * p.u0), grav = 2.0 * p.u0 / (p.St * p.St);
-    const double m = 4.0 / 3.0 * LUB_PI * rho * a * a * a, W = m * grav;
-    const double eps = p.law.params.eps, alpha = p.law.params.alpha;
-    lub_law_spec_scale(&p.law, eta, p.G * W / a);
-    const double kn = alpha * p.law.params.k_bulk;
+    fs_setup setup;
+    fs_build(&p, &setup);
+    const double grav = setup.grav, W = setup.W;
+    const double eps = p.law.params.eps;
+    p.law = setup.law;
+    const double kn = p.law.params.alpha * p.law.params.k_bulk;
     const double u_eq = (eps > 0.0 && p.K > 1.0) ? eps * a - W / kn : NAN;
 
-    lub_fb_system s;
-    memset(&s, 0, sizeof s);
-    s.nb = 2;
-    s.np = 1;
-    s.law = p.law.params;
-    s.env.gravity = v3(0.0, -grav, 0.0);
-    s.env.rotation = 0;
-    s.b[0] = (lub_fb_body){.r = a, .inv_m = 0.0, .inv_I = 0.0, .x = v3(0, 0, 0)};
-    s.b[1] = (lub_fb_body){.r = a, .inv_m = 1.0 / m, .inv_I = 0.0, .x = v3(0, 2 * a + p.u0, 0)};
-    s.p[0] = (lub_fb_pair){.i = 0, .j = 1, .cutoff = INFINITY};
-
-    const double dt_crit = lub_fb_critical_dt(&s);
-    const double dt = p.dt > 0.0 ? p.dt : p.dt_safety * dt_crit;
+    lub_fb_system s = setup.s;
+    const double dt_crit = setup.dt_crit;
+    const double dt = setup.dt;
     /* at rest at t = 0: the half-step velocity v(-dt/2) = +g dt/2 */
     s.b[1].v = v3(0.0, 0.5 * grav * dt, 0.0);
 
@@ -237,6 +336,7 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
     const double osc_threshold = 1e-2 * W / p.law.params.k_bulk;
     int late_bounces = -1, late_oscillations = -1;
     double late_unmin = INFINITY, late_unmax = -INFINITY;
+    /* from 1 to LUB_MAX_STEPS: fs_read refuses other counts (step_count.h) */
     const int64_t nsteps = (int64_t)ceil(p.duration / dt - 1e-9);
 
     for (int64_t n = 0; n < nsteps && rc == LUB_EXIT_OK; ++n) {

@@ -39,6 +39,7 @@
 #include "json_text.h"
 #include "law_spec.h"
 #include "network_output.h"
+#include "packing.h"
 #include "resuspension_analysis.h"
 #include "resuspension_bed.h"
 #include "resuspension_checkpoint.h"
@@ -50,6 +51,7 @@
 #include "shear_run_checks.h"
 #include "state_checkpoint.h"
 #include "stats.h"
+#include "step_count.h"
 #include "step_schedule.h"
 #include "step_stiffness.h"
 
@@ -78,6 +80,103 @@ static const lub_law_spec_opts rs_law_opts = {
     .default_kt_ratio = 0.5,
     .default_mu = 0.5,
 };
+
+/* Defaults of the members the step count depends on (rs_read, rs_check_steps). */
+#define RS_DEFAULT_SHIELDS 0.5
+#define RS_DEFAULT_INERTIAL_NUMBER 0.03
+#define RS_DEFAULT_DENSITY_RATIO 1.0
+#define RS_DEFAULT_STIFFNESS 1e6
+#define RS_DEFAULT_STRAIN 40.0
+#define RS_DEFAULT_DT_SAFETY 0.3
+
+/* The elastic bound of a particle of radius r (rs_run takes the lightest particle's), from
+ * the spec: m = (4/3) pi r^3 rho, rho = density_ratio drho, drho = I^2/Sh, g = stiffness,
+ * k_t = kt_ratio g. Units a = eta = gd = 1. */
+static double rs_elastic_dt(const rs_params *p, double r)
+{
+    const double rho = p->density_ratio * p->I * p->I / p->Sh;
+    const double m = rho * 4.0 / 3.0 * RS_PI * r * r * r;
+    const double k_bulk = p->stiffness, k_t = p->law.kt_ratio * p->stiffness;
+    double dt = sqrt(m / k_bulk);
+    if (k_t > 0.0)
+        dt = fmin(dt, sqrt(0.4 * m / k_t));
+    return dt;
+}
+
+/* The run's steps (step_count.h) when its lightest particle has radius r. */
+static double rs_steps_at(const rs_params *p, double r)
+{
+    const double dt = p->dt > 0.0 ? p->dt : p->dt_safety * rs_elastic_dt(p, r);
+    return lub_step_count(p->strain, dt);
+}
+
+/* The refusal of `count` steps of length dt (qualifier: "" for the run's own, "at least " or
+ * "at most " for a bound), the lightest particle having radius r: names the member whose
+ * default brings the count nearest the allowed range. -1. */
+static int rs_step_refusal(const rs_params *p, double r, double count, double dt,
+                           const char *qualifier, lub_error *err)
+{
+    lub_step_alt alt[8];
+    int n = 0;
+    rs_params q;
+    if (p->dt > 0.0) {
+        q = *p;
+        q.dt = 0.0;
+        alt[n++] = (lub_step_alt){"/dt", rs_steps_at(&q, r)};
+    } else {
+        q = *p;
+        q.stiffness = RS_DEFAULT_STIFFNESS;
+        alt[n++] = (lub_step_alt){"/stiffness", rs_steps_at(&q, r)};
+        q = *p;
+        q.Sh = RS_DEFAULT_SHIELDS;
+        alt[n++] = (lub_step_alt){"/shields", rs_steps_at(&q, r)};
+        q = *p;
+        q.I = RS_DEFAULT_INERTIAL_NUMBER;
+        alt[n++] = (lub_step_alt){"/inertial_number", rs_steps_at(&q, r)};
+        q = *p;
+        q.density_ratio = RS_DEFAULT_DENSITY_RATIO;
+        alt[n++] = (lub_step_alt){"/density_ratio", rs_steps_at(&q, r)};
+        q = *p;
+        q.law.kt_ratio = rs_law_opts.default_kt_ratio;
+        alt[n++] = (lub_step_alt){"/law/kt_ratio", rs_steps_at(&q, r)};
+        q = *p;
+        q.dt_safety = RS_DEFAULT_DT_SAFETY;
+        alt[n++] = (lub_step_alt){"/dt_safety", rs_steps_at(&q, r)};
+    }
+    q = *p;
+    q.strain = RS_DEFAULT_STRAIN;
+    alt[n++] = (lub_step_alt){"/strain", rs_steps_at(&q, r)};
+    char duration[48], origin[240];
+    snprintf(duration, sizeof duration, "/strain %.6g", p->strain);
+    if (p->dt > 0.0)
+        snprintf(origin, sizeof origin, "fixed by /dt");
+    else
+        snprintf(origin, sizeof origin,
+                 "/dt_safety %g times dt_critical, the elastic bound of the lightest particle, "
+                 "which /stiffness, /shields, /inertial_number, /density_ratio, /law/kt_ratio "
+                 "and /radius_std set",
+                 p->dt_safety);
+    return lub_step_count_fail(err, lub_step_count_culprit(count, alt, n), count, qualifier,
+                               "/strain", duration, dt, origin);
+}
+
+/* The step-count rule at validation: with /dt fixed the count is known; otherwise it lies
+ * between the counts of the lightest particle's largest and smallest possible radii
+ * (lub_packing_radius_bounds: the bed is cut from a packing), and a spec is refused here when
+ * the whole range is outside (the run checks its own count once the bed is built). */
+static int rs_check_steps(const rs_params *p, lub_error *err)
+{
+    double r_lo = 1.0, r_hi = 1.0;
+    if (p->dt <= 0.0)
+        lub_packing_radius_bounds(p->radius_std, &r_lo, &r_hi);
+    const double fewest = rs_steps_at(p, r_hi), most = rs_steps_at(p, r_lo);
+    const char *q_fewest = p->dt > 0.0 ? "" : "at least ", *q_most = p->dt > 0.0 ? "" : "at most ";
+    if (fewest > LUB_MAX_STEPS || !(fewest == fewest))
+        return rs_step_refusal(p, r_hi, fewest, p->strain / fewest, q_fewest, err);
+    if (!lub_step_count_ok(most) && !(most > LUB_MAX_STEPS))
+        return rs_step_refusal(p, r_lo, most, p->strain / most, q_most, err);
+    return 0;
+}
 
 static int rs_read(json_t *spec, rs_params *p, lub_error *err)
 {
@@ -122,25 +221,27 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
         lub_spec_number(spec, "", "radius_std", (lub_range){0.0, 0.1, 0, 0}, 1, 0.05,
                         &p->radius_std, err) ||
         lub_spec_enum(spec, "", "orientation", orient, "gradient", &o, err) ||
-        lub_spec_number(spec, "", "shields", LUB_POSITIVE, 1, 0.5, &p->Sh, err) ||
-        lub_spec_number(spec, "", "inertial_number", (lub_range){0.0, 10.0, 1, 0}, 1, 0.03, &p->I,
+        lub_spec_number(spec, "", "shields", LUB_POSITIVE, 1, RS_DEFAULT_SHIELDS, &p->Sh, err) ||
+        lub_spec_number(spec, "", "inertial_number", (lub_range){0.0, 10.0, 1, 0}, 1,
+                        RS_DEFAULT_INERTIAL_NUMBER, &p->I, err) ||
+        lub_spec_number(spec, "", "density_ratio", (lub_range){1.0, INFINITY, 0, 0}, 1,
+                        RS_DEFAULT_DENSITY_RATIO, &p->density_ratio, err) ||
+        lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 1, RS_DEFAULT_STIFFNESS, &p->stiffness,
                         err) ||
-        lub_spec_number(spec, "", "density_ratio", (lub_range){1.0, INFINITY, 0, 0}, 1, 1.0,
-                        &p->density_ratio, err) ||
-        lub_spec_number(spec, "", "stiffness", LUB_POSITIVE, 1, 1e6, &p->stiffness, err) ||
         lub_spec_number(spec, "", "shear_drag_viscosity", LUB_NONNEGATIVE, 1, 1.0 / 30.0,
                         &p->eta_shear, err) ||
         lub_spec_number(spec, "", "lid_height", (lub_range){1.0, 100.0, 0, 0}, 1, 3.0,
                         &p->lid_height, err) ||
-        lub_spec_number(spec, "", "strain", (lub_range){0.0, 1e6, 1, 0}, 1, 40.0, &p->strain,
-                        err) ||
+        lub_spec_number(spec, "", "strain", (lub_range){0.0, 1e6, 1, 0}, 1, RS_DEFAULT_STRAIN,
+                        &p->strain, err) ||
         lub_spec_number(spec, "", "average_from", LUB_NONNEGATIVE, 1, 20.0, &p->average_from,
                         err) ||
         lub_spec_number(spec, "", "sample_strain", LUB_POSITIVE, 1, 0.1, &p->sample_strain, err) ||
         lub_spec_number(spec, "", "bin_width", (lub_range){0.01, 10.0, 0, 0}, 1, 0.5, &p->bin_width,
                         err) ||
         lub_spec_number(spec, "", "dt", LUB_NONNEGATIVE, 1, 0.0, &p->dt, err) ||
-        lub_spec_number(spec, "", "dt_safety", unit_half, 1, 0.3, &p->dt_safety, err) ||
+        lub_spec_number(spec, "", "dt_safety", unit_half, 1, RS_DEFAULT_DT_SAFETY, &p->dt_safety,
+                        err) ||
         lub_spec_number(spec, "", "dt_stiffness_safety", (lub_range){0.0, 2.0, 0, 0}, 1,
                         LUB_DT_STIFFNESS_SAFETY, &p->dt_stiffness_safety, err) ||
         lub_spec_number(spec, "", "cutoff", (lub_range){0.0, 4.0, 1, 0}, 1, 2.0, &p->cutoff, err) ||
@@ -215,7 +316,7 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
     json_t *law = lub_spec_object(spec, "", "law", err);
     if (!law || lub_law_spec_resolve(law, "/law", &rs_law_opts, &p->law, err))
         return -1;
-    return 0;
+    return rs_check_steps(p, err);
 }
 
 static int rs_resolve(json_t *spec, lub_error *err)
@@ -558,6 +659,16 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     memset(&lp, 0, sizeof lp);
     lub_step_control_init(&lp.ctl, sp.dt, dt_adapts ? p.dt_stiffness_safety : 0.0);
     double dt = lp.ctl.dt;
+    if (!ctx->resume_path && !lub_step_count_ok(lub_step_count(p.strain / gd, dt))) {
+        /* the step-count rule (step_count.h) with this bed's lightest particle, which
+         * validation could only bound: refused before the first step, exit 2 */
+        const double r_eff = p.dt > 0.0 ? 1.0 : pow(dt_crit / rs_elastic_dt(&p, 1.0), 2.0 / 3.0);
+        rs_step_refusal(&p, r_eff, lub_step_count(p.strain / gd, dt), dt, "", &err);
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s: %s", err.pointer, err.message);
+        lub_rs_free(&S);
+        rs_buffers_free(&B);
+        return LUB_EXIT_BAD_SPEC;
+    }
     const double area = lub_rs_area(&S);
 
     /* profile bins from the floor centre plane to the lid */
@@ -682,9 +793,15 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                     lub_schedule_set_end(&saved.sched, p.strain / gd);
                 const int64_t left =
                     (saved.sched.nsteps - saved.step) / saved.sched.ev[ev_sample].every + 2;
-                if (rs_samples_reserve(&B, nb, saved.nh + left, saved.navg + left, &nsamp_total,
-                                       &nsamp_avg) ||
-                    rs_checkpoint_read_samples(ck, &saved, &B, nb)) {
+                if ((double)saved.sched.nsteps > LUB_MAX_STEPS) /* at the stopped run's step */
+                    snprintf(why, sizeof why,
+                             "/strain: %g would take the run to %.3g steps at its step of %.3g, "
+                             "more than the %.0e a run may take (README, CLI contract, \"Step "
+                             "count\")",
+                             p.strain, (double)saved.sched.nsteps, saved.ctl.dt, LUB_MAX_STEPS);
+                else if (rs_samples_reserve(&B, nb, saved.nh + left, saved.navg + left,
+                                            &nsamp_total, &nsamp_avg) ||
+                         rs_checkpoint_read_samples(ck, &saved, &B, nb)) {
                     snprintf(why, sizeof why, "%s",
                              lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck)
                                                    : "out of memory (samples)");
@@ -853,6 +970,17 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             dt = lp.ctl.dt;
             S.p.dt = dt;
             lub_schedule_set_dt(&lp.sched, step + 1, S.time, dt);
+            if ((double)lp.sched.nsteps > LUB_MAX_STEPS) { /* step-count rule (step_count.h) */
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                         "the automatic step fell to %.3g at strain %.4f (the pairs' summed "
+                         "stiffness, /dt_stiffness_safety %g; %ld changes), which would take the "
+                         "run to %.3g steps, more than the %.0e a run may take (README, CLI "
+                         "contract, \"Step count\"); lower /strain or /stiffness",
+                         dt, S.time * gd, p.dt_stiffness_safety, lp.ctl.changes,
+                         (double)lp.sched.nsteps, LUB_MAX_STEPS);
+                rc = LUB_EXIT_NUMERICAL;
+                break;
+            }
             if (lp.avg_start_step > step + 1)
                 lp.avg_start_step =
                     step + 1 + (int64_t)ceil((p.average_from / gd - S.time) / dt - 1e-9);

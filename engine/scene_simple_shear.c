@@ -41,6 +41,7 @@
 #include "state_checkpoint.h"
 #include "shear_system.h"
 #include "stats.h"
+#include "step_count.h"
 #include "step_schedule.h"
 #include "step_stiffness.h"
 
@@ -89,6 +90,107 @@ static double ss_min_side(double radius_std, double cutoff, double skin)
     double rmax = fmax(1.0 + 3.0 * radius_std, 1.0);
     double dmax = 2.0 * rmax * (1.0 + 0.5 * cutoff) + skin;
     return 2.0 * dmax / 0.8;
+}
+
+/* Defaults of the members the step count depends on (ss_read, ss_check_steps). */
+#define SS_DEFAULT_IV 0.01
+#define SS_DEFAULT_ST 1e-2
+#define SS_DEFAULT_DT_SAFETY 0.3
+#define SS_DEFAULT_STRAIN 20.0
+static double ss_default_stiffness(const ss_params *p) { return p->pressure ? 1e4 : 1e6; }
+
+/* The elastic bound of a particle of radius r (lub_shear_elastic_dt, which takes the lightest
+ * particle's), from the spec: m = (4/3) pi r^3 rho, rho = St/gd, g = stiffness, k_t = kt_ratio
+ * g, I = 0.4 m r^2. */
+static double ss_elastic_dt(const ss_params *p, double r)
+{
+    const double gd = p->pressure ? p->Iv : 1.0;
+    const double m = 4.0 / 3.0 * SS_PI * r * r * r * p->St / gd;
+    const double k_bulk = p->stiffness, k_t = p->law.kt_ratio * p->stiffness;
+    double t2 = m / k_bulk;
+    if (k_t > 0.0)
+        t2 = fmin(t2, 0.4 * m / k_t);
+    return sqrt(t2);
+}
+
+/* The run's steps (step_count.h) when its lightest particle has radius r. */
+static double ss_steps_at(const ss_params *p, double r)
+{
+    const double gd = p->pressure ? p->Iv : 1.0;
+    const double dt = p->dt > 0.0 ? p->dt : p->dt_safety * ss_elastic_dt(p, r);
+    return lub_step_count(p->strain / gd, dt);
+}
+
+/* The refusal of `count` steps of length dt (qualifier: "" for the run's own, "at least " or
+ * "at most " for a bound), the run's lightest particle (or the one of the bound) having radius
+ * r: names the member whose default brings the count nearest the allowed range. -1. */
+static int ss_step_refusal(const ss_params *p, double r, double count, double dt,
+                           const char *qualifier, lub_error *err)
+{
+    lub_step_alt alt[7];
+    int n = 0;
+    ss_params q;
+    if (p->pressure) {
+        q = *p;
+        q.Iv = SS_DEFAULT_IV;
+        alt[n++] = (lub_step_alt){"/Iv", ss_steps_at(&q, r)};
+    }
+    if (p->dt > 0.0) {
+        q = *p;
+        q.dt = 0.0;
+        alt[n++] = (lub_step_alt){"/dt", ss_steps_at(&q, r)};
+    } else {
+        q = *p;
+        q.stiffness = ss_default_stiffness(p);
+        alt[n++] = (lub_step_alt){"/stiffness", ss_steps_at(&q, r)};
+        q = *p;
+        q.St = SS_DEFAULT_ST;
+        alt[n++] = (lub_step_alt){"/St", ss_steps_at(&q, r)};
+        q = *p;
+        q.law.kt_ratio = ss_law_opts.default_kt_ratio;
+        alt[n++] = (lub_step_alt){"/law/kt_ratio", ss_steps_at(&q, r)};
+        q = *p;
+        q.dt_safety = SS_DEFAULT_DT_SAFETY;
+        alt[n++] = (lub_step_alt){"/dt_safety", ss_steps_at(&q, r)};
+    }
+    q = *p;
+    q.strain = SS_DEFAULT_STRAIN;
+    alt[n++] = (lub_step_alt){"/strain", ss_steps_at(&q, r)};
+    char duration[96], origin[240];
+    if (p->pressure)
+        snprintf(duration, sizeof duration, "/strain %.6g over /Iv %g (a time of %.6g eta/P)",
+                 p->strain, p->Iv, p->strain / p->Iv);
+    else
+        snprintf(duration, sizeof duration, "/strain %.6g", p->strain);
+    if (p->dt > 0.0)
+        snprintf(origin, sizeof origin, "fixed by /dt");
+    else
+        snprintf(origin, sizeof origin,
+                 "/dt_safety %g times dt_elastic, the elastic bound of the lightest particle, "
+                 "which /stiffness, /St, /law/kt_ratio%s and /radius_std set",
+                 p->dt_safety, p->pressure ? ", /Iv" : "");
+    return lub_step_count_fail(err, lub_step_count_culprit(count, alt, n), count, qualifier,
+                               "/strain", duration, dt, origin);
+}
+
+/* The step-count rule at validation: with /dt fixed the count is known; otherwise it lies
+ * between the counts of the lightest particle's largest and smallest possible radii
+ * (lub_packing_radius_bounds), and a spec is refused here when the whole range is outside
+ * (the run checks its own count once the packing has given its radii). */
+static int ss_check_steps(const ss_params *p, lub_error *err)
+{
+    double r_lo = 1.0, r_hi = 1.0;
+    if (p->dt <= 0.0)
+        lub_packing_radius_bounds(p->radius_std, &r_lo, &r_hi);
+    const double gd = p->pressure ? p->Iv : 1.0;
+    const double fewest = ss_steps_at(p, r_hi), most = ss_steps_at(p, r_lo);
+    const int exact = p->dt > 0.0;
+    if (fewest > LUB_MAX_STEPS || !(fewest == fewest))
+        return ss_step_refusal(p, r_hi, fewest, p->strain / gd / fewest, exact ? "" : "at least ",
+                               err);
+    if (!lub_step_count_ok(most) && !(most > LUB_MAX_STEPS))
+        return ss_step_refusal(p, r_lo, most, p->strain / gd / most, exact ? "" : "at most ", err);
+    return 0;
 }
 
 static int ss_read(json_t *spec, ss_params *p, lub_error *err)
@@ -145,22 +247,23 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
         lub_spec_number(spec, "", "phi", phi_r, 1, 0.5, &p->phi, err))
         return -1;
     if (p->pressure) {
-        if (lub_spec_number(spec, "", "Iv", iv_r, 1, 0.01, &p->Iv, err))
+        if (lub_spec_number(spec, "", "Iv", iv_r, 1, SS_DEFAULT_IV, &p->Iv, err))
             return -1;
     } else if (json_object_get(spec, "Iv")) {
         return lub_fail(err, "/Iv", "only used with \"control\": \"pressure\"");
     }
-    if (lub_spec_number(spec, "", "St", st_r, 1, 1e-2, &p->St, err) ||
-        lub_spec_number(spec, "", "stiffness", k_r, 1, p->pressure ? 1e4 : 1e6, &p->stiffness,
+    if (lub_spec_number(spec, "", "St", st_r, 1, SS_DEFAULT_ST, &p->St, err) ||
+        lub_spec_number(spec, "", "stiffness", k_r, 1, ss_default_stiffness(p), &p->stiffness,
                         err) ||
         lub_spec_number(spec, "", "cutoff", cut_r, 1, 2.0, &p->cutoff, err) ||
         lub_spec_number(spec, "", "skin", skin_r, 1, 0.5, &p->skin, err) ||
         lub_spec_number(spec, "", "dt", LUB_NONNEGATIVE, 1, 0.0, &p->dt, err) ||
-        lub_spec_number(spec, "", "dt_safety", saf_r, 1, 0.3, &p->dt_safety, err) ||
+        lub_spec_number(spec, "", "dt_safety", saf_r, 1, SS_DEFAULT_DT_SAFETY, &p->dt_safety,
+                        err) ||
         lub_spec_number(spec, "", "dt_stiffness_safety", (lub_range){0.0, 2.0, 0, 0}, 1,
                         LUB_DT_STIFFNESS_SAFETY, &p->dt_stiffness_safety, err) ||
-        lub_spec_number(spec, "", "strain", (lub_range){0.0, 1e6, 1, 0}, 1, 20.0, &p->strain,
-                        err) ||
+        lub_spec_number(spec, "", "strain", (lub_range){0.0, 1e6, 1, 0}, 1, SS_DEFAULT_STRAIN,
+                        &p->strain, err) ||
         lub_spec_number(spec, "", "target_rel_error", rel_r, 1, 0.0, &p->target_rel_error, err) ||
         lub_spec_number(spec, "", "target_min_strain", LUB_NONNEGATIVE, 1, 5.0,
                         &p->target_min_strain, err) ||
@@ -230,7 +333,7 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                         "must be >= %.3g a, i.e. n_particles >= %lld at phi = %g (got %lld)",
                         side, need, nmin, p->phi, p->n);
     }
-    return 0;
+    return ss_check_steps(p, err);
 }
 
 static int ss_resolve(json_t *spec, lub_error *err)
@@ -696,6 +799,15 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                           dt_adapts ? p.dt_stiffness_safety : 0.0);
     double dt = lp.ctl.dt;
     sys.dt = dt;
+    if (!resume && !lub_step_count_ok(lub_step_count(p.strain / gd, dt))) {
+        /* the step-count rule (step_count.h) with this packing's lightest particle, which
+         * validation could only bound: refused before the first step, exit 2 */
+        const double r_eff = p.dt > 0.0 ? 1.0 : pow(dt_el / ss_elastic_dt(&p, 1.0), 2.0 / 3.0);
+        ss_step_refusal(&p, r_eff, lub_step_count(p.strain / gd, dt), dt, "", &err);
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s: %s", err.pointer, err.message);
+        exit_code = LUB_EXIT_BAD_SPEC;
+        goto cleanup;
+    }
     if (p.delaunay) { /* contacts (u_n < eps a) are never cut off between updates */
         const double every = fmin(1e6, fmax(1.0, floor(p.delaunay_strain / (gd * dt) + 0.5)));
         lub_shear_use_delaunay(&sys, (int)every, fmax(0.05, 2.0 * p.law.params.eps));
@@ -742,6 +854,16 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                 goto cleanup;
             }
             lub_schedule_set_end(&lp.sched, t_end);
+            if ((double)lp.sched.nsteps > LUB_MAX_STEPS) { /* at the stopped run's step */
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                         "cannot continue from %s: /strain: %g would take the run to %.3g steps "
+                         "at its step of %.3g, more than the %.0e a run may take (README, CLI "
+                         "contract, \"Step count\")",
+                         ctx->resume_path, p.strain, (double)lp.sched.nsteps, dt, LUB_MAX_STEPS);
+                ctx->resume_rejected = 1;
+                exit_code = LUB_EXIT_BAD_SPEC;
+                goto cleanup;
+            }
         }
     }
 
@@ -919,6 +1041,17 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             dt = lp.ctl.dt;
             sys.dt = dt;
             lub_schedule_set_dt(&lp.sched, step + 1, sys.time, dt);
+            if ((double)lp.sched.nsteps > LUB_MAX_STEPS) { /* step-count rule (step_count.h) */
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                         "the automatic step fell to %.3g at strain %.4f (the pairs' summed "
+                         "stiffness, /dt_stiffness_safety %g; %ld changes), which would take the "
+                         "run to %.3g steps, more than the %.0e a run may take (README, CLI "
+                         "contract, \"Step count\"); lower /strain or /stiffness",
+                         dt, lp.strain, p.dt_stiffness_safety, lp.ctl.changes,
+                         (double)lp.sched.nsteps, LUB_MAX_STEPS);
+                exit_code = LUB_EXIT_NUMERICAL;
+                break;
+            }
             if (sys.topology_interval > 0)
                 sys.topology_interval =
                     (int)fmin(1e6, (double)lub_schedule_period(p.delaunay_strain / gd, dt));

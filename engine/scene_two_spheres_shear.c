@@ -26,6 +26,7 @@
 #include "run_context.h"
 #include "scene.h"
 #include "scene_summary.h"
+#include "step_count.h"
 
 #define LUB_PI 3.14159265358979323846
 
@@ -44,6 +45,15 @@ static const lub_law_spec_opts ts_law_opts = {
     .default_kt_ratio = 0.5,
     .default_mu = 0.5,
 };
+
+/* Defaults of the members the step count depends on (ts_read, ts_check_steps). */
+#define TS_DEFAULT_ST 1e-3
+#define TS_DEFAULT_CA 1e-6
+#define TS_DEFAULT_DURATION 1e5
+#define TS_DEFAULT_DT_SAFETY 0.5
+#define TS_DEFAULT_DT_FREE 0.01
+
+static int ts_check_steps(const ts_params *p, lub_error *err);
 
 static int ts_read(json_t *spec, ts_params *p, lub_error *err)
 {
@@ -68,17 +78,20 @@ static int ts_read(json_t *spec, ts_params *p, lub_error *err)
     const lub_range unit_interval = {0.0, 1.0, 1, 0};
     const lub_range angle = {0.0, 180.0, 0, 0};
     const lub_range x0r = {2.0, 1e6, 1, 0};
-    if (lub_spec_number(spec, "", "St", LUB_POSITIVE, 1, 1e-3, &p->St, err) ||
-        lub_spec_number(spec, "", "Ca", LUB_POSITIVE, 1, 1e-6, &p->Ca, err) ||
+    if (lub_spec_number(spec, "", "St", LUB_POSITIVE, 1, TS_DEFAULT_ST, &p->St, err) ||
+        lub_spec_number(spec, "", "Ca", LUB_POSITIVE, 1, TS_DEFAULT_CA, &p->Ca, err) ||
         lub_spec_number(spec, "", "d0", LUB_NONNEGATIVE, 1, 0.5, &p->d0, err) ||
         lub_spec_number(spec, "", "theta_deg", angle, 1, 90.0, &p->theta_deg, err) ||
         lub_spec_number(spec, "", "x0", x0r, 1, 10.0, &p->x0, err) ||
         lub_spec_number(spec, "", "cutoff", LUB_POSITIVE, 1, 4.0, &p->cutoff, err) ||
-        lub_spec_number(spec, "", "duration", LUB_POSITIVE, 1, 1e5, &p->duration, err) ||
+        lub_spec_number(spec, "", "duration", LUB_POSITIVE, 1, TS_DEFAULT_DURATION, &p->duration,
+                        err) ||
         lub_spec_bool(spec, "", "stop_at_separation", 1, 1, &p->stop_at_separation, err) ||
         lub_spec_number(spec, "", "dt", LUB_NONNEGATIVE, 1, 0.0, &p->dt, err) ||
-        lub_spec_number(spec, "", "dt_safety", unit_interval, 1, 0.5, &p->dt_safety, err) ||
-        lub_spec_number(spec, "", "dt_free", LUB_POSITIVE, 1, 0.01, &p->dt_free, err) ||
+        lub_spec_number(spec, "", "dt_safety", unit_interval, 1, TS_DEFAULT_DT_SAFETY,
+                        &p->dt_safety, err) ||
+        lub_spec_number(spec, "", "dt_free", LUB_POSITIVE, 1, TS_DEFAULT_DT_FREE, &p->dt_free,
+                        err) ||
         lub_spec_number(spec, "", "sample_interval", LUB_POSITIVE, 1, 0.1, &p->sample_interval,
                         err) ||
         lub_spec_bool(spec, "", "rotation", 1, 1, &p->rotation, err))
@@ -86,7 +99,122 @@ static int ts_read(json_t *spec, ts_params *p, lub_error *err)
     json_t *law = lub_spec_object(spec, "", "law", err);
     if (!law || lub_law_spec_resolve(law, "/law", &ts_law_opts, &p->law, err))
         return -1;
-    return 0;
+    return ts_check_steps(p, err);
+}
+
+/* The system of a spec at t = 0 and its two steps: what ts_run integrates and what ts_read
+ * counts the steps of. Dimensionless set: a = 1, eta = 1, gd = 1. */
+typedef struct {
+    double m;                /* mass of a sphere */
+    double dt_crit;          /* elastic bound (few_body.h) */
+    double dt_pair, dt_away; /* the step near the pair (/dt, or /dt_safety dt_crit) and away
+                               from it (at least /dt_free) */
+    lub_law_spec law;        /* the spec's law with its scales set */
+    lub_fb_system s;
+} ts_setup;
+
+static void ts_build(const ts_params *p, ts_setup *o)
+{
+    const double a = 1.0, eta = 1.0, gd = 1.0;
+    const double rho = p->St * eta / (gd * a * a);
+    o->m = 4.0 / 3.0 * LUB_PI * rho * a * a * a;
+    const double I = 0.4 * o->m * a * a;
+    o->law = p->law;
+    lub_law_spec_scale(&o->law, eta, a * eta * gd / p->Ca);
+    lub_fb_system *s = &o->s;
+    memset(s, 0, sizeof *s);
+    s->nb = 2;
+    s->np = 1;
+    s->law = o->law.params;
+    s->env.zeta_t = 6.0 * LUB_PI * eta * a;
+    s->env.zeta_r = 8.0 * LUB_PI * eta * a * a * a;
+    s->env.L[0][1] = gd;
+    s->env.rotation = p->rotation;
+    const double th = p->theta_deg * LUB_PI / 180.0;
+    const vec3 x2 = v3(-p->x0 * a, p->d0 * a * sin(th), p->d0 * a * cos(th));
+    const vec3 spin = lub_fb_flow_spin(&s->env);
+    s->b[0] =
+        (lub_fb_body){.r = a, .inv_m = 1.0 / o->m, .inv_I = 1.0 / I, .x = v3(0, 0, 0), .w = spin};
+    s->b[1] = (lub_fb_body){.r = a, .inv_m = 1.0 / o->m, .inv_I = 1.0 / I, .x = x2, .w = spin};
+    s->b[0].v = lub_fb_flow_velocity(&s->env, s->b[0].x);
+    s->b[1].v = lub_fb_flow_velocity(&s->env, s->b[1].x);
+    s->p[0] = (lub_fb_pair){.i = 0, .j = 1, .cutoff = p->cutoff};
+    o->dt_crit = lub_fb_critical_dt(s);
+    o->dt_pair = p->dt > 0.0 ? p->dt : p->dt_safety * o->dt_crit;
+    o->dt_away = fmax(o->dt_pair, p->dt_free);
+}
+
+/* The count the rule judges (step_count.h): every step lies between dt_pair and dt_away, so
+ * the run takes at most duration/dt_pair steps (judged against the cap) and at least
+ * duration/dt_away (judged against one step). */
+static double ts_steps(const ts_params *p, double *dt, int *away)
+{
+    ts_setup o;
+    ts_build(p, &o);
+    const double most = lub_step_count(p->duration, o.dt_pair);
+    const double fewest = lub_step_count(p->duration, o.dt_away);
+    *away = lub_step_count_ok(most) && !lub_step_count_ok(fewest);
+    *dt = *away ? o.dt_away : o.dt_pair;
+    return *away ? fewest : most;
+}
+
+static double ts_steps_of(const ts_params *p)
+{
+    double dt;
+    int away;
+    return ts_steps(p, &dt, &away);
+}
+
+static int ts_check_steps(const ts_params *p, lub_error *err)
+{
+    double dt;
+    int away;
+    const double count = ts_steps(p, &dt, &away);
+    if (lub_step_count_ok(count))
+        return 0;
+    lub_step_alt alt[6];
+    int n = 0;
+    ts_params q;
+    q = *p;
+    q.dt_free = TS_DEFAULT_DT_FREE;
+    alt[n++] = (lub_step_alt){"/dt_free", ts_steps_of(&q)};
+    if (p->dt > 0.0) {
+        q = *p;
+        q.dt = 0.0;
+        alt[n++] = (lub_step_alt){"/dt", ts_steps_of(&q)};
+    } else {
+        q = *p;
+        q.Ca = TS_DEFAULT_CA;
+        alt[n++] = (lub_step_alt){"/Ca", ts_steps_of(&q)};
+        q = *p;
+        q.St = TS_DEFAULT_ST;
+        alt[n++] = (lub_step_alt){"/St", ts_steps_of(&q)};
+        q = *p;
+        q.law.kt_ratio = ts_law_opts.default_kt_ratio;
+        alt[n++] = (lub_step_alt){"/law/kt_ratio", ts_steps_of(&q)};
+        q = *p;
+        q.dt_safety = TS_DEFAULT_DT_SAFETY;
+        alt[n++] = (lub_step_alt){"/dt_safety", ts_steps_of(&q)};
+    }
+    q = *p;
+    q.duration = TS_DEFAULT_DURATION;
+    alt[n++] = (lub_step_alt){"/duration", ts_steps_of(&q)};
+    char origin[240];
+    if (away)
+        snprintf(origin, sizeof origin,
+                 "the step away from the pair, the larger of /dt_free and the step near it");
+    else if (p->dt > 0.0)
+        snprintf(origin, sizeof origin, "the step near the pair, fixed by /dt");
+    else
+        snprintf(origin, sizeof origin,
+                 "the step near the pair, /dt_safety %g times dt_critical, which /Ca, /St and "
+                 "/law/kt_ratio set%s",
+                 p->dt_safety,
+                 count > 1.0 ? "; /duration bounds the run even with /stop_at_separation" : "");
+    char duration[48];
+    snprintf(duration, sizeof duration, "/duration %.6g", p->duration);
+    return lub_step_count_fail(err, lub_step_count_culprit(count, alt, n), count, "", "/duration",
+                               duration, dt, origin);
 }
 
 static int ts_resolve(json_t *spec, lub_error *err)
@@ -123,31 +251,14 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
         return LUB_EXIT_INTERNAL;
     }
     const double a = 1.0, eta = 1.0, gd = 1.0;
-    const double rho = p.St * eta / (gd * a * a);
-    const double m = 4.0 / 3.0 * LUB_PI * rho * a * a * a, I = 0.4 * m * a * a;
-    lub_law_spec_scale(&p.law, eta, a * eta * gd / p.Ca);
-
-    lub_fb_system s;
-    memset(&s, 0, sizeof s);
-    s.nb = 2;
-    s.np = 1;
-    s.law = p.law.params;
-    s.env.zeta_t = 6.0 * LUB_PI * eta * a;
-    s.env.zeta_r = 8.0 * LUB_PI * eta * a * a * a;
-    s.env.L[0][1] = gd;
-    s.env.rotation = p.rotation;
-    const double th = p.theta_deg * LUB_PI / 180.0;
-    const vec3 x2 = v3(-p.x0 * a, p.d0 * a * sin(th), p.d0 * a * cos(th));
-    const vec3 spin = lub_fb_flow_spin(&s.env);
-    s.b[0] = (lub_fb_body){.r = a, .inv_m = 1.0 / m, .inv_I = 1.0 / I, .x = v3(0, 0, 0), .w = spin};
-    s.b[1] = (lub_fb_body){.r = a, .inv_m = 1.0 / m, .inv_I = 1.0 / I, .x = x2, .w = spin};
-    s.b[0].v = lub_fb_flow_velocity(&s.env, s.b[0].x);
-    s.b[1].v = lub_fb_flow_velocity(&s.env, s.b[1].x);
-    s.p[0] = (lub_fb_pair){.i = 0, .j = 1, .cutoff = p.cutoff};
-
-    const double dt_crit = lub_fb_critical_dt(&s);
-    const double dt_pair = p.dt > 0.0 ? p.dt : p.dt_safety * dt_crit;
-    const double dt_away = fmax(dt_pair, p.dt_free);
+    ts_setup setup;
+    ts_build(&p, &setup);
+    p.law = setup.law;
+    lub_fb_system s = setup.s;
+    const vec3 x2 = s.b[1].x;
+    const double dt_crit = setup.dt_crit;
+    const double dt_pair = setup.dt_pair;
+    const double dt_away = setup.dt_away;
 
     const char *names[] = {"relative_position", "gap", "center_gap", "spin1", "spin2"};
     const int ncomp[] = {3, 1, 1, 3, 3};
@@ -164,9 +275,20 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
     int was_active = 0, contacted = 0, separated = 0;
     vec3 rel = v3_sub(s.b[1].x, s.b[0].x);
     double row[11];
+    /* every step is at least dt_pair long and the time counts steps (few_body.h): the run ends
+     * within /duration / dt_pair steps, which ts_read keeps below LUB_MAX_STEPS; a guard */
+    const int64_t step_limit = (int64_t)ceil(p.duration / dt_pair) + 16;
     while (s.t < p.duration) {
         if (ctx->stop_requested && *ctx->stop_requested) {
             rc = LUB_EXIT_INTERRUPTED;
+            break;
+        }
+        if (s.step >= step_limit) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                     "the run took %lld steps of at least %.17g without reaching /duration "
+                     "%.17g (t = %.17g)",
+                     (long long)s.step, dt_pair, p.duration, s.t);
+            rc = LUB_EXIT_NUMERICAL;
             break;
         }
         /* step length: elastic limit while the pair is (or may become) active */

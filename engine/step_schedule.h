@@ -12,6 +12,9 @@
  *     next - done, are scaled by dt/dt'.
  * With a constant step the schedule is exactly the modulo form above.
  *
+ * The scenes keep t_end/dt within 1..LUB_MAX_STEPS (step_count.h) before they start and when
+ * the step changes; the counts here are clamped to 4e18 only so that they stay in int64.
+ *
  * Units: any time unit. Pure bookkeeping: no allocation, no global state.
  */
 #ifndef LUBDEM_STEP_SCHEDULE_H

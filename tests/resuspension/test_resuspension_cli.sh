@@ -2,7 +2,8 @@
 # CLI-level checks of the resuspension scene: a short complete run (summary schema, H5MD
 # structure, profiles and time series present and consistent), SIGTERM during a long run
 # (exit code 5, status "partial", valid H5MD with the profiles averaged so far), fixed and
-# adapted time steps, specs refused for their length or sample count (exit 2), and an
+# adapted time steps, specs refused for their length, sample count or step count (exit 2), a
+# step count only the bed decides (exit 2 from the run, status failed), and an
 # address-space limit too small for the system (exit 1, "out of memory", the limit, /n).
 # usage: test_resuspension_cli.sh LUBDEM PYTHON CHECK_H5MD SCHEMA_DIR
 set -u
@@ -157,6 +158,35 @@ s = json.load(open(sys.argv[1]))
 assert s["results"]["averaged_samples"]["value"] == 1, s["results"]["averaged_samples"]
 assert s["phi_err_method"] == "none (fewer than 2 samples)", s["phi_err_method"]' \
   "$work/one/summary.json" && ok || bad "one averaged sample: exit $rc $(cat "$work/one.err")"
+
+# the step-count rule (README, CLI contract, "Step count"): from 1 to 1e12 steps, or exit 2
+# naming the member, nothing created. These ran 0 steps with status complete (a step longer
+# than the run) or took ~1e18 steps.
+step_refused() { # name, spec, pointer, text in the message
+  echo "$2" | "$LUBDEM" run - --out "$work/$1" --quiet 2> "$work/$1.err"
+  local rc=$?
+  echo "$2" | "$LUBDEM" validate - > /dev/null 2>&1
+  local vrc=$?
+  [ $rc -eq 2 ] && [ $vrc -eq 2 ] && [ ! -e "$work/$1" ] \
+    && grep -q "^error: $3: the run would take .*$4" "$work/$1.err" && ok \
+    || bad "step count $1: run $rc, validate $vrc: $(cat "$work/$1.err")"
+}
+small='"scene": "resuspension", "n": 20, "strain": 0.05, "average_from": 0, "sample_strain": 0.01'
+step_refused light "{$small, \"shields\": 1e-300}" /shields "at least one whole step"
+step_refused heavy "{$small, \"shields\": 1e300}" /shields "more than the 1e+12"
+step_refused stiff "{$small, \"stiffness\": 1e300}" /stiffness "more than the 1e+12"
+step_refused dt "{$small, \"dt\": 1e-300}" /dt "5e+298 steps"
+step_refused kt "{$small, \"law\": {\"kt_ratio\": 1e300}}" /law/kt_ratio "more than the 1e+12"
+# a count only the bed's lightest particle puts above 1e12: validation bounds it, the run
+# refuses it before the first step (exit 2, status failed, the diagnostic in summary.json)
+echo '{"scene":"resuspension","n":20,"stiffness":1e9,"strain":1e6,"sample_strain":1,"average_from":1}' > "$work/late.json"
+"$LUBDEM" validate "$work/late.json" > /dev/null 2>&1
+vrc=$?
+"$LUBDEM" run "$work/late.json" --out "$work/late" --quiet 2> "$work/late.err"
+rc=$?
+[ $vrc -eq 0 ] && [ $rc -eq 2 ] && grep -q '^error: /stiffness: the run would take 1.61e+12 steps' "$work/late.err" \
+  && $PY -c "import json,sys; s=json.load(open('$work/late/summary.json')); sys.exit(0 if s['status']=='failed' and s['exit_code']==2 and s['diagnostic'].startswith('/stiffness: the run would take') else 1)" \
+  && ok || bad "step count known after the bed: validate $vrc, run $rc: $(cat "$work/late.err")"
 
 # 20 000 particles under 60 000 KiB of address space (lubdemd --mem-mb sets such a limit): the
 # pair lists do not fit; the diagnostic says so, with the limit and /n (it was " (code -1)").

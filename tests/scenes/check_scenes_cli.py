@@ -109,6 +109,64 @@ with tempfile.TemporaryDirectory() as tmp:
               f"{label} at a fixed dt above dt_critical warns: exit {p.returncode}, "
               f"warnings {s.get('warnings')}")
 
+    # The step-count rule (README, CLI contract, "Step count"): a run takes from 1 to 1e12
+    # steps, counted in double from the spec; otherwise validate and run refuse it (exit 2,
+    # the member in the message, nothing created). Before, each of these ran 0 steps with
+    # status complete (the int64 conversion of 1e17 steps or more, or a step longer than the
+    # run), or, for the two spheres at dt 1e-16, never ended (t += dt stopped advancing).
+    def refused(spec, pointer, also=()):
+        d = os.path.join(tmp, "refused")
+        v = subprocess.run([lubdem, "validate", "-"], input=json.dumps(spec),
+                           capture_output=True, text=True)
+        with open(os.path.join(tmp, "refused.json"), "w") as f:
+            json.dump(spec, f)
+        try:
+            p = subprocess.run([lubdem, "run", os.path.join(tmp, "refused.json"), "--out", d,
+                                "--quiet"], capture_output=True, text=True, timeout=20)
+            rc, err = p.returncode, p.stderr
+        except subprocess.TimeoutExpired:
+            rc, err = "timeout", ""
+        line = (err.strip().splitlines() or [""])[-1]
+        check(v.returncode == 2 and rc == 2 and line.startswith(f"error: {pointer}: ")
+              and all(a in line for a in also) and not os.path.exists(d),
+              f"{json.dumps(spec)}: validate {v.returncode}, run {rc}, folder "
+              f"{'created' if os.path.exists(d) else 'not created'}: {line[:160]}")
+        if os.path.exists(d):
+            subprocess.run(["rm", "-rf", d])
+
+    fs, ts = "falling_sphere", "two_spheres_shear"
+    refused({"scene": fs, "stiffness": 1e30}, "/stiffness", ("1.41e+19 steps", "1e+12"))
+    refused({"scene": fs, "duration": 1e30}, "/duration", ("more than the 1e+12",))
+    refused({"scene": fs, "u0": 1e-300}, "/u0", ("at least one whole step",))
+    refused({"scene": fs, "St": 1e300}, "/St", ("at least one whole step",))
+    refused({"scene": fs, "stiffness": 1e-300}, "/stiffness", ("at least one whole step",))
+    refused({"scene": fs, "dt": 1e-16}, "/dt", ("1e+17 steps",))
+    refused({"scene": fs, "dt": 11}, "/dt", ("longer than /duration 10",))
+    refused({"scene": ts, "dt": 1e-16, "duration": 20}, "/dt", ("2e+17 steps",))
+    refused({"scene": ts, "Ca": 1e-20}, "/Ca", ("more than the 1e+12",))
+    refused({"scene": ts, "law": {"kt_ratio": 1e300}}, "/law/kt_ratio", ("more than the 1e+12",))
+    refused({"scene": ts, "duration": 1e-5}, "/duration", ("at least one whole step",))
+    refused({"scene": ts, "duration": 0.5, "dt_free": 1}, "/dt_free", ("at least one whole step",))
+    # the stiffness that /K sets must be positive and finite (it validated as 0.0, then the run
+    # created its folder and failed with exit 1; or was infinite and left out of the spec)
+    refused({"scene": fs, "K": 1e-300, "law": {"eps": 1e300}}, "/K", ("positive and finite",))
+    refused({"scene": fs, "K": 1e300, "law": {"eps": 1e-300}}, "/K", ("positive and finite",))
+    # the bounds themselves are allowed: one whole step, and 1e12 steps
+    for spec in ({"scene": fs, "dt": 10}, {"scene": fs, "dt": 1e-11},
+                 {"scene": ts, "dt": 1e-7, "duration": 1e5}):
+        v = subprocess.run([lubdem, "validate", "-"], input=json.dumps(spec),
+                           capture_output=True, text=True)
+        check(v.returncode == 0, f"{json.dumps(spec)} validates ({v.stderr.strip()[:120]})")
+    # a run of tiny steps ends at its duration after duration/dt steps (its time counts steps)
+    d = os.path.join(tmp, "tiny_dt")
+    os.makedirs(d)
+    p = run({"scene": ts, "x0": 2.5, "d0": 0.5, "duration": 2e-6, "dt": 1e-12, "dt_free": 1e-12},
+            d)
+    s = json.load(open(os.path.join(d, "summary.json")))
+    check(p.returncode == 0 and s["steps"] == 2000000 and abs(s["simulated_time"] - 2e-6) < 1e-18,
+          f"two spheres at dt 1e-12: exit {p.returncode}, {s.get('steps')} steps, "
+          f"t = {s.get('simulated_time')}")
+
     # SIGTERM: stop at the next step, partial result, exit 5
     d = os.path.join(tmp, "stop")
     os.makedirs(d)

@@ -67,7 +67,7 @@ def run():
         T.check(rc == 0 and ("job %s" % job1) in out, "retried CI step made a new job:\n" + out)
         rc, out = sh("bash", ci, "falling_sphere", '{"duration": "x"}', "60")
         T.check(rc == 2 and "/inputs/duration" in out, "rejected submission:\n" + out)
-        rc, out = sh("bash", ci, "falling_sphere", '{"duration": 1e9}', "2")
+        rc, out = sh("bash", ci, "falling_sphere", '{"duration": 1e6}', "2")
         T.check(rc == 3 and "timeout" in out, "timeout:\n" + out)
         # A failing job: the CPU limit kills it (rc 1, message printed).
         slow = T.Server(a, "clients-fail", workers=1, extra=["--cpu-s", "1"]).fresh()
@@ -75,7 +75,7 @@ def run():
         slow.start()
         try:
             slow_env = {"LUBDEM_URL": "http://127.0.0.1:%d" % slow.port, "LUBDEM_TOKEN": tok2}
-            rc, out = sh("bash", ci, "falling_sphere", '{"duration": 1e9}', "120",
+            rc, out = sh("bash", ci, "falling_sphere", '{"duration": 1e6}', "120",
                          extra_env=slow_env)
             T.check(rc == 1 and "failed" in out and "CPU time limit" in out,
                     "failed job:\n" + out)

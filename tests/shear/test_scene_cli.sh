@@ -4,6 +4,11 @@
 #     unknown lubrication_pairs, delaunay_update_strain without "delaunay" or zero, more than
 #     1e6 samples of the time series (strain / sample_strain; exactly 1e6 passes)
 #     -> exit 2, nothing written;
+#  1b. the step-count rule: a fixed /dt longer than the run or giving 5e298 steps, law.kt_ratio
+#      1e300, 1e6 strain of the stiffest lightest spheres, at imposed pressure 1e6/Iv 1e-6 ->
+#      exit 2 naming the member, nothing written (they ran 0 steps, or ~1e18); exactly 1e12
+#      steps validate; a count that only the packing's lightest particle puts above 1e12 ->
+#      exit 2 from the run, status failed with the diagnostic, JSON with --json-errors;
 #  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
 #     numbers, H5MD observables present; mu, Iv, sigma11/sigma22 and sigma33/sigma22 of the
 #     summary are ratios of time averages of the HDF5 stress series (over a suffix), which the
@@ -70,6 +75,42 @@ echo '{"scene":"simple_shear","n_particles":300,"phi":0.4,"strain":1e6,"sample_s
 check "[ $rc -eq 2 ] && [ ! -e $W/bad7 ] && grep -q '/sample_strain: .* 1e+10 samples.*at least 1 ' $W/e7" "too many samples: rc=$rc"
 echo '{"scene":"simple_shear","strain":20000,"sample_strain":0.02}' | "$LUBDEM" validate - 2>"$W/e8"; rc=$?
 check "[ $rc -eq 0 ]" "1e6 samples refused: rc=$rc"
+
+# 1b. the step-count rule (README, CLI contract, "Step count"): from 1 to 1e12 steps, or exit 2
+# naming the member; each of these used to run 0 steps with status complete (a step longer
+# than the run) or to take ~1e18 steps. Refused at validation, nothing created:
+step_refused() { # name, spec, pointer, text in the message
+  echo "$2" | "$LUBDEM" run - --out "$W/$1" --quiet 2>"$W/$1.err"; local rc=$?
+  echo "$2" | "$LUBDEM" validate - >/dev/null 2>&1; local vrc=$?
+  check "[ $rc -eq 2 ] && [ $vrc -eq 2 ] && [ ! -e $W/$1 ] && grep -q '^error: $3: the run would take .*$4' $W/$1.err" \
+    "step count $1: run $rc, validate $vrc: $(cat "$W/$1.err")"
+}
+step_refused dt_long '{"scene":"simple_shear","n_particles":300,"strain":0.05,"dt":1e300}' /dt 'at least one whole step'
+step_refused dt_tiny '{"scene":"simple_shear","n_particles":300,"strain":0.05,"dt":1e-300}' /dt '5e+298 steps'
+step_refused kt '{"scene":"simple_shear","n_particles":300,"strain":0.05,"law":{"kt_ratio":1e300}}' /law/kt_ratio 'at least 8.18e+152 steps'
+step_refused long '{"scene":"simple_shear","strain":1e6,"St":1e-8,"stiffness":1e9,"sample_strain":1}' /St 'at least 3.66e+14 steps'
+step_refused iv '{"scene":"simple_shear","control":"pressure","Iv":1e-6,"strain":1e6,"sample_strain":1}' /Iv 'over /Iv 1e-06'
+# 1e12 steps exactly pass
+echo '{"scene":"simple_shear","strain":1e4,"dt":1e-8,"sample_strain":1}' | "$LUBDEM" validate - >/dev/null 2>"$W/e9"; rc=$?
+check "[ $rc -eq 0 ]" "1e12 steps refused: rc=$rc $(cat $W/e9)"
+# the lightest particle's step is known after the packing: validation bounds it (radii from
+# 0.25 to 4 at radius_std 0.2), the run refuses its own count before the first step, exit 2,
+# the diagnostic in summary.json (status failed) and on stderr (--json-errors: JSON)
+echo '{"scene":"simple_shear","n_particles":600,"radius_std":0.2,"St":1e-8,"stiffness":1e9,"strain":970,"sample_strain":0.01,"snapshots":0}' >"$W/late.json"
+"$LUBDEM" validate "$W/late.json" >/dev/null 2>&1; vrc=$?
+"$LUBDEM" run "$W/late.json" --out "$W/late" --quiet 2>"$W/late.err"; rc=$?
+check "[ $vrc -eq 0 ] && [ $rc -eq 2 ] && grep -q '^error: /stiffness: the run would take 2.05e+12 steps, more than the 1e+12' $W/late.err" \
+  "step count known after the packing: validate $vrc, run $rc: $(cat "$W/late.err")"
+"$PY" - "$W/late/summary.json" <<'PYEOF' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1]))
+ok = s["status"] == "failed" and s["exit_code"] == 2 and s["diagnostic"].startswith("/stiffness: the run would take 2.05e+12 steps")
+print("" if ok else "FAIL: step count refused by the run: summary " + json.dumps(s)[:400], file=sys.stderr)
+sys.exit(0 if ok else 1)
+PYEOF
+"$LUBDEM" run "$W/late.json" --out "$W/late_json" --quiet --json-errors 2>"$W/late_json.err"; rc=$?
+check "[ $rc -eq 2 ] && $PY -c \"import json,sys; e=json.load(open('$W/late_json.err')); sys.exit(0 if e['pointer']=='/stiffness' and '2.05e+12 steps' in e['message'] else 1)\"" \
+  "step count refused by the run, --json-errors: rc=$rc $(cat "$W/late_json.err")"
 
 # 2. robustness run
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
