@@ -243,6 +243,10 @@ int lub_channel_solve(const lub_closure *c, const lub_channel_setup *S, double *
     double flo = -S->psi_mean, fhi = S->psi_star - S->psi_mean, xq = hi;
     int side = 0;
     for (int it = 0; it < 200 && hi - lo > 1e-14; ++it) {
+        if (S->stop && *S->stop) {
+            *why = "stopped by a request";
+            return -2;
+        }
         double mid = (lo * fhi - hi * flo) / (fhi - flo);
         if (!(mid > lo && mid < hi) || it % 8 == 7)
             mid = 0.5 * (lo + hi);

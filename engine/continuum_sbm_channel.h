@@ -24,6 +24,8 @@
 #ifndef LUBDEM_CONTINUUM_SBM_CHANNEL_H
 #define LUBDEM_CONTINUUM_SBM_CHANNEL_H
 
+#include <signal.h>
+
 #include "continuum_normal_laws.h"
 
 typedef enum { LUB_CLOSURE_M4 = 0, LUB_CLOSURE_MM = 1, LUB_CLOSURE_DEM = 2 } lub_closure_kind;
@@ -45,10 +47,12 @@ double lub_closure_phi_m(const lub_closure *c);
 
 typedef struct {
     lub_geom geom;
-    double psi_star;   /* congestion cap, 0 < psi* < 1 */
-    double psi_mean;   /* inventory, 0 < psi_mean < psi* */
-    int flux_weighted; /* 0: area mean of psi; 1: flux-weighted mean (5.19h) */
-    int n;             /* cells */
+    double psi_star;                   /* congestion cap, 0 < psi* < 1 */
+    double psi_mean;                   /* inventory, 0 < psi_mean < psi* */
+    int flux_weighted;                 /* 0: area mean of psi; 1: flux-weighted mean (5.19h) */
+    int n;                             /* cells */
+    const volatile sig_atomic_t *stop; /* optional (NULL: never): once non-zero,
+                                          lub_channel_solve gives up at its next iteration */
 } lub_channel_setup;
 
 typedef struct {
@@ -64,7 +68,8 @@ typedef struct {
 } lub_channel_result;
 
 /* Arrays of length setup->n: x (midpoints), psi, u, pc, eta_rel (eta_app/eta0). Returns 0, or
- * -1 with a static reason (closure not monotone, inventory outside ]0, psi*[, ...). */
+ * -1 with a static reason (closure not monotone, inventory outside ]0, psi*[, ...), or -2 when
+ * *setup->stop asked it to stop (the arrays are then not a solution). */
 int lub_channel_solve(const lub_closure *c, const lub_channel_setup *setup, double *x, double *psi,
                       double *u, double *pc, double *eta_rel, lub_channel_result *res,
                       const char **why);

@@ -3,6 +3,7 @@
 #include "continuum_sbm_resuspension.h"
 
 #include <math.h>
+#include <stddef.h>
 
 static const double GL_X[5] = {-0.9061798459386640, -0.5384693101056831, 0.0, 0.5384693101056831,
                                0.9061798459386640};
@@ -10,51 +11,77 @@ static const double GL_W[5] = {0.2369268850561891, 0.4786286704993665, 0.5688888
                                0.4786286704993665, 0.2369268850561891};
 
 /* integrand in v: eta(s)/s^2 ds/dv with s = sb v^m */
-static double integrand(const lub_normal_law *L, double sb, int m, double v)
+static double integrand(const lub_normal_law *L, double sb, int m, double v, lub_resusp_work *w)
 {
     if (!(v > 0.0))
         return 0.0;
     double vm1 = pow(v, m - 1), s = sb * vm1 * v;
-    if (!(s > 0.0))
+    if (!(s > 0.0)) {
+        if (w)
+            w->underflow = 1;
         return 0.0;
-    return lub_normal_law_eta_s(L, s) / (s * s) * (double)m * sb * vm1;
+    }
+    const double eta = lub_normal_law_eta_s(L, s);
+    if (w && (eta == 0.0 || fpclassify(eta) == FP_SUBNORMAL))
+        w->underflow = 1;
+    return eta / (s * s) * (double)m * sb * vm1;
 }
 
-static double gl5(const lub_normal_law *L, double sb, int m, double a, double b)
+/* one panel; counts it against the bound (and sees a stop request) */
+static double gl5(const lub_normal_law *L, double sb, int m, double a, double b, lub_resusp_work *w)
 {
+    if (w) {
+        if (w->status)
+            return 0.0;
+        if (w->stop && *w->stop) {
+            w->status = LUB_RESUSP_STOPPED;
+            return 0.0;
+        }
+        if (w->max_panels > 0 && ++w->panels > w->max_panels) {
+            w->status = LUB_RESUSP_BUDGET;
+            return 0.0;
+        }
+    }
     double c = 0.5 * (a + b), h = 0.5 * (b - a), acc = 0.0;
     for (int k = 0; k < 5; ++k)
-        acc += GL_W[k] * integrand(L, sb, m, c + h * GL_X[k]);
+        acc += GL_W[k] * integrand(L, sb, m, c + h * GL_X[k], w);
     return acc * h;
 }
 
 static double adapt(const lub_normal_law *L, double sb, int m, double a, double b, double whole,
-                    double tol, int depth)
+                    double tol, int depth, lub_resusp_work *w)
 {
     double c = 0.5 * (a + b);
-    double left = gl5(L, sb, m, a, c), right = gl5(L, sb, m, c, b), est = left + right;
+    double left = gl5(L, sb, m, a, c, w), right = gl5(L, sb, m, c, b, w), est = left + right;
     /* the floor 4e-16 |est| stops refinement at round-off (no runaway recursion) */
-    if (depth <= 0 || fabs(est - whole) <= fmax(tol, 4e-16 * fabs(est)))
+    if (depth <= 0 || fabs(est - whole) <= fmax(tol, 4e-16 * fabs(est)) || (w && w->status))
         return est;
-    return adapt(L, sb, m, a, c, left, 0.5 * tol, depth - 1) +
-           adapt(L, sb, m, c, b, right, 0.5 * tol, depth - 1);
+    return adapt(L, sb, m, a, c, left, 0.5 * tol, depth - 1, w) +
+           adapt(L, sb, m, c, b, right, 0.5 * tol, depth - 1, w);
 }
 
 /* int_{v1}^{v2} of the integrand, 8 panels each refined adaptively */
-static double integral_v(const lub_normal_law *L, double sb, int m, double v1, double v2)
+static double integral_v(const lub_normal_law *L, double sb, int m, double v1, double v2,
+                         lub_resusp_work *w)
 {
     double acc = 0.0;
     const int P = 8;
     for (int i = 0; i < P; ++i) {
         double a = v1 + (v2 - v1) * i / P, b = v1 + (v2 - v1) * (i + 1) / P;
-        double w = gl5(L, sb, m, a, b);
-        acc += adapt(L, sb, m, a, b, w, 1e-14 * fabs(w) + 1e-300, 24);
+        double g = gl5(L, sb, m, a, b, w);
+        acc += adapt(L, sb, m, a, b, g, 1e-14 * fabs(g) + 1e-300, 24, w);
     }
     return acc;
 }
 
 int lub_resusp_solve(const lub_normal_law *L, double shields, double inventory, lub_resusp *out,
                      const char **why)
+{
+    return lub_resusp_solve_bounded(L, shields, inventory, NULL, out, why);
+}
+
+int lub_resusp_solve_bounded(const lub_normal_law *L, double shields, double inventory,
+                             lub_resusp_work *work, lub_resusp *out, const char **why)
 {
     if (!(shields > 0.0) || !(inventory > 0.0) || !isfinite(shields) || !isfinite(inventory)) {
         *why = "shields and inventory must be finite and > 0";
@@ -103,6 +130,7 @@ int lub_resusp_solve(const lub_normal_law *L, double shields, double inventory, 
         }
         prev = e;
     }
+    out->work = work;
     out->shields = shields;
     out->inventory = inventory;
     out->s_bottom = sb;
@@ -111,6 +139,12 @@ int lub_resusp_solve(const lub_normal_law *L, double shields, double inventory, 
     if (L->kind == LUB_NLAW_POWER && L->n < 1.5)
         out->m = (int)ceil(1.0 / (L->n - 1.0)); /* integrand ~ v^{m(n-1)-1}, keep it >= v^0 */
     out->height = lub_resusp_y_of_s(L, out, 0.0);
+    if (work && work->status) {
+        *why = work->status == LUB_RESUSP_STOPPED
+                   ? "stopped by a request before the height was computed"
+                   : "the quadrature of the height gave up at its bound of panels";
+        return -1;
+    }
     if (!isfinite(out->height)) {
         *why = "the resuspended height is not finite";
         return -1;
@@ -129,7 +163,7 @@ double lub_resusp_y_of_s(const lub_normal_law *L, const lub_resusp *r, double s)
         second = r->shields * lub_normal_law_eta_s(L, s) / phi;
     }
     double v1 = s > 0.0 ? pow(s / sb, 1.0 / r->m) : 0.0;
-    double I = integral_v(L, sb, r->m, v1, 1.0);
+    double I = integral_v(L, sb, r->m, v1, 1.0, r->work);
     return first - second + r->shields / L->phi_m * I;
 }
 
@@ -165,8 +199,8 @@ void lub_resusp_profile(const lub_normal_law *L, const lub_resusp *r, int n, dou
             y[k] = 0.0;
             continue;
         }
-        double w = gl5(L, r->s_bottom, r->m, v, v_prev);
-        I += adapt(L, r->s_bottom, r->m, v, v_prev, w, 1e-14 * fabs(w) + 1e-300, 24);
+        double w = gl5(L, r->s_bottom, r->m, v, v_prev, r->work);
+        I += adapt(L, r->s_bottom, r->m, v, v_prev, w, 1e-14 * fabs(w) + 1e-300, 24, r->work);
         v_prev = v;
         double second = s > 0.0 ? r->shields * lub_normal_law_eta_s(L, s) / phi[k] : 0.0;
         y[k] = (k == n - 1) ? r->height : first - second + r->shields / L->phi_m * I;

@@ -18,21 +18,46 @@
 #ifndef LUBDEM_CONTINUUM_SBM_RESUSPENSION_H
 #define LUBDEM_CONTINUUM_SBM_RESUSPENSION_H
 
+#include <signal.h>
+
 #include "continuum_normal_laws.h"
 
+/* The work of the quadrature, bounded (optional: lub_resusp_solve_bounded). Where the law's
+ * values underflow (eta ~ s^9 of the DEM-seed law at an inventory/Sh of 1e-260, or the power
+ * v^(m-1) of a power law with n near 1) the adaptive refinement never meets its tolerance and
+ * would take tens of minutes; with a bound it gives up and says so. */
+enum { LUB_RESUSP_OK = 0, LUB_RESUSP_BUDGET = 1, LUB_RESUSP_STOPPED = 2 };
 typedef struct {
-    double shields;    /* Sh = eta0 gd/(drho g a) > 0 */
-    double inventory;  /* int phi dy / a > 0 */
-    double s_bottom;   /* s = psi/(1-psi) at the floor */
-    double phi_bottom; /* phi at the floor */
-    double height;     /* resuspended height / a (where phi reaches 0) */
-    int m;             /* substitution exponent used by the quadrature */
+    long long panels;                  /* 5-point Gauss-Legendre panels evaluated so far */
+    long long max_panels;              /* the quadrature gives up beyond this (<= 0: no bound) */
+    const volatile sig_atomic_t *stop; /* optional (NULL: never): non-zero gives up too */
+    int status;    /* LUB_RESUSP_*: once not OK every integral returns 0 at once, and the
+                      heights and profiles computed since are not valid */
+    int underflow; /* 1 when s = s_b v^m or the law's eta(s) underflowed to 0 or a subnormal
+                      at v > 0 (the usual reason for the bound) */
+} lub_resusp_work;
+
+typedef struct {
+    double shields;        /* Sh = eta0 gd/(drho g a) > 0 */
+    double inventory;      /* int phi dy / a > 0 */
+    double s_bottom;       /* s = psi/(1-psi) at the floor */
+    double phi_bottom;     /* phi at the floor */
+    double height;         /* resuspended height / a (where phi reaches 0) */
+    int m;                 /* substitution exponent used by the quadrature */
+    lub_resusp_work *work; /* the bound of every quadrature on this profile (NULL: none) */
 } lub_resusp;
 
 /* Solves the floor state and the height. Returns 0, or -1 with a static reason (law not
- * increasing, n <= 1, zero normal viscosity as for OZENDA_M4 along the vorticity). */
+ * increasing, n <= 1, zero normal viscosity as for OZENDA_M4 along the vorticity). No bound on
+ * the work (work NULL). */
 int lub_resusp_solve(const lub_normal_law *L, double shields, double inventory, lub_resusp *out,
                      const char **why);
+/* The same with the quadratures of the height and of every later lub_resusp_y_of_s,
+ * lub_resusp_phi_at and lub_resusp_profile on *out bounded by *work (kept in out->work; the
+ * caller owns it and reads work->status after each call: not LUB_RESUSP_OK means the results
+ * are not valid). -1 with why also when the bound stops the height. */
+int lub_resusp_solve_bounded(const lub_normal_law *L, double shields, double inventory,
+                             lub_resusp_work *work, lub_resusp *out, const char **why);
 
 /* Height y/a at which the profile has the value s (0 <= s <= s_bottom). */
 double lub_resusp_y_of_s(const lub_normal_law *L, const lub_resusp *r, double s);

@@ -101,6 +101,19 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_m3_laws L3 = lub_m3_laws_thesis();
     double dem_phim = lub_dem_phi_m(p.dem_mu_m);
     for (int i = 0; i < n; ++i) {
+        if (ctx->stop_requested && *ctx->stop_requested) { /* the curves are written whole */
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                     "stopped by a signal after %d of the %d points: no results (the curves are "
+                     "written whole)",
+                     i, n);
+            free(buf);
+            json_object_set_new(ctx->summary_extra, "steps", json_integer(i));
+            json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
+            lub_progress_final(ctx->progress, i);
+            return LUB_EXIT_INTERRUPTED;
+        }
+        if ((i & 1023) == 0)
+            lub_progress_update(ctx->progress, (double)i / (double)n, i);
         double psi = p.psi_min + (p.psi_max - p.psi_min) * i / (n - 1);
         lub_steady_row a, b, c;
         lub_steady_dem_row d;

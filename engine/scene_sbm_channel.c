@@ -130,7 +130,19 @@ static int ch_run(const json_t *resolved, lub_run_ctx *ctx)
            *phi = buf + 5 * n;
     lub_channel_result R;
     const char *why = NULL;
-    if (lub_channel_solve(&p.cl, &p.setup, x, psi, u, pc, er, &R, &why)) {
+    p.setup.stop = ctx->stop_requested;
+    const int solved = lub_channel_solve(&p.cl, &p.setup, x, psi, u, pc, er, &R, &why);
+    if (solved == -2) { /* a stop request: the profile is solved whole or not at all */
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "stopped by a signal while the profile was solved: no results (the profile is "
+                 "solved whole)");
+        free(buf);
+        json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
+        json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
+        lub_progress_final(ctx->progress, 0);
+        return LUB_EXIT_INTERRUPTED;
+    }
+    if (solved) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "/closure: %s", why);
         free(buf);
         return LUB_EXIT_NUMERICAL;

@@ -103,6 +103,42 @@ static int rs_resolve(json_t *spec, lub_error *err)
     return rs_read(spec, &p, err);
 }
 
+/* The bound of the quadratures (continuum_sbm_resuspension.h): 2^20 panels (about a second
+ * of the DEM-seed law) plus 64 per interval of the two profiles, where a law whose values stay
+ * normal doubles takes 3 to 4 per interval and about 200 for the height. */
+static long long rs_panel_bound(int n, int nf) { return (1LL << 20) + 64LL * (n + nf); }
+
+/* After the quadratures gave up (work->status): exit 5 for a stop request (nothing is written:
+ * the profile is computed whole), else exit 3 with what failed and which member to change. */
+static int rs_work_failed(lub_run_ctx *ctx, const lub_resusp_work *work, const rs_params *p)
+{
+    json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
+    json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
+    lub_progress_final(ctx->progress, 0);
+    if (work->status == LUB_RESUSP_STOPPED) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "stopped by a signal while the profile was computed: no results (the profile "
+                 "is computed whole)");
+        return LUB_EXIT_INTERRUPTED;
+    }
+    const char *underflow = work->underflow ? ", where the law's values underflow (below the "
+                                              "smallest normal double)"
+                                            : "";
+    if (p->law.kind == LUB_NLAW_POWER && p->law.n < 1.05)
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "/law/n: the quadrature of the profile gave up after %lld panels (its bound) "
+                 "without converging%s: a power law with n = %g needs the substitution exponent "
+                 "ceil(1/(n - 1)) in s = s_b v^m, and v^(m-1) underflows; raise /law/n",
+                 work->panels, underflow, p->law.n);
+    else
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "/inventory: the quadrature of the profile gave up after %lld panels (its bound) "
+                 "without converging%s: the normal viscosity at the floor, /inventory over "
+                 "/shields = %g, is too small for it; raise /inventory or lower /shields",
+                 work->panels, underflow, p->inventory / p->shields);
+    return LUB_EXIT_NUMERICAL;
+}
+
 static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
 {
     rs_params p;
@@ -118,13 +154,16 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     char kind[32];
     snprintf(kind, sizeof kind, "%s", p.kind); /* p.kind points into spec */
     json_decref(spec);
+    const int n = (int)p.points, nf = 8 * (n - 1) + 1;
     lub_resusp r;
+    lub_resusp_work work = {.max_panels = rs_panel_bound(n, nf), .stop = ctx->stop_requested};
     const char *why = NULL;
-    if (lub_resusp_solve(&p.law, p.shields, p.inventory, &r, &why)) {
+    if (lub_resusp_solve_bounded(&p.law, p.shields, p.inventory, &work, &r, &why)) {
+        if (work.status)
+            return rs_work_failed(ctx, &work, &p);
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "/law: %s", why);
         return LUB_EXIT_NUMERICAL;
     }
-    const int n = (int)p.points, nf = 8 * (n - 1) + 1;
     double *y = malloc(sizeof(double) * (size_t)n * 5);
     double *fy = malloc(sizeof(double) * (size_t)nf * 2);
     double *uy = malloc(sizeof(double) * (size_t)n * 2);
@@ -139,6 +178,14 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     double *phi = y + n, *Phi = y + 2 * n, *eta_law = y + 3 * n, *eta_prof = y + 4 * n;
     double *fphi = fy + nf, *uphi = uy + n;
     lub_resusp_profile(&p.law, &r, n, y, phi);
+    if (!work.status)
+        lub_resusp_profile(&p.law, &r, nf, fy, fphi);
+    if (work.status) {
+        free(y);
+        free(fy);
+        free(uy);
+        return rs_work_failed(ctx, &work, &p);
+    }
     double acc = 0.0;
     eta_prof[n - 1] = 0.0;
     for (int k = n - 1; k >= 0; --k) {
@@ -149,7 +196,6 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         eta_law[k] = lub_normal_law_eta_s(&p.law, s);
         Phi[k] = p.shields * eta_law[k];
     }
-    lub_resusp_profile(&p.law, &r, nf, fy, fphi);
     for (int i = 0, j = 0; i < n; ++i) {
         double yi = r.height * i / (n - 1);
         while (j < nf - 2 && fy[j + 1] < yi)

@@ -6,13 +6,18 @@
    with code 2 and name the expected JSON pointer, and every resolved spec must itself validate.
 2. `lubdem run` of each scene: summary.json numbers against the continuum-check.py references,
    summary.json against schema/summary.schema.json, result.h5 layout (needs h5py).
+3. Bounded work and stop requests: sbm_resuspension gives up within seconds where its law
+   underflows (exit 3, the member named); SIGTERM stops sbm_resuspension, sbm_channel and
+   continuum_steady_curves (exit 5, status partial).
 Usage: cli_check.py LUBDEM SCHEMA_DIR WORKDIR
 """
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
+import time
 
 import h5py
 import jsonschema
@@ -286,6 +291,69 @@ if r:
     psi = h["profiles/psi"][:]
     check_near("cli.pipe_H.psi_r0.99875", float(psi[399]), 0.338, 5e-4)
     check_near("cli.pipe_H.psi_r0.50125", float(psi[200]), 0.539, 5e-4)
+
+# sbm_resuspension bounds its quadratures (2^20 panels plus 64 per profile interval): where the
+# law's values underflow it gives up within seconds, exit 3, status failed, naming the member.
+# Inventory 1e-260 used to run a minute at the default points (tens of minutes at more, through
+# SIGTERM) to a profile computed from subnormal numbers; a power law with n = 1.001 ran 47 s to
+# "the resuspended height is not finite".
+for name, spec, pointer in [
+        ("resusp_underflow", {"scene": "sbm_resuspension", "inventory": 1e-260}, "/inventory"),
+        ("resusp_n_near_1", {"scene": "sbm_resuspension",
+                             "law": {"kind": "power_law", "lambda": 1, "n": 1.001, "phi_m": 0.6}},
+         "/law/n")]:
+    out = os.path.join(WORK, name)
+    shutil.rmtree(out, ignore_errors=True)
+    t0 = time.time()
+    try:
+        p = subprocess.run([LUBDEM, "run", "-", "--out", out, "--quiet"], input=json.dumps(spec),
+                           capture_output=True, text=True, timeout=30)
+        rc, err = p.returncode, p.stderr.strip()
+    except subprocess.TimeoutExpired:
+        rc, err = "timeout", ""
+    took = time.time() - t0
+    line = (err.splitlines() or [""])[-1]
+    status = None
+    if os.path.exists(os.path.join(out, "summary.json")):
+        with open(os.path.join(out, "summary.json")) as f:
+            status = json.load(f).get("status")
+    ok = rc == 3 and line.startswith("error: %s: the quadrature of the profile gave up" % pointer) \
+        and status == "failed" and took < 10
+    print("%s: exit %s in %.1f s, status %s: %s %s" % (name, rc, took, status, line[:120],
+                                                      "ok" if ok else "FAIL"))
+    if not ok:
+        fail(name)
+
+# SIGTERM stops every continuum scene at once: exit 5, status partial, a diagnostic saying that
+# the output is computed whole. These ran to their end through SIGTERM and Ctrl-C (1 to 9 s here).
+for name, spec in [("stop_resusp", {"scene": "sbm_resuspension", "points": 1000000}),
+                   ("stop_channel", {"scene": "sbm_channel", "cells": 1000000}),
+                   ("stop_steady", {"scene": "continuum_steady_curves", "points": 1000000})]:
+    out = os.path.join(WORK, name)
+    shutil.rmtree(out, ignore_errors=True)
+    proc = subprocess.Popen([LUBDEM, "run", "-", "--out", out, "--quiet"], stdin=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+    proc.stdin.write(json.dumps(spec))
+    proc.stdin.close()
+    time.sleep(0.4)
+    t0 = time.time()
+    proc.send_signal(signal.SIGTERM)
+    try:
+        rc = proc.wait(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        rc = proc.wait()
+    took = time.time() - t0
+    s = {}
+    if os.path.exists(os.path.join(out, "summary.json")):
+        with open(os.path.join(out, "summary.json")) as f:
+            s = json.load(f)
+    ok = rc == 5 and s.get("status") == "partial" and "stopped by a signal" in s.get("diagnostic", "") \
+        and took < 5 and not list(SUMMARY.iter_errors(s))
+    print("%s: exit %s %.2f s after SIGTERM, status %s %s" % (name, rc, took, s.get("status"),
+                                                             "ok" if ok else "FAIL"))
+    if not ok:
+        fail(name)
 
 print("failures=%d" % failures)
 sys.exit(1 if failures else 0)

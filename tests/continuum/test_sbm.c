@@ -1,5 +1,6 @@
 /* test_sbm.c — SBM steady solvers: resuspension (continuum-check.py case I, closed forms for
- * every power law, DEM-seed and M4 laws, domain errors) and pipe/channel migration (case H). */
+ * every power law, DEM-seed and M4 laws, domain errors, the bound on the quadratures' work and
+ * the stop request) and pipe/channel migration (case H). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -227,8 +228,49 @@ static void other_closures(void)
     check_true("error.psi_star_1", lub_channel_solve(&m4, &S, x, psi, u, pc, er, &R, &why) == -1);
 }
 
+/* The bound on the quadratures' work and the stop request (continuum_sbm_resuspension.h,
+ * continuum_sbm_channel.h): a well-behaved law gives the same profile bit for bit with a bound;
+ * the DEM-seed law at inventory/Sh = 1e-259 underflows in the fine profile of the scene (3201
+ * points), which took 58 s and 7.6e7 panels, and gives up at the bound instead. */
+static void work_bound(void)
+{
+    static double y[3201], phi[3201], y0[401], phi0[401];
+    lub_normal_law D = {.kind = LUB_NLAW_DEM_SEED, .direction = 2, .phi_rcp = 0.64};
+    D.phi_m = lub_dem_phi_m(0.5);
+    lub_resusp r, rb;
+    lub_resusp_work w = {.max_panels = 1 << 20};
+    const char *why = NULL;
+    check_true("bound.dem.solve", lub_resusp_solve(&D, 0.05, 20.0, &r, &why) == 0 &&
+                                      lub_resusp_solve_bounded(&D, 0.05, 20.0, &w, &rb, &why) == 0);
+    lub_resusp_profile(&D, &r, 401, y0, phi0);
+    lub_resusp_profile(&D, &rb, 401, y, phi);
+    check_true("bound.dem.same_profile_bit_for_bit",
+               w.status == LUB_RESUSP_OK && rb.height == r.height &&
+                   memcmp(y, y0, sizeof y0) == 0 && memcmp(phi, phi0, sizeof phi0) == 0);
+    printf("bound.dem.panels=%lld\n", w.panels);
+    check_true("bound.dem.panels_few", w.panels > 0 && w.panels < 5000);
+    lub_resusp_work u = {.max_panels = 1 << 20};
+    check_true("bound.underflow.solve",
+               lub_resusp_solve_bounded(&D, 0.1, 1e-260, &u, &rb, &why) == 0);
+    lub_resusp_profile(&D, &rb, 3201, y, phi);
+    printf("bound.underflow.panels=%lld status=%d underflow=%d\n", u.panels, u.status, u.underflow);
+    check_true("bound.underflow.gives_up",
+               u.status == LUB_RESUSP_BUDGET && u.panels == (1 << 20) + 1 && u.underflow);
+    volatile sig_atomic_t stop = 1;
+    lub_resusp_work st = {.max_panels = 1 << 20, .stop = &stop};
+    check_true("bound.stop.solve", lub_resusp_solve_bounded(&D, 0.05, 20.0, &st, &rb, &why) == -1 &&
+                                       st.status == LUB_RESUSP_STOPPED && st.panels == 0);
+    static double x[400], psi[400], u_[400], pc[400], er[400];
+    lub_closure c = {.kind = LUB_CLOSURE_M4, .m4 = lub_m4_laws_thesis(), .m4_phi_m = 0.58};
+    lub_channel_setup S = {
+        .geom = LUB_GEOM_PIPE, .psi_star = 0.95, .psi_mean = 0.5, .n = 400, .stop = &stop};
+    lub_channel_result R;
+    check_true("bound.channel.stop", lub_channel_solve(&c, &S, x, psi, u_, pc, er, &R, &why) == -2);
+}
+
 int main(void)
 {
+    work_bound();
     resuspension();
     pipe_H();
     other_closures();
