@@ -7,7 +7,10 @@ For each scene listed by `lubdem scenes`:
   2. the engine's resolved default spec ({"scene": name} plus defaults) validates against it;
   3. mutations of the resolved spec are judged the same way by both: for every numeric
      property, values just outside its minimum/maximum (exclusive or not), a wrong type, and
-     an unknown extra field, at the top level and inside nested objects.
+     an unknown extra field, at the top level and inside nested objects;
+  4. the members that only exist with another's value (CONDITIONAL: Iv and servo with
+     "control": "pressure", delaunay_update_strain with "lubrication_pairs": "delaunay", K
+     with law.eps > 0) are refused, or accepted, by both.
 usage: check_schemas.py LUBDEM SCHEMA_DIR"""
 import copy
 import json
@@ -16,6 +19,25 @@ import subprocess
 import sys
 
 import jsonschema
+
+
+# (spec, valid): the conditional rules. The delaunay_update_strain and K rules were missing from
+# the schemas until 2026-12-06 (they accepted what the engine refused).
+CONDITIONAL = [
+    ({"scene": "simple_shear", "Iv": 0.1}, False),
+    ({"scene": "simple_shear", "servo": {"gain": 1}}, False),
+    ({"scene": "simple_shear", "control": "pressure", "Iv": 0.1, "servo": {"gain": 1}}, True),
+    ({"scene": "simple_shear", "delaunay_update_strain": 0.01}, False),
+    ({"scene": "simple_shear", "lubrication_pairs": "cutoff", "delaunay_update_strain": 0.01},
+     False),
+    ({"scene": "simple_shear", "lubrication_pairs": "delaunay", "delaunay_update_strain": 0.01},
+     True),
+    ({"scene": "falling_sphere", "K": 2}, False),
+    ({"scene": "falling_sphere", "K": 2, "law": {"alpha": 1}}, False),
+    ({"scene": "falling_sphere", "K": 2, "law": {"eps": 0}}, False),
+    ({"scene": "falling_sphere", "K": 2, "law": {"eps": 0.01}}, True),
+    ({"scene": "falling_sphere", "K": 2, "stiffness": 200, "law": {"eps": 0.01}}, True),
+]
 
 
 def engine_accepts(lubdem, spec):
@@ -120,6 +142,20 @@ def main():
                 print(f"{name}: {desc}: schema {'accepts' if schema_ok else 'rejects'}, engine "
                       f"{'accepts' if engine_ok else 'rejects'} ({msg.strip()[:200]})",
                       file=sys.stderr)
+    # members that only exist with another member's value (if/then/else rules of the schemas):
+    # the schema must refuse what the engine refuses, on the spec as submitted
+    for spec, valid in CONDITIONAL:
+        with open(os.path.join(schema_dir, f"{spec['scene']}.schema.json")) as fh:
+            validator = jsonschema.Draft7Validator(json.load(fh))
+        schema_ok = validator.is_valid(spec)
+        engine_ok, msg = engine_accepts(lubdem, spec)
+        checked += 1
+        if schema_ok != valid or engine_ok != valid:
+            disagreements += 1
+            print(f"{json.dumps(spec)}: expected {'valid' if valid else 'invalid'}, schema "
+                  f"{'accepts' if schema_ok else 'rejects'}, engine "
+                  f"{'accepts' if engine_ok else 'rejects'} ({msg.strip()[:200]})",
+                  file=sys.stderr)
     print(f"schema_mutations_checked={checked}")
     print(f"schema_disagreements={disagreements}")
     sys.exit(1 if disagreements or checked == 0 else 0)
