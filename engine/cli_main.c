@@ -33,35 +33,59 @@ static void usage(FILE *f)
                "then loses at most that much).\n");
 }
 
-/* Reads a whole file (or stdin for "-") into a NUL-terminated buffer; caller frees. */
-static char *read_all(const char *path)
+/* The largest spec read: specs are a few kB, and a larger input is a mistake (README, CLI
+ * contract, "Spec"). */
+#define SPEC_MAX_BYTES ((size_t)64 << 20)
+
+/* Reads a whole file (or stdin for "-") into a NUL-terminated buffer of *len bytes (the file may
+ * hold NUL bytes of its own: the caller checks); caller frees. NULL with the reason in why[]:
+ * the system's (the file cannot be opened or read), larger than SPEC_MAX_BYTES, or no memory. */
+static char *read_all(const char *path, size_t *len, char *why, size_t why_len)
 {
     FILE *f = strcmp(path, "-") == 0 ? stdin : fopen(path, "rb");
-    if (!f)
+    if (!f) {
+        snprintf(why, why_len, "%s", strerror(errno));
         return NULL;
+    }
     size_t cap = 1 << 14, n = 0;
     char *buf = malloc(cap);
-    while (buf) {
-        size_t got = fread(buf + n, 1, cap - n - 1, f);
-        n += got;
-        if (n + 1 < cap)
+    for (;;) {
+        if (!buf) {
+            snprintf(why, why_len, "out of memory");
             break;
-        if (cap > ((size_t)64 << 20)) { /* specs are small; refuse absurd inputs */
+        }
+        /* read at most one byte beyond the limit, which is then known to be passed */
+        size_t want = cap - n - 1;
+        if (want > SPEC_MAX_BYTES + 1 - n)
+            want = SPEC_MAX_BYTES + 1 - n;
+        errno = 0;
+        const size_t got = fread(buf + n, 1, want, f);
+        n += got;
+        if (n > SPEC_MAX_BYTES) {
+            snprintf(why, why_len, "larger than %zu MiB (a spec is a few kB)",
+                     SPEC_MAX_BYTES >> 20);
             free(buf);
             buf = NULL;
+            break;
+        }
+        if (got < want) { /* the end of the file, or an error */
+            if (ferror(f)) {
+                snprintf(why, why_len, "%s", errno ? strerror(errno) : "read error");
+                free(buf);
+                buf = NULL;
+            }
             break;
         }
         char *nb = realloc(buf, cap * 2);
-        if (!nb) {
+        if (!nb)
             free(buf);
-            buf = NULL;
-            break;
-        }
         buf = nb;
         cap *= 2;
     }
-    if (buf)
+    if (buf) {
         buf[n] = '\0';
+        *len = n;
+    }
     if (f != stdin)
         fclose(f);
     return buf;
@@ -147,9 +171,20 @@ int main(int argc, char **argv)
         usage(stderr);
         return 2;
     }
-    char *text = read_all(spec_path);
+    size_t text_len = 0;
+    char why[128];
+    char *text = read_all(spec_path, &text_len, why, sizeof why);
     if (!text) {
-        fprintf(stderr, "error: cannot read spec %s: %s\n", spec_path, strerror(errno));
+        fprintf(stderr, "error: cannot read spec %s: %s\n", spec_path, why);
+        return 2;
+    }
+    const char *nul = memchr(text, '\0', text_len);
+    if (nul) { /* the JSON reader would stop there and ignore the rest */
+        lub_error err;
+        lub_fail(&err, "", "the spec holds a NUL byte at byte %zu of %zu: a spec is JSON text",
+                 (size_t)(nul - text), text_len);
+        lub_report_spec_error(stderr, json_errors, &err);
+        free(text);
         return 2;
     }
     int rc;

@@ -17,7 +17,7 @@
 #include "run_context.h"
 #include "scene.h"
 
-static void report_spec_error(FILE *diag, int json_errors, const lub_error *err)
+void lub_report_spec_error(FILE *diag, int json_errors, const lub_error *err)
 {
     if (json_errors) {
         json_t *o = json_pack("{s:s, s:s}", "pointer", err->pointer, "message", err->message);
@@ -55,14 +55,14 @@ static json_t *parse_and_resolve(const char *text, FILE *diag, int json_errors)
     if (!spec) {
         lub_fail(&err, "", "invalid JSON at line %d column %d: %s", jerr.line, jerr.column,
                  jerr.text);
-        report_spec_error(diag, json_errors, &err);
+        lub_report_spec_error(diag, json_errors, &err);
         return NULL;
     }
     json_t *resolved = NULL;
     int rc = lub_spec_resolve(spec, &resolved, &err);
     json_decref(spec);
     if (rc) {
-        report_spec_error(diag, json_errors, &err);
+        lub_report_spec_error(diag, json_errors, &err);
         return NULL;
     }
     return resolved;

@@ -10,6 +10,8 @@
 #include <signal.h>
 #include <stdio.h>
 
+#include "spec_reader.h"
+
 typedef struct {
     const char *spec_text;                 /* the verbatim spec (JSON text) */
     const char *out_dir;                   /* created if missing */
@@ -33,5 +35,9 @@ int lub_run_spec(const lub_run_request *req);
 
 /* Parses and validates only (CLI "validate"): prints the resolved spec on `out`. */
 int lub_validate_spec(const char *spec_text, FILE *out, FILE *diag, int json_errors);
+
+/* A spec error on diag: "error: <pointer or (root)>: <message>", or with json_errors one line
+ * {"pointer": ..., "message": ...} (README, CLI contract). */
+void lub_report_spec_error(FILE *diag, int json_errors, const lub_error *err);
 
 #endif

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The CLI contract of README.md: exit codes, error lines naming the JSON pointer, nothing
-# written on a bad spec, atomic complete output, SIGTERM -> valid partial result.
+# written on a bad spec, spec files (64 MiB at most, no NUL byte), atomic complete output,
+# SIGTERM -> valid partial result.
 # usage: test_cli_contract.sh LUBDEM CHECK_H5MD_PY SCHEMA_DIR
 set -u
 LUBDEM=$1
@@ -38,6 +39,28 @@ expect_spec_error noscene '{"eps": 0.1}' '/scene'
 expect_spec_error unknownscene '{"scene": "no_such_scene"}' '/scene'
 expect_spec_error unknownfield '{"scene": "falling_sphere", "bogus_field": 1}' '/bogus_field'
 expect_spec_error duplicate '{"scene": "falling_sphere", "scene": "falling_sphere"}' '(root)'
+
+# spec files: at most 64 MiB (it was 128 MiB in effect, and a larger one said "No such file or
+# directory", a stale errno), no NUL byte (the text after one was ignored)
+truncate -s 200M "$work/huge.json"
+"$LUBDEM" validate "$work/huge.json" > /dev/null 2> "$work/huge.err"; rc=$?
+[ $rc -eq 2 ] && grep -q "^error: cannot read spec $work/huge.json: larger than 64 MiB" "$work/huge.err" \
+  && ok || bad "200 MB spec: exit $rc: $(cat "$work/huge.err")"
+rm -f "$work/huge.json"
+$PY -c "import sys; t='{\"scene\": \"sbm_channel\"}'; sys.stdout.write(t + ' ' * ((64 << 20) - len(t) + int(sys.argv[1])))" 0 > "$work/64m.json"
+"$LUBDEM" validate "$work/64m.json" > /dev/null 2> "$work/64m.err" && ok || bad "64 MiB spec refused: $(cat "$work/64m.err")"
+printf ' ' >> "$work/64m.json"
+"$LUBDEM" run "$work/64m.json" --out "$work/out_64m" > /dev/null 2> "$work/64m.err"; rc=$?
+[ $rc -eq 2 ] && [ ! -e "$work/out_64m" ] && grep -q "larger than 64 MiB" "$work/64m.err" \
+  && ok || bad "64 MiB + 1 spec: exit $rc: $(cat "$work/64m.err")"
+rm -f "$work/64m.json"
+printf '{"scene": "sbm_channel"}\0garbage' > "$work/nul.json"
+"$LUBDEM" run "$work/nul.json" --out "$work/out_nul" > /dev/null 2> "$work/nul.err"; rc=$?
+[ $rc -eq 2 ] && [ ! -e "$work/out_nul" ] && grep -q "^error: (root): the spec holds a NUL byte at byte 24 of 32" "$work/nul.err" \
+  && ok || bad "spec with a NUL byte: exit $rc: $(cat "$work/nul.err")"
+printf '{"scene": "sbm_channel"}\0' | "$LUBDEM" validate - --json-errors > /dev/null 2> "$work/nul.err"; rc=$?
+[ $rc -eq 2 ] && $PY -c "import json; e=json.load(open('$work/nul.err')); assert e['pointer']=='' and 'NUL byte' in e['message']" \
+  && ok || bad "spec with a NUL byte on stdin, --json-errors: exit $rc: $(cat "$work/nul.err")"
 
 # --json-errors: one JSON object with pointer and message
 printf '{"scene": "falling_sphere", "bogus_field": 1}' > "$work/j.json"
