@@ -30,20 +30,34 @@ void lub_report_spec_error(FILE *diag, int json_errors, const lub_error *err)
     }
 }
 
-/* A refusal the run makes (exit 2): "error: --resume: ..." or a scene's "<pointer>: ...", as one
- * line, or with --json-errors as {"pointer": pointer, "message": text} (pointer "" when the
- * refusal is not about one member). */
-static void report_refusal(FILE *diag, int json_errors, const char *pointer, const char *text)
+/* A refusal the run makes (exit 2) on diag: "error: <line>" (the line names the member, or
+ * begins with "--resume: "), or with --json-errors {"pointer": pointer, "message": message}
+ * (pointer "" when the refusal is not about one member), as the spec errors are. */
+static void report_refusal(FILE *diag, int json_errors, const char *pointer, const char *message,
+                           const char *line)
 {
     if (json_errors) {
-        json_t *o = json_pack("{s:s, s:s}", "pointer", pointer, "message", text);
+        json_t *o = json_pack("{s:s, s:s}", "pointer", pointer, "message", message);
         char *s = o ? json_dumps(o, JSON_COMPACT) : NULL;
         fprintf(diag, "%s\n", s ? s : "{\"pointer\": \"\", \"message\": \"refused\"}");
         free(s);
         json_decref(o);
     } else {
-        fprintf(diag, "error: %s%s%s\n", pointer, pointer[0] ? ": " : "", text);
+        fprintf(diag, "error: %s\n", line);
     }
+}
+
+/* The member a refusal's text begins with ("/strain: 1 here, ..."), into out[len] ("" when it
+ * begins otherwise); returns the text after "<pointer>: " (text itself when none). */
+static const char *leading_pointer(const char *text, char *out, size_t len)
+{
+    out[0] = '\0';
+    const char *colon = text[0] == '/' ? strstr(text, ": ") : NULL;
+    if (!colon || (size_t)(colon - text) >= len || memchr(text, ' ', (size_t)(colon - text)))
+        return text;
+    memcpy(out, text, (size_t)(colon - text));
+    out[colon - text] = '\0';
+    return colon + 2;
 }
 
 /* Parse + resolve; on failure reports and returns NULL. */
@@ -201,8 +215,9 @@ static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir
  * result_path[result_len]; otherwise the reason in why[len]. */
 static int check_resume(const char *ckpt_path, const char *out_dir, const json_t *resolved,
                         const char *const *may_differ, char *result_path, size_t result_len,
-                        char *why, size_t len)
+                        char *why, size_t len, char *at, size_t at_len)
 {
+    at[0] = '\0';
     char err[400];
     lub_ckpt *c = lub_ckpt_open(ckpt_path, err, sizeof err);
     if (!c) {
@@ -222,8 +237,8 @@ static int check_resume(const char *ckpt_path, const char *out_dir, const json_t
         snprintf(why, len, "%s holds no readable spec (%s)", ckpt_path,
                  text ? "invalid JSON" : lub_ckpt_error(c));
         rc = -1;
-    } else if (lub_resume_spec_mismatch(resolved, saved, may_differ, differ, sizeof differ, NULL,
-                                        0) != 0) {
+    } else if (lub_resume_spec_mismatch(resolved, saved, may_differ, differ, sizeof differ, at,
+                                        at_len) != 0) {
         char free_members[200]; /* the members a continuation may change */
         lub_resume_free_members(may_differ, free_members, sizeof free_members);
         snprintf(why, len,
@@ -281,9 +296,12 @@ int lub_run_spec(const lub_run_request *req)
     const int resuming = req->resume && had_checkpoint && scene->resumable;
     if (resuming) { /* before anything is written: the old files stay as they are on refusal */
         char why[2 * sizeof ckpt_dst + 1024]; /* two paths and the spec members that differ */
+        char at[256];                         /* the first member that differs, if any */
         if (check_resume(ckpt_dst, req->out_dir, resolved, scene->resume_may_differ, resume_result,
-                         sizeof resume_result, why, sizeof why)) {
-            fprintf(req->diag, "error: --resume: cannot continue from %s: %s\n", ckpt_dst, why);
+                         sizeof resume_result, why, sizeof why, at, sizeof at)) {
+            char line[sizeof why + sizeof ckpt_dst + 64];
+            snprintf(line, sizeof line, "--resume: cannot continue from %s: %s", ckpt_dst, why);
+            report_refusal(req->diag, req->json_errors, at, line, line);
             json_decref(resolved);
             return LUB_EXIT_BAD_SPEC;
         }
@@ -346,9 +364,14 @@ int lub_run_spec(const lub_run_request *req)
         lub_h5_finish(h5, "failed", NULL, 0);
         unlink(h5_tmp);
         unlink(ckpt_tmp);
-        if (ctx.resume_rejected)
-            fprintf(req->diag, "error: --resume: %s\n", ctx.diagnostic);
-        else
+        if (ctx.resume_rejected) { /* "cannot continue from DIR/checkpoint.h5: [/member: ]..." */
+            char line[sizeof ctx.diagnostic + 16], prefix[sizeof ckpt_dst + 32], at[256] = "";
+            snprintf(line, sizeof line, "--resume: %s", ctx.diagnostic);
+            snprintf(prefix, sizeof prefix, "cannot continue from %s: ", ckpt_dst);
+            if (strncmp(ctx.diagnostic, prefix, strlen(prefix)) == 0)
+                leading_pointer(ctx.diagnostic + strlen(prefix), at, sizeof at);
+            report_refusal(req->diag, req->json_errors, at, line, line);
+        } else
             fprintf(req->diag,
                     "error: --resume: %s; the stopped run's files in %s are left as they were "
                     "(--resume continues from them)\n",
@@ -522,16 +545,10 @@ int lub_run_spec(const lub_run_request *req)
         fprintf(req->diag, "error: %s\n",
                 ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
     if (!summary_failed && rc == LUB_EXIT_BAD_SPEC) { /* a refusal only the run could make */
-        const char *colon = ctx.diagnostic[0] == '/' ? strstr(ctx.diagnostic, ": ") : NULL;
-        char pointer[256] = "";
-        if (colon && (size_t)(colon - ctx.diagnostic) < sizeof pointer)
-            memcpy(pointer, ctx.diagnostic, (size_t)(colon - ctx.diagnostic));
-        else
-            colon = NULL;
-        report_refusal(req->diag, req->json_errors, pointer,
-                       colon               ? colon + 2
-                       : ctx.diagnostic[0] ? ctx.diagnostic
-                                           : "refused");
+        const char *line = ctx.diagnostic[0] ? ctx.diagnostic : "refused";
+        char pointer[256];
+        const char *message = leading_pointer(line, pointer, sizeof pointer);
+        report_refusal(req->diag, req->json_errors, pointer, message, line);
     }
     if (summary_failed) { /* the diagnostic above would point to a summary that is not there */
         if (scene_rc != LUB_EXIT_OK && scene_rc != LUB_EXIT_INTERRUPTED)

@@ -9,6 +9,8 @@
 #      exit 2 naming the member, nothing written (they ran 0 steps, or ~1e18); exactly 1e12
 #      steps validate; a count that only the packing's lightest particle puts above 1e12 ->
 #      exit 2 from the run, status failed with the diagnostic, JSON with --json-errors;
+#  1c. --resume refusals (a spec that differs, a /strain below the stopped run's) with
+#      --json-errors: one JSON object whose pointer is the member;
 #  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
 #     numbers, H5MD observables present; mu, Iv, sigma11/sigma22 and sigma33/sigma22 of the
 #     summary are ratios of time averages of the HDF5 stress series (over a suffix), which the
@@ -111,6 +113,23 @@ PYEOF
 "$LUBDEM" run "$W/late.json" --out "$W/late_json" --quiet --json-errors 2>"$W/late_json.err"; rc=$?
 check "[ $rc -eq 2 ] && $PY -c \"import json,sys; e=json.load(open('$W/late_json.err')); sys.exit(0 if e['pointer']=='/stiffness' and '2.05e+12 steps' in e['message'] else 1)\"" \
   "step count refused by the run, --json-errors: rc=$rc $(cat "$W/late_json.err")"
+
+# 1c. --resume refusals with --json-errors: one JSON object like the spec errors (they were
+# plain "error: --resume: ..." lines), its pointer the member that differs; the checkpoint and
+# its rows stay
+echo '{"scene":"simple_shear","n_particles":300,"strain":0.05,"snapshots":0,"sample_strain":0.01}' >"$W/kept.json"
+"$LUBDEM" run "$W/kept.json" --out "$W/kept" --quiet --keep-checkpoint 2>/dev/null
+echo '{"scene":"simple_shear","n_particles":300,"strain":0.05,"snapshots":0,"sample_strain":0.01,"phi":0.49}' >"$W/kept_phi.json"
+"$LUBDEM" run "$W/kept_phi.json" --out "$W/kept" --quiet --resume --json-errors 2>"$W/kept_phi.err"; rc=$?
+check "[ $rc -eq 2 ] && [ -e $W/kept/checkpoint.h5 ] && $PY -c \"import json,sys; e=json.load(open('$W/kept_phi.err')); sys.exit(0 if e['pointer']=='/phi' and e['message'].startswith('--resume: cannot continue from ') and '/phi: 0.49 here' in e['message'] else 1)\"" \
+  "--resume refusal (spec), --json-errors: rc=$rc $(cat "$W/kept_phi.err")"
+"$LUBDEM" run "$W/kept_phi.json" --out "$W/kept" --quiet --resume 2>"$W/kept_phi.err"; rc=$?
+check "[ $rc -eq 2 ] && grep -q '^error: --resume: cannot continue from .*/phi: 0.49 here' $W/kept_phi.err" \
+  "--resume refusal (spec), plain: rc=$rc $(cat "$W/kept_phi.err")"
+echo '{"scene":"simple_shear","n_particles":300,"strain":0.02,"snapshots":0,"sample_strain":0.01}' >"$W/kept_short.json"
+"$LUBDEM" run "$W/kept_short.json" --out "$W/kept" --quiet --resume --json-errors 2>"$W/kept_short.err"; rc=$?
+check "[ $rc -eq 2 ] && [ -e $W/kept/checkpoint.h5 ] && $PY -c \"import json,sys; e=json.load(open('$W/kept_short.err')); sys.exit(0 if e['pointer']=='/strain' and 'already sheared' in e['message'] else 1)\"" \
+  "--resume refusal (strain below the run's), --json-errors: rc=$rc $(cat "$W/kept_short.err")"
 
 # 2. robustness run
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
