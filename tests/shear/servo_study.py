@@ -34,7 +34,6 @@ usage: servo_study.py --lubdem PATH --out DIR [--strain S] [--jobs J] [--reuse] 
 import argparse
 import concurrent.futures
 import csv
-import json
 import math
 import os
 import sys
