@@ -371,11 +371,19 @@ int lub_run_spec(const lub_run_request *req)
             if (strncmp(ctx.diagnostic, prefix, strlen(prefix)) == 0)
                 leading_pointer(ctx.diagnostic + strlen(prefix), at, sizeof at);
             report_refusal(req->diag, req->json_errors, at, line, line);
-        } else
-            fprintf(req->diag,
-                    "error: --resume: %s; the stopped run's files in %s are left as they were "
-                    "(--resume continues from them)\n",
-                    ctx.diagnostic, req->out_dir);
+        } else { /* a spec refusal only the run makes keeps its pointer under --json-errors */
+            char line[sizeof ctx.diagnostic + 4400], at[256] = "";
+            snprintf(line, sizeof line,
+                     "--resume: %s; the stopped run's files in %s are left as they were "
+                     "(--resume continues from them)",
+                     ctx.diagnostic, req->out_dir);
+            if (rc == LUB_EXIT_BAD_SPEC)
+                leading_pointer(ctx.diagnostic, at, sizeof at);
+            if (rc == LUB_EXIT_BAD_SPEC && req->json_errors)
+                report_refusal(req->diag, 1, at, line, line);
+            else
+                fprintf(req->diag, "error: %s\n", line);
+        }
         json_decref(ctx.summary_results);
         json_decref(ctx.summary_extra);
         json_decref(resolved);
