@@ -37,7 +37,40 @@ static int take_user_opts(int argc, char **argv, const char **user, int *admin)
     return out;
 }
 
-static int lock_queue(const lubd_config *cfg);
+/* The one service that uses a queue holds an exclusive lock on "<queue>.lock" for its whole
+ * life (the descriptor is closed on exec, so workers and engines do not hold it). Holding it,
+ * the start may take every running lease for the orphan of a service that died. Returns the
+ * descriptor, or -1 after saying why. */
+static int lock_queue(const lubd_config *cfg)
+{
+    char path[1200];
+    if (lubd_pathf(path, sizeof path, "%s.lock", cfg->db_path) != 0) {
+        fprintf(stderr, "lubdemd: path too long: %s.lock\n", cfg->db_path);
+        return -1;
+    }
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0640);
+    if (fd < 0) {
+        fprintf(stderr, "lubdemd: cannot open %s: %s\n", path, strerror(errno));
+        return -1;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        char pid[32] = "";
+        ssize_t got = pread(fd, pid, sizeof pid - 1, 0);
+        pid[got > 0 ? got : 0] = '\0';
+        pid[strcspn(pid, "\n")] = '\0';
+        fprintf(stderr,
+                "lubdemd: another lubdemd%s%s%s is serving the queue %s (lock %s); stop it first, "
+                "or give this one another --run-dir\n",
+                pid[0] ? " (pid " : "", pid, pid[0] ? ")" : "", cfg->db_path, path);
+        close(fd);
+        return -1;
+    }
+    char mine[32];
+    const int len = snprintf(mine, sizeof mine, "%ld\n", (long)getpid());
+    if (ftruncate(fd, 0) != 0 || pwrite(fd, mine, (size_t)len, 0) != len)
+        fprintf(stderr, "lubdemd: cannot write the pid into %s (the lock holds)\n", path);
+    return fd;
+}
 
 /* Creates the run directory and opens the queue; the service (lock_fd not NULL) takes the
  * queue's lock first, the admin commands do not. */
@@ -153,41 +186,6 @@ static void banner(const lubd_config *cfg, int port, const char *token_file, int
             "  client_examples/walkthrough.sh does the whole round trip (LUBDEM_URL, "
             "LUBDEM_TOKEN).\n\n",
             cfg->listen_host, port, cfg->listen_host, port);
-}
-
-/* The one service that uses a queue holds an exclusive lock on "<queue>.lock" for its whole
- * life (the descriptor is closed on exec, so workers and engines do not hold it). Holding it,
- * the start may take every running lease for the orphan of a service that died. Returns the
- * descriptor, or -1 after saying why. */
-static int lock_queue(const lubd_config *cfg)
-{
-    char path[1200];
-    if (lubd_pathf(path, sizeof path, "%s.lock", cfg->db_path) != 0) {
-        fprintf(stderr, "lubdemd: path too long: %s.lock\n", cfg->db_path);
-        return -1;
-    }
-    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0640);
-    if (fd < 0) {
-        fprintf(stderr, "lubdemd: cannot open %s: %s\n", path, strerror(errno));
-        return -1;
-    }
-    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
-        char pid[32] = "";
-        ssize_t got = pread(fd, pid, sizeof pid - 1, 0);
-        pid[got > 0 ? got : 0] = '\0';
-        pid[strcspn(pid, "\n")] = '\0';
-        fprintf(stderr,
-                "lubdemd: another lubdemd%s%s%s is serving the queue %s (lock %s); stop it first, "
-                "or give this one another --run-dir\n",
-                pid[0] ? " (pid " : "", pid, pid[0] ? ")" : "", cfg->db_path, path);
-        close(fd);
-        return -1;
-    }
-    char mine[32];
-    const int len = snprintf(mine, sizeof mine, "%ld\n", (long)getpid());
-    if (ftruncate(fd, 0) != 0 || pwrite(fd, mine, (size_t)len, 0) != len)
-        fprintf(stderr, "lubdemd: cannot write the pid into %s (the lock holds)\n", path);
-    return fd;
 }
 
 static int cmd_serve(lubd_config *cfg)
