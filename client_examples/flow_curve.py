@@ -29,6 +29,10 @@ library only; uses lubdem_client.py from this directory).
                      runs: a job that stops at the limit with a checkpoint is continued by a
                      new job ("continue_from"), up to N jobs per value; the table gives the
                      last job of each value and how many it took (column `jobs`)   [1: off]
+    --prune          with --chain: delete each job of a chain once the job that continues it
+                     has ended successful or stopped with a checkpoint (its result.h5 holds
+                     every row of the earlier ones), so a chain of n jobs keeps one run's
+                     files, not n; with --key, the command run again skips the deleted jobs
 
 Exit status: 0 all runs successful; 1 a job failed or the wait timed out (the table still
 lists every value, with its status), or the service went away while waiting (the jobs are
@@ -122,18 +126,38 @@ def collect(client, job, observables):
     return row
 
 
-def wait_all(client, chains, deadline, poll=2.0, cont=None):
+def wait_all(client, chains, deadline, poll=2.0, cont=None, prune=False):
     """Polls the last job of each value's chain (its job ids, the first one first) until every
     one has ended or the deadline passes; returns the last status document of each, in order,
     and the ids still open. With cont(i, doc), called for value i's job that ended stopped
-    with a checkpoint, a continuation may be appended to chains[i] (which is then polled)."""
+    with a checkpoint, a continuation may be appended to chains[i] (which is then polled).
+    With prune, a job of a chain is deleted once the job continuing it has ended successful or
+    stopped with a checkpoint, and a chain's job found deleted (410: this command's earlier
+    run pruned it) is passed to cont, whose continuation its key finds again."""
     last = {}
+    pruned = set()
     while True:
         for i, chain in enumerate(chains):
             if chain[-1] in last and last[chain[-1]]["status"] in ENDED:
                 continue
-            doc = last[chain[-1]] = client.status(chain[-1])
-            if cont and doc["status"] == "failed" and client.stopped_with_checkpoint(doc["jobID"]):
+            try:
+                doc = client.status(chain[-1])
+            except ApiError as e:
+                if not (e.status == 410 and prune and cont):
+                    raise
+                pruned.add(chain[-1])
+                cont(i, {"jobID": chain[-1]})
+                if chain[-1] in pruned:  # no continuation (the chain is as long as allowed)
+                    raise
+                continue
+            last[chain[-1]] = doc
+            stopped = (doc["status"] == "failed" and
+                       client.stopped_with_checkpoint(doc["jobID"]))
+            if (prune and len(chain) > 1 and chain[-2] not in pruned and
+                    (stopped or doc["status"] == "successful")):
+                client.dismiss_if_present(chain[-2])
+                pruned.add(chain[-2])
+            if cont and stopped:
                 cont(i, doc)
         open_ids = [c[-1] for c in chains if c[-1] not in last or last[c[-1]]["status"] not in ENDED]
         if not open_ids or time.time() > deadline:
@@ -158,7 +182,12 @@ def main(argv=None):
     p.add_argument("--out")
     p.add_argument("--fail-on-warnings", action="store_true")
     p.add_argument("--chain", type=int, default=1)
+    p.add_argument("--prune", action="store_true")
     a = p.parse_args(argv)
+    if a.prune and a.chain < 2:
+        print("error: --prune deletes the earlier jobs of each value's chain: it needs "
+              "--chain N (N > 1)", file=sys.stderr)
+        return 2
     try:
         sweep = parse_sweep(a.vary, a.values, a.also)
         values = sweep[0][2]
@@ -213,7 +242,7 @@ def main(argv=None):
 
     try:
         jobs, still_open = wait_all(client, chains, time.time() + a.timeout, a.poll,
-                                    cont if a.chain > 1 else None)
+                                    cont if a.chain > 1 else None, a.prune)
         job_ids = [c[-1] for c in chains]
         rows = [collect(client, job, observables) for job in jobs]
     except (ApiError, OSError) as e:

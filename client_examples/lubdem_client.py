@@ -16,6 +16,8 @@ Command line:
                      [--download FILE] [--timeout S] [--key KEY] [--fail-on-warnings]
                      [--continue-from JOB]   (continue that ended job's run: same inputs)
                      [--chain N]   (while a job stops at the CPU limit, continue it: N jobs at most)
+                     [--prune]     (with --chain: delete each job of the chain once the job
+                                    continuing it has ended; the last one's files hold all)
     lubdem_client.py extend JOB '{"strain": 60}' [the options of submit]   continue an ended
                      job's run with its own inputs (its summary's spec), these changed
     lubdem_client.py status JOB | results JOB | list [--status S] | dismiss JOB | log JOB
@@ -165,14 +167,20 @@ class Client:
                            continue_from=job_id)
 
     def run_chain(self, process, inputs, max_jobs=100, timeout=600, idempotency_key=None,
-                  continue_from=None, on_job=None, poll=1.0):
+                  continue_from=None, on_job=None, poll=1.0, prune=False):
         """Runs `inputs` to the end on a service whose CPU time limit is shorter than the run:
         submits a job and, while it ends stopped with a checkpoint, a job that continues it
         (continue_from), at most max_jobs in all. Returns the last job's status document
         (successful, or failed for another reason, or the last stopped one). on_job(doc) is
         called with each submitted job; with idempotency_key, job k uses key-k (a retried
-        chain finds its jobs again). timeout: per job; poll: seconds between status requests."""
+        chain finds its jobs again). timeout: per job; poll: seconds between status requests.
+        prune: each job's result.h5 holds every row of the jobs before it, so once a job
+        has ended successful or stopped with a checkpoint, the job it continued is deleted
+        (only jobs this chain submitted, never `continue_from`'s; the last one is kept, as is
+        every job before one that failed otherwise). A retried chain with idempotency_key
+        skips the jobs it deleted: their continuations are found again by their keys."""
         job = None
+        prunable = None  # the job the current one continues, when this chain submitted it
         for k in range(max_jobs):
             key = "%s-%d" % (idempotency_key, k) if idempotency_key else None
             job = self.submit(process, inputs, idempotency_key=key, continue_from=continue_from)
@@ -182,10 +190,29 @@ class Client:
                 job = self.wait(job["jobID"], timeout=timeout, poll=poll)
             except JobFailed:
                 job = self.status(job["jobID"])
-            if job["status"] != "failed" or not self.stopped_with_checkpoint(job["jobID"]):
+            except ApiError as e:
+                if not (e.status == 410 and prune and key and k + 1 < max_jobs):
+                    raise
+                # deleted by this chain's earlier run: its continuation has the next key
+                continue_from, prunable = job["jobID"], None
+                continue
+            stopped = job["status"] == "failed" and self.stopped_with_checkpoint(job["jobID"])
+            if prune and prunable and (stopped or job["status"] == "successful"):
+                self.dismiss_if_present(prunable)
+            if not stopped:
                 return job
-            continue_from = job["jobID"]
+            continue_from = prunable = job["jobID"]
         return job
+
+    def dismiss_if_present(self, job_id):
+        """Deletes a job (DELETE); a job already deleted (410) is not an error. Deleting a job
+        that a queued or running continuation needs takes nothing from the continuation (the
+        service hands the checkpoint over)."""
+        try:
+            self.dismiss(job_id)
+        except ApiError as e:
+            if e.status != 410:
+                raise
 
     def status(self, job_id):
         return self._req("GET", "/jobs/" + job_id)
@@ -309,6 +336,10 @@ def add_run_options(parser):
                         help="with --wait: while a job stops at the service's CPU time limit "
                              "with a checkpoint, submit one that continues it (at most N jobs "
                              "in all)")
+    parser.add_argument("--prune", action="store_true",
+                        help="with --chain: delete each job of the chain once the job that "
+                             "continues it has ended successful or stopped with a checkpoint "
+                             "(its result.h5 holds every row of the earlier ones)")
 
 
 def main(argv=None):
@@ -336,6 +367,10 @@ def main(argv=None):
     lst.add_argument("--status")
     a = p.parse_args(argv)
     c = Client(a.url, default_token(a.token))
+    if getattr(a, "prune", False) and not a.chain:
+        print("error: --prune deletes the earlier jobs of a chain: it needs --chain N",
+              file=sys.stderr)
+        return 2
     try:
         if a.cmd in ("submit", "extend"):
             if a.cmd == "extend":  # the job's own inputs, changed, continuing it
@@ -346,7 +381,8 @@ def main(argv=None):
             if a.chain:
                 job = c.run_chain(process, inputs, max_jobs=a.chain, timeout=a.timeout,
                                   idempotency_key=a.key, continue_from=continue_from,
-                                  poll=a.poll, on_job=lambda j: print(j["jobID"], flush=True))
+                                  poll=a.poll, on_job=lambda j: print(j["jobID"], flush=True),
+                                  prune=a.prune)
             else:
                 job = c.submit(process, inputs, idempotency_key=a.key,
                                continue_from=continue_from)

@@ -5,7 +5,8 @@ LUBDEM_FAIL_ON_WARNINGS=1), the Python client (exit 4 with --fail-on-warnings) +
 reader, and the flow_curve.py sweep (table and CSV, the same jobs on a second run, a rejected
 value, a timeout, a failed job, the service gone while waiting, runs longer than the CPU
 limit continued job after job with --chain, found again by a second run with the same
---key), and lubdem_client.py extend (a completed run taken further with its own inputs)."""
+--key; with --prune only each chain's last job kept), and lubdem_client.py extend (a
+completed run taken further with its own inputs; with --chain --prune)."""
 import csv
 import json
 import os
@@ -152,6 +153,78 @@ def run():
                     "\n%s" % (len(ext_jobs), ext.get("results", {}).get("mu", {}).get("value"),
                                direct["results"]["mu"]["value"], out))
             print("extend_jobs=%d" % len(ext_jobs))
+            # --prune: the same extension again under another key; the job it extends
+            # (continue_from, not one the chain submitted) is kept, and so is the last job
+            prune_cmd = [sys.executable, os.path.join(ce, "lubdem_client.py"), "extend", done,
+                         '{"strain": %s}' % ("3" if a.sanitized else "7"), "--chain", "20",
+                         "--prune", "--key", "ext-prune", "--poll", "0.1", "--timeout", "300"]
+            rc, out = sh(*prune_cmd, extra_env=slow_env)
+            pr_jobs = re.findall(r"\b[0-9a-f]{32}\b", out)
+            codes = [slow.request("GET", "/jobs/" + j, tok2)[0] for j in pr_jobs]
+            src_code = slow.request("GET", "/jobs/" + done, tok2)[0]
+            st, _, res = slow.request("GET", "/jobs/%s/results" % pr_jobs[-1], tok2) \
+                if pr_jobs else (0, None, {})
+            pruned = res.get("summary") or {}
+            T.check(rc == 0 and pr_jobs and codes[:-1] == [410] * (len(pr_jobs) - 1)
+                    and codes[-1] == 200 and src_code == 200 and
+                    pruned.get("results") == direct["results"],
+                    "lubdem_client.py extend --prune: job codes %s, the extended job %s\n%s"
+                    % (codes, src_code, out))
+            # submit --chain --prune: the Iv = 1 run of the flow_curve chain above, each job
+            # of the chain deleted once the job continuing it has ended, so only the last
+            # one's files stay; the results are the unpruned chain's; the command run again
+            # finds the kept job and submits nothing
+            iv1 = dict(json.loads(chained), Iv=1)
+            prune_cmd = [sys.executable, os.path.join(ce, "lubdem_client.py"), "submit",
+                         "simple_shear", json.dumps(iv1), "--chain", "40", "--prune", "--key",
+                         "sub-prune", "--poll", "0.1", "--timeout", "300"]
+            rc, out = sh(*prune_cmd, extra_env=slow_env)
+            pr_jobs = re.findall(r"\b[0-9a-f]{32}\b", out)
+            codes = [slow.request("GET", "/jobs/" + j, tok2)[0] for j in pr_jobs]
+            st, _, res = slow.request("GET", "/jobs/%s/results" % pr_jobs[-1], tok2) \
+                if pr_jobs else (0, None, {})
+            st, _, unpruned = slow.request("GET", "/jobs/%s/results" % rows[1]["job"], tok2)
+            T.check(rc == 0 and len(pr_jobs) > 1 and
+                    codes[:-1] == [410] * (len(pr_jobs) - 1) and codes[-1] == 200 and
+                    (res.get("summary") or {}).get("results") ==
+                    (unpruned.get("summary") or {}).get("results"),
+                    "lubdem_client.py submit --chain --prune: job codes %s\n%s" % (codes, out))
+            st, _, before = slow.request("GET", "/jobs?limit=1000", tok2)
+            rc2, out2 = sh(*prune_cmd, extra_env=slow_env)
+            st, _, after = slow.request("GET", "/jobs?limit=1000", tok2)
+            T.check(rc2 == 0 and re.findall(r"\b[0-9a-f]{32}\b", out2) == pr_jobs and
+                    after["numberReturned"] == before["numberReturned"],
+                    "lubdem_client.py submit --prune again with the same --key:\n%s" % out2)
+            print("submit_prune_jobs=%d" % len(pr_jobs))
+            # flow_curve.py --prune: one value's chain keeps only its last job, with the
+            # results of the unpruned chain above (the same run); run again, the same table
+            prune_fc = [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
+                        "--values", "0.1", "--base", chained, "--poll", "0.1",
+                        "--timeout", "600", "--chain", "40", "--key", "fc-prune", "--prune"]
+            fc_pruned = os.path.join(out_dir, "flow_curve_pruned.csv")
+            rc, out = sh(*prune_fc, "--out", fc_pruned, extra_env=slow_env)
+            with open(fc_pruned) as f:
+                prow = list(csv.DictReader(f))
+            ids = re.findall(r"\b[0-9a-f]{32}\b", out)
+            codes = {j: slow.request("GET", "/jobs/" + j, tok2)[0] for j in ids}
+            kept = [j for j, c in codes.items() if c == 200]
+            T.check(rc == 0 and len(prow) == 1 and int(prow[0]["jobs"]) > 1 and
+                    kept == [prow[0]["job"]] and
+                    all(c == 410 for j, c in codes.items() if j != prow[0]["job"]) and
+                    prow[0]["mu"] == rows[0]["mu"] and prow[0]["phi"] == rows[0]["phi"],
+                    "flow_curve.py --prune: kept %s of %d jobs, mu %s against %s\n%s"
+                    % (kept, len(codes), prow[0]["mu"] if prow else None, rows[0]["mu"], out))
+            fc_pruned2 = os.path.join(out_dir, "flow_curve_pruned_again.csv")
+            st, _, before = slow.request("GET", "/jobs?limit=1000", tok2)
+            rc2, out2 = sh(*prune_fc, "--out", fc_pruned2, extra_env=slow_env)
+            st, _, after = slow.request("GET", "/jobs?limit=1000", tok2)
+            T.check(rc2 == 0 and open(fc_pruned2).read() == open(fc_pruned).read() and
+                    after["numberReturned"] == before["numberReturned"],
+                    "flow_curve.py --prune again with the same --key:\n%s" % out2)
+            rc, out = sh(sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
+                         "--values", "1", "--prune", extra_env=slow_env)
+            T.check(rc == 2 and "--chain" in out, "flow_curve.py --prune without --chain:\n" + out)
+            print("flow_curve_prune_jobs=%s" % prow[0]["jobs"])
             # the service goes away while flow_curve.py waits: exit 1, the job named
             lost = subprocess.Popen(
                 [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
