@@ -2,11 +2,11 @@
 #include "periodic_checkpoint.h"
 
 #include <errno.h>
-#include <fcntl.h>
 #include <stdio.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "file_copy.h"
 #include "progress.h"
 
 void lub_periodic_init(lub_periodic_ckpt *pc, double every_s, const char *live_path,
@@ -37,40 +37,6 @@ void lub_periodic_failed(lub_periodic_ckpt *pc, const char *why)
     pc->next_at = lub_wall_seconds() + pc->every_s;
 }
 
-/* src to dst (created or truncated), synced; 0 or -1 with errno set */
-static int copy_file(const char *src, const char *dst)
-{
-    const int in = open(src, O_RDONLY | O_CLOEXEC);
-    if (in < 0)
-        return -1;
-    const int out = open(dst, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    int err = out < 0 ? errno : 0;
-    char buf[1 << 16];
-    while (!err) {
-        const ssize_t got = read(in, buf, sizeof buf);
-        if (got < 0 && errno == EINTR)
-            continue;
-        if (got <= 0) {
-            err = got < 0 ? errno : 0;
-            break;
-        }
-        for (ssize_t done = 0; done < got && !err;) {
-            const ssize_t put = write(out, buf + done, (size_t)(got - done));
-            if (put >= 0)
-                done += put;
-            else if (errno != EINTR)
-                err = errno;
-        }
-    }
-    if (out >= 0 && !err && fsync(out) != 0)
-        err = errno;
-    if (out >= 0 && close(out) != 0 && !err)
-        err = errno;
-    close(in);
-    errno = err;
-    return err ? -1 : 0;
-}
-
 int lub_periodic_copy_output(lub_periodic_ckpt *pc, lub_h5 *out)
 {
     char why[400];
@@ -85,7 +51,7 @@ int lub_periodic_copy_output(lub_periodic_ckpt *pc, lub_h5 *out)
         lub_periodic_failed(pc, why);
         return -1;
     }
-    if (copy_file(pc->live_path, pc->copy_tmp)) {
+    if (lub_file_copy(pc->live_path, pc->copy_tmp, LUB_COPY_IN_KERNEL)) {
         snprintf(why, sizeof why, "cannot copy result.h5: %s", strerror(errno));
         lub_periodic_failed(pc, why);
         return -1;

@@ -12,8 +12,9 @@
  * rows (the continuation copies the first rows it needs). A checkpoint written when a stop
  * request ends the run names result.h5 instead (run_driver.h).
  *
- * Cost: the copy is the size of result.h5 so far (snapshots included), the state ~2 kB per
- * particle; both are written while the run waits. Units: wall-clock seconds. Ownership: the
+ * Cost: the copy is the size of result.h5 so far (snapshots included), made by lub_file_copy
+ * (file_copy.h: inside the kernel, or no data moved where the file system shares blocks), the
+ * state ~2 kB per particle; both are written while the run waits. Units: wall-clock seconds. Ownership: the
  * paths are borrowed (the driver's). Errors: a failed checkpoint is recorded once (failure) and
  * the run goes on; the next is tried at the next interval. Not thread-safe.
  */

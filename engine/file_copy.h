@@ -1,0 +1,24 @@
+/* file_copy.h — a whole-file copy, put on disk before it returns: what a periodic checkpoint
+ * makes of the result.h5 being written (periodic_checkpoint.h).
+ *
+ * LUB_COPY_IN_KERNEL copies with copy_file_range(2): the file system may share the blocks (a
+ * reflink on XFS or Btrfs, no data moved), copy on the server (NFS 4.2), or copy inside the
+ * kernel (ext4), never through a user-space buffer; where the call is not available for the
+ * two files (an old kernel, two file systems it cannot copy between) nothing has been copied
+ * yet and the copy goes through a buffer instead. LUB_COPY_BUFFERED always uses the buffer
+ * (read/write of 64 KiB), the way the copy was made before 2026-12-06; tests compare the two.
+ *
+ * Ownership: the paths are borrowed. dst is created (mode 0644 before the umask) or truncated,
+ * written, fsync'ed and closed; it is not renamed (the caller publishes it). Errors: -1 with
+ * errno set (the open, copy, fsync or close that failed); dst may then hold part of src.
+ * Thread-safe (no state).
+ */
+#ifndef LUBDEM_FILE_COPY_H
+#define LUBDEM_FILE_COPY_H
+
+typedef enum { LUB_COPY_IN_KERNEL, LUB_COPY_BUFFERED } lub_copy_how;
+
+/* src to dst, synced; 0, or -1 with errno set. */
+int lub_file_copy(const char *src, const char *dst, lub_copy_how how);
+
+#endif
