@@ -263,8 +263,19 @@ double lub_shear_min_bytes(double n, double phi, double radius_std, double cutof
  * distance minus the skin consumed since the rebuild. */
 static int update_topology(lub_shear_system *s)
 {
-    return lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff,
-                               s->nl.skin - s->skin_used);
+    if (lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff,
+                            s->nl.skin - s->skin_used))
+        return 1;
+    s->topology_step = s->step;
+    return 0;
+}
+
+/* 1 when this step is one of the periodic updates of the triangulation and the set has not
+ * been computed from these positions yet (lub_shear_complete_list may have done it) */
+static int topology_update_due(const lub_shear_system *s)
+{
+    return s->topology_interval > 0 && s->step % s->topology_interval == 0 &&
+           s->topology_step != s->step;
 }
 
 static int rebuild(lub_shear_system *s)
@@ -334,6 +345,7 @@ static int runaway(lub_shear_system *s, const double A[3][3], double umax2)
 void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
 {
     s->topology_interval = interval < 1 ? 1 : interval;
+    s->topology_step = -1;
     lub_topology_init(&s->topo, s->cutoff, guard, s->r, s->n, s->threads);
     s->need_rebuild = 1;
 }
@@ -344,7 +356,7 @@ int lub_shear_complete_list(lub_shear_system *s)
         return rebuild(s);
     /* the interaction set the next step will use: a due update of the triangulation is a
      * function of the positions, so the step's own update gives the same set again */
-    if (s->topology_interval > 0 && s->step % s->topology_interval == 0 && update_topology(s))
+    if (topology_update_due(s) && update_topology(s))
         return LUB_SHEAR_NOMEM;
     return LUB_SHEAR_OK;
 }
@@ -355,7 +367,7 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
         int rc = rebuild(s);
         if (rc)
             return rc;
-    } else if (s->topology_interval > 0 && s->step % s->topology_interval == 0) {
+    } else if (topology_update_due(s)) {
         /* the list is unchanged, so its buffers suffice: nothing is allocated */
         if (update_topology(s))
             return LUB_SHEAR_NOMEM;

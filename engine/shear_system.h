@@ -111,6 +111,9 @@ typedef struct {
      * of the regular triangulation (pair_topology.h), recomputed at every rebuild and every
      * topology_interval steps; 0 (after init): every pair inside the cut-off */
     int topology_interval;
+    long topology_step; /* the step whose positions the interaction set was last computed from
+                           (a rebuild or an update), -1 before the first: a step whose set a
+                           network frame has just brought up to date does not recompute it */
     lub_topology topo;
     double skin_used; /* skin consumed since the last rebuild (the skin criterion's left side) */
     /* per-thread scratch (allocated at init) */
