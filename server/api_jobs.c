@@ -30,7 +30,9 @@ int lubd_load_visible_job(lubd_request *r, const char *id, void *out, lubd_fault
                          "job \"%.64s\" does not exist (or belongs to another user)", id);
     if (j->purged && !allow_purged)
         return lubd_fail(f, 410, LUBD_PT_BASE "job-purged", "Job purged", NULL,
-                         "job %s was dismissed after it finished; its results were deleted", id);
+                         "job %s was deleted (DELETE of a job that had ended or been "
+                         "dismissed); its results and files are gone",
+                         id);
     return 0;
 }
 

@@ -506,7 +506,12 @@ static void job_ended(worker_ctx *w, const lubd_claim *c)
     if (lubd_queue_get(w->db, c->id, &j) != 1 || !lubd_job_finished(&j))
         return;
     char why[1400];
-    if (lubd_deletion_tidy_ended(w->cfg->jobs_dir, &j, why, sizeof why) < 0)
+    if (j.purged) {
+        /* deleted (a second DELETE) while its engine was being stopped: the deletion removed
+         * the folder then, and what the engine wrote after that goes now */
+        if (lubd_deletion_free(w->db, w->cfg->jobs_dir, c->id, why, sizeof why) < 0)
+            fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
+    } else if (lubd_deletion_tidy_ended(w->cfg->jobs_dir, &j, why, sizeof why) < 0)
         fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
     if (c->continue_from[0] &&
         lubd_deletion_continuation_ended(w->db, w->cfg->jobs_dir, c->id, c->continue_from, why,

@@ -11,6 +11,8 @@
 #   13 -> completes (exit 0) with a 1200 MiB result.h5 (sparse: cheap to write, as slow to
 #        checksum as any, 7 s here): its checksumming outlasts a 2 s lease
 #   20 -> runs until it is stopped, a result.h5 written at the start
+#   21 -> ignores SIGTERM and goes on writing its result.h5, its folder made again should it
+#         be removed, until SIGKILL (an engine slow to stop, deleted meanwhile)
 spec=$2 out=$4
 mkdir -p "$out"
 echo "progress fraction=0.5000 step=10 steps_per_s=1.0e+03 eta_s=1.0"
@@ -31,6 +33,9 @@ case $(tr -d ' \n' < "$spec") in
   *'"duration":20'[,}]*)
     printf 'rows of a long run\n' > "$out/result.h5"
     while :; do sleep 0.1; done ;;
+  *'"duration":21'[,}]*)
+    trap 'echo "fake engine: SIGTERM ignored"' TERM
+    while :; do mkdir -p "$out"; echo row >> "$out/result.h5"; sleep 0.1; done ;;
   *'"duration":7'[,}]*)
     exit 0 ;;
   *'"duration":5'[,}]*)

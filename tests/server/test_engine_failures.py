@@ -11,7 +11,8 @@ survives.
 Then, on the same 2 s lease: a run that completes with a 1200 MiB result.h5, whose checksumming
 outlasts the lease, succeeds on its first attempt (the worker heartbeats while it hashes; it
 used to be requeued and the finished run thrown away); a running job that is dismissed leaves
-its log but not the files its engine wrote. Last, on a 60 s lease: a second service on the same
+its log but not the files its engine wrote, and one deleted again while its engine (ignoring
+SIGTERM) is being stopped leaves no folder once the engine is gone. Last, on a 60 s lease: a second service on the same
 run directory is refused while the first runs, and a job left running by a service killed with
 SIGKILL runs again at once when the service restarts, not a lease later."""
 import hashlib
@@ -38,7 +39,8 @@ def run():
     resource.setrlimit(resource.RLIMIT_CORE, (hard, hard))
     if hard == 0:
         print("note: core files are not allowed here; the engine's own limit is not tested")
-    srv = T.Server(a, "engine_failures", workers=1, extra=["--lease-s", "2"]).fresh()
+    srv = T.Server(a, "engine_failures", workers=1,
+                   extra=["--lease-s", "2", "--grace-s", "3"]).fresh()
     tok = srv.token("dave")
     srv.start()
     try:
@@ -102,6 +104,7 @@ def run():
         T.check(h["workers"]["alive"] == 1 and h["queue"]["running"] == 0, "health %s" % h)
         big_output(srv, tok)
         dismissed_while_running(srv, tok)
+        deleted_while_stopping(srv, tok)
     finally:
         srv.stop()
     restart_after_kill(a)
@@ -160,6 +163,34 @@ def dismissed_while_running(srv, tok):
     T.check(not os.path.exists(out), "a dismissed run's files stay in %s" % out)
     st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
     T.check(st == 200 and b"progress fraction=0.5000" in log, "log of the dismissed job: %s" % log)
+
+
+def deleted_while_stopping(srv, tok):
+    """DELETE, then DELETE again within the grace time of an engine that ignores SIGTERM and
+    keeps writing: the second purges the job (410 afterwards); once the engine has been
+    killed, the job's folder is gone (until 2026-12-06 what the engine wrote after the purge
+    stayed until the service's next start)."""
+    job = submit(srv, tok, 21)
+    wait_running(srv, tok, job)
+    folder = os.path.join(srv.run, "jobs", job)
+    out = os.path.join(folder, "attempt-1", "out", "result.h5")
+    deadline = time.time() + 10
+    while not os.path.exists(out) and time.time() < deadline:
+        time.sleep(0.05)
+    st, _, doc = srv.request("DELETE", "/jobs/" + job, tok)
+    T.check(st == 200 and doc["status"] == "dismissed", "DELETE running -> %s %s" % (st, doc))
+    st, _, doc = srv.request("DELETE", "/jobs/" + job, tok)
+    T.check(st == 200, "second DELETE while the engine stops -> %s %s" % (st, doc))
+    st, _, doc = srv.request("GET", "/jobs/" + job, tok)
+    T.check(st == 410 and "was deleted" in doc.get("detail", ""), "GET after -> %s %s" % (st, doc))
+    time.sleep(0.5)
+    T.check(os.path.exists(out), "the fake engine writes on after the purge (%s)" % out)
+    deadline = time.time() + 20  # grace 3 s, then SIGKILL, then the worker ends the job
+    while os.path.exists(folder) and time.time() < deadline:
+        time.sleep(0.1)
+    T.check(not os.path.exists(folder), "a deleted job's folder stays: %s" % folder)
+    st, _, h = srv.request("GET", "/health")
+    T.check(h["queue"]["running"] == 0, "health %s" % h)
 
 
 def restart_after_kill(a):
