@@ -234,6 +234,11 @@ fail:
         sql_err(db);
     sqlite3_finalize(st);
     lubd_db_rollback(db);
+    /* The job is still running in the database: its files go back where they were, so that
+     * nothing stands in result_dir that the database does not list (a full disk at COMMIT) */
+    if (rename(result_dir, out_dir) != 0)
+        fprintf(stderr, "lubdemd worker: cannot move %s back to %s: %s\n", result_dir, out_dir,
+                strerror(errno));
     return -1;
 }
 

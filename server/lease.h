@@ -39,7 +39,8 @@ typedef struct {
 
 /* Success: inside one transaction, checks the lease, moves out_dir to result_dir (replacing
  * a leftover from a crashed earlier attempt), registers the files and marks the job
- * successful. 1 done, 0 lease lost (nothing moved), -1 error. */
+ * successful. 1 done, 0 lease lost (nothing moved), -1 error (the transaction rolled back and
+ * the files moved back to out_dir, e.g. a full disk at COMMIT). */
 int lubd_lease_succeed(sqlite3 *db, const lubd_claim *c, const char *out_dir,
                        const char *result_dir, const lubd_output_file *files, int n,
                        const char *message);

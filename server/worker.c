@@ -125,6 +125,9 @@ typedef struct {
     int lost; /* the lease was lost or the job dismissed meanwhile */
 } finishing_beat;
 
+/* seconds a worker goes on asking a database that refuses to record a completed run */
+#define RECORD_TRIES 30
+
 static int beat_while_finishing(void *ctx)
 {
     finishing_beat *b = ctx;
@@ -458,7 +461,25 @@ static void run_job(worker_ctx *w, lubd_claim *c)
                             "missing");
             return;
         }
+        /* A database that refuses the record (a full disk) is asked again every second for
+         * RECORD_TRIES s, under the lease: the files are back in out_dir after each refusal
+         * (lubd_lease_succeed), and a completed run is not thrown away for a moment's trouble.
+         * After that the lease lapses and the job runs again. */
         int done = lubd_lease_succeed(w->db, c, out_dir, result_dir, files, n, "completed");
+        for (int tries = 1; done < 0 && tries <= RECORD_TRIES && !*w->stop; ++tries) {
+            if (tries == 1)
+                fprintf(stderr,
+                        "lubdemd worker %s: cannot record the success of %s; trying again for "
+                        "%d s\n",
+                        w->name, c->id, RECORD_TRIES);
+            sleep_ms(1000);
+            beat.next_beat = 0.0;
+            if (beat_while_finishing(&beat)) {
+                done = 0;
+                break;
+            }
+            done = lubd_lease_succeed(w->db, c, out_dir, result_dir, files, n, "completed");
+        }
         if (done < 0)
             fprintf(stderr, "lubdemd worker %s: could not record success of %s\n", w->name, c->id);
         else if (done == 0) /* dismissed (or lease lost) while finishing: keep nothing */

@@ -11,6 +11,7 @@
 #   13 -> completes (exit 0) with a 1200 MiB result.h5 (sparse: cheap to write, as slow to
 #        checksum as any, 7 s here): its checksumming outlasts a 2 s lease
 #   20 -> runs until it is stopped, a result.h5 written at the start
+#   22 -> completes at once (exit 0) with a small summary.json and result.h5
 #   21 -> ignores SIGTERM and goes on writing its result.h5, its folder made again should it
 #         be removed, until SIGKILL (an engine slow to stop, deleted meanwhile)
 spec=$2 out=$4
@@ -33,6 +34,9 @@ case $(tr -d ' \n' < "$spec") in
   *'"duration":20'[,}]*)
     printf 'rows of a long run\n' > "$out/result.h5"
     while :; do sleep 0.1; done ;;
+  *'"duration":22'[,}]*)
+    printf '{"scene": "falling_sphere", "status": "complete"}\n' > "$out/summary.json"
+    printf 'rows of a short run\n' > "$out/result.h5"; exit 0 ;;
   *'"duration":21'[,}]*)
     trap 'echo "fake engine: SIGTERM ignored"' TERM
     while :; do mkdir -p "$out"; echo row >> "$out/result.h5"; sleep 0.1; done ;;

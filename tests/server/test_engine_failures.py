@@ -12,7 +12,9 @@ Then, on the same 2 s lease: a run that completes with a 1200 MiB result.h5, who
 outlasts the lease, succeeds on its first attempt (the worker heartbeats while it hashes; it
 used to be requeued and the finished run thrown away); a running job that is dismissed leaves
 its log but not the files its engine wrote, and one deleted again while its engine (ignoring
-SIGTERM) is being stopped leaves no folder once the engine is gone. Last, on a 60 s lease: a second service on the same
+SIGTERM) is being stopped leaves no folder once the engine is gone; a completed run that the
+database refuses to record for a few seconds (a trigger standing in for a full disk) is
+recorded on its first attempt once the database takes it. Last, on a 60 s lease: a second service on the same
 run directory is refused while the first runs, and a job left running by a service killed with
 SIGKILL runs again at once when the service restarts, not a lease later."""
 import hashlib
@@ -105,6 +107,7 @@ def run():
         big_output(srv, tok)
         dismissed_while_running(srv, tok)
         deleted_while_stopping(srv, tok)
+        record_refused(srv, tok)
     finally:
         srv.stop()
     restart_after_kill(a)
@@ -191,6 +194,42 @@ def deleted_while_stopping(srv, tok):
     T.check(not os.path.exists(folder), "a deleted job's folder stays: %s" % folder)
     st, _, h = srv.request("GET", "/health")
     T.check(h["queue"]["running"] == 0, "health %s" % h)
+
+
+def record_refused(srv, tok):
+    """The database refuses the rows of a completed run's files (a trigger in queue.db standing
+    in for a full disk) for a few lease times: the worker keeps its lease and asks again, and
+    the job ends successful on attempt 1 with its files once the trigger is gone (until
+    2026-12-06 the files stayed in a result/ folder the database did not list, the lease
+    lapsed and the run was done again)."""
+    db = sqlite3.connect(os.path.join(srv.run, "queue.db"), timeout=30)
+    db.execute("CREATE TRIGGER refuse_results BEFORE INSERT ON results "
+               "BEGIN SELECT RAISE(ABORT, 'database or disk is full'); END")
+    db.commit()
+    try:
+        job = submit(srv, tok, 22)
+        deadline = time.time() + 30
+        log = b""
+        while b"engine finished" not in log and time.time() < deadline:
+            time.sleep(0.1)
+            st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        time.sleep(5)  # 2.5 leases
+        st, _, doc = srv.request("GET", "/jobs/" + job, tok)
+        T.check(b"engine finished" in log and doc["status"] == "running" and
+                doc["attempt"] == 1, "a run the database refuses to record: %s" % doc)
+    finally:
+        db.execute("DROP TRIGGER refuse_results")
+        db.commit()
+    final = T.wait_final(srv, tok, job, timeout=30)
+    events = [e for (e,) in db.execute(
+        "SELECT event FROM job_events WHERE job_id = ? ORDER BY rowid", (job,))]
+    db.close()
+    st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+    T.check(final["status"] == "successful" and final["attempt"] == 1 and
+            "requeued" not in events and st == 200 and
+            sorted(res.get("outputs", {})) == ["result.h5", "summary.json"],
+            "recorded once the database takes it: %s, events %s, outputs %s"
+            % (final, events, res.get("outputs")))
 
 
 def restart_after_kill(a):

@@ -350,6 +350,64 @@ static void test_queue(const char *dir)
     lubd_db_close(db);
 }
 
+/* A run whose results cannot be recorded (the database refuses the rows: a full disk at
+ * COMMIT, here a trigger) stays running with its files back in out/, not in a result/ the
+ * database does not list; once the database takes them, the job succeeds with them. */
+static void test_finish_refused(const char *dir)
+{
+    char path[1024], out[1100], res[1100], file[1200];
+    snprintf(path, sizeof path, "%s/finish.db", dir);
+    snprintf(out, sizeof out, "%s/finish-out", dir);
+    snprintf(res, sizeof res, "%s/finish-result", dir);
+    unlink(path);
+    lubd_rm_rf(out);
+    lubd_rm_rf(res);
+    sqlite3 *db = lubd_db_open(path, 1);
+    CHECK(db != NULL);
+    if (!db)
+        return;
+    char tok[LUBD_TOKEN_MAX], id[33];
+    CHECK(lubd_token_create(db, "f", 0, tok) == 0);
+    char auth[200];
+    snprintf(auth, sizeof auth, "Bearer %s", tok);
+    lubd_user u;
+    CHECK(lubd_auth_bearer(db, auth, &u) == 0);
+    lubd_submit s = {
+        u.id, 10, "falling_sphere", "{}", "{\"scene\":\"falling_sphere\"}", "0", NULL, 0, 2, NULL};
+    int replayed;
+    lubd_fault f;
+    CHECK(lubd_queue_submit(db, &s, id, &replayed, &f) == 0);
+    lubd_claim c;
+    CHECK(lubd_lease_claim(db, "w", 60, &c) == 1);
+    CHECK(mkdir(out, 0755) == 0);
+    snprintf(file, sizeof file, "%s/summary.json", out);
+    FILE *fp = fopen(file, "w");
+    CHECK(fp != NULL);
+    if (fp)
+        fclose(fp);
+    lubd_output_file files[1] = {{"summary.json", "application/json", 0, ""}};
+    memset(files[0].sha256, 'a', 64);
+    files[0].sha256[64] = '\0';
+    CHECK(sqlite3_exec(db,
+                       "CREATE TEMP TRIGGER refuse BEFORE INSERT ON results "
+                       "BEGIN SELECT RAISE(ABORT, 'database or disk is full'); END",
+                       NULL, NULL, NULL) == SQLITE_OK);
+    CHECK(lubd_lease_succeed(db, &c, out, res, files, 1, "completed") == -1);
+    struct stat sb;
+    CHECK(stat(file, &sb) == 0 && stat(res, &sb) != 0);
+    lubd_job j;
+    CHECK(lubd_queue_get(db, id, &j) == 1 && strcmp(j.state, "running") == 0);
+    CHECK(sqlite3_exec(db, "DROP TRIGGER refuse", NULL, NULL, NULL) == SQLITE_OK);
+    CHECK(lubd_lease_succeed(db, &c, out, res, files, 1, "completed") == 1);
+    snprintf(file, sizeof file, "%s/summary.json", res);
+    CHECK(stat(file, &sb) == 0 && stat(out, &sb) != 0);
+    CHECK(lubd_queue_get(db, id, &j) == 1 && strcmp(j.state, "successful") == 0);
+    lubd_lease_clear(&c);
+    lubd_db_close(db);
+    lubd_rm_rf(res);
+    unlink(path);
+}
+
 /* Reads a whole small file into buf (NUL-terminated); its length, or -1. */
 static long slurp(const char *path, char *buf, size_t n)
 {
@@ -625,6 +683,7 @@ int main(int argc, char **argv)
     test_exec();
     test_job_limits();
     test_queue(argc > 1 ? argv[1] : ".");
+    test_finish_refused(argc > 1 ? argv[1] : ".");
     test_link_or_copy(argc > 1 ? argv[1] : ".");
     test_hand_over(argc > 1 ? argv[1] : ".");
     test_deletion_sweep(argc > 1 ? argv[1] : ".");
