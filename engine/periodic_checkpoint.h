@@ -14,9 +14,9 @@
  *
  * Cost: the copy is the size of result.h5 so far (snapshots included), made by lub_file_copy
  * (file_copy.h: inside the kernel, or no data moved where the file system shares blocks), the
- * state ~2 kB per particle; both are written while the run waits. Units: wall-clock seconds. Ownership: the
- * paths are borrowed (the driver's). Errors: a failed checkpoint is recorded once (failure) and
- * the run goes on; the next is tried at the next interval. Not thread-safe.
+ * state ~2 kB per particle; both are written while the run waits. Units: wall-clock seconds.
+ * Ownership: the paths are borrowed (the driver's). Errors: a failed checkpoint is recorded once
+ * (failure) and the run goes on; the next is tried at the next interval. Not thread-safe.
  */
 #ifndef LUBDEM_PERIODIC_CHECKPOINT_H
 #define LUBDEM_PERIODIC_CHECKPOINT_H
