@@ -46,6 +46,7 @@ int lub_shear_save(lub_ckpt *c, const lub_shear_system *s)
              lub_ckpt_put_i64(c, "system/lost_pairs", s->lost_pairs) ||
              lub_ckpt_put_i64(c, "system/need_rebuild", s->need_rebuild) ||
              lub_ckpt_put_i64(c, "system/topology_interval", s->topology_interval) ||
+             lub_ckpt_put_i64(c, "system/topology_step", s->topology_step) ||
              lub_ckpt_put(c, "system/topology_statistics", LUB_CKPT_I64, 4, topo) ||
              lub_pairs_save(c, "pairs", &s->pairs);
     if (!rc && s->tpdf) {
@@ -79,7 +80,7 @@ int lub_shear_saved_particles(lub_ckpt *c, int *n, double **radius)
 int lub_shear_restore(lub_ckpt *c, lub_shear_system *s)
 {
     const size_t n = (size_t)s->n;
-    int64_t step, rebuilds, flips, lost, need, interval, topo[4];
+    int64_t step, rebuilds, flips, lost, need, interval, topo_step, topo[4];
     if (lub_ckpt_get(c, "system/x", LUB_CKPT_F64, 3 * n, s->x) ||
         lub_ckpt_get(c, "system/v", LUB_CKPT_F64, 3 * n, s->v) ||
         lub_ckpt_get(c, "system/w", LUB_CKPT_F64, 3 * n, s->w) ||
@@ -96,6 +97,7 @@ int lub_shear_restore(lub_ckpt *c, lub_shear_system *s)
         lub_ckpt_get_i64(c, "system/lost_pairs", &lost) ||
         lub_ckpt_get_i64(c, "system/need_rebuild", &need) ||
         lub_ckpt_get_i64(c, "system/topology_interval", &interval) ||
+        lub_ckpt_get_i64_or(c, "system/topology_step", -1, &topo_step) ||
         lub_ckpt_get(c, "system/topology_statistics", LUB_CKPT_I64, 4, topo) ||
         lub_pairs_load(c, "pairs", &s->pairs, s->n, s->threads))
         return -1;
@@ -105,6 +107,7 @@ int lub_shear_restore(lub_ckpt *c, lub_shear_system *s)
     s->lost_pairs = (long)lost;
     s->need_rebuild = (int)need;
     s->topology_interval = (int)interval;
+    s->topology_step = (long)topo_step;
     s->topo.inside = (size_t)topo[0];
     s->topo.allowed = (size_t)topo[1];
     s->topo.open = (size_t)topo[2];

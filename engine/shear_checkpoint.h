@@ -7,7 +7,10 @@
  * (rebuilds, flips, lost pairs), the skin consumed and whether a rebuild is due, the listing
  * distance of the last rebuild, every listed pair with its image shift, law state and flags
  * (active, near, allowed), the balanced split of the pairs over the threads, the Delaunay
- * update statistics and the microstructure sums. Values are stored bit for bit, so a run
+ * update statistics, the step whose positions the Delaunay set was last computed from (a
+ * network frame may have computed the set of the step that follows it; a checkpoint written
+ * before 2026-12-06 has none, and its first step computes the set again, counted once more
+ * in delaunay_updates) and the microstructure sums. Values are stored bit for bit, so a run
  * continued with the same binary and thread count gives the same numbers as one that never
  * stopped (1 and 2 threads; tests/shear/test_resume.py). What is rebuilt rather than stored:
  * the cell lists and the Delaunay candidate sites (recomputed at every update from positions),

@@ -16,6 +16,7 @@
 #include <string.h>
 
 #include "pair_network.h"
+#include "shear_checkpoint.h"
 #include "shear_fixture.h"
 #include "shear_system.h"
 #include "shear_test.h"
@@ -202,6 +203,41 @@ int main(void)
         changed += before[k] != s.pairs.allow[k];
     ST_CHECK(changed > 0, "Delaunay: the due update changed the set (%zu pairs)", changed);
     free(before);
+    lub_shear_free(&s);
+
+    /* A checkpoint written after such a network (a stop right after a frame) continues as the
+     * run that did not stop: the same positions after the next update, and the update the
+     * network did counted once (the step of the continued run does not compute it again) */
+    ST_CHECK(shear_fixture_make(&s, 300, 0.52, &law, 2.0, 1, 9, 1e-2) == 0, "fixture");
+    lub_shear_use_delaunay(&s, 40, 0.05);
+    due = 0;
+    for (int k = 0; k < 5000 && !due; ++k) {
+        ST_CHECK(lub_shear_step(&s, 0, NULL) == LUB_SHEAR_OK, "step");
+        due = s.step > 200 && s.step % 40 == 0 && !s.need_rebuild;
+    }
+    lub_pair_network frame = {0};
+    ST_CHECK(lub_shear_pair_network(&s, &frame) == LUB_SHEAR_OK, "network at a due update");
+    lub_pair_network_free(&frame);
+    char err[400] = "";
+    const char *ckpt_path = "pair_network_checkpoint.h5";
+    lub_ckpt *ck = lub_ckpt_create(ckpt_path, err, sizeof err);
+    ST_CHECK(ck && lub_shear_save(ck, &s) == 0 && lub_ckpt_close(ck, err, sizeof err) == 0,
+             "checkpoint after the network: %s", err);
+    lub_shear_system t;
+    ST_CHECK(shear_fixture_make(&t, 300, 0.52, &law, 2.0, 1, 9, 1e-2) == 0, "fixture");
+    lub_shear_use_delaunay(&t, 40, 0.05);
+    ck = lub_ckpt_open(ckpt_path, err, sizeof err);
+    ST_CHECK(ck && lub_shear_restore(ck, &t) == 0, "restore: %s", ck ? lub_ckpt_error(ck) : err);
+    lub_ckpt_close(ck, NULL, 0);
+    remove(ckpt_path);
+    for (int k = 0; k < 50; ++k)
+        ST_CHECK(lub_shear_step(&s, 0, NULL) == LUB_SHEAR_OK &&
+                     lub_shear_step(&t, 0, NULL) == LUB_SHEAR_OK,
+                 "steps after the checkpoint");
+    ST_CHECK(t.topo.updates == s.topo.updates && memcmp(t.x, s.x, (size_t)s.n * sizeof *s.x) == 0,
+             "continued from the checkpoint: %ld updates against %ld, positions %s", t.topo.updates,
+             s.topo.updates, memcmp(t.x, s.x, (size_t)s.n * sizeof *s.x) ? "differ" : "equal");
+    lub_shear_free(&t);
     lub_shear_free(&s);
     lub_pair_network empty = {0};
     lub_pair_network_free(&empty); /* safe on an empty network */
