@@ -515,12 +515,18 @@ static int ss_network_frame(lub_run_ctx *ctx, lub_shear_system *s, lub_h5_frames
     /* The rebuild the network may do first is the one the next step would do: before a step
      * it counts (the step control adapts the step after each rebuild it sees, and the step
      * then does none), at the end it is none of the run's, and the summary's
-     * neighbor_rebuilds and cell_flips stay those of the steps. */
+     * neighbor_rebuilds and cell_flips stay those of the steps; so do the Delaunay update
+     * statistics (the update a final frame may do is none of the run's either). */
     const long rebuilds = s->rebuilds, flips = s->flips;
+    const lub_topology topo = s->topo;
     const int rc = lub_shear_pair_network(s, net);
     if (final) {
         s->rebuilds = rebuilds;
         s->flips = flips;
+        s->topo.updates = topo.updates;
+        s->topo.inside = topo.inside;
+        s->topo.allowed = topo.allowed;
+        s->topo.open = topo.open;
     }
     if (rc != LUB_SHEAR_OK) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "interaction network at step %ld: %s",

@@ -466,7 +466,9 @@ static void run_job(worker_ctx *w, lubd_claim *c)
          * (lubd_lease_succeed), and a completed run is not thrown away for a moment's trouble.
          * After that the lease lapses and the job runs again. */
         int done = lubd_lease_succeed(w->db, c, out_dir, result_dir, files, n, "completed");
-        for (int tries = 1; done < 0 && tries <= RECORD_TRIES && !*w->stop; ++tries) {
+        for (int tries = 1; done < 0 && tries <= RECORD_TRIES && !*w->stop &&
+                            access(out_dir, F_OK) == 0; /* files back in out_dir */
+             ++tries) {
             if (tries == 1)
                 fprintf(stderr,
                         "lubdemd worker %s: cannot record the success of %s; trying again for "
@@ -530,7 +532,7 @@ static void job_ended(worker_ctx *w, const lubd_claim *c)
     if (j.purged) {
         /* deleted (a second DELETE) while its engine was being stopped: the deletion removed
          * the folder then, and what the engine wrote after that goes now */
-        if (lubd_deletion_free(w->db, w->cfg->jobs_dir, c->id, why, sizeof why) < 0)
+        if (lubd_deletion_free(w->db, w->cfg->jobs_dir, c->id, why, sizeof why) != 0)
             fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
     } else if (lubd_deletion_tidy_ended(w->cfg->jobs_dir, &j, why, sizeof why) < 0)
         fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
