@@ -106,27 +106,18 @@ static int fs_check_steps(const fs_params *p, int stiffness_from_K, lub_error *e
     lub_step_alt alt[5];
     int n = 0;
     fs_params q;
+/* alt[n++]: the count with member `field` of the spec at `value`, the rest as it is */
+#define FS_ALT(name, field, value)                                                                 \
+    (q = *p, q.field = (value), alt[n++] = (lub_step_alt){(name), fs_steps(&q)})
     if (p->dt > 0.0) {
-        q = *p;
-        q.dt = 0.0;
-        alt[n++] = (lub_step_alt){"/dt", fs_steps(&q)};
+        FS_ALT("/dt", dt, 0.0);
     } else {
-        q = *p;
-        q.G = FS_DEFAULT_STIFFNESS;
-        alt[n++] = (lub_step_alt){stiff, fs_steps(&q)};
-        q = *p;
-        q.St = FS_DEFAULT_ST;
-        alt[n++] = (lub_step_alt){"/St", fs_steps(&q)};
-        q = *p;
-        q.u0 = FS_DEFAULT_U0;
-        alt[n++] = (lub_step_alt){"/u0", fs_steps(&q)};
-        q = *p;
-        q.dt_safety = FS_DEFAULT_DT_SAFETY;
-        alt[n++] = (lub_step_alt){"/dt_safety", fs_steps(&q)};
+        FS_ALT(stiff, G, FS_DEFAULT_STIFFNESS);
+        FS_ALT("/St", St, FS_DEFAULT_ST);
+        FS_ALT("/u0", u0, FS_DEFAULT_U0);
+        FS_ALT("/dt_safety", dt_safety, FS_DEFAULT_DT_SAFETY);
     }
-    q = *p;
-    q.duration = FS_DEFAULT_DURATION;
-    alt[n++] = (lub_step_alt){"/duration", fs_steps(&q)};
+    FS_ALT("/duration", duration, FS_DEFAULT_DURATION);
     char origin[200];
     if (p->dt > 0.0)
         snprintf(origin, sizeof origin, "fixed by /dt");
@@ -136,6 +127,7 @@ static int fs_check_steps(const fs_params *p, int stiffness_from_K, lub_error *e
                  o.dt_crit, stiffness_from_K ? "/K (the stiffness K/(alpha eps))" : "/stiffness");
     char duration[48];
     snprintf(duration, sizeof duration, "/duration %.6g", p->duration);
+#undef FS_ALT
     return lub_step_count_fail(err, lub_step_count_culprit(count, alt, n), count, "", "/duration",
                                duration, o.dt, origin);
 }

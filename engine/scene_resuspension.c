@@ -119,33 +119,20 @@ static int rs_step_refusal(const rs_params *p, double r, double count, double dt
     lub_step_alt alt[8];
     int n = 0;
     rs_params q;
+/* alt[n++]: the count with member `field` of the spec at `value`, the rest as it is */
+#define RS_ALT(name, field, value)                                                                 \
+    (q = *p, q.field = (value), alt[n++] = (lub_step_alt){(name), rs_steps_at(&q, r)})
     if (p->dt > 0.0) {
-        q = *p;
-        q.dt = 0.0;
-        alt[n++] = (lub_step_alt){"/dt", rs_steps_at(&q, r)};
+        RS_ALT("/dt", dt, 0.0);
     } else {
-        q = *p;
-        q.stiffness = RS_DEFAULT_STIFFNESS;
-        alt[n++] = (lub_step_alt){"/stiffness", rs_steps_at(&q, r)};
-        q = *p;
-        q.Sh = RS_DEFAULT_SHIELDS;
-        alt[n++] = (lub_step_alt){"/shields", rs_steps_at(&q, r)};
-        q = *p;
-        q.I = RS_DEFAULT_INERTIAL_NUMBER;
-        alt[n++] = (lub_step_alt){"/inertial_number", rs_steps_at(&q, r)};
-        q = *p;
-        q.density_ratio = RS_DEFAULT_DENSITY_RATIO;
-        alt[n++] = (lub_step_alt){"/density_ratio", rs_steps_at(&q, r)};
-        q = *p;
-        q.law.kt_ratio = rs_law_opts.default_kt_ratio;
-        alt[n++] = (lub_step_alt){"/law/kt_ratio", rs_steps_at(&q, r)};
-        q = *p;
-        q.dt_safety = RS_DEFAULT_DT_SAFETY;
-        alt[n++] = (lub_step_alt){"/dt_safety", rs_steps_at(&q, r)};
+        RS_ALT("/stiffness", stiffness, RS_DEFAULT_STIFFNESS);
+        RS_ALT("/shields", Sh, RS_DEFAULT_SHIELDS);
+        RS_ALT("/inertial_number", I, RS_DEFAULT_INERTIAL_NUMBER);
+        RS_ALT("/density_ratio", density_ratio, RS_DEFAULT_DENSITY_RATIO);
+        RS_ALT("/law/kt_ratio", law.kt_ratio, rs_law_opts.default_kt_ratio);
+        RS_ALT("/dt_safety", dt_safety, RS_DEFAULT_DT_SAFETY);
     }
-    q = *p;
-    q.strain = RS_DEFAULT_STRAIN;
-    alt[n++] = (lub_step_alt){"/strain", rs_steps_at(&q, r)};
+    RS_ALT("/strain", strain, RS_DEFAULT_STRAIN);
     char duration[48], origin[240];
     snprintf(duration, sizeof duration, "/strain %.6g", p->strain);
     if (p->dt > 0.0)
@@ -156,6 +143,7 @@ static int rs_step_refusal(const rs_params *p, double r, double count, double dt
                  "which /stiffness, /shields, /inertial_number, /density_ratio, /law/kt_ratio "
                  "and /radius_std set",
                  p->dt_safety);
+#undef RS_ALT
     return lub_step_count_fail(err, lub_step_count_culprit(count, alt, n), count, qualifier,
                                "/strain", duration, dt, origin);
 }
@@ -170,12 +158,12 @@ static int rs_check_steps(const rs_params *p, lub_error *err)
     if (p->dt <= 0.0)
         lub_packing_radius_bounds(p->radius_std, &r_lo, &r_hi);
     const double fewest = rs_steps_at(p, r_hi), most = rs_steps_at(p, r_lo);
-    const char *q_fewest = p->dt > 0.0 ? "" : "at least ", *q_most = p->dt > 0.0 ? "" : "at most ";
-    if (fewest > LUB_MAX_STEPS || !(fewest == fewest))
-        return rs_step_refusal(p, r_hi, fewest, p->strain / fewest, q_fewest, err);
-    if (!lub_step_count_ok(most) && !(most > LUB_MAX_STEPS))
-        return rs_step_refusal(p, r_lo, most, p->strain / most, q_most, err);
-    return 0;
+    const char *qualifier;
+    const int out = lub_step_count_range_outside(fewest, most, p->dt > 0.0, &qualifier);
+    if (!out)
+        return 0;
+    const double count = out > 0 ? fewest : most;
+    return rs_step_refusal(p, out > 0 ? r_hi : r_lo, count, p->strain / count, qualifier, err);
 }
 
 static int rs_read(json_t *spec, rs_params *p, lub_error *err)

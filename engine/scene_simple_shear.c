@@ -130,32 +130,21 @@ static int ss_step_refusal(const ss_params *p, double r, double count, double dt
     lub_step_alt alt[7];
     int n = 0;
     ss_params q;
+/* alt[n++]: the count with member `field` of the spec at `value`, the rest as it is */
+#define SS_ALT(name, field, value)                                                                 \
+    (q = *p, q.field = (value), alt[n++] = (lub_step_alt){(name), ss_steps_at(&q, r)})
     if (p->pressure) {
-        q = *p;
-        q.Iv = SS_DEFAULT_IV;
-        alt[n++] = (lub_step_alt){"/Iv", ss_steps_at(&q, r)};
+        SS_ALT("/Iv", Iv, SS_DEFAULT_IV);
     }
     if (p->dt > 0.0) {
-        q = *p;
-        q.dt = 0.0;
-        alt[n++] = (lub_step_alt){"/dt", ss_steps_at(&q, r)};
+        SS_ALT("/dt", dt, 0.0);
     } else {
-        q = *p;
-        q.stiffness = ss_default_stiffness(p);
-        alt[n++] = (lub_step_alt){"/stiffness", ss_steps_at(&q, r)};
-        q = *p;
-        q.St = SS_DEFAULT_ST;
-        alt[n++] = (lub_step_alt){"/St", ss_steps_at(&q, r)};
-        q = *p;
-        q.law.kt_ratio = ss_law_opts.default_kt_ratio;
-        alt[n++] = (lub_step_alt){"/law/kt_ratio", ss_steps_at(&q, r)};
-        q = *p;
-        q.dt_safety = SS_DEFAULT_DT_SAFETY;
-        alt[n++] = (lub_step_alt){"/dt_safety", ss_steps_at(&q, r)};
+        SS_ALT("/stiffness", stiffness, ss_default_stiffness(p));
+        SS_ALT("/St", St, SS_DEFAULT_ST);
+        SS_ALT("/law/kt_ratio", law.kt_ratio, ss_law_opts.default_kt_ratio);
+        SS_ALT("/dt_safety", dt_safety, SS_DEFAULT_DT_SAFETY);
     }
-    q = *p;
-    q.strain = SS_DEFAULT_STRAIN;
-    alt[n++] = (lub_step_alt){"/strain", ss_steps_at(&q, r)};
+    SS_ALT("/strain", strain, SS_DEFAULT_STRAIN);
     char duration[96], origin[240];
     if (p->pressure)
         snprintf(duration, sizeof duration, "/strain %.6g over /Iv %g (a time of %.6g eta/P)",
@@ -169,6 +158,7 @@ static int ss_step_refusal(const ss_params *p, double r, double count, double dt
                  "/dt_safety %g times dt_elastic, the elastic bound of the lightest particle, "
                  "which /stiffness, /St, /law/kt_ratio%s and /radius_std set",
                  p->dt_safety, p->pressure ? ", /Iv" : "");
+#undef SS_ALT
     return lub_step_count_fail(err, lub_step_count_culprit(count, alt, n), count, qualifier,
                                "/strain", duration, dt, origin);
 }
@@ -184,13 +174,12 @@ static int ss_check_steps(const ss_params *p, lub_error *err)
         lub_packing_radius_bounds(p->radius_std, &r_lo, &r_hi);
     const double gd = p->pressure ? p->Iv : 1.0;
     const double fewest = ss_steps_at(p, r_hi), most = ss_steps_at(p, r_lo);
-    const int exact = p->dt > 0.0;
-    if (fewest > LUB_MAX_STEPS || !(fewest == fewest))
-        return ss_step_refusal(p, r_hi, fewest, p->strain / gd / fewest, exact ? "" : "at least ",
-                               err);
-    if (!lub_step_count_ok(most) && !(most > LUB_MAX_STEPS))
-        return ss_step_refusal(p, r_lo, most, p->strain / gd / most, exact ? "" : "at most ", err);
-    return 0;
+    const char *qualifier;
+    const int out = lub_step_count_range_outside(fewest, most, p->dt > 0.0, &qualifier);
+    if (!out)
+        return 0;
+    const double count = out > 0 ? fewest : most;
+    return ss_step_refusal(p, out > 0 ? r_hi : r_lo, count, p->strain / gd / count, qualifier, err);
 }
 
 static int ss_read(json_t *spec, ss_params *p, lub_error *err)

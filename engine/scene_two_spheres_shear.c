@@ -175,30 +175,19 @@ static int ts_check_steps(const ts_params *p, lub_error *err)
     lub_step_alt alt[6];
     int n = 0;
     ts_params q;
-    q = *p;
-    q.dt_free = TS_DEFAULT_DT_FREE;
-    alt[n++] = (lub_step_alt){"/dt_free", ts_steps_of(&q)};
+/* alt[n++]: the count with member `field` of the spec at `value`, the rest as it is */
+#define TS_ALT(name, field, value)                                                                 \
+    (q = *p, q.field = (value), alt[n++] = (lub_step_alt){(name), ts_steps_of(&q)})
+    TS_ALT("/dt_free", dt_free, TS_DEFAULT_DT_FREE);
     if (p->dt > 0.0) {
-        q = *p;
-        q.dt = 0.0;
-        alt[n++] = (lub_step_alt){"/dt", ts_steps_of(&q)};
+        TS_ALT("/dt", dt, 0.0);
     } else {
-        q = *p;
-        q.Ca = TS_DEFAULT_CA;
-        alt[n++] = (lub_step_alt){"/Ca", ts_steps_of(&q)};
-        q = *p;
-        q.St = TS_DEFAULT_ST;
-        alt[n++] = (lub_step_alt){"/St", ts_steps_of(&q)};
-        q = *p;
-        q.law.kt_ratio = ts_law_opts.default_kt_ratio;
-        alt[n++] = (lub_step_alt){"/law/kt_ratio", ts_steps_of(&q)};
-        q = *p;
-        q.dt_safety = TS_DEFAULT_DT_SAFETY;
-        alt[n++] = (lub_step_alt){"/dt_safety", ts_steps_of(&q)};
+        TS_ALT("/Ca", Ca, TS_DEFAULT_CA);
+        TS_ALT("/St", St, TS_DEFAULT_ST);
+        TS_ALT("/law/kt_ratio", law.kt_ratio, ts_law_opts.default_kt_ratio);
+        TS_ALT("/dt_safety", dt_safety, TS_DEFAULT_DT_SAFETY);
     }
-    q = *p;
-    q.duration = TS_DEFAULT_DURATION;
-    alt[n++] = (lub_step_alt){"/duration", ts_steps_of(&q)};
+    TS_ALT("/duration", duration, TS_DEFAULT_DURATION);
     char origin[240];
     if (away)
         snprintf(origin, sizeof origin,
@@ -213,6 +202,7 @@ static int ts_check_steps(const ts_params *p, lub_error *err)
                  count > 1.0 ? "; /duration bounds the run even with /stop_at_separation" : "");
     char duration[48];
     snprintf(duration, sizeof duration, "/duration %.6g", p->duration);
+#undef TS_ALT
     return lub_step_count_fail(err, lub_step_count_culprit(count, alt, n), count, "", "/duration",
                                duration, dt, origin);
 }

@@ -7,6 +7,17 @@ double lub_step_count(double duration, double dt) { return duration / dt; }
 
 int lub_step_count_ok(double count) { return count >= 1.0 - 1e-9 && count <= LUB_MAX_STEPS; }
 
+int lub_step_count_range_outside(double fewest, double most, int exact, const char **qualifier)
+{
+    int out = 0;
+    if (fewest > LUB_MAX_STEPS || !(fewest == fewest))
+        out = 1;
+    else if (!lub_step_count_ok(most) && !(most > LUB_MAX_STEPS))
+        out = -1;
+    *qualifier = exact ? "" : out > 0 ? "at least " : "at most ";
+    return out;
+}
+
 double lub_step_count_excess(double count)
 {
     if (lub_step_count_ok(count))

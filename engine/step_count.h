@@ -29,6 +29,14 @@ double lub_step_count(double duration, double dt);
 /* 1 when 1 - 1e-9 <= count <= LUB_MAX_STEPS, else 0 (also for NaN). */
 int lub_step_count_ok(double count);
 
+/* For a run that knows its count only as a range [fewest, most] before it starts (the step set
+ * by its lightest particle, whose radius lies between two bounds): +1 when even the fewest is
+ * too many (or NaN), -1 when even the most is too few, 0 when some count in the range is
+ * allowed (the run then checks its own count once it knows it). *qualifier: the words before
+ * the refused count (lub_step_count_fail): "" when `exact` (the range is one count), else
+ * "at least " or "at most ". */
+int lub_step_count_range_outside(double fewest, double most, int exact, const char **qualifier);
+
 /* How far count lies outside the allowed range, in decades: 0 inside, +inf for 0, inf or NaN. */
 double lub_step_count_excess(double count);
 
