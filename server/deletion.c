@@ -3,8 +3,10 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #include "continuation.h"
@@ -20,18 +22,37 @@ int lubd_deletion_free(sqlite3 *db, const char *jobs_dir, const char *id, char *
         lubd_pathf(why, why_len, "path too long under %s", jobs_dir);
         return -1;
     }
-    if (access(dir, F_OK) != 0 && errno == ENOENT)
-        return 0;
-    char reason[900] = "";
-    if (lubd_continuation_hand_over(db, jobs_dir, id, reason, sizeof reason) < 0) {
-        lubd_pathf(why, why_len, "%s; %s is kept", reason, dir);
-        return 1;
-    }
-    if (lubd_rm_rf(dir) != 0) {
-        lubd_pathf(why, why_len, "could not delete %s: %s", dir, strerror(errno));
+    /* The service's request threads and its workers (other processes) may free one job at
+     * once (a DELETE while the worker ends it): an exclusive lock on the folder makes the second
+     * wait and then find it gone, instead of both handing over through the same temporary
+     * folder and one removing what the other was linking. */
+    const int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd < 0) {
+        if (errno == ENOENT)
+            return 0;
+        lubd_pathf(why, why_len, "could not open %s: %s", dir, strerror(errno));
         return -1;
     }
-    return 0;
+    int rc;
+    while ((rc = flock(fd, LOCK_EX)) != 0 && errno == EINTR)
+        ;
+    if (rc != 0) {
+        lubd_pathf(why, why_len, "could not lock %s: %s", dir, strerror(errno));
+        close(fd);
+        return -1;
+    }
+    char reason[900] = "";
+    if (access(dir, F_OK) != 0 && errno == ENOENT)
+        rc = 0; /* freed by the holder of the lock while we waited */
+    else if (lubd_continuation_hand_over(db, jobs_dir, id, reason, sizeof reason) < 0) {
+        lubd_pathf(why, why_len, "%s; %s is kept", reason, dir);
+        rc = 1;
+    } else if (lubd_rm_rf(dir) != 0) {
+        lubd_pathf(why, why_len, "could not delete %s: %s", dir, strerror(errno));
+        rc = -1;
+    }
+    close(fd); /* releases the lock */
+    return rc;
 }
 
 /* Removes jobs_dir/<id>/continued-from/: 1 removed, 0 not there, -1 not removable (*why). */

@@ -23,7 +23,8 @@
  * and have not ended, then removes jobs_dir/<id>. Returns 0 when the folder is gone (or was
  * not there), 1 when it is kept because the hand-over failed, -1 when it could not be
  * removed; *why says why for 1 and -1. Must not be called for a job that is not purged (its
- * folder would be removed all the same). */
+ * folder would be removed all the same). Callers in any thread or process are serialised by an
+ * exclusive flock on the folder: one that waited finds the folder gone and returns 0. */
 int lubd_deletion_free(sqlite3 *db, const char *jobs_dir, const char *id, char *why,
                        size_t why_len);
 

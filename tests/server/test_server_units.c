@@ -3,12 +3,15 @@
  * validation, the memory check of submissions, claim order/fencing/reaping, hard link or
  * copy of a continuation's files, their hand-over when the job they continue is deleted, and
  * the freeing of what deletions left on disk (a service stopped between their steps, a
- * hand-over that failed).
+ * hand-over that failed), and the serialisation of two frees of one job.
  * Usage:
  * test_server_units SCRATCH_DIR */
+#include <fcntl.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -675,6 +678,72 @@ static void test_deletion_sweep(const char *dir)
     unlink(path);
 }
 
+/* lubd_deletion_free run in a thread of its own (the other party holds the folder's lock) */
+typedef struct {
+    sqlite3 *db;
+    const char *jobs, *id;
+    int rc;
+    char why[1400];
+} free_call;
+
+static void *free_in_thread(void *arg)
+{
+    free_call *c = arg;
+    c->rc = lubd_deletion_free(c->db, c->jobs, c->id, c->why, sizeof c->why);
+    return NULL;
+}
+
+/* Two frees of one purged job (a DELETE's request thread and the worker that ends the job, two
+ * processes) take turns on the folder's lock: while one holds it the other does not touch the
+ * folder, and afterwards it finds the folder gone or frees what is there. */
+static void test_deletion_free_serialised(const char *dir)
+{
+    char path[1024], jobs[1024];
+    lubd_user u;
+    sqlite3 *db = scratch_queue(dir, "freelock", path, jobs, &u);
+    if (!db)
+        return;
+    char src[33], dep[33], folder[1200];
+    int rep;
+    submit_job(db, u.id, src, NULL);
+    submit_job(db, u.id, dep, src);
+    char sql[200];
+    snprintf(sql, sizeof sql, "UPDATE jobs SET state = 'successful' WHERE id = '%s'", src);
+    CHECK(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK);
+    lubd_job j;
+    CHECK(lubd_queue_dismiss(db, src, &j, &rep) == 0 && rep == 1);
+    const struct timespec pause = {0, 300000000L};
+    for (int other_frees = 0; other_frees <= 1; ++other_frees) {
+        put_file(jobs, src, "result/checkpoint.h5");
+        put_file(jobs, src, "result/result.h5");
+        lubd_pathf(folder, sizeof folder, "%s/%s", jobs, src);
+        const int fd = open(folder, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+        CHECK(fd >= 0 && flock(fd, LOCK_EX) == 0);
+        free_call call = {db, jobs, src, -2, ""};
+        pthread_t t;
+        CHECK(pthread_create(&t, NULL, free_in_thread, &call) == 0);
+        nanosleep(&pause, NULL);
+        /* the lock is held: the folder and its files are untouched, nothing handed over */
+        CHECK(exists(jobs, src, "result/result.h5") && !exists(jobs, dep, LUBD_CONTINUED_FROM));
+        if (other_frees) { /* the holder frees the folder itself, handing over first */
+            char why[1400] = "";
+            CHECK(lubd_continuation_hand_over(db, jobs, src, why, sizeof why) == 1);
+            CHECK(lubd_rm_rf(folder) == 0);
+        }
+        close(fd);
+        pthread_join(t, NULL);
+        CHECK(call.rc == 0 && !exists(jobs, src, ""));
+        CHECK(exists(jobs, dep, LUBD_CONTINUED_FROM "/checkpoint.h5") &&
+              exists(jobs, dep, LUBD_CONTINUED_FROM "/result.h5"));
+        char handed[1300];
+        lubd_pathf(handed, sizeof handed, "%s/%s/" LUBD_CONTINUED_FROM, jobs, dep);
+        CHECK(lubd_rm_rf(handed) == 0);
+    }
+    lubd_db_close(db);
+    lubd_rm_rf(jobs);
+    unlink(path);
+}
+
 int main(int argc, char **argv)
 {
     test_sha256();
@@ -687,6 +756,7 @@ int main(int argc, char **argv)
     test_link_or_copy(argc > 1 ? argv[1] : ".");
     test_hand_over(argc > 1 ? argv[1] : ".");
     test_deletion_sweep(argc > 1 ? argv[1] : ".");
+    test_deletion_free_serialised(argc > 1 ? argv[1] : ".");
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else
