@@ -55,7 +55,7 @@ static int copy_through_buffer(int in, int out)
     }
 }
 
-int lub_file_copy(const char *src, const char *dst, lub_copy_how how_wanted)
+int lub_file_copy(const char *src, const char *dst, lub_copy_how how_wanted, lub_copy_how *used)
 {
     const int in = open(src, O_RDONLY | O_CLOEXEC);
     if (in < 0)
@@ -69,6 +69,8 @@ int lub_file_copy(const char *src, const char *dst, lub_copy_how how_wanted)
             err = errno;
         else if (how < 0)
             err = errno;
+        if (used)
+            *used = how == 1 ? LUB_COPY_BUFFERED : LUB_COPY_IN_KERNEL;
     }
     if (out >= 0 && !err && fsync(out) != 0)
         err = errno;

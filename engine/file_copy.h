@@ -18,7 +18,9 @@
 
 typedef enum { LUB_COPY_IN_KERNEL, LUB_COPY_BUFFERED } lub_copy_how;
 
-/* src to dst, synced; 0, or -1 with errno set. */
-int lub_file_copy(const char *src, const char *dst, lub_copy_how how);
+/* src to dst, synced; 0, or -1 with errno set. *used (may be NULL) is set, on success, to the
+ * way the bytes went: LUB_COPY_BUFFERED when `how` asked for it or the kernel could not copy
+ * these files (the fall-back). */
+int lub_file_copy(const char *src, const char *dst, lub_copy_how how, lub_copy_how *used);
 
 #endif

@@ -51,7 +51,7 @@ int lub_periodic_copy_output(lub_periodic_ckpt *pc, lub_h5 *out)
         lub_periodic_failed(pc, why);
         return -1;
     }
-    if (lub_file_copy(pc->live_path, pc->copy_tmp, LUB_COPY_IN_KERNEL)) {
+    if (lub_file_copy(pc->live_path, pc->copy_tmp, LUB_COPY_IN_KERNEL, NULL)) {
         snprintf(why, sizeof why, "cannot copy result.h5: %s", strerror(errno));
         lub_periodic_failed(pc, why);
         return -1;
