@@ -224,6 +224,33 @@ void lub_packing_radius_bounds(double radius_std, double *lo, double *hi)
     *hi = c_hi / c_lo;
 }
 
+/* 1. the radii: drawn from rng (seeded with p->seed), clipped, divided by their mean; returns
+ * that mean */
+static double draw_radii(const lub_packing_params *p, lub_rng *rng, double *radius)
+{
+    const int n = p->n;
+    double lo, hi;
+    radius_clip(p->radius_std, &lo, &hi);
+    double mean = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double r = 1.0 + p->radius_std * lub_rng_gauss(rng);
+        radius[i] = fmin(fmax(r, lo), hi);
+        mean += radius[i];
+    }
+    mean /= n;
+    for (int i = 0; i < n; ++i)
+        radius[i] /= mean;
+    return mean;
+}
+
+double lub_packing_radii(const lub_packing_params *p, double *radius)
+{
+    lub_rng rng;
+    lub_rng_seed(&rng, p->seed);
+    draw_radii(p, &rng, radius);
+    return cbrt(sphere_volume_sum(radius, p->n) / p->phi);
+}
+
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info)
 {
@@ -232,15 +259,7 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
     lub_rng_seed(&rng, p->seed);
     double lo, hi;
     radius_clip(p->radius_std, &lo, &hi);
-    double mean = 0.0;
-    for (int i = 0; i < n; ++i) {
-        double r = 1.0 + p->radius_std * lub_rng_gauss(&rng);
-        radius[i] = fmin(fmax(r, lo), hi);
-        mean += radius[i];
-    }
-    mean /= n;
-    for (int i = 0; i < n; ++i)
-        radius[i] /= mean;
+    const double mean = draw_radii(p, &rng, radius);
     double vs = sphere_volume_sum(radius, n);
 
     /* 2. random sequential placement in a dilute cube */

@@ -53,6 +53,10 @@ typedef struct {
  * overlaps within max_sweeps (phi too high), -3 if *p->stop was set (outputs unusable). */
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info);
+/* The radii lub_packing_generate gives for *p (the same draw, into radius[p->n]) and the side
+ * of the cube it packs them into, cbrt(sum of volumes / p->phi): what a caller checks before
+ * paying for the packing. Pure; no allocation. */
+double lub_packing_radii(const lub_packing_params *p, double *radius);
 /* Every radius lub_packing_generate gives lies in [*lo, *hi]: it draws radii from a normal of
  * mean 1 and standard deviation radius_std clipped to [c_lo, c_hi] = [max(1 - 3 radius_std,
  * 0.2), 1 + 3 radius_std] and divides them by their mean (itself in [c_lo, c_hi]), so

@@ -15,7 +15,9 @@ static int cmp_desc_y(const void *a, const void *b)
     return (ya < yb) - (ya > yb);
 }
 
-int lub_bed_build(const lub_bed_params *p, double *radius, vec3 *pos, lub_bed_info *info)
+/* The layers of the bed (info's layers, per_layer, layer_phi; info_code 0) and the packing of one
+ * layer. */
+static lub_packing_params bed_layers(const lub_bed_params *p, lub_bed_info *info)
 {
     const double N = (double)p->n;
     const double vbar = 4.0 / 3.0 * BED_PI * (1.0 + 3.0 * p->radius_std * p->radius_std);
@@ -31,6 +33,32 @@ int lub_bed_build(const lub_bed_params *p, double *radius, vec3 *pos, lub_bed_in
     info->per_layer = (int)nl;
     info->layer_phi = (double)nl * vbar / cube;
     info->info_code = 0;
+    return (lub_packing_params){.n = (int)nl,
+                                .phi = info->layer_phi,
+                                .radius_std = p->radius_std,
+                                .seed = p->seed,
+                                .margin = 0.01,
+                                .max_sweeps = 200000};
+}
+
+int lub_bed_geometry(const lub_bed_params *p, lub_bed_info *info, double *r_max)
+{
+    const lub_packing_params pp = bed_layers(p, info);
+    double *lr = malloc((size_t)pp.n * sizeof *lr);
+    if (!lr)
+        return -1;
+    info->side = lub_packing_radii(&pp, lr);
+    *r_max = 0.0;
+    for (int i = 0; i < pp.n; ++i)
+        *r_max = fmax(*r_max, lr[i]);
+    free(lr);
+    return 0;
+}
+
+int lub_bed_build(const lub_bed_params *p, double *radius, vec3 *pos, lub_bed_info *info)
+{
+    const lub_packing_params pp = bed_layers(p, info);
+    const long k = info->layers, nl = info->per_layer;
     double *lr = malloc((size_t)nl * sizeof *lr);
     vec3 *lp = malloc((size_t)nl * sizeof *lp);
     double *sb = malloc((size_t)(nl * k) * 3 * sizeof *sb);
@@ -40,12 +68,6 @@ int lub_bed_build(const lub_bed_params *p, double *radius, vec3 *pos, lub_bed_in
         free(sb);
         return -1;
     }
-    lub_packing_params pp = {.n = (int)nl,
-                             .phi = info->layer_phi,
-                             .radius_std = p->radius_std,
-                             .seed = p->seed,
-                             .margin = 0.01,
-                             .max_sweeps = 200000};
     lub_cell cell;
     lub_packing_info pinfo;
     int rc = lub_packing_generate(&pp, lr, lp, &cell, &pinfo);

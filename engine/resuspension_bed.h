@@ -36,4 +36,10 @@ typedef struct {
 
 int lub_bed_build(const lub_bed_params *p, double *radius, vec3 *pos, lub_bed_info *info);
 
+/* What lub_bed_build will give for *p without packing: info's side (the cell width L), layers,
+ * per_layer and layer_phi, and in *r_max the largest radius of the packed layer (the bed's
+ * spheres are among its copies). Equal to the build's to the last bit when the packing
+ * succeeds. Allocates per_layer doubles for the draw; returns 0, or -1 when out of memory. */
+int lub_bed_geometry(const lub_bed_params *p, lub_bed_info *info, double *r_max);
+
 #endif

@@ -166,6 +166,36 @@ static int rs_check_steps(const rs_params *p, lub_error *err)
     return rs_step_refusal(p, out > 0 ? r_hi : r_lo, count, p->strain / count, qualifier, err);
 }
 
+/* The cell must be at least twice the neighbour listing distance wide (neighbor_list.h): the
+ * bed's width L and its largest sphere (floor spheres included) are known from the radii alone
+ * (lub_bed_geometry), so a spec the run would stop on is refused here, before the packing. */
+static int rs_check_width(const rs_params *p, lub_error *err)
+{
+    const lub_bed_params bp = {.n = (int)p->n,
+                               .width = p->width,
+                               .phi_target = p->initial_phi,
+                               .radius_std = p->radius_std,
+                               .seed = (uint64_t)p->seed};
+    lub_bed_info info;
+    double r_max;
+    if (lub_bed_geometry(&bp, &info, &r_max) != 0)
+        return lub_fail(err, "/n", "out of memory for the radii of %lld spheres", p->n);
+    const double L = info.side;
+    const double r_floor = L / (2.0 * lub_floor_side_count(L, p->floor_radius, 4));
+    const double r_big = fmax(r_max, r_floor);
+    const double d_list = 2.0 * r_big * (1.0 + 0.5 * p->cutoff) + p->skin;
+    if (L >= 2.0 * d_list * (1.0 + 1e-12))
+        return 0;
+    return lub_fail(err, "/width",
+                    "the cell must be at least twice the neighbour listing distance wide: it is "
+                    "%.4g a (the packed layer's side for this /width, /n, /initial_phi, "
+                    "/radius_std and /seed), the listing distance 2 r_max (1 + /cutoff/2) + /skin "
+                    "is %.4g a with r_max = %.4g a (the largest sphere, floor included); raise "
+                    "/width to about %.3g or lower /cutoff or /skin (got %g)",
+                    L, d_list, r_big, ceil(p->width * 2.0 * d_list / L * 1.01 * 10.0) / 10.0,
+                    p->width);
+}
+
 static int rs_read(json_t *spec, rs_params *p, lub_error *err)
 {
     static const char *keys[] = {"scene",
@@ -303,6 +333,8 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
 
     json_t *law = lub_spec_object(spec, "", "law", err);
     if (!law || lub_law_spec_resolve(law, "/law", &rs_law_opts, &p->law, err))
+        return -1;
+    if (rs_check_width(p, err))
         return -1;
     return rs_check_steps(p, err);
 }

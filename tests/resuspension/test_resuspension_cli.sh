@@ -2,7 +2,8 @@
 # CLI-level checks of the resuspension scene: a short complete run (summary schema, H5MD
 # structure, profiles and time series present and consistent), SIGTERM during a long run
 # (exit code 5, status "partial", valid H5MD with the profiles averaged so far), fixed and
-# adapted time steps, specs refused for their length, sample count or step count (exit 2), a
+# adapted time steps, specs refused for their length, sample count, step count or a cell too
+# narrow for the cut-off (exit 2), a
 # step count only the bed decides (exit 2 from the run, status failed), and an
 # address-space limit too small for the system (exit 1, "out of memory", the limit, /n).
 # usage: test_resuspension_cli.sh LUBDEM PYTHON CHECK_H5MD SCHEMA_DIR
@@ -177,6 +178,24 @@ step_refused heavy "{$small, \"shields\": 1e300}" /shields "more than the 1e+12"
 step_refused stiff "{$small, \"stiffness\": 1e300}" /stiffness "more than the 1e+12"
 step_refused dt "{$small, \"dt\": 1e-300}" /dt "5e+298 steps"
 step_refused kt "{$small, \"law\": {\"kt_ratio\": 1e300}}" /law/kt_ratio "more than the 1e+12"
+# a cell narrower than twice the neighbour listing distance (the schema's smallest /width with
+# the default cut-off, the largest /cutoff at the default width): refused at /width before the
+# packing (exit 2, nothing created); these ran and failed at step 0 with exit 3 and no member
+# named. Just above the bound (9.8 for these 20 spheres, the largest 1.118 a) passes.
+width_refused() { # name, spec, text in the message
+  echo "$2" | "$LUBDEM" run - --out "$work/$1" --quiet 2> "$work/$1.err"
+  local rc=$?
+  echo "$2" | "$LUBDEM" validate - > /dev/null 2>&1
+  local vrc=$?
+  [ $rc -eq 2 ] && [ $vrc -eq 2 ] && [ ! -e "$work/$1" ] \
+    && grep -q "^error: /width: the cell must be at least twice the neighbour listing .*$3" \
+      "$work/$1.err" && ok || bad "cell width $1: run $rc, validate $vrc: $(cat "$work/$1.err")"
+}
+width_refused narrow "{$small, \"width\": 8}" "is 4.774 a .*raise /width to about 9.7 "
+width_refused far '{"scene": "resuspension", "cutoff": 4, "strain": 0.05, "average_from": 0}' \
+  "is 7.139 a .*raise /width to about 14.5 "
+echo "{$small, \"width\": 9.8}" | "$LUBDEM" validate - > /dev/null 2> "$work/w98.err" && ok \
+  || bad "width 9.8 refused: $(cat "$work/w98.err")"
 # a count only the bed's lightest particle puts above 1e12: validation bounds it, the run
 # refuses it before the first step (exit 2, status failed, the diagnostic in summary.json)
 echo '{"scene":"resuspension","n":20,"stiffness":1e9,"strain":1e6,"sample_strain":1,"average_from":1}' > "$work/late.json"
