@@ -182,6 +182,38 @@ static int ss_check_steps(const ss_params *p, lub_error *err)
     return ss_step_refusal(p, out > 0 ? r_hi : r_lo, count, p->strain / gd / count, qualifier, err);
 }
 
+/* Imposed pressure: the servo sets the strain rate of L_y to /servo/gain gd times the pressure
+ * error, which it clips to [-1, 1], and the cell is advanced by one explicit step, L_y (1 +
+ * L_yy dt): at a full error (a cell below the pressure, as every run starts) L_y changes by
+ * gain gd dt of itself in one step, and the cell closes at 1. A servo is meant to follow the
+ * pressure over many steps; refused when that change reaches SS_SERVO_STEP_MAX at the shortest
+ * step the spec allows (the lightest particle's, radius r_lo of lub_packing_radius_bounds, or
+ * /dt). Runs between 0.05 and 0.87 of it (Iv 10, St 10, gains 10-20) failed at step 1 or 2 with
+ * particles thrown across the cell or the cell squeezed below the listing distance. */
+#define SS_SERVO_STEP_MAX 0.5
+static int ss_check_servo(const ss_params *p, lub_error *err)
+{
+    if (!p->pressure)
+        return 0;
+    double r_lo = 1.0, r_hi = 1.0;
+    if (p->dt <= 0.0)
+        lub_packing_radius_bounds(p->radius_std, &r_lo, &r_hi);
+    const double dt = p->dt > 0.0 ? p->dt : p->dt_safety * ss_elastic_dt(p, r_lo);
+    const double closing = p->servo_gain * p->Iv * dt; /* gd = Iv in units of eta/P */
+    if (closing < SS_SERVO_STEP_MAX)
+        return 0;
+    return lub_fail(err, "/servo/gain",
+                    "the pressure servo would change L_y by %.3g of itself in one step (at least: "
+                    "/servo/gain times the shear rate times the step %.3g eta/P, which is %s), "
+                    "where it must stay below %g (studied: 0.25-4 at steps far below that); lower "
+                    "/servo/gain below %.3g, or shorten the step (got %g)",
+                    closing, dt,
+                    p->dt > 0.0 ? "fixed by /dt"
+                                : "/dt_safety times the elastic bound, which /St, /stiffness, "
+                                  "/law/kt_ratio and /Iv set",
+                    SS_SERVO_STEP_MAX, p->servo_gain * SS_SERVO_STEP_MAX / closing, p->servo_gain);
+}
+
 static int ss_read(json_t *spec, ss_params *p, lub_error *err)
 {
     static const char *keys[] = {"scene",
@@ -322,6 +354,8 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                         "must be >= %.3g a, i.e. n_particles >= %lld at phi = %g (got %lld)",
                         side, need, nmin, p->phi, p->n);
     }
+    if (ss_check_servo(p, err))
+        return -1;
     return ss_check_steps(p, err);
 }
 
@@ -1191,8 +1225,19 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                                 sizeof ctx->checkpoint_failure) == 0;
     }
     /* the step's advice where the step is the likely cause (not for a cell squeezed below
-     * the listing distance, unless /dt was fixed above the bound) */
-    if (exit_code == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable) {
+     * the listing distance, unless /dt was fixed above the bound); the servo's instead where it
+     * moves L_y by 0.1 SS_SERVO_STEP_MAX of itself or more in one step, unless the squeezed
+     * cell's diagnostic already names the servo */
+    const double servo_jump = p.pressure ? p.servo_gain * gd * dt : 0.0;
+    if (exit_code == LUB_EXIT_NUMERICAL && servo_jump >= 0.1 * SS_SERVO_STEP_MAX &&
+        !strstr(ctx->diagnostic, "/servo/gain")) {
+        const size_t len = strlen(ctx->diagnostic);
+        snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len,
+                 ": the pressure servo changes L_y by up to %.3g of itself in one step "
+                 "(/servo/gain times the shear rate times the step); lower /servo/gain (studied: "
+                 "0.25-4; default 1)",
+                 servo_jump);
+    } else if (exit_code == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable) {
         lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_el, "dt_elastic", lp.ctl.changes,
                                        p.dt_stiffness_safety, lp.ctl.ratio_max);
     } else if (exit_code == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_el)) {

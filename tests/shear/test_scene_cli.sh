@@ -26,7 +26,8 @@
 #     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early;
 #  3c. a servo gain far outside the studied range: the summary says the pressure was not
-#      held, or the diagnostic of the squeezed cell names the servo;
+#      held, or the diagnostic of the squeezed cell names the servo; a servo that would move
+#      L_y by half of itself in one step is refused, and one below that names the servo;
 #  4. SIGTERM during a long run -> exit 5, status "partial" in summary.json and result.h5;
 #  4b. SIGTERM while a 1e5-sphere packing is generated -> stops within 5 s, exit 5, partial;
 #  5. a blow-up with finite numbers (a fixed /dt 69 times dt_elastic flings a particle 8 a in
@@ -263,6 +264,20 @@ echo "{$SERVO,\"strain\":0.1,\"servo\":{\"gain\":100,\"filter_strain\":10}}" \
   | "$LUBDEM" run - --out "$W/servo_squeeze" --quiet 2>"$W/servo_squeeze.err"; rc=$?
 check "[ $rc -eq 3 ] && grep -q 'cell narrower than twice.*the pressure servo squeezed the cell.*lower /servo/gain' $W/servo_squeeze.err" \
   "servo squeeze: rc=$rc, $(cat $W/servo_squeeze.err)"
+# a servo that moves L_y by half of itself or more in one step (gain x shear rate x step; heavy
+# spheres at Iv = 10 take steps of 0.0435 strain) is refused at /servo/gain; gains 15-30 failed
+# at step 1 with the cell closed or particles thrown across it, advising /dt_stiffness_safety.
+# Just below the bound (0.49 at the shortest step the spec allows, 0.61 at the run's) the run
+# still fails at step 1, and its diagnostic now names the servo, not the step
+HEAVY='"scene":"simple_shear","n_particles":300,"strain":1,"control":"pressure","Iv":10,"St":10'
+echo "{$HEAVY,\"servo\":{\"gain\":30}}" | "$LUBDEM" run - --out "$W/servo_close" --quiet \
+  2>"$W/servo_close.err"; rc=$?
+check "[ $rc -eq 2 ] && [ ! -e $W/servo_close ] && grep -q '^error: /servo/gain: the pressure servo would change L_y by 1.05 of itself in one step .*lower /servo/gain below 14.3' $W/servo_close.err" \
+  "servo closing the cell: rc=$rc, $(cat $W/servo_close.err)"
+echo "{$HEAVY,\"servo\":{\"gain\":14}}" | "$LUBDEM" run - --out "$W/servo_jump" --quiet \
+  2>"$W/servo_jump.err"; rc=$?
+check "[ $rc -eq 3 ] && grep -q '^error: particle .* (step 1, .*: the pressure servo changes L_y by up to 0.609 of itself in one step .*lower /servo/gain' $W/servo_jump.err && ! grep -q dt_stiffness_safety $W/servo_jump.err" \
+  "servo jump: rc=$rc, $(cat $W/servo_jump.err)"
 
 # 3b. "run until the headline is known to x %": stops long before the maximum strain
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"stiffness":1e4,"strain":50,"transient_strain":0.5,"sample_strain":0.01,"target_rel_error":0.1,"snapshots":0}' \
