@@ -2,8 +2,9 @@
 # CLI-level checks of the resuspension scene: a short complete run (summary schema, H5MD
 # structure, profiles and time series present and consistent), SIGTERM during a long run
 # (exit code 5, status "partial", valid H5MD with the profiles averaged so far), fixed and
-# adapted time steps, specs refused for their length, sample count, step count or a cell too
-# narrow for the cut-off (exit 2), a
+# adapted time steps, specs refused for their length, sample count, step count, a cell too
+# narrow for the cut-off or a bed too heavy for its contacts (exit 2), a bed sinking through
+# the floor blamed on its weight (exit 3), a
 # step count only the bed decides (exit 2 from the run, status failed), and an
 # address-space limit too small for the system (exit 1, "out of memory", the limit, /n).
 # usage: test_resuspension_cli.sh LUBDEM PYTHON CHECK_H5MD SCHEMA_DIR
@@ -196,6 +197,22 @@ width_refused far '{"scene": "resuspension", "cutoff": 4, "strain": 0.05, "avera
   "is 7.139 a .*raise /width to about 14.5 "
 echo "{$small, \"width\": 9.8}" | "$LUBDEM" validate - > /dev/null 2> "$work/w98.err" && ok \
   || bad "width 9.8 refused: $(cat "$work/w98.err")"
+# a bed heavier than its contacts can hold: a sphere's own weight over the stiffness, (4/3) pi /
+# (Sh stiffness) a, at 0.05 a or more is refused at /stiffness (Sh = 1e-6: 4.19 a); below that a
+# bed whose spheres sink through the floor (400 spheres, 0.042 a) is blamed on the weight, not
+# the step (both used to fail with "escaped the cell" and the advice to lower
+# /dt_stiffness_safety, which did not help)
+echo '{"scene": "resuspension", "n": 20, "width": 10, "cutoff": 1, "strain": 0.3, "average_from": 0.1, "sample_strain": 0.01, "shields": 1e-6}' \
+  | "$LUBDEM" run - --out "$work/heavy" --quiet 2> "$work/heavy.err"
+rc=$?
+[ $rc -eq 2 ] && [ ! -e "$work/heavy" ] && grep -q "^error: /stiffness: a sphere's own weight would compress its contact by 4.19 a .*raise /stiffness above 8.38e+07" \
+  "$work/heavy.err" && ok || bad "heavy bed: exit $rc: $(cat "$work/heavy.err")"
+echo '{"scene": "resuspension", "cutoff": 1, "strain": 0.3, "average_from": 0.1, "sample_strain": 0.01, "shields": 1e-4}' \
+  | "$LUBDEM" run - --out "$work/sinks" --quiet 2> "$work/sinks.err"
+rc=$?
+[ $rc -eq 3 ] && grep -q "^error: particle .* escaped the cell .*: the contacts give way under the bed's weight (a sphere's own weight compresses a contact by 0.0419 a.*raise /stiffness$" \
+  "$work/sinks.err" && ! grep -q dt_stiffness_safety "$work/sinks.err" && ok \
+  || bad "bed sinking through the floor: exit $rc: $(cat "$work/sinks.err")"
 # a count only the bed's lightest particle puts above 1e12: validation bounds it, the run
 # refuses it before the first step (exit 2, status failed, the diagnostic in summary.json)
 echo '{"scene":"resuspension","n":20,"stiffness":1e9,"strain":1e6,"sample_strain":1,"average_from":1}' > "$work/late.json"
