@@ -2,6 +2,7 @@
 #include "law_spec.h"
 
 #include <stddef.h>
+#include <stdio.h>
 
 static const struct {
     unsigned bit;
@@ -87,4 +88,16 @@ void lub_law_spec_scale(lub_law_spec *s, double eta, double k_bulk)
     s->params.eta = eta;
     s->params.k_bulk = k_bulk;
     s->params.k_t = s->kt_ratio * k_bulk;
+}
+
+int lub_law_spec_check_cutoff(const lub_law_spec *l, const char *ptr, double cutoff, lub_error *err)
+{
+    if (l->params.eps < cutoff)
+        return 0;
+    char where[200];
+    snprintf(where, sizeof where, "%s/eps", ptr);
+    return lub_fail(err, where,
+                    "must be below /cutoff (%g): contacts start at u < eps a, and pairs are "
+                    "only listed within the cut-off (got %g)",
+                    cutoff, l->params.eps);
 }

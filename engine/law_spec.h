@@ -50,6 +50,13 @@ void lub_law_spec_scale(lub_law_spec *s, double eta, double k_bulk);
 /* JSON spec key of one LUB_TERM_* bit ("normal_lubrication", ...), NULL if not a single term. */
 const char *lub_law_term_key(unsigned term);
 
+/* Many-particle scenes: pairs are listed within u_n <= cutoff a_ij, so a roughness at or
+ * beyond the cut-off would put pairs in contact that are never listed (and every listed pair
+ * in contact from its first step, with the asperity force of the whole overlap). Returns 0
+ * when eps < cutoff, or -1 with *err naming `ptr`/eps. */
+int lub_law_spec_check_cutoff(const lub_law_spec *l, const char *ptr, double cutoff,
+                              lub_error *err);
+
 /* Appends the spec keys of the terms set in `terms` to the JSON array `arr` (summary
  * "active_terms"). Returns 0, or -1 if arr is not an array. */
 int lub_law_terms_append(json_t *arr, unsigned terms);

@@ -360,7 +360,8 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
         return -1;
 
     json_t *law = lub_spec_object(spec, "", "law", err);
-    if (!law || lub_law_spec_resolve(law, "/law", &rs_law_opts, &p->law, err))
+    if (!law || lub_law_spec_resolve(law, "/law", &rs_law_opts, &p->law, err) ||
+        lub_law_spec_check_cutoff(&p->law, "/law", p->cutoff, err))
         return -1;
     if (rs_check_width(p, err) || rs_check_steps(p, err))
         return -1;

@@ -339,7 +339,8 @@ static int ss_read(json_t *spec, ss_params *p, lub_error *err)
                         err))
         return -1;
     json_t *law = lub_spec_object(spec, "", "law", err);
-    if (!law || lub_law_spec_resolve(law, "/law", &ss_law_opts, &p->law, err))
+    if (!law || lub_law_spec_resolve(law, "/law", &ss_law_opts, &p->law, err) ||
+        lub_law_spec_check_cutoff(&p->law, "/law", p->cutoff, err))
         return -1;
 
     /* the cell must hold twice the neighbour listing distance (see neighbor_list.h) */

@@ -213,6 +213,12 @@ rc=$?
 [ $rc -eq 3 ] && grep -q "^error: particle .* escaped the cell .*: the contacts give way under the bed's weight (a sphere's own weight compresses a contact by 0.0419 a.*raise /stiffness$" \
   "$work/sinks.err" && ! grep -q dt_stiffness_safety "$work/sinks.err" && ok \
   || bad "bed sinking through the floor: exit $rc: $(cat "$work/sinks.err")"
+# a roughness at or beyond the cut-off is refused at /law/eps (as in simple_shear)
+echo '{"scene": "resuspension", "cutoff": 1, "law": {"eps": 1}}' | "$LUBDEM" validate - \
+  > /dev/null 2> "$work/eps.err"
+rc=$?
+[ $rc -eq 2 ] && grep -q '^error: /law/eps: must be below /cutoff (1)' "$work/eps.err" && ok \
+  || bad "eps at the cut-off: exit $rc: $(cat "$work/eps.err")"
 # a count only the bed's lightest particle puts above 1e12: validation bounds it, the run
 # refuses it before the first step (exit 2, status failed, the diagnostic in summary.json)
 echo '{"scene":"resuspension","n":20,"stiffness":1e9,"strain":1e6,"sample_strain":1,"average_from":1}' > "$work/late.json"

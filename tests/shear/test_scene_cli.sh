@@ -279,6 +279,16 @@ echo "{$HEAVY,\"servo\":{\"gain\":14}}" | "$LUBDEM" run - --out "$W/servo_jump" 
 check "[ $rc -eq 3 ] && grep -q '^error: particle .* (step 1, .*: the pressure servo changes L_y by up to 0.609 of itself in one step .*lower /servo/gain' $W/servo_jump.err && ! grep -q dt_stiffness_safety $W/servo_jump.err" \
   "servo jump: rc=$rc, $(cat $W/servo_jump.err)"
 
+# a roughness at or beyond the cut-off (pairs in contact that are never listed; eps 100 failed
+# at step 0 advising /dt_stiffness_safety) is refused at /law/eps; just below it validates
+echo '{"scene":"simple_shear","law":{"eps":100}}' | "$LUBDEM" run - --out "$W/eps_far" --quiet \
+  2>"$W/eps_far.err"; rc=$?
+check "[ $rc -eq 2 ] && [ ! -e $W/eps_far ] && grep -q '^error: /law/eps: must be below /cutoff (2): .*(got 100)$' $W/eps_far.err" \
+  "eps beyond the cut-off: rc=$rc, $(cat $W/eps_far.err)"
+echo '{"scene":"simple_shear","cutoff":1,"law":{"eps":0.99}}' | "$LUBDEM" validate - >/dev/null \
+  2>"$W/eps_near.err"; rc=$?
+check "[ $rc -eq 0 ]" "eps just below the cut-off: rc=$rc, $(cat $W/eps_near.err)"
+
 # 3b. "run until the headline is known to x %": stops long before the maximum strain
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.45,"stiffness":1e4,"strain":50,"transient_strain":0.5,"sample_strain":0.01,"target_rel_error":0.1,"snapshots":0}' \
   | "$LUBDEM" run - --out "$W/target" --quiet; rc=$?
