@@ -259,7 +259,6 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
     if (lub_spec_only_keys(spec, "", keys, err))
         return -1;
     const char *o = NULL;
-    const lub_range unit_open = {0.0, 1.0, 1, 1};
     const lub_range unit_half = {0.0, 1.0, 1, 0};
     if (lub_spec_integer(spec, "", "n", 20, 100000, 1, 400, &p->n, err) ||
         lub_spec_number(spec, "", "width", (lub_range){8.0, 1000.0, 0, 0}, 1, 14.0, &p->width,
@@ -354,7 +353,11 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
                         err) ||
         lub_spec_number(an, "/analysis", "phi_min", (lub_range){0.0, 1.0, 0, 1}, 1, 0.05,
                         &p->phi_min, err) ||
-        lub_spec_number(an, "/analysis", "phi_m", unit_open, 1, 0.58, &p->phi_m, err) ||
+        /* a jamming fraction of spheres: at most the densest packing pi/sqrt(18); below 0.2 the
+         * settled height inventory/phi_m and the eta_22 law's phi/phi_m are meaningless (at 1e-300
+         * they overflowed to null results, exit 0) */
+        lub_spec_number(an, "/analysis", "phi_m", (lub_range){0.2, 0.7405, 0, 0}, 1, 0.58,
+                        &p->phi_m, err) ||
         lub_spec_number(an, "/analysis", "phi_window", (lub_range){0.0, 100.0, 0, 0}, 1, 2.0,
                         &p->phi_window, err))
         return -1;

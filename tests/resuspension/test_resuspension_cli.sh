@@ -219,6 +219,13 @@ echo '{"scene": "resuspension", "cutoff": 1, "law": {"eps": 1}}' | "$LUBDEM" val
 rc=$?
 [ $rc -eq 2 ] && grep -q '^error: /law/eps: must be below /cutoff (1)' "$work/eps.err" && ok \
   || bad "eps at the cut-off: exit $rc: $(cat "$work/eps.err")"
+# the analysis's jamming fraction is one of spheres (0.2 to pi/sqrt(18)); 1e-300 used to give
+# null results with exit 0
+echo '{"scene": "resuspension", "analysis": {"phi_m": 1e-300}}' | "$LUBDEM" validate - \
+  > /dev/null 2> "$work/phim.err"
+rc=$?
+[ $rc -eq 2 ] && grep -q '^error: /analysis/phi_m: must be >= 0.2 (got 1e-300)' "$work/phim.err" \
+  && ok || bad "analysis phi_m 1e-300: exit $rc: $(cat "$work/phim.err")"
 # a count only the bed's lightest particle puts above 1e12: validation bounds it, the run
 # refuses it before the first step (exit 2, status failed, the diagnostic in summary.json)
 echo '{"scene":"resuspension","n":20,"stiffness":1e9,"strain":1e6,"sample_strain":1,"average_from":1}' > "$work/late.json"
