@@ -192,10 +192,11 @@ static void section_D3_B(void)
     lub_m3_laws L = lub_m3_laws_thesis();
     char name[96];
     for (int i = 0; i < 5; ++i) {
-        double phi = lub_texture_table_phi(i), T;
-        lub_texture_params p, q;
+        double phi = lub_texture_table_phi(i), T = 0.0;
+        lub_texture_params p = {0}, q;
         const char *why;
-        lub_m3_table32(phi, &p, &T, &why);
+        snprintf(name, sizeof name, "D3.phi%.2f.table", phi);
+        check_true(name, lub_m3_table32(phi, &p, &T, &why) == 0);
         double ss = lub_texture_steady_stress(&p).eta_app, at, val;
         extremum(&p, 0.0, 4.0, +1.0, &at, &val, NULL);
         snprintf(name, sizeof name, "D3.phi%.2f.eta_ss", phi);
