@@ -15,6 +15,8 @@ static double integrand(const lub_normal_law *L, double sb, int m, double v, lub
 {
     if (!(v > 0.0))
         return 0.0;
+    if (L->kind == LUB_NLAW_POWER) /* lambda m s_b^(n-1) v^(m(n-1)-1): no s to underflow */
+        return L->lambda * (double)m * pow(sb, L->n - 1.0) * pow(v, m * (L->n - 1.0) - 1.0);
     double vm1 = pow(v, m - 1), s = sb * vm1 * v;
     if (!(s > 0.0)) {
         if (w)
@@ -24,7 +26,9 @@ static double integrand(const lub_normal_law *L, double sb, int m, double v, lub
     const double eta = lub_normal_law_eta_s(L, s);
     if (w && (eta == 0.0 || fpclassify(eta) == FP_SUBNORMAL))
         w->underflow = 1;
-    return eta / (s * s) * (double)m * sb * vm1;
+    /* eta/s^2 m sb v^(m-1) = (eta/s) m/v: s^2 underflows (to 0 or a subnormal) long before eta/s
+     * does for a law eta ~ s^n with n < 2 */
+    return eta / s * (double)m / v;
 }
 
 /* one panel; counts it against the bound (and sees a stop request) */
@@ -136,8 +140,15 @@ int lub_resusp_solve_bounded(const lub_normal_law *L, double shields, double inv
     out->s_bottom = sb;
     out->phi_bottom = L->phi_m * sb / (1.0 + sb);
     out->m = 2;
-    if (L->kind == LUB_NLAW_POWER && L->n < 1.5)
-        out->m = (int)ceil(1.0 / (L->n - 1.0)); /* integrand ~ v^{m(n-1)-1}, keep it >= v^0 */
+    if (L->kind == LUB_NLAW_POWER && L->n < 1.5) {
+        double m = ceil(1.0 / (L->n - 1.0)); /* integrand ~ v^{m(n-1)-1}, keep it >= v^0 */
+        if (!(m <= 1e6)) {
+            *why = "power law with n too close to 1 (n - 1 < 1e-6): the substitution exponent "
+                   "ceil(1/(n-1)) of the quadrature is too large";
+            return -1;
+        }
+        out->m = (int)m;
+    }
     out->height = lub_resusp_y_of_s(L, out, 0.0);
     if (work && work->status) {
         *why = work->status == LUB_RESUSP_STOPPED

@@ -22,6 +22,7 @@
 #include <string.h>
 
 #include "continuum_sbm_resuspension.h"
+#include "json_text.h"
 #include "run_context.h"
 #include "scene.h"
 
@@ -33,6 +34,10 @@ typedef struct {
 } rs_params;
 
 static const lub_range OPEN01 = {0.0, 1.0, 1, 1};
+/* smallest power-law exponent: DBL_MIN^(n-1) <= 1e-3 (see rs_read) */
+#define RS_N_MIN 1.01
+/* the solver's height against the power law's closed form (they agree to 1e-9 in test_sbm) */
+#define RS_CLOSED_FORM_TOL 1e-6
 
 static int rs_read(json_t *spec, rs_params *p, lub_error *err)
 {
@@ -70,6 +75,15 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
                             err) ||
             lub_spec_number(law, "/law", "phi_m", OPEN01, 0, 0, &p->law.phi_m, err))
             return -1;
+        char got[40];
+        if (p->law.n < RS_N_MIN)
+            return lub_fail(err, "/law/n",
+                            "must be in [1.01, 100] (got %s): the height of the dilute tail "
+                            "grows as s^(n-1)/(n-1) as s = phi/(phi_m - phi) -> 0, and below "
+                            "n = 1.01 more than 0.1%% of it lies where phi is below the smallest "
+                            "normal double (2.2e-308^(n-1) > 1e-3), which the profile cannot "
+                            "represent (n -> 1 gives an unbounded height)",
+                            lub_real_text(p->law.n, got));
     } else if (strcmp(k, "ozenda_m4") == 0) {
         static const char *lk[] = {"kind", "phi_m", NULL};
         p->law.kind = LUB_NLAW_OZENDA_M4;
@@ -205,6 +219,34 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         uy[i] = yi;
         uphi[i] = (1.0 - w) * fphi[j] + w * fphi[j + 1];
     }
+    double mass = 0.0;
+    for (int k = 1; k < n; ++k)
+        mass += 0.5 * (phi[k] + phi[k - 1]) * (y[k] - y[k - 1]);
+    double eta_prof0 = eta_prof[0];
+    double h0 = p.inventory / p.phi0, hc = NAN;
+    if (p.law.kind == LUB_NLAW_POWER) {
+        double nn = p.law.n, lam = p.law.lambda,
+               s0 = pow(p.inventory / (p.shields * lam), 1.0 / nn);
+        hc = nn * p.shields * lam / p.law.phi_m * (pow(s0, nn - 1) / (nn - 1) + pow(s0, nn) / nn);
+    }
+    /* never a result that disagrees with the power law's closed form, or a null mass check */
+    if (!isfinite(mass) || !isfinite(eta_prof0) ||
+        (p.law.kind == LUB_NLAW_POWER && !(fabs(r.height / hc - 1.0) <= RS_CLOSED_FORM_TOL))) {
+        free(y);
+        free(fy);
+        free(uy);
+        json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
+        json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
+        lub_progress_final(ctx->progress, 0);
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "%s: the profile failed its checks (height %.10g, closed form %.10g, relative "
+                 "tolerance %g; trapezoid mass %.10g for the inventory %.10g)%s",
+                 p.law.kind == LUB_NLAW_POWER ? "/law/n" : "/inventory", r.height, hc,
+                 RS_CLOSED_FORM_TOL, mass, p.inventory,
+                 p.law.kind == LUB_NLAW_POWER ? ": raise /law/n"
+                                              : ": change /inventory or /shields");
+        return LUB_EXIT_NUMERICAL;
+    }
     const char *names[7] = {"y",         "phi",        "Phi", "eta_law", "eta_from_profile",
                             "y_uniform", "phi_uniform"};
     const double *data[7] = {y, phi, Phi, eta_law, eta_prof, uy, uphi};
@@ -213,10 +255,6 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     int io = 0;
     for (int q = 0; q < 7 && !io; ++q)
         io = lub_h5_write_array(ctx->out, names[q], 1, dims, data[q], units[q]);
-    double mass = 0.0;
-    for (int k = 1; k < n; ++k)
-        mass += 0.5 * (phi[k] + phi[k - 1]) * (y[k] - y[k - 1]);
-    double eta_prof0 = eta_prof[0];
     free(y);
     free(fy);
     free(uy);
@@ -224,7 +262,6 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         return LUB_EXIT_IO;
     }
-    double h0 = p.inventory / p.phi0;
     lub_summary_put(ctx, "height", r.height, NAN, "a");
     lub_summary_put(ctx, "phi_bottom", r.phi_bottom, NAN, "1");
     lub_summary_put(ctx, "phi_m", p.law.phi_m, NAN, "1");
@@ -236,13 +273,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "eta_bottom_from_profile_rel_error",
                     eta_prof0 / (p.inventory / p.shields) - 1.0, NAN, "1");
     if (p.law.kind == LUB_NLAW_POWER) {
-        double nn = p.law.n, lam = p.law.lambda,
-               s0 = pow(p.inventory / (p.shields * lam), 1.0 / nn);
-        double hc =
-            nn * p.shields * lam / p.law.phi_m * (pow(s0, nn - 1) / (nn - 1) + pow(s0, nn) / nn);
         lub_summary_put(ctx, "height_closed_form", hc, NAN, "a");
-        lub_summary_put(ctx, "lambda", lam, NAN, "1");
-        lub_summary_put(ctx, "n", nn, NAN, "1");
+        lub_summary_put(ctx, "lambda", p.law.lambda, NAN, "1");
+        lub_summary_put(ctx, "n", p.law.n, NAN, "1");
     }
     json_object_set_new(ctx->summary_extra, "active_terms",
                         json_pack("[s, s]", "sbm_zero_flux_balance", kind));

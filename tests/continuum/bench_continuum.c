@@ -49,7 +49,7 @@ int main(void)
     printf("bench.rheometer_rate_plus_stress_2x1000_samples_ms=%.3f\n", 1e3 * (t1 - t0) / 20);
     lub_normal_law D = {
         .kind = LUB_NLAW_DEM_SEED, .direction = 3, .phi_m = lub_dem_phi_m(0.5), .phi_rcp = 0.64};
-    lub_resusp rr;
+    lub_resusp rr = {0};
     static double y[401], phi[401];
     t0 = now();
     for (int r = 0; r < 20; ++r) {

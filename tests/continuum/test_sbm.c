@@ -101,6 +101,19 @@ static void resuspension(void)
     check_true("m4.vort.error", lub_resusp_solve(&M, 0.05, 20.0, &r, &why) == -1);
     printf("m4.vort.error_message=%s\n", why);
     /* domain errors and singular limits */
+    /* n near 1: the closed form (until 2026-12-06 n = 1.02, 1.03 failed: s^2 underflowed) */
+    for (double nn = 1.01; nn < 1.045; nn += 0.01) {
+        lub_normal_law Q = {
+            .kind = LUB_NLAW_POWER, .direction = 2, .phi_m = 0.5, .lambda = 1.0, .n = nn};
+        char nm[64];
+        double s0 = pow(20.0 / 0.1, 1.0 / nn);
+        double hc = nn * 0.1 / 0.5 * (pow(s0, nn - 1) / (nn - 1) + pow(s0, nn) / nn);
+        snprintf(nm, sizeof nm, "power.n%.2f.height_over_closed_form", nn);
+        check_true(nm, lub_resusp_solve(&Q, 0.1, 20.0, &rp, &why) == 0);
+        check_near(nm, rp.height / hc, 1.0, 1e-9);
+    }
+    P.n = 1.0 + 1e-10; /* ceil(1/(n-1)) overflowed an int */
+    check_true("power.n1+1e-10_error", lub_resusp_solve(&P, 0.5, 30.0, &rp, &why) == -1);
     P.n = 1.0;
     check_true("power.n1_error", lub_resusp_solve(&P, 0.5, 30.0, &rp, &why) == -1);
     P.n = 2.0;
