@@ -67,9 +67,14 @@ typedef struct {
     double pc_centre;   /* contact pressure at the axis */
 } lub_channel_result;
 
+/* Tolerance on the achieved inventory (area or flux-weighted mean of psi) */
+#define LUB_CHANNEL_INVENTORY_TOL 1e-9
+
 /* Arrays of length setup->n: x (midpoints), psi, u, pc, eta_rel (eta_app/eta0). Returns 0, or
  * -1 with a static reason (closure not monotone, inventory outside ]0, psi*[, ...), or -2 when
- * *setup->stop asked it to stop (the arrays are then not a solution). */
+ * *setup->stop asked it to stop (the arrays are then not a solution), or -3 when no wall
+ * constant meets the inventory within LUB_CHANNEL_INVENTORY_TOL (res holds the closest profile's
+ * numbers: psi_area, psi_flux, q). */
 int lub_channel_solve(const lub_closure *c, const lub_channel_setup *setup, double *x, double *psi,
                       double *u, double *pc, double *eta_rel, lub_channel_result *res,
                       const char **why);
