@@ -30,6 +30,8 @@ typedef struct {
 } sc_params;
 
 static const lub_range OPEN01 = {0.0, 1.0, 1, 1};
+#define SC_PSI_LOW 1e-34     /* smallest psi_min and report_psi (sc_read) */
+#define SC_PHI_RCP_LOW 1e-40 /* smallest dem_phi_rcp (sc_read) */
 
 static int sc_read(json_t *spec, sc_params *p, lub_error *err)
 {
@@ -58,6 +60,26 @@ static int sc_read(json_t *spec, sc_params *p, lub_error *err)
         lub_spec_number(mm, "/mm", "phi_m", OPEN01, 1, 0.68, &p->mm.phi_m, err))
         return -1;
     char hi[40], lo[40];
+    /* the DEM seed's eta_22 ~ psi^9 leaves the normal doubles below psi = DBL_MIN^(1/9) = 6e-35,
+     * and mu = eta_r/eta_22 overflows */
+    if (p->psi_min < SC_PSI_LOW)
+        return lub_fail(err, "/psi_min",
+                        "must be >= 1e-34 (got %s): the DEM seed's eta_22 ~ psi^9 is below the "
+                        "smallest normal double under psi = 6e-35, and mu = eta_r/eta_22 "
+                        "overflows",
+                        lub_real_text(p->psi_min, lo));
+    if (p->report_psi < SC_PSI_LOW)
+        return lub_fail(err, "/report_psi",
+                        "must be >= 1e-34 like /psi_min (got %s): below it the DEM seed's eta_22 ~ "
+                        "psi^9 underflows, and the M3 laws overflow further down",
+                        lub_real_text(p->report_psi, lo));
+    /* lambda_33 = u^7.5/(1e-3 + u^6) with u = phi/phi_rcp <= 1/phi_rcp: u^7.5 overflows a double
+     * (1.8e308) for u > 1.6e41 */
+    if (p->dem_phi_rcp < SC_PHI_RCP_LOW)
+        return lub_fail(err, "/dem_phi_rcp",
+                        "must be >= 1e-40 (got %s): lambda_33 = u^7.5/(1e-3 + u^6) with u = "
+                        "phi/dem_phi_rcp overflows a double (u^7.5 > 1.8e308) for u > 1.6e41",
+                        lub_real_text(p->dem_phi_rcp, lo));
     if (!(p->psi_max > p->psi_min))
         return lub_fail(err, "/psi_max", "must be > psi_min (got %s <= %s)",
                         lub_real_text(p->psi_max, hi), lub_real_text(p->psi_min, lo));
@@ -131,7 +153,11 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
                         d.lambda33, d.alpha2,  d.eta_n2, d.mu};
         for (int q = 0; q < NQ; ++q) {
             if (!isfinite(v[q])) {
-                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s not finite at psi = %.17g",
+                snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                         "%s: %s not finite at psi = %.17g",
+                         strncmp(qn[q], "dem_", 4) == 0 && strstr(qn[q], "lambda33")
+                             ? "/dem_phi_rcp"
+                             : (psi < 0.5 ? "/psi_min" : "/psi_max"),
                          qn[q], psi);
                 free(buf);
                 return LUB_EXIT_NUMERICAL;
@@ -178,6 +204,17 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_steady_m3(&L3, rp, p.m3_eta0, &b, &why);
     lub_steady_mm(&p.mm, rp, &c, &why);
     lub_steady_dem(rp, dem_phim, p.dem_phi_rcp, &d, &why);
+    const double head[18] = {a.eta_rel, a.alpha1, a.alpha2, a.pp_rel,   a.eta_n2,  a.theta_e,
+                             b.eta_rel, b.alpha1, b.pp_rel, b.theta_e,  c.eta_rel, c.alpha1,
+                             c.alpha2,  d.eta_r,  d.eta22,  d.lambda33, d.alpha2,  d.eta_n2};
+    for (int q = 0; q < 18; ++q)
+        if (!isfinite(head[q])) {
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                     "/report_psi: a headline number is not finite at report_psi = %.17g; move "
+                     "/report_psi into the range of the laws",
+                     rp);
+            return LUB_EXIT_NUMERICAL;
+        }
     lub_summary_put(ctx, "m4_eta_rel", a.eta_rel, NAN, "1");
     lub_summary_put(ctx, "m4_alpha1", a.alpha1, NAN, "1");
     lub_summary_put(ctx, "m4_alpha2", a.alpha2, NAN, "1");

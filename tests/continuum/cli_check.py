@@ -103,6 +103,13 @@ CASES = [
     ({"scene": "continuum_steady_curves", "psi_max": 1.0}, "/psi_max"),
     ({"scene": "continuum_steady_curves", "mm": {"K_x": 1.0}}, "/mm"),
     ({"scene": "continuum_steady_curves", "points": 1}, "/points"),
+    # below the range of the laws: refused at the member (until 2026-12-06 exit 3 "dem_mu not
+    # finite" / "dem_lambda33 not finite", and report_psi 1e-300 exited 0 with null M3 numbers)
+    ({"scene": "continuum_steady_curves", "psi_min": 1e-40}, "/psi_min"),
+    ({"scene": "continuum_steady_curves", "dem_phi_rcp": 1e-100}, "/dem_phi_rcp"),
+    ({"scene": "continuum_steady_curves", "report_psi": 1e-300}, "/report_psi"),
+    ({"scene": "continuum_steady_curves", "psi_min": 1e-34, "report_psi": 1e-34,
+      "dem_phi_rcp": 1e-40, "psi_max": 0.999999}, None),
     ({"scene": "sbm_resuspension", "shields": 0.1, "inventory": 20}, None),
     ({"scene": "sbm_resuspension", "law": {"kind": "zarraga"}, "direction": "vorticity",
       "shields": 0.1, "inventory": 20}, None),
@@ -279,6 +286,11 @@ if r:
     check_near("cli.steady.dem_alpha2", r["dem_alpha2"], -0.519, 5e-4)
     check_near("cli.steady.h5_points", len(h["profiles/psi"][:]), 19, 0)
     check_near("cli.steady.h5_m4_table_eta_0.30", float(h["profiles/m4_table"][0, 1]), 4.119, 5e-4)
+# the edges of the laws' range give numbers, no null (report_psi 1e-300 gave null M3 numbers)
+r, h = run("steady_edges", {"scene": "continuum_steady_curves", "psi_min": 1e-34, "report_psi": 1e-34,
+                            "dem_phi_rcp": 1e-40, "psi_max": 0.999999})
+if r:
+    check_near("cli.steady_edges.null_results", float(sum(1 for v in r.values() if v is None)), 0.0, 0.0)
 # resuspension: continuum-check.py case I (its "Sh = 0.01" is 1/Sh here)
 r, h = run("resusp_I", {"scene": "sbm_resuspension", "law": {"kind": "boyer"}, "direction": "vorticity",
                         "shields": 100, "inventory": 20})
