@@ -36,39 +36,51 @@ lub_texture_params lub_texture_m3(double alpha, double beta, double eta_e, doubl
     return p;
 }
 
-/* Delta = 1 - a^2 + delta1^2 of (4.6), with 1 - a^2 formed without cancellation. */
-static double delta_of(const lub_texture_params *p)
+/* r = delta1/Delta and q = 1/Delta, Delta = 1 - a^2 + delta1^2 of (4.6) with 1 - a^2 formed
+ * without cancellation; without forming delta1^2 (it overflows for delta1 > 1.3e154,
+ * and then r = delta1/inf = 0 lost the steady shear component and every stress with it) */
+static void inv_delta(const lub_texture_params *p, double *r, double *q)
 {
-    return (1.0 - p->a) * (1.0 + p->a) + p->delta1 * p->delta1;
+    const double w = (1.0 - p->a) * (1.0 + p->a), d1 = p->delta1;
+    if (d1 > 1.0) {
+        *r = 1.0 / (d1 + w / d1);
+        *q = *r / d1;
+    } else {
+        const double D = w + d1 * d1;
+        *r = d1 / D;
+        *q = 1.0 / D;
+    }
 }
 
 lub_texture_state lub_texture_steady_state(const lub_texture_params *p, int s)
 {
-    double D = delta_of(p);
-    lub_texture_state g = {(1.0 + p->a) / D, -(1.0 - p->a) / D,
-                           (s >= 0 ? 1.0 : -1.0) * p->delta1 / D};
+    double r, q;
+    inv_delta(p, &r, &q);
+    lub_texture_state g = {(1.0 + p->a) * q, -(1.0 - p->a) * q, (s >= 0 ? 1.0 : -1.0) * r};
     return g;
 }
 
 lub_texture_stress lub_texture_steady_stress(const lub_texture_params *p)
 {
-    /* (4.7a-d); (3.8) when a = 1 and beta2 = beta3 = delta2 = 0 */
+    /* (4.7a-d); (3.8) when a = 1 and beta2 = beta3 = delta2 = 0. Written with r = delta1/Delta
+     * and q = 1/Delta (delta1^2/Delta = delta1 r, delta1^2/Delta^2 = r^2, delta1/Delta^2 = r q),
+     * so that no product overflows where the result does not */
     const double a = p->a, d1 = p->delta1, d2 = p->delta2;
     const double b1 = p->beta1, b2 = p->beta2, b3 = p->beta3, ee = p->eta_e;
-    const double D = delta_of(p);
-    lub_texture_stress r;
-    r.eta_app =
-        p->eta + ee / D *
-                     (d1 * d1 + a * d2 +
-                      (d1 * d1 * b1 + (1.0 + a * a + d1 * d1) * b2 + 2.0 * a * d1 * b3) / D);
-    r.n1 = 2.0 * ee / D * (d1 + (d1 * b1 + 2.0 * a * b3) / D);
-    r.n2 =
-        ee / D *
-        (d1 * (-1.0 + a + d2) +
-         (-(1.0 - a) * d1 * b1 + 2.0 * a * d1 * b2 + ((1.0 - a) * (1.0 - a) + d1 * d1) * b3) / D);
-    r.pp = -2.0 * ee / (3.0 * D) *
-           (d1 * (a + d2) + (a * d1 * (b1 + 2.0 * b2) + (1.0 + a * a + d1 * d1) * b3) / D);
-    return r;
+    lub_texture_stress res = {p->eta, 0.0, 0.0, 0.0};
+    if (ee == 0.0) /* no elastic stress (0 x an overflowed bracket would be NaN) */
+        return res;
+    double r, q;
+    inv_delta(p, &r, &q);
+    const double rr = r * r, rq = r * q, qq = q * q;
+    res.eta_app = p->eta + ee * (d1 * r + a * d2 * q + b1 * rr + b2 * ((1.0 + a * a) * qq + rr) +
+                                 2.0 * a * b3 * rq);
+    res.n1 = 2.0 * ee * (r + b1 * rq + 2.0 * a * b3 * qq);
+    res.n2 = ee * (r * (-1.0 + a + d2) - (1.0 - a) * b1 * rq + 2.0 * a * b2 * rq +
+                   b3 * ((1.0 - a) * (1.0 - a) * qq + rr));
+    res.pp = -2.0 * ee / 3.0 *
+             (r * (a + d2) + a * (b1 + 2.0 * b2) * rq + b3 * ((1.0 + a * a) * qq + rr));
+    return res;
 }
 
 lub_texture_state lub_texture_rhs(const lub_texture_params *p, int s, lub_texture_state g)

@@ -194,8 +194,11 @@ static int read_protocol(json_t *spec, lub_segment *segs, int *nseg, lub_error *
         if (rate && s->value == 0.0)
             return lub_fail(err, lub_pointer_join(p2, sizeof p2, P, "rate"),
                             "must be nonzero (use a \"pause\" segment for gd = 0)");
-        if (rate && !isfinite(fabs(s->value) * s->duration))
-            return lub_fail(err, P, "rate x duration overflows");
+        /* the strain of a duration segment, |rate| duration or the time map's |stress|
+         * duration/eta_app, is formed from this product */
+        if (!isfinite(fabs(s->value) * s->duration))
+            return lub_fail(err, lub_pointer_join(p2, sizeof p2, P, "duration"),
+                            "%s x duration overflows a double", rate ? "rate" : "stress");
         if (!rate && s->value == 0.0 && js)
             return lub_fail(err, lub_pointer_join(p2, sizeof p2, P, "stress"),
                             "a zero imposed stress never accumulates strain: end the segment "
@@ -347,6 +350,20 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
         return LUB_EXIT_NUMERICAL;
     }
     lub_texture_stress ss = lub_texture_steady_stress(&tp);
+    if (!isfinite(ss.eta_app) || !isfinite(ss.n1) || !isfinite(ss.n2) || !isfinite(ss.pp)) {
+        /* beyond the doubles (they are computed without intermediate overflow) */
+        json_t *warnings = json_object_get(ctx->summary_extra, "warnings");
+        if (!warnings) {
+            warnings = json_array();
+            json_object_set_new(ctx->summary_extra, "warnings", warnings);
+        }
+        json_array_append_new(
+            warnings,
+            json_string("/parameters/eta_e: the closed-form steady values (eta_app_steady, "
+                        "N1/N2/pp_steady_per_rate) exceed the largest double and are reported "
+                        "null: they scale with eta_e, times the beta terms over Delta^2 "
+                        "(Delta = 1 - a^2 + delta1^2); lower /parameters/eta_e or the betas"));
+    }
     lub_summary_put(ctx, "eta_app_steady", ss.eta_app, NAN, "Pa.s");
     lub_summary_put(ctx, "N1_steady_per_rate", ss.n1, NAN, "Pa.s");
     lub_summary_put(ctx, "N2_steady_per_rate", ss.n2, NAN, "Pa.s");

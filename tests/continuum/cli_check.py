@@ -95,6 +95,13 @@ CASES = [
       "protocol": []}, "/protocol"),
     ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4},
       "protocol": [{"mode": "pause", "duration": 1, "rate": 2}]}, "/protocol/0"),
+    # an overflowing strain is refused at the member in both modes (until 2026-12-06 the stress
+    # mode ran to exit 3 "non-finite ... at strain -nan")
+    ({"scene": "continuum_rheometer",
+      "protocol": [{"mode": "stress", "stress": 1e300, "duration": 1e300}]}, "/protocol/0/duration"),
+    ({"scene": "continuum_rheometer",
+      "protocol": [{"mode": "rate", "rate": 1, "strain": 1},
+                   {"mode": "rate", "rate": -1e300, "duration": 1e300}]}, "/protocol/1/duration"),
     ({"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4}, "bogus": 1,
       "protocol": [{"mode": "pause", "duration": 1}]}, "/bogus"),
     ({"scene": "continuum_steady_curves"}, None),
@@ -157,7 +164,8 @@ def pointer_ok(err_line, want):
 
 
 # constraints that draft-07 cannot express (documented in each schema's description)
-CROSS_FIELD = {("sbm_channel", "/psi_mean")}
+CROSS_FIELD = {("sbm_channel", "/psi_mean"), ("continuum_rheometer", "/protocol/0/duration"),
+               ("continuum_rheometer", "/protocol/1/duration")}
 
 for spec, want in CASES:
     sc = spec["scene"]
@@ -264,6 +272,42 @@ if r:
              for n in ("apparent_viscosity", "N1", "N2", "shear_stress", "depletion_angle",
                        "strain", "shear_rate"))
     check_near("cli.singular.h5_finite", 1.0 if ok else 0.0, 1.0, 0.0)
+# huge alpha (delta1^2 overflows): the steady values are computed without intermediate overflow
+# (until 2026-12-06 eta_app_steady, N2 and pp_steady_per_rate were null, theta_e 0 instead of 45)
+r, h = run("rheo_alpha_1e155", {"scene": "continuum_rheometer", "parameters": {
+    "set": "m3", "alpha": 1e155, "beta": 0, "eta": 1, "eta_e": 0}})
+if r:
+    check_near("cli.rheo_alpha_1e155.null_results", float(sum(1 for v in r.values() if v is None)),
+               0.0, 0.0)
+    check_near("cli.rheo_alpha_1e155.eta_app_steady", r["eta_app_steady"], 1.0, 1e-12)
+    check_near("cli.rheo_alpha_1e155.N2_steady", r["N2_steady_per_rate"], 0.0, 0.0)
+    check_near("cli.rheo_alpha_1e155.pp_steady", r["pp_steady_per_rate"], 0.0, 0.0)
+r, h = run("rheo_alpha_1e155_ee", {"scene": "continuum_rheometer", "parameters": {
+    "set": "m3", "alpha": 1e155, "beta": 0, "eta": 1, "eta_e": 1}})
+if r:
+    check_near("cli.rheo_alpha_1e155_ee.eta_app_steady", r["eta_app_steady"], 2.0, 1e-12)
+    check_near("cli.rheo_alpha_1e155_ee.abs_theta_e_final_deg", abs(r["theta_e_final_deg"]), 45.0, 1e-9)
+r, h = run("rheo_beta_1e300", {"scene": "continuum_rheometer", "parameters": {
+    "set": "m3", "alpha": 1e100, "beta": 1e300, "eta": 1, "eta_e": 1}})
+if r:
+    e = r["eta_app_steady"]
+    check_near("cli.rheo_beta_1e300.eta_app_steady_rel", e / 1e100 if e is not None else None, 1.0,
+               1e-12)
+    check_near("cli.rheo_beta_1e300.N1_steady", r["N1_steady_per_rate"], 2.0, 1e-12)
+# steady values beyond the doubles: reported null with a warning naming the member
+out = os.path.join(WORK, "rheo_overflow_warning")
+shutil.rmtree(out, ignore_errors=True)
+p = subprocess.run([LUBDEM, "run", "-", "--out", out, "--quiet"], capture_output=True, text=True,
+                   input=json.dumps({"scene": "continuum_rheometer", "parameters": {
+                       "set": "m3", "alpha": 1e-200, "beta": 1e300, "eta": 1, "eta_e": 1},
+                       "protocol": [{"mode": "pause", "duration": 1}]}))
+warned = False
+if p.returncode == 0:
+    with open(os.path.join(out, "summary.json")) as f:
+        warned = any(w.startswith("/parameters/eta_e: ") for w in json.load(f).get("warnings", []))
+print("rheo_overflow_warning: exit %d, warned %s %s" % (p.returncode, warned, "ok" if warned else "FAIL"))
+if not warned:
+    fail("rheo_overflow_warning")
 r, h = run("singular_pipe", {"scene": "sbm_channel", "psi_star": 0.999999, "psi_mean": 0.99})
 if r:
     check_near("cli.singular_pipe.area_mean", r["psi_area_mean"], 0.99, 1e-9)

@@ -367,6 +367,21 @@ static void section_robust(void)
     check_true("robust.huge_strain_is_steady", fabs(big.xy - 1.0) < 1e-15 && isfinite(big.xx));
     lub_texture_micro m0 = lub_texture_micro_of(&ok, (lub_texture_state){0, 0, 0});
     check_true("robust.rest_state_angle_finite", isfinite(m0.theta_e) && m0.fabric_gap == 0.0);
+    /* delta1^2 beyond the doubles (until 2026-12-06 NaN steady stresses and gamma_e = 0) */
+    lub_texture_params huge = lub_texture_m3(1e155, 0.0, 1.0, 1.0);
+    lub_texture_stress sh = lub_texture_steady_stress(&huge);
+    lub_texture_state gh = lub_texture_steady_state(&huge, +1);
+    check_near("robust.alpha1e155.eta_app", sh.eta_app, 2.0, 1e-12);
+    check_near("robust.alpha1e155.n2", sh.n2, 0.0, 0.0);
+    check_near("robust.alpha1e155.gxy_times_alpha", gh.xy * 1e155, 1.0, 1e-12);
+    huge.eta_e = 0.0;
+    sh = lub_texture_steady_stress(&huge);
+    check_true("robust.alpha1e155.eta_e0",
+               sh.eta_app == 1.0 && sh.n1 == 0.0 && sh.n2 == 0.0 && sh.pp == 0.0);
+    /* beta1 delta1^2 overflows in the intermediate product only */
+    lub_texture_params bb = lub_texture_m3(1e100, 1e300, 1.0, 1.0);
+    check_near("robust.beta1e300.eta_app_rel", lub_texture_steady_stress(&bb).eta_app / 1e100, 1.0,
+               1e-12);
 }
 
 int main(void)
