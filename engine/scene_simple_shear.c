@@ -188,8 +188,8 @@ static int ss_check_steps(const ss_params *p, lub_error *err)
  * gain gd dt of itself in one step, and the cell closes at 1. A servo is meant to follow the
  * pressure over many steps; refused when that change reaches SS_SERVO_STEP_MAX at the shortest
  * step the spec allows (the lightest particle's, radius r_lo of lub_packing_radius_bounds, or
- * /dt). Runs between 0.05 and 0.87 of it (Iv 10, St 10, gains 10-20) failed at step 1 or 2 with
- * particles thrown across the cell or the cell squeezed below the listing distance. */
+ * /dt). Runs with changes of 0.17 to 0.87 per step (Iv 10, St 10, gains 4-20) failed within 14
+ * steps, the cell squeezed below the listing distance or particles thrown across it. */
 #define SS_SERVO_STEP_MAX 0.5
 static int ss_check_servo(const ss_params *p, lub_error *err)
 {
