@@ -90,7 +90,12 @@ int lub_resume_spec_mismatch(const json_t *here, const json_t *saved, const char
             json_object_del(b, may_differ[k]);
         }
         char at[512], was[160], now[160];
-        if (first_difference(a, b, "", at, sizeof at, now, was, sizeof now)) {
+        /* another scene's checkpoint is refused at /scene, whatever member comes first */
+        const json_t *scene_a = json_object_get(a, "scene"), *scene_b = json_object_get(b, "scene");
+        const int other_scene =
+            scene_a && scene_b && !json_equal(scene_a, scene_b) &&
+            first_difference(scene_a, scene_b, "/scene", at, sizeof at, now, was, sizeof now);
+        if (other_scene || first_difference(a, b, "", at, sizeof at, now, was, sizeof now)) {
             snprintf(why, len, "%s: %s here, %s in the stopped run's spec", at, now, was);
             if (at_out)
                 snprintf(at_out, at_len, "%s", at);

@@ -11,7 +11,8 @@
  * out the top-level members named in may_differ (a scene's resume_may_differ; NULL = none);
  * numbers compare by value (12 and 12.0 agree).
  * Returns 0 when they agree; 1 when they differ, with "POINTER: VALUE here, VALUE in the
- * stopped run's spec" (compact JSON, truncated to fit) in why[len] and, when at is not NULL,
+ * stopped run's spec" (compact JSON, truncated to fit; another scene is named at /scene
+ * whatever member differs before it) in why[len] and, when at is not NULL,
  * the JSON pointer alone in at[at_len]; -1 out of memory (why says so). Pure: neither spec is
  * changed. */
 int lub_resume_spec_mismatch(const json_t *here, const json_t *saved, const char *const *may_differ,

@@ -262,6 +262,39 @@ static int check_resume(const char *ckpt_path, const char *out_dir, const json_t
     return rc;
 }
 
+/* --resume of a scene that takes no checkpoints, with DIR/checkpoint.h5 present: the checkpoint
+ * is another scene's, so the refusal names /scene, with the scene that wrote it when it can be
+ * read, into why[len] (the text after "cannot continue from DIR/checkpoint.h5: "). */
+static void other_scene_refusal(const char *ckpt_path, const lub_scene *scene, char *why,
+                                size_t len)
+{
+    char err[400] = "", saved_scene[160] = "";
+    lub_ckpt *c = lub_ckpt_open(ckpt_path, err, sizeof err);
+    char *text = c ? lub_ckpt_get_text(c, "spec_resolved") : NULL;
+    json_t *saved = text ? json_loads(text, 0, NULL) : NULL;
+    const char *name = json_string_value(json_object_get(saved, "scene"));
+    if (name)
+        snprintf(saved_scene, sizeof saved_scene, "\"%s\" in the stopped run's spec", name);
+    else
+        snprintf(saved_scene, sizeof saved_scene, "a checkpoint whose spec cannot be read (%s)",
+                 c ? (text ? "invalid JSON" : lub_ckpt_error(c)) : err);
+    json_decref(saved);
+    free(text);
+    lub_ckpt_close(c, NULL, 0);
+    char resumable[200] = ""; /* the scenes --resume continues */
+    for (const lub_scene *const *s = lub_scene_list(); *s; ++s) {
+        if (!(*s)->resumable)
+            continue;
+        const size_t used = strlen(resumable);
+        snprintf(resumable + used, sizeof resumable - used, "%s%s", used ? ", " : "", (*s)->name);
+    }
+    snprintf(why, len,
+             "/scene: \"%s\" here, %s: a %s run takes no checkpoint and continues none "
+             "(--resume continues %s); give another --out, or run without --resume to start "
+             "afresh (which removes the checkpoint)",
+             scene->name, saved_scene, scene->name, resumable);
+}
+
 static const char *status_of(int rc)
 {
     switch (rc) {
@@ -305,10 +338,18 @@ int lub_run_spec(const lub_run_request *req)
             json_decref(resolved);
             return LUB_EXIT_BAD_SPEC;
         }
+    } else if (req->resume && had_checkpoint) { /* another scene's checkpoint: left as it is */
+        char why[sizeof ckpt_dst + 1024];
+        other_scene_refusal(ckpt_dst, scene, why, sizeof why);
+        char line[sizeof why + sizeof ckpt_dst + 64];
+        snprintf(line, sizeof line, "--resume: cannot continue from %s: %s", ckpt_dst, why);
+        report_refusal(req->diag, req->json_errors, "/scene", line, line);
+        json_decref(resolved);
+        return LUB_EXIT_BAD_SPEC;
     } else if (req->resume && req->progress) {
         fprintf(req->progress,
-                "resume: %s holds no checkpoint%s; the run starts from the beginning\n",
-                req->out_dir, had_checkpoint ? " of this scene" : "");
+                "resume: %s holds no checkpoint; the run starts from the beginning\n",
+                req->out_dir);
     } else if (had_checkpoint) {
         fprintf(req->diag,
                 "note: %s holds the checkpoint of a stopped run; this run starts afresh and "

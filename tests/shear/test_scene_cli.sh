@@ -10,7 +10,8 @@
 #      steps validate; a count that only the packing's lightest particle puts above 1e12 ->
 #      exit 2 from the run, status failed with the diagnostic, JSON with --json-errors;
 #  1c. --resume refusals (a spec that differs, a /strain below the stopped run's) with
-#      --json-errors: one JSON object whose pointer is the member;
+#      --json-errors: one JSON object whose pointer is the member; every other scene's spec
+#      (those without checkpoints too) at /scene, the folder's files unchanged;
 #  2. short robustness run (N=300, phi=0.55, all terms) -> exit 0, complete, finite headline
 #     numbers, H5MD observables present; mu, Iv, sigma11/sigma22 and sigma33/sigma22 of the
 #     summary are ratios of time averages of the HDF5 stress series (over a suffix), which the
@@ -131,6 +132,19 @@ echo '{"scene":"simple_shear","n_particles":300,"strain":0.02,"snapshots":0,"sam
 "$LUBDEM" run "$W/kept_short.json" --out "$W/kept" --quiet --resume --json-errors 2>"$W/kept_short.err"; rc=$?
 check "[ $rc -eq 2 ] && [ -e $W/kept/checkpoint.h5 ] && $PY -c \"import json,sys; e=json.load(open('$W/kept_short.err')); sys.exit(0 if e['pointer']=='/strain' and 'already sheared' in e['message'] else 1)\"" \
   "--resume refusal (strain below the run's), --json-errors: rc=$rc $(cat "$W/kept_short.err")"
+# another scene's spec on the folder of this checkpoint: refused at /scene, every file as it
+# was, whatever member comes first (a scene without checkpoints used to print "holds no
+# checkpoint of this scene", run from the beginning and delete the checkpoint; resuspension
+# with /cutoff first was refused at /cutoff)
+kept_sums=$(cd "$W/kept" && md5sum * | sort)
+for other in '{"scene":"continuum_rheometer"}' '{"scene":"continuum_steady_curves"}' \
+  '{"scene":"two_spheres_shear"}' '{"scene":"falling_sphere"}' '{"scene":"sbm_channel"}' \
+  '{"scene":"sbm_resuspension"}' '{"cutoff":2.5,"scene":"resuspension"}'; do
+  echo "$other" >"$W/other.json"
+  "$LUBDEM" run "$W/other.json" --out "$W/kept" --quiet --resume --json-errors 2>"$W/other.err"; rc=$?
+  check "[ $rc -eq 2 ] && [ \"\$(cd $W/kept && md5sum * | sort)\" = \"\$kept_sums\" ] && $PY -c \"import json,sys; e=json.load(open('$W/other.err')); sys.exit(0 if e['pointer']=='/scene' and 'simple_shear\\\" in the stopped run' in e['message'] else 1)\"" \
+    "--resume of $other on a simple_shear checkpoint: rc=$rc $(cat "$W/other.err"); $(ls "$W/kept")"
+done
 
 # 2. robustness run
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
