@@ -98,8 +98,10 @@ static int mkdir_p(const char *path)
 {
     char buf[4096];
     size_t n = strlen(path);
-    if (n == 0 || n >= sizeof buf)
+    if (n == 0 || n >= sizeof buf) { /* errno says why: the caller prints it */
+        errno = n ? ENAMETOOLONG : ENOENT;
         return -1;
+    }
     memcpy(buf, path, n + 1);
     for (size_t i = 1; i <= n; ++i) {
         if (buf[i] == '/' || buf[i] == '\0') {

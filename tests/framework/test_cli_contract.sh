@@ -72,6 +72,11 @@ $PY -c "import json; e=json.load(open('$work/j.err')); assert e['pointer']=='/bo
 "$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
 "$LUBDEM" frobnicate > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown command exit code"
 "$LUBDEM" run "$work/j.json" > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without --out exit code"
+# an empty --out is a usage error (it was "cannot create output folder : Success", exit 4)
+printf '{"scene": "falling_sphere"}' > "$work/emptyout.json"
+(cd "$work" && "$LUBDEM" run emptyout.json --out "" > /dev/null 2> "$work/emptyout.err"); rc=$?
+[ $rc -eq 2 ] && grep -q '^error: --out needs a folder' "$work/emptyout.err" && ok \
+  || bad "--out '': exit $rc, $(cat "$work/emptyout.err")"
 
 # validate prints the resolved spec with defaults filled in
 printf '{"scene": "falling_sphere"}' > "$work/min.json"
