@@ -999,6 +999,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
 
     /* ---- time loop ---- */
     int stopped_early = 0;
+    int target_zero_mean = 0;   /* the last /target_rel_error check found the headline 0 +- 0 */
     int stopped_by_request = 0; /* a stop request ended the loop between two steps */
     const int headline = p.pressure ? S_MU : S_ETA;
     double row[10 + 6 * 9 + 1];
@@ -1183,7 +1184,11 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
                  * known") */
                 const double averaged =
                     start < ser.n ? ser.strain[ser.n - 1] - ser.strain[start] : 0.0;
-                if (sr.steady && averaged >= p.target_min_strain && isfinite(sr.sem) &&
+                /* a mean of 0 has no relative error (0 +- 0 is 0/0, not "known to x %"): no
+                 * stop on it, and a warning says why */
+                const int checked = sr.steady && averaged >= p.target_min_strain;
+                target_zero_mean = checked && sr.mean == 0.0;
+                if (checked && isfinite(sr.sem) && sr.mean != 0.0 &&
                     sr.sem <= p.target_rel_error * fabs(sr.mean)) {
                     stopped_early = 1;
                     ++step;
@@ -1381,6 +1386,16 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         for (int w = 0; w < n_warnings; ++w)
             json_array_append_new(warnings, json_string(warning_text[w]));
         lub_network_warn_skipped(network, warnings);
+        if (target_zero_mean) {
+            char text[400];
+            snprintf(text, sizeof text,
+                     "%s averaged exactly 0 over the steady window, whose relative error is "
+                     "undefined: the run did not stop on /target_rel_error and went on to "
+                     "/strain; unset /target_rel_error (or make the particles interact: raise "
+                     "/phi or /cutoff)",
+                     p.pressure ? "mu" : "eta_r");
+            json_array_append_new(warnings, json_string(text));
+        }
         json_object_set_new(ctx->summary_extra, "warnings", warnings);
         lub_summary_put(ctx, "elastic_number", checks.elastic_number, NAN, "1");
         json_t *terms = json_array();

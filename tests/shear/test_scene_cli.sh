@@ -25,7 +25,8 @@
 #      warning, and no reference values at imposed pressure;
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient; its default
 #     stiffness (El = 1e4) gives no elastic-number warning;
-#  3b. target relative error stops the run early;
+#  3b. target relative error stops the run early; not on a mean of 0 +- 0 (a warning names
+#      /target_rel_error);
 #  3c. a servo gain far outside the studied range: the summary says the pressure was not
 #      held, or the diagnostic of the squeezed cell names the servo; a servo that would move
 #      L_y by half of itself in one step is refused, and one below that names the servo;
@@ -326,6 +327,21 @@ if abs(e["value"] / e["ref"] - 1) > 0.15 and not (
     print("FAIL: no warning about the reference law's interaction set:", s.get("warnings"),
           file=sys.stderr)
     ok = False
+sys.exit(0 if ok else 1)
+PYEOF
+# 3b'. four spheres far apart never touch: eta_r is 0 +- 0, whose relative error is undefined
+# (0/0); the run goes on to /strain and a warning names /target_rel_error (it stopped at
+# strain 2 with stopped_on_target_error true)
+echo '{"scene":"simple_shear","n_particles":4,"phi":0.05,"cutoff":0.1,"skin":0.05,"transient_strain":0,"target_rel_error":0.5,"target_min_strain":0,"strain":3}' \
+  | "$LUBDEM" run - --out "$W/target0" --quiet 2>"$W/target0.err"; rc=$?
+check "[ $rc -eq 0 ] && grep -q '^warning: .*/target_rel_error' $W/target0.err" "target error of a zero mean: rc=$rc $(cat "$W/target0.err")"
+"$PY" - "$W/target0" <<'PYEOF' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1] + "/summary.json"))
+st = s["results"]["strain_reached"]["value"]
+ok = (not s["stopped_on_target_error"] and abs(st - 3) < 1e-3 and s["results"]["eta_r"]["value"] == 0
+      and any("/target_rel_error" in w and "eta_r" in w for w in s.get("warnings", [])))
+if not ok: print(f"FAIL: target error of a zero mean: stopped {s['stopped_on_target_error']} at {st}, warnings {s.get('warnings')}", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
 
