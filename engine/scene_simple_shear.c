@@ -1366,6 +1366,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .steady_samples = (double)(ser.n - start),
             .strain_reached = lp.strain,
             .transient_strain = p.transient_strain,
+            .sample_strain = p.sample_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,
             .dt_over_stiffness = p.dt > 0.0 ? lp.ctl.ratio_max : 0.0,
             .phi_imposed = p.pressure ? NAN : p.phi,

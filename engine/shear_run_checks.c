@@ -120,7 +120,17 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "%.0f active pair states were lost at neighbour-list rebuilds "
                     "(contacts restarted without their history); raise /skin or lower %s",
                     st->lost_pairs, dt_fixed ? "/dt" : "/dt_safety");
-    if (!st->steady && st->steady_samples == 0.0 && !(st->strain_reached < st->transient_strain))
+    const int after_transient = !(st->strain_reached < st->transient_strain);
+    if (!st->steady && st->steady_samples == 0.0 && after_transient &&
+        st->sample_strain > st->strain_reached - st->transient_strain)
+        add_warning(out, &n,
+                    "no steady-state samples: one sample is taken every /sample_strain %.3g of "
+                    "strain, more than the run's %.3g after /transient_strain %.3g (it ended at "
+                    "strain %.3g), and the steady-state results are null; lower /sample_strain "
+                    "(or raise /strain)",
+                    st->sample_strain, st->strain_reached - st->transient_strain,
+                    st->transient_strain, st->strain_reached);
+    else if (!st->steady && st->steady_samples == 0.0 && after_transient)
         add_warning(out, &n,
                     "no steady-state samples after /transient_strain %.3g (the run ended at "
                     "strain %.3g), and the steady-state results are null; raise /strain",

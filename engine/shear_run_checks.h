@@ -29,6 +29,7 @@ typedef struct {
                                       transient) */
     double strain_reached;         /* strain at the end of the run */
     double transient_strain;       /* the spec's /transient_strain */
+    double sample_strain;          /* the spec's /sample_strain (0: not known) */
     double dt_over_elastic;        /* a time step fixed by the spec's /dt, over dt_elastic
                                       (sqrt(min(m/g, I/(k_t r^2)))); 0 when /dt_safety set it */
     double dt_over_stiffness;      /* a time step fixed by the spec's /dt, over the smallest
@@ -81,7 +82,9 @@ typedef struct {
  *   (/dt_stiffness_safety, default LUB_DT_STIFFNESS_SAFETY), and runs blew up from 1.22
  *   (light, soft spheres; README simple_shear, Method).
  * - No steady state detected: the means include the transient or a drift; or the run ended
- *   before /transient_strain and has no steady-state means at all (null in the summary).
+ *   before /transient_strain and has no steady-state means at all (null in the summary);
+ *   when the run went on after the transient for less than one /sample_strain, that is
+ *   the member named (raising /strain is no cure when /sample_strain is 10 and /strain 0.01).
  * - An imposed phi at or above the seed's phi_m(mu_m) (uncertain by ~0.01; this engine's phi
  *   at Iv = 1e-3 is 0.003-0.005 below the law at mu_m = 0.5, README simple_shear, so it jams
  *   below phi_m too): rigid spheres cannot flow, the stress follows the stiffness, and the El

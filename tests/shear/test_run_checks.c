@@ -215,6 +215,16 @@ int main(void)
     st.strain_reached = 1e3;
     one("no sample after the transient", &st, "no steady-state samples after /transient_strain 2",
         "strain 1e+03");
+    /* a sample spacing longer than the run after the transient: /sample_strain is named (the
+     * advice was to raise /strain, with /sample_strain 10 and /strain 0.01) */
+    st.transient_strain = 0.0;
+    st.strain_reached = 0.01;
+    st.sample_strain = 10.0;
+    one("sample spacing beyond the run", &st, "every /sample_strain 10 of strain",
+        "lower /sample_strain");
+    st.sample_strain = 0.005; /* within the run: the spacing is not the cause */
+    one("sample spacing within the run", &st, "no steady-state samples after /transient_strain 0",
+        "raise /strain");
 
     /* the headline against the §2 law, with another interaction set than the law's: eta_r 28.0
      * against 13.05 (default set, phi 0.45) warns; 11 % off (within 15 %), the article's set, no

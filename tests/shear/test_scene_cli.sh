@@ -26,7 +26,7 @@
 #  3. imposed-pressure run -> measured pressure close to 1 after the transient; its default
 #     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early; not on a mean of 0 +- 0 (a warning names
-#      /target_rel_error);
+#      /target_rel_error); a /sample_strain longer than the run: the warning names it;
 #  3c. a servo gain far outside the studied range: the summary says the pressure was not
 #      held, or the diagnostic of the squeezed cell names the servo; a servo that would move
 #      L_y by half of itself in one step is refused, and one below that names the servo;
@@ -344,6 +344,12 @@ ok = (not s["stopped_on_target_error"] and abs(st - 3) < 1e-3 and s["results"]["
 if not ok: print(f"FAIL: target error of a zero mean: stopped {s['stopped_on_target_error']} at {st}, warnings {s.get('warnings')}", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
+# 3b''. one sample every 10 strain in a run of 0.01: no sample, and the warning names
+# /sample_strain (it advised "raise /strain" only)
+echo '{"scene":"simple_shear","n_particles":40,"cutoff":0.1,"skin":0.05,"transient_strain":0,"strain":0.01,"sample_strain":10}' \
+  | "$LUBDEM" run - --out "$W/sample10" --quiet 2>"$W/sample10.err"; rc=$?
+check "[ $rc -eq 0 ] && grep -q '^warning: no steady-state samples: .*lower /sample_strain' $W/sample10.err" \
+  "sample_strain beyond strain: rc=$rc $(cat "$W/sample10.err")"
 
 # 4. SIGTERM: partial but valid result
 echo '{"scene":"simple_shear","n_particles":300,"strain":1000,"snapshots":1}' > "$W/long.json"
