@@ -1387,6 +1387,22 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         for (int w = 0; w < n_warnings; ++w)
             json_array_append_new(warnings, json_string(warning_text[w]));
         lub_network_warn_skipped(network, warnings);
+        if (p.pdf_on && sys.pdf.snapshots == 0) { /* no /profiles would be written */
+            char text[400];
+            if (lp.strain < p.pdf_start)
+                snprintf(text, sizeof text,
+                         "no microstructure was sampled and result.h5 has no /profiles: the run "
+                         "ended at strain %.3g, before /microstructure/start_strain %.3g; lower "
+                         "/microstructure/start_strain (or raise /strain)",
+                         lp.strain, p.pdf_start);
+            else
+                snprintf(text, sizeof text,
+                         "no microstructure was sampled and result.h5 has no /profiles: no "
+                         "sample fell between /microstructure/start_strain %.3g and the end at "
+                         "strain %.3g; lower /microstructure/interval_strain %.3g",
+                         p.pdf_start, lp.strain, p.pdf_interval);
+            json_array_append_new(warnings, json_string(text));
+        }
         if (target_zero_mean) {
             char text[400];
             snprintf(text, sizeof text,

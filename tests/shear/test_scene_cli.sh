@@ -27,6 +27,7 @@
 #     stiffness (El = 1e4) gives no elastic-number warning;
 #  3b. target relative error stops the run early; not on a mean of 0 +- 0 (a warning names
 #      /target_rel_error); a /sample_strain longer than the run: the warning names it;
+#  3d. /microstructure/start_strain beyond /strain: a warning names it;
 #  3c. a servo gain far outside the studied range: the summary says the pressure was not
 #      held, or the diagnostic of the squeezed cell names the servo; a servo that would move
 #      L_y by half of itself in one step is refused, and one below that names the servo;
@@ -350,6 +351,12 @@ echo '{"scene":"simple_shear","n_particles":40,"cutoff":0.1,"skin":0.05,"transie
   | "$LUBDEM" run - --out "$W/sample10" --quiet 2>"$W/sample10.err"; rc=$?
 check "[ $rc -eq 0 ] && grep -q '^warning: no steady-state samples: .*lower /sample_strain' $W/sample10.err" \
   "sample_strain beyond strain: rc=$rc $(cat "$W/sample10.err")"
+# 3d. microstructure asked for from strain 5 in a run of 0.3: no /profiles, and a warning
+# names /microstructure/start_strain (nothing said so)
+echo '{"scene":"simple_shear","n_particles":40,"cutoff":0.1,"skin":0.05,"transient_strain":0,"strain":0.3,"microstructure":{"enabled":true,"start_strain":5}}' \
+  | "$LUBDEM" run - --out "$W/pdf_late" --quiet 2>"$W/pdf_late.err"; rc=$?
+check "[ $rc -eq 0 ] && grep -q '^warning: no microstructure was sampled.*/microstructure/start_strain' $W/pdf_late.err && grep -q '/microstructure/start_strain' $W/pdf_late/summary.json" \
+  "microstructure after the end: rc=$rc $(cat "$W/pdf_late.err")"
 
 # 4. SIGTERM: partial but valid result
 echo '{"scene":"simple_shear","n_particles":300,"strain":1000,"snapshots":1}' > "$W/long.json"
