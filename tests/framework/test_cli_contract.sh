@@ -38,6 +38,11 @@ expect_spec_error notobject '[1, 2]' '(root)'
 expect_spec_error noscene '{"eps": 0.1}' '/scene'
 expect_spec_error unknownscene '{"scene": "no_such_scene"}' '/scene'
 expect_spec_error unknownfield '{"scene": "falling_sphere", "bogus_field": 1}' '/bogus_field'
+# a number beyond a double or an int64 is refused at its member (it was "(root): invalid JSON
+# ... real number overflow")
+expect_spec_error overflow '{"scene": "falling_sphere", "duration": 1e400}' '/duration'
+expect_spec_error overflow_nested '{"scene": "simple_shear", "microstructure": {"start_strain": -1e999}}' '/microstructure/start_strain'
+expect_spec_error overflow_int '{"scene": "simple_shear", "seed": 99999999999999999999999}' '/seed'
 expect_spec_error duplicate '{"scene": "falling_sphere", "scene": "falling_sphere"}' '(root)'
 
 # spec files: at most 64 MiB (it was 128 MiB in effect, and a larger one said "No such file or
