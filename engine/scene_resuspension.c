@@ -103,11 +103,16 @@ static double rs_elastic_dt(const rs_params *p, double r)
     return dt;
 }
 
+/* The run's step when its lightest particle has radius r. */
+static double rs_step_at(const rs_params *p, double r)
+{
+    return p->dt > 0.0 ? p->dt : p->dt_safety * rs_elastic_dt(p, r);
+}
+
 /* The run's steps (step_count.h) when its lightest particle has radius r. */
 static double rs_steps_at(const rs_params *p, double r)
 {
-    const double dt = p->dt > 0.0 ? p->dt : p->dt_safety * rs_elastic_dt(p, r);
-    return lub_step_count(p->strain, dt);
+    return lub_step_count(p->strain, rs_step_at(p, r));
 }
 
 /* The refusal of `count` steps of length dt (qualifier: "" for the run's own, "at least " or
@@ -163,7 +168,9 @@ static int rs_check_steps(const rs_params *p, lub_error *err)
     if (!out)
         return 0;
     const double count = out > 0 ? fewest : most;
-    return rs_step_refusal(p, out > 0 ? r_hi : r_lo, count, p->strain / count, qualifier, err);
+    /* the step itself, not the duration over the count (0 for a count of inf at 5e-324) */
+    const double r = out > 0 ? r_hi : r_lo;
+    return rs_step_refusal(p, r, count, rs_step_at(p, r), qualifier, err);
 }
 
 /* How far a sphere of radius a compresses a contact under its own weight, (4/3) pi a^3 drho g

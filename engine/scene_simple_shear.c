@@ -113,12 +113,17 @@ static double ss_elastic_dt(const ss_params *p, double r)
     return sqrt(t2);
 }
 
+/* The run's step when its lightest particle has radius r. */
+static double ss_step_at(const ss_params *p, double r)
+{
+    return p->dt > 0.0 ? p->dt : p->dt_safety * ss_elastic_dt(p, r);
+}
+
 /* The run's steps (step_count.h) when its lightest particle has radius r. */
 static double ss_steps_at(const ss_params *p, double r)
 {
     const double gd = p->pressure ? p->Iv : 1.0;
-    const double dt = p->dt > 0.0 ? p->dt : p->dt_safety * ss_elastic_dt(p, r);
-    return lub_step_count(p->strain / gd, dt);
+    return lub_step_count(p->strain / gd, ss_step_at(p, r));
 }
 
 /* The refusal of `count` steps of length dt (qualifier: "" for the run's own, "at least " or
@@ -172,14 +177,15 @@ static int ss_check_steps(const ss_params *p, lub_error *err)
     double r_lo = 1.0, r_hi = 1.0;
     if (p->dt <= 0.0)
         lub_packing_radius_bounds(p->radius_std, &r_lo, &r_hi);
-    const double gd = p->pressure ? p->Iv : 1.0;
     const double fewest = ss_steps_at(p, r_hi), most = ss_steps_at(p, r_lo);
     const char *qualifier;
     const int out = lub_step_count_range_outside(fewest, most, p->dt > 0.0, &qualifier);
     if (!out)
         return 0;
     const double count = out > 0 ? fewest : most;
-    return ss_step_refusal(p, out > 0 ? r_hi : r_lo, count, p->strain / gd / count, qualifier, err);
+    /* the step itself, not the duration over the count (0 for a count of inf at 5e-324) */
+    const double r = out > 0 ? r_hi : r_lo;
+    return ss_step_refusal(p, r, count, ss_step_at(p, r), qualifier, err);
 }
 
 /* Imposed pressure: the servo sets the strain rate of L_y to /servo/gain gd times the pressure

@@ -178,6 +178,7 @@ step_refused light "{$small, \"shields\": 1e-300}" /shields "at least one whole 
 step_refused heavy "{$small, \"shields\": 1e300}" /shields "more than the 1e+12"
 step_refused stiff "{$small, \"stiffness\": 1e300}" /stiffness "more than the 1e+12"
 step_refused dt "{$small, \"dt\": 1e-300}" /dt "5e+298 steps"
+step_refused dt_denormal "{$small, \"dt\": 5e-324}" /dt "at a step of 4.94e-324 " # was "of 0"
 step_refused kt "{$small, \"law\": {\"kt_ratio\": 1e300}}" /law/kt_ratio "more than the 1e+12"
 # a cell narrower than twice the neighbour listing distance (the schema's smallest /width with
 # the default cut-off, the largest /cutoff at the default width): refused at /width before the

@@ -93,6 +93,9 @@ step_refused() { # name, spec, pointer, text in the message
 }
 step_refused dt_long '{"scene":"simple_shear","n_particles":300,"strain":0.05,"dt":1e300}' /dt 'at least one whole step'
 step_refused dt_tiny '{"scene":"simple_shear","n_particles":300,"strain":0.05,"dt":1e-300}' /dt '5e+298 steps'
+# the smallest double: its step is printed, not "at a step of 0" (the step was the duration
+# over an infinite count)
+step_refused dt_denormal '{"scene":"simple_shear","n_particles":300,"strain":0.05,"dt":5e-324}' /dt 'at a step of 4.94e-324 '
 step_refused kt '{"scene":"simple_shear","n_particles":300,"strain":0.05,"law":{"kt_ratio":1e300}}' /law/kt_ratio 'at least 8.18e+152 steps'
 step_refused long '{"scene":"simple_shear","strain":1e6,"St":1e-8,"stiffness":1e9,"sample_strain":1}' /St 'at least 3.66e+14 steps'
 step_refused iv '{"scene":"simple_shear","control":"pressure","Iv":1e-6,"strain":1e6,"sample_strain":1}' /Iv 'over /Iv 1e-06'
