@@ -1,0 +1,22 @@
+/* json_overflow.h — the member of a spec that holds a number beyond a double or an int64.
+ *
+ * jansson refuses such a number ("real number overflow", "too big integer") with the position
+ * after it but no member. lub_json_overflow_member() replaces it by a marker string (and any
+ * later such number by 0), parses the text again and looks the marker up, so that the refusal
+ * names the member like every other spec error: "/phi: the number 1e400 (line 1 column 35) is
+ * beyond the range of a double ...". A string in the spec equal to the marker ("\u0001number")
+ * would be found instead (not a spec any scene accepts).
+ *
+ * text: the spec text jansson refused with *jerr. Returns 0 with *err naming the member, or -1
+ * when the refusal was for another reason or the member cannot be found (*err untouched).
+ * Allocates copies of text while it works (at most 100 parses); no state. */
+#ifndef LUBDEM_JSON_OVERFLOW_H
+#define LUBDEM_JSON_OVERFLOW_H
+
+#include <jansson.h>
+
+#include "spec_reader.h"
+
+int lub_json_overflow_member(const char *text, const json_error_t *jerr, lub_error *err);
+
+#endif
