@@ -95,6 +95,6 @@ int lub_json_overflow_member(const char *text, const json_error_t *jerr, lub_err
     lub_fail(err, at, "the number %.*s (line %d column %d) is beyond the range of %s",
              (int)(end - start), text + start, jerr->line, jerr->column,
              strstr(jerr->text, "real") ? "a double (magnitude above 1.8e308)"
-                                        : "a 64-bit integer (above 9.2e18)");
+                                        : "a 64-bit integer (magnitude above 9.2e18)");
     return 0;
 }

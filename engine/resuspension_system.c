@@ -337,6 +337,7 @@ int lub_rs_step(lub_rs_system *s)
     for (int p = 0; p < nmob; ++p) {
         const double y = s->x[p].y;
         if (y < s->p.y_floor || y > ly) {
+            s->escaped_below = y < s->p.y_floor;
             snprintf(s->fail_msg, sizeof s->fail_msg,
                      "particle %d escaped the cell (y = %.6g, floor plane %.6g, top %.6g) at "
                      "step %ld",

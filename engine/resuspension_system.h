@@ -100,6 +100,7 @@ typedef struct {
                          raising the stiffness */
     long fail_pair;
     char fail_msg[256];
+    int escaped_below; /* after LUB_RS_ESCAPED: 1 when the particle went through the floor */
 } lub_rs_system;
 
 /* n_mobile free particles (radius, pos) followed by n_floor floor spheres (floor_r,

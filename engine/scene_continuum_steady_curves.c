@@ -74,11 +74,11 @@ static int sc_read(json_t *spec, sc_params *p, lub_error *err)
                         "psi^9 underflows, and the M3 laws overflow further down",
                         lub_real_text(p->report_psi, lo));
     /* lambda_33 = u^7.5/(1e-3 + u^6) with u = phi/phi_rcp <= 1/phi_rcp: u^7.5 overflows a double
-     * (1.8e308) for u > 1.6e41 */
+     * (1.8e308) for u > 1.26e41 */
     if (p->dem_phi_rcp < SC_PHI_RCP_LOW)
         return lub_fail(err, "/dem_phi_rcp",
                         "must be >= 1e-40 (got %s): lambda_33 = u^7.5/(1e-3 + u^6) with u = "
-                        "phi/dem_phi_rcp overflows a double (u^7.5 > 1.8e308) for u > 1.6e41",
+                        "phi/dem_phi_rcp overflows a double (u^7.5 > 1.8e308) for u > 1.26e41",
                         lub_real_text(p->dem_phi_rcp, lo));
     if (!(p->psi_max > p->psi_min))
         return lub_fail(err, "/psi_max", "must be > psi_min (got %s <= %s)",

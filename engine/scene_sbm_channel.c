@@ -144,17 +144,25 @@ static int ch_run(const json_t *resolved, lub_run_ctx *ctx)
     }
     if (solved == -3) { /* the closest profile misses the inventory: no results */
         const double got = p.setup.flux_weighted ? R.psi_flux : R.psi_area;
-        const int dem_pipe = p.cl.kind == LUB_CLOSURE_DEM && p.setup.geom == LUB_GEOM_PIPE;
+        /* above the request: the smallest mean the wall constant's bracket reaches (a closure
+         * whose A_r vanishes steeply, like the DEM seed's psi^9, at a small psi_mean); below
+         * it: in a pipe where lambda_33 = A_th/A_r of the DEM closure exceeds 2, |A_r| decreases
+         * towards the axis and the mean jumps past psi_mean as the wall constant varies */
+        const int too_high = got > p.setup.psi_mean;
+        const int dem_pipe =
+            !too_high && p.cl.kind == LUB_CLOSURE_DEM && p.setup.geom == LUB_GEOM_PIPE;
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "%s: %s: the closest profile has the %s mean psi %.10g against psi_mean = %.10g "
                  "(tolerance %g)%s",
                  dem_pipe ? "/closure/phi_rcp" : "/psi_mean", why,
                  p.setup.flux_weighted ? "flux-weighted" : "area", got, p.setup.psi_mean,
                  LUB_CHANNEL_INVENTORY_TOL,
-                 dem_pipe ? " (in a pipe, where lambda_33 = A_th/A_r of the DEM closure exceeds 2, "
-                            "|A_r| decreases towards the axis and the mean jumps past psi_mean as "
-                            "the wall constant varies): raise /closure/phi_rcp or lower /psi_mean"
-                          : ": lower /psi_mean");
+                 too_high   ? ": no profile of this closure has a mean that small; raise /psi_mean"
+                 : dem_pipe ? " (in a pipe, where lambda_33 = A_th/A_r of the DEM closure exceeds "
+                              "2, |A_r| decreases towards the axis and the mean jumps past "
+                              "psi_mean as the wall constant varies): raise /closure/phi_rcp or "
+                              "lower /psi_mean"
+                            : ": lower /psi_mean");
         free(buf);
         json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
         json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));

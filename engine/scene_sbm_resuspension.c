@@ -238,13 +238,18 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
         json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
         lub_progress_final(ctx->progress, 0);
+        /* a power law near n = 1 strains the quadrature (raise n); otherwise the profile's
+         * scale has left the doubles (lambda, inventory/shields far from 1) */
+        const int power = p.law.kind == LUB_NLAW_POWER, near_one = power && p.law.n < 1.05;
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "%s: the profile failed its checks (height %.10g, closed form %.10g, relative "
                  "tolerance %g; trapezoid mass %.10g for the inventory %.10g)%s",
-                 p.law.kind == LUB_NLAW_POWER ? "/law/n" : "/inventory", r.height, hc,
+                 near_one ? "/law/n" : (power ? "/law/lambda" : "/inventory"), r.height, hc,
                  RS_CLOSED_FORM_TOL, mass, p.inventory,
-                 p.law.kind == LUB_NLAW_POWER ? ": raise /law/n"
-                                              : ": change /inventory or /shields");
+                 near_one ? ": raise /law/n"
+                          : (power ? ": the height or its closed form left the range of a double; "
+                                     "bring /law/lambda and /inventory over /shields nearer 1"
+                                   : ": change /inventory or /shields"));
         return LUB_EXIT_NUMERICAL;
     }
     const char *names[7] = {"y",         "phi",        "Phi", "eta_law", "eta_from_profile",

@@ -209,8 +209,8 @@ static int ss_check_servo(const ss_params *p, lub_error *err)
     if (closing < SS_SERVO_STEP_MAX)
         return 0;
     return lub_fail(err, "/servo/gain",
-                    "the pressure servo would change L_y by %.3g of itself in one step (at least: "
-                    "/servo/gain times the shear rate times the step %.3g eta/P, which is %s), "
+                    "the pressure servo would change L_y by %.3g of itself in one step "
+                    "(/servo/gain times the shear rate times the step %.3g eta/P, which is %s), "
                     "where it must stay below %g (studied: 0.25-4 at steps far below that); lower "
                     "/servo/gain below %.3g, or shorten the step (got %g)",
                     closing, dt,
@@ -1413,8 +1413,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             char text[400];
             snprintf(text, sizeof text,
                      "%s averaged exactly 0 over the steady window, whose relative error is "
-                     "undefined: the run did not stop on /target_rel_error and went on to "
-                     "/strain; unset /target_rel_error (or make the particles interact: raise "
+                     "undefined: the run did not stop on /target_rel_error; unset "
+                     "/target_rel_error (or make the particles interact: raise "
                      "/phi or /cutoff)",
                      p.pressure ? "mu" : "eta_r");
             json_array_append_new(warnings, json_string(text));

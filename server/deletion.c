@@ -33,14 +33,12 @@ int lubd_deletion_free(sqlite3 *db, const char *jobs_dir, const char *id, char *
         lubd_pathf(why, why_len, "could not open %s: %s", dir, strerror(errno));
         return -1;
     }
-    int rc;
-    while ((rc = flock(fd, LOCK_EX)) != 0 && errno == EINTR)
-        ;
-    if (rc != 0) {
-        lubd_pathf(why, why_len, "could not lock %s: %s", dir, strerror(errno));
-        close(fd);
-        return -1;
-    }
+    /* where the file system cannot lock a folder opened for reading (NFS emulates flock with
+     * write locks: EBADF), the free goes on unlocked, as before the lock existed: a rare race
+     * on the hand-over then, never a folder that is not freed */
+    while (flock(fd, LOCK_EX) != 0 && errno == EINTR)
+        continue;
+    int rc = 0;
     char reason[900] = "";
     if (access(dir, F_OK) != 0 && errno == ENOENT)
         rc = 0; /* freed by the holder of the lock while we waited */

@@ -24,7 +24,8 @@
  * not there), 1 when it is kept because the hand-over failed, -1 when it could not be
  * removed; *why says why for 1 and -1. Must not be called for a job that is not purged (its
  * folder would be removed all the same). Callers in any thread or process are serialised by an
- * exclusive flock on the folder: one that waited finds the folder gone and returns 0. */
+ * exclusive flock on the folder: one that waited finds the folder gone and returns 0. Where the
+ * file system refuses that lock (NFS: EBADF on a folder), the free goes on without it. */
 int lubd_deletion_free(sqlite3 *db, const char *jobs_dir, const char *id, char *why,
                        size_t why_len);
 

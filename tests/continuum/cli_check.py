@@ -426,6 +426,21 @@ for name, spec in [
         ("channel_dem_rcp0.01_flux", {"scene": "sbm_channel", "inventory": "flux",
                                       "closure": {"kind": "dem_seed", "phi_rcp": 0.01}})]:
     expect_failure(name, spec, "/closure/phi_rcp: the inventory is not met")
+# a psi_mean below the smallest mean the DEM closure reaches (about 1.5e-3, A_r ~ psi^9): the
+# closest mean is above the request, so the advice is to raise /psi_mean (it named
+# /closure/phi_rcp and advised lowering /psi_mean, in the pipe and the channel alike)
+for name, spec in [
+        ("channel_dem_small_mean", {"scene": "sbm_channel", "psi_mean": 1e-4,
+                                    "closure": {"kind": "dem_seed"}}),
+        ("channel_dem_small_mean_plane", {"scene": "sbm_channel", "psi_mean": 1e-4,
+                                          "geometry": "channel", "closure": {"kind": "dem_seed"}})]:
+    expect_failure(name, spec, "/psi_mean: the inventory is not met: the closest profile has the "
+                   "area mean psi 0.00152")
+# a power law whose height leaves the doubles (lambda 1e300) fails naming /law/lambda, not n
+expect_failure("resusp_power_lambda_huge",
+               {"scene": "sbm_resuspension",
+                "law": {"kind": "power_law", "n": 2, "lambda": 1e300, "phi_m": 0.6}},
+               "/law/lambda: the profile failed its checks")
 # ... while a phi_rcp whose lambda_33 passes 2 only above the profile's range still solves
 r, h = run("channel_dem_rcp0.2", {"scene": "sbm_channel", "closure": {"kind": "dem_seed", "phi_rcp": 0.2}})
 if r:
