@@ -753,8 +753,9 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     memset(&sys, 0, sizeof sys);
     double *scratch = NULL, *ratio_z = NULL;
     int exit_code = LUB_EXIT_OK;
-    int step_unstable = 0; /* the failure is one the time step causes (non-finite, runaway) */
-    ss_loop lp;            /* the loop's state: a fresh start, or the checkpoint's (resumed) */
+    int step_unstable = 0;  /* the failure is one the time step causes (non-finite, runaway) */
+    int servo_squeezed = 0; /* the failure is a cell the servo squeezed (its diagnostic says so) */
+    ss_loop lp;             /* the loop's state: a fresh start, or the checkpoint's (resumed) */
     memset(&lp, 0, sizeof lp);
     ss_loop resumed;
     memset(&resumed, 0, sizeof resumed);
@@ -1058,7 +1059,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             }
             exit_code = (r == LUB_SHEAR_NOMEM) ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
             step_unstable = r == LUB_SHEAR_NONFINITE || r == LUB_SHEAR_RUNAWAY;
-            if (r == LUB_SHEAR_CELL_TOO_SMALL && p.pressure) { /* only the servo moves L_y */
+            servo_squeezed = r == LUB_SHEAR_CELL_TOO_SMALL && p.pressure;
+            if (servo_squeezed) { /* only the servo moves L_y */
                 const size_t len = strlen(ctx->diagnostic);
                 snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len,
                          ": the pressure servo squeezed the cell (L_y %.3g a, phi %.3g); lower "
@@ -1242,7 +1244,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
      * cell's diagnostic already names the servo */
     const double servo_jump = p.pressure ? p.servo_gain * gd * dt : 0.0;
     if (exit_code == LUB_EXIT_NUMERICAL && servo_jump >= 0.1 * SS_SERVO_STEP_MAX &&
-        !strstr(ctx->diagnostic, "/servo/gain")) {
+        !servo_squeezed) {
         const size_t len = strlen(ctx->diagnostic);
         snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len,
                  ": the pressure servo changes L_y by up to %.3g of itself in one step "
