@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "json_overflow.h"
 #include "scene.h"
 #include "sha256.h"
 
@@ -54,10 +55,28 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
                          process_id);
     json_error_t jerr;
     r->body = json_loadb(body, len, JSON_REJECT_DUPLICATES, &jerr);
-    if (!r->body)
+    if (!r->body) {
+        /* a number beyond a double or an int64 is named at its member, as lubdem does */
+        lub_error big;
+        char *text = body && !memchr(body, '\0', len) ? malloc(len + 1) : NULL;
+        int named = -1;
+        if (text) {
+            memcpy(text, body, len);
+            text[len] = '\0';
+            named = lub_json_overflow_member(text, &jerr, &big);
+            free(text);
+        }
+        if (named == 0) {
+            const int input = strncmp(big.pointer, "/inputs/", 8) == 0;
+            return lubd_fail(f, 400,
+                             input ? LUBD_PT_BASE "invalid-input" : LUBD_PT_BASE "invalid-request",
+                             input ? "Invalid input" : "Invalid request", big.pointer, "%s: %s",
+                             big.pointer, big.message);
+        }
         return lubd_fail(f, 400, LUBD_PT_BASE "malformed-json", "Malformed JSON", "",
                          "request body is not valid JSON: %s (line %d, column %d)", jerr.text,
                          jerr.line, jerr.column);
+    }
     if (!json_is_object(r->body)) {
         lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "",
                   "request body must be a JSON object {\"inputs\": {...}}");

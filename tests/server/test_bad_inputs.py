@@ -26,6 +26,8 @@ def run():
             ("duplicate key", ex, b'{"inputs": {}, "inputs": {}}', {}, alice, 400, "",
              "duplicate"),
             ("body not an object", ex, b'[1,2]', {}, alice, 400, "", "JSON object"),
+            ("number beyond a double", ex, b'{"inputs": {"duration": 1e400}}', {}, alice,
+             400, "/inputs/duration", "beyond the range of a double"),
             ("inputs missing", ex, {"priority": 0}, {}, alice, 400, "/inputs", "required"),
             ("inputs wrong type", ex, {"inputs": [1]}, {}, alice, 400, "/inputs", "object"),
             ("unknown top-level member", ex, {"inputs": {}, "input": {}}, {}, alice, 400,

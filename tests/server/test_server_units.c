@@ -127,6 +127,23 @@ static void test_exec(void)
     CHECK(lubd_exec_parse(bad, strlen(bad), "nope", &r, &f) == -1 && f.status == 404);
     CHECK(lubd_exec_parse("{", 1, "falling_sphere", &r, &f) == -1 && f.status == 400);
     CHECK(lubd_exec_parse("", 0, "falling_sphere", &r, &f) == -1 && f.status == 400);
+    /* a number beyond a double or an int64 is named at its member, not at the body's root */
+    const char *huge = "{\"inputs\": {\"law\": {\"eps\": 1e400}}}";
+    CHECK(lubd_exec_parse(huge, strlen(huge), "falling_sphere", &r, &f) == -1);
+    CHECK(f.status == 400 && strcmp(f.pointer, "/inputs/law/eps") == 0 &&
+          strstr(f.type, "invalid-input") && strstr(f.detail, "1e400") &&
+          strstr(f.detail, "double"));
+    const char *prio = "{\"inputs\": {}, \"priority\": 99999999999999999999}";
+    CHECK(lubd_exec_parse(prio, strlen(prio), "falling_sphere", &r, &f) == -1);
+    CHECK(f.status == 400 && strcmp(f.pointer, "/priority") == 0 &&
+          strstr(f.type, "invalid-request") && strstr(f.detail, "64-bit integer"));
+    /* not NUL-terminated at len: the text after len is not read */
+    const char cut[] = "{\"inputs\": {\"duration\": 1e400}}XYZ";
+    CHECK(lubd_exec_parse(cut, strlen(cut) - 3, "falling_sphere", &r, &f) == -1);
+    CHECK(f.status == 400 && strcmp(f.pointer, "/inputs/duration") == 0);
+    const char nul[] = "{\"inputs\": {\"duration\": 1e400}}\0x";
+    CHECK(lubd_exec_parse(nul, sizeof nul - 1, "falling_sphere", &r, &f) == -1);
+    CHECK(f.status == 400 && strcmp(f.pointer, "") == 0 && strstr(f.type, "malformed-json"));
 }
 
 /* Submissions whose lower bound of memory cannot fit what a job may use are refused
