@@ -112,3 +112,20 @@ char *lub_json_dumps(const json_t *v, size_t flags)
     text[w] = '\0';
     return text;
 }
+
+void lub_json_round_reals(json_t *v, int digits)
+{
+    if (json_is_real(v)) {
+        char buf[40];
+        snprintf(buf, sizeof buf, "%.*g", digits, json_real_value(v));
+        json_real_set(v, strtod(buf, NULL));
+    } else if (json_is_array(v)) {
+        for (size_t k = 0; k < json_array_size(v); ++k)
+            lub_json_round_reals(json_array_get(v, k), digits);
+    } else if (json_is_object(v)) {
+        const char *key;
+        json_t *member;
+        json_object_foreach (v, key, member)
+            lub_json_round_reals(member, digits);
+    }
+}

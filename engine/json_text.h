@@ -16,6 +16,11 @@
 
 char *lub_json_dumps(const json_t *v, size_t flags);
 
+/* Every real within v (objects and arrays, recursively) replaced in place by the double nearest
+ * its "%.*g" text at `digits` significant digits (1..17), so that lub_json_dumps prints it with
+ * at most that many. For readable results; not for a spec, which must stay exact. */
+void lub_json_round_reals(json_t *v, int digits);
+
 /* x as its shortest exact decimal ("%.*g" with lub_real_digits(x) digits: 0.6, 1e+30,
  * 1000000) into out, for messages that quote a spec's numbers; returns out. */
 const char *lub_real_text(double x, char out[40]);

@@ -574,8 +574,17 @@ int lub_run_spec(const lub_run_request *req)
         json_object_set_new(summary, "diagnostic", json_string(ctx.diagnostic));
     json_object_set_new(summary, "lubdem_version", json_string(lub_build_version()));
     json_object_set_new(summary, "git_commit", json_string(lub_build_git()));
+    /* results at 10 significant digits; the spec exact, so that a continuation built from it
+     * is the same run (until 2026-12-06 it was rounded too: 1/30 came back as 0.03333333333,
+     * and --resume refused the default resuspension spec taken from its own summary) */
+    json_t *rounded = json_deep_copy(summary);
+    if (rounded) { /* out of memory: all exact */
+        json_decref(summary);
+        summary = rounded;
+        lub_json_round_reals(summary, 10);
+    }
     json_object_set(summary, "spec", resolved);
-    char *text = json_dumps(summary, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+    char *text = lub_json_dumps(summary, JSON_INDENT(2));
     errno = 0;
     const int summary_failed = write_file_atomic(req->out_dir, "summary.json", text) != 0;
     const int summary_errno = errno;

@@ -111,6 +111,15 @@ int main(void)
     }
     CHECK(inexact == 0);
 
+    /* Rounded for a summary's results: at most 10 digits, nested members too, integers and
+     * strings untouched. */
+    json_t *res = json_pack("{s:f, s:[f, {s:f}], s:I, s:s, s:f}", "mu", 0.88912216993141, "list",
+                            1.0 / 3.0, "deep", 2.0 / 3.0e-9, "n", (json_int_t)123456789012345, "s",
+                            "0.123456789012", "exact", 0.25);
+    lub_json_round_reals(res, 10);
+    check_text(res, "{\"exact\":0.25,\"list\":[0.3333333333,{\"deep\":666666666.7}],"
+                    "\"mu\":0.8891221699,\"n\":123456789012345,\"s\":\"0.123456789012\"}");
+
     CHECK(lub_json_dumps(NULL, 0) == NULL);
     if (failures)
         fprintf(stderr, "%d failure(s)\n", failures);

@@ -268,6 +268,26 @@ else
   echo "address-space limit: skipped (this binary does not start under ulimit -v 60000)"
 fi
 
+# A run extended from its own summary's spec (what lubdem_client.py extend sends): the summary
+# states the spec exactly (until 2026-12-06 it rounded it to 10 digits, and --resume refused the
+# default /shear_drag_viscosity 1/30 as 0.03333333333 "in the stopped run's spec")
+echo '{"scene":"resuspension","n":40,"strain":0.3,"average_from":0.1}' >"$work/ext.json"
+"$LUBDEM" run "$work/ext.json" --out "$work/ext" --keep-checkpoint --threads 1 --quiet 2>/dev/null
+rc1=$?
+$PY - "$work/ext/summary.json" "$work/ext2.json" <<'PYEOF'
+import json, sys
+spec = json.load(open(sys.argv[1]))["spec"]
+assert spec["shear_drag_viscosity"] == 1.0 / 30.0, spec["shear_drag_viscosity"]
+spec["strain"] = 0.4
+json.dump(spec, open(sys.argv[2], "w"))
+PYEOF
+prc=$?
+"$LUBDEM" run "$work/ext2.json" --out "$work/ext" --resume --threads 1 --quiet 2>"$work/ext2.err"
+rc2=$?
+[ $rc1 -eq 0 ] && [ $prc -eq 0 ] && [ $rc2 -eq 0 ] \
+  && grep -q '"resumed_from_step"' "$work/ext/summary.json" \
+  && ok || bad "extension from the summary's spec: exits $rc1 / $prc / $rc2: $(cat "$work/ext2.err")"
+
 echo "resuspension_cli_checks=$((pass + fail))"
 echo "$pass passed, $fail failed"
 [ $fail -eq 0 ]
