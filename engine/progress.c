@@ -17,14 +17,20 @@ void lub_progress_init(lub_progress *p, FILE *stream, double interval_s)
     p->t_start = lub_wall_seconds();
     p->t_last = p->t_start;
     p->fraction = 0.0;
+    p->have_base = 0;
+    p->t_base = p->t_start;
+    p->fraction_base = 0.0;
+    p->step_base = 0;
     p->stop_requested = NULL;
 }
 
 static void emit(lub_progress *p, double fraction, int64_t step, double now)
 {
-    double elapsed = now - p->t_start;
-    double rate = elapsed > 0 ? (double)step / elapsed : 0.0;
-    double eta = (fraction > 0 && fraction < 1) ? elapsed * (1.0 - fraction) / fraction : 0.0;
+    /* this process's steps over this process's time, from the first update */
+    const double elapsed = now - p->t_base;
+    const double done = fraction - p->fraction_base;
+    const double rate = elapsed > 0 ? (double)(step - p->step_base) / elapsed : 0.0;
+    const double eta = (done > 0 && fraction < 1) ? elapsed * (1.0 - fraction) / done : 0.0;
     fprintf(p->stream, "progress fraction=%.4f step=%lld steps_per_s=%.3g eta_s=%.1f\n", fraction,
             (long long)step, rate, eta);
     fflush(p->stream);
@@ -38,6 +44,12 @@ void lub_progress_update(lub_progress *p, double fraction, int64_t step)
     p->fraction = fraction;
     /* reading the clock every call costs ~20 ns; callers may call every step */
     double now = lub_wall_seconds();
+    if (!p->have_base) {
+        p->have_base = 1;
+        p->t_base = now;
+        p->fraction_base = fraction < 0 ? 0 : fraction > 1 ? 1 : fraction;
+        p->step_base = step;
+    }
     if (now - p->t_last < p->interval_s)
         return;
     if (fraction < 0)

@@ -1,7 +1,12 @@
 /* progress.h — progress lines on stdout, the format the server parses (README, CLI contract):
  *   progress fraction=0.2500 step=1200 steps_per_s=3.1e+05 eta_s=12.0
  * At most one line per `interval_s` of wall time, plus a final line (fraction=1 when the run
- * completed, the fraction reached when it was stopped by a signal). */
+ * completed, the fraction reached when it was stopped by a signal). `step` and `fraction` are
+ * the run's own (a resumed run goes on from the checkpoint's); `steps_per_s` and `eta_s` count
+ * from the first lub_progress_update of this process, so the steps and the fraction a resumed
+ * run started from, and the set-up before its first step, are not read as this process's
+ * (until 2026-12-06 a resumed run reported all its steps over this process's time: ten times
+ * the rate, and an ETA far too short). */
 #ifndef LUBDEM_PROGRESS_H
 #define LUBDEM_PROGRESS_H
 
@@ -15,6 +20,9 @@ typedef struct lub_progress {
     double t_start;                        /* wall clock at start */
     double t_last;                         /* wall clock of the last line */
     double fraction;                       /* last fraction passed to lub_progress_update */
+    int have_base;                         /* the first update has been seen */
+    double t_base, fraction_base;          /* wall clock and fraction at the first update */
+    int64_t step_base;                     /* step at the first update */
     volatile sig_atomic_t *stop_requested; /* optional (NULL): when set at the end, the final
                                               line reports `fraction` instead of 1 */
 } lub_progress;
