@@ -446,6 +446,17 @@ int lub_run_spec(const lub_run_request *req)
                      ? "; lubdem run --resume with a higher limit continues the run"
                      : "");
         fprintf(req->diag, "note: %s\n", ctx.diagnostic);
+    } else if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested &&
+               !ctx.diagnostic[0]) {
+        /* SIGTERM, SIGINT: said in the summary too (until 2026-12-06 only its status said it) */
+        const int sig = (int)*req->stop_requested;
+        snprintf(ctx.diagnostic, sizeof ctx.diagnostic,
+                 "stopped by a signal (%s): the results are those of the steps done%s",
+                 sig == SIGTERM  ? "SIGTERM"
+                 : sig == SIGINT ? "SIGINT"
+                                 : "a stop request",
+                 ctx.checkpoint_written ? "; lubdem run --resume continues the run" : "");
+        fprintf(req->diag, "note: %s\n", ctx.diagnostic);
     }
     if (ctx.threads < threads_requested) {
         char text[256];

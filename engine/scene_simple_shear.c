@@ -1373,6 +1373,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .steady = steady_detected,
             .steady_samples = (double)(ser.n - start),
             .strain_reached = lp.strain,
+            .stopped = stopped_by_request,
+            .strain_target = p.strain,
             .transient_strain = p.transient_strain,
             .sample_strain = p.sample_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,

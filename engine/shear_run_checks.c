@@ -121,8 +121,18 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "(contacts restarted without their history); raise /skin or lower %s",
                     st->lost_pairs, dt_fixed ? "/dt" : "/dt_safety");
     const int after_transient = !(st->strain_reached < st->transient_strain);
-    if (!st->steady && st->steady_samples == 0.0 && after_transient &&
-        st->sample_strain > st->strain_reached - st->transient_strain)
+    if (!st->steady && st->stopped)
+        add_warning(out, &n,
+                    "the run was stopped by a signal at strain %.3g of /strain %g, %s: %s; "
+                    "lubdem run --resume continues it",
+                    st->strain_reached, st->strain_target,
+                    after_transient ? "before a steady state was detected"
+                                    : "inside the transient (/transient_strain)",
+                    st->steady_samples == 0.0
+                        ? "there are no steady-state samples and the steady-state results are null"
+                        : "the means are not steady-state values");
+    else if (!st->steady && st->steady_samples == 0.0 && after_transient &&
+             st->sample_strain > st->strain_reached - st->transient_strain)
         add_warning(out, &n,
                     "no steady-state samples: one sample is taken every /sample_strain %.3g of "
                     "strain, more than the run's %.3g after /transient_strain %.3g (it ended at "

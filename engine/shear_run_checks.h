@@ -28,6 +28,9 @@ typedef struct {
     double steady_samples;         /* samples in the steady window (0: the run ended inside the
                                       transient) */
     double strain_reached;         /* strain at the end of the run */
+    int stopped;                   /* 1: a signal stopped the run before /strain (its steady-state
+                                      advice is then --resume, not a longer /strain) */
+    double strain_target;          /* the spec's /strain (for the stopped run's message) */
     double transient_strain;       /* the spec's /transient_strain */
     double sample_strain;          /* the spec's /sample_strain (0: not known) */
     double dt_over_elastic;        /* a time step fixed by the spec's /dt, over dt_elastic

@@ -225,6 +225,23 @@ int main(void)
     st.sample_strain = 0.005; /* within the run: the spacing is not the cause */
     one("sample spacing within the run", &st, "no steady-state samples after /transient_strain 0",
         "raise /strain");
+    /* stopped by a signal (SIGTERM, SIGXCPU): --resume, not a longer /strain (which was advised
+     * with /strain 50) */
+    st = clean();
+    st.steady = 0;
+    st.steady_samples = 0.0;
+    st.strain_reached = 1.0;
+    st.stopped = 1;
+    st.strain_target = 50.0;
+    one("stopped in the transient", &st, "stopped by a signal at strain 1 of /strain 50, inside",
+        "null; lubdem run --resume continues it");
+    st.strain_reached = 10.0;
+    st.steady_samples = 30.0;
+    one("stopped before a steady state", &st, "before a steady state was detected",
+        "not steady-state values; lubdem run --resume");
+    st.steady = 1; /* a stopped run with a steady state says nothing of it */
+    st.steady_samples = 400.0;
+    none("stopped in a steady state", &st);
 
     /* the headline against the §2 law, with another interaction set than the law's: eta_r 28.0
      * against 13.05 (default set, phi 0.45) warns; 11 % off (within 15 %), the article's set, no

@@ -363,11 +363,14 @@ check "[ $rc -eq 0 ] && grep -q '^warning: no microstructure was sampled.*/micro
 
 # 4. SIGTERM: partial but valid result
 echo '{"scene":"simple_shear","n_particles":300,"strain":1000,"snapshots":1}' > "$W/long.json"
-"$LUBDEM" run "$W/long.json" --out "$W/long" --quiet & pid=$!
+# The summary says why it stopped and advises --resume, not a longer /strain (until 2026-12-06
+# it had no diagnostic and advised "raise /strain above /transient_strain" with /strain 1000)
+"$LUBDEM" run "$W/long.json" --out "$W/long" --quiet 2>"$W/long.err" & pid=$!
 sleep 3
 kill -TERM $pid
 wait $pid; rc=$?
-check "[ $rc -eq 5 ]" "SIGTERM exit $rc (expected 5)"
+check "[ $rc -eq 5 ] && grep -q '^note: stopped by a signal (SIGTERM)' $W/long.err" \
+  "SIGTERM exit $rc (expected 5): $(cat "$W/long.err")"
 "$PY" - "$W/long" <<'PYEOF' || fail=1
 import json, sys, h5py
 d = sys.argv[1]
@@ -375,6 +378,11 @@ s = json.load(open(d + "/summary.json"))
 f = h5py.File(d + "/result.h5", "r")
 ok = s["status"] == "partial" and f.attrs["status"] in (b"partial", "partial")
 ok = ok and f["observables/mu/value"].shape[0] > 0 and s["results"]["strain_reached"]["value"] > 0
+ok = ok and s.get("diagnostic", "").startswith("stopped by a signal (SIGTERM)") \
+    and "--resume" in s["diagnostic"]
+w = s.get("warnings", [])
+ok = ok and any(x.startswith("the run was stopped by a signal") and "/strain 1000" in x for x in w) \
+    and not any("raise /strain" in x for x in w)
 print(f"sigterm status={s['status']} rows={f['observables/mu/value'].shape[0]} strain={s['results']['strain_reached']['value']:.3f}")
 if not ok: print("FAIL: partial result invalid", file=sys.stderr)
 sys.exit(0 if ok else 1)
