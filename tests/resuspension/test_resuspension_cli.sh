@@ -62,6 +62,14 @@ rc=$?
 [ $rc -eq 5 ] && ok || bad "SIGTERM exit code $rc (expected 5): $(cat "$work/run2.err")"
 $PY -c "import json; s=json.load(open('$work/run2/summary.json')); assert s['status']=='partial'" \
   && ok || bad "partial summary status"
+# why it stopped, and --resume rather than a longer /strain (until 2026-12-06: no diagnostic,
+# "increase /strain" with /strain 500)
+$PY -c "
+import json; s = json.load(open('$work/run2/summary.json')); w = s.get('warnings', [])
+assert s['diagnostic'].startswith('stopped by a signal (SIGTERM)') and '--resume' in s['diagnostic'], s
+assert not any('increase /strain' in x for x in w), w
+assert any('stopped by a signal' in x and '--resume' in x for x in w), w" \
+  && ok || bad "stopped run's diagnostic and warnings: $(cat "$work/run2/summary.json")"
 $PY "$CHECK" "$work/run2/result.h5" --status partial > /dev/null && ok || bad "partial H5MD"
 $PY -c "
 import h5py, numpy as np
