@@ -4,7 +4,8 @@
  *   /observables/<name>        {step int64[T], time f64[T], value f64[T] | [T][3] | [T][3][3]}
  *                              series in one table hard-link one shared step/time pair
  *   /particles/all/...         optional snapshots: box, position, velocity, angular_velocity,
- *                              radius, id (positions are unwrapped coordinates)
+ *                              radius, id (positions as the scene passes them: wrapped
+ *                              into the cell by simple_shear, unwrapped by resuspension)
  *   /profiles/<name>           free-form arrays (profiles, distributions), attribute "unit"
  *   /<group> (frame sets)      records of a varying count per frame (an interaction network):
  *                              step int64[F], time f64[F], row_start int64[F], row_count
