@@ -274,6 +274,27 @@ static void test_switches_and_torques(void)
     CHECK(o.contact && o.slip && v3_norm(o.fs_contact) > 0.0, "friction on: slip expected");
     CHECK(fabs(v3_norm(o.fs_contact) - p.mu * fabs(o.fn_contact)) <= 1e-12 * fabs(o.fn_contact),
           "slider force != mu |F_c|");
+    /* the asperity share by its formula, not by its own output (notes §2.9, §3.2.5): with
+     * alpha = 0.1, F_c = -alpha g a (eps - x), F_l = g a (s - x) + alpha g a (eps - x) and the
+     * slider mu alpha g a (eps - x), x = gap/a after the step (a = 1 here) */
+    p.alpha = 0.1;
+    memset(&st, 0, sizeof st);
+    st.delta = log(0.002);
+    st.fs = v3(0, 100, 0);
+    st.n_prev = v3(1, 0, 0);
+    CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "rc");
+    {
+        const double x = o.gap, s = -0.01, asp = p.alpha * p.k_bulk * (p.eps - x);
+        CHECK(o.contact && o.slip && asp > 0.0, "alpha 0.1: contact %d slip %d", o.contact, o.slip);
+        CHECK(fabs(o.fn_contact + asp) <= 1e-12 * asp, "alpha 0.1: F_c %.17g, formula %.17g",
+              o.fn_contact, -asp);
+        CHECK(fabs(o.fn_lub - (p.k_bulk * (s - x) + asp)) <= 1e-9 * p.k_bulk * fabs(s - x),
+              "alpha 0.1: F_l %.17g, formula %.17g", o.fn_lub, p.k_bulk * (s - x) + asp);
+        CHECK(fabs(v3_norm(o.fs_contact) - p.mu * asp) <= 1e-12 * asp,
+              "alpha 0.1: slider %.17g, mu alpha g a (eps - x) %.17g", v3_norm(o.fs_contact),
+              p.mu * asp);
+    }
+    p.alpha = 1.0;
 
     /* normal lubrication off: fn_lub = 0, contact part = total */
     p.terms = LUB_TERM_ALL & ~LUB_TERM_NORMAL_LUB;

@@ -21,7 +21,8 @@
     each at its snapshot's step, with records consistent with that snapshot and exactly the
     pairs inside the cut-off; the frames' rows are numbered as row_start and row_count say;
     the run's summary results and time series are those of the same run with "final" only,
-    whose network equals the last frame bit for bit; "final" writes one frame, true is read
+    whose network equals the last frame bit for bit; the time series' Z and Z_contact at the
+    samples nearest the frames are the frames' 2 x pairs / N and 2 x contacts / N; "final" writes one frame, true is read
     as "final" (the resolved spec says so); a value out of the enum is refused naming
     /pair_network; client_examples/pair_network.py --frame 2 reads frame 2 (its step, counts
     and stress parts with that snapshot's box), --series every frame's counts;
@@ -280,6 +281,26 @@ def main():
         check_frames("snapshots", anet, asnap)
         check_example(out_all, frame(anet, 2), asnap, k=2)
         check_series(out_all, anet, len(asnap["radius"]))
+        # the time series' coordination and contact numbers (2 x pairs / N) against the frames'
+        # pairs and contacts at the sample nearest each frame after the first (a coordination
+        # number without its factor 2 went unnoticed by the fast suite); Z moves by < 1 % and
+        # Z_contact by < 15 % between a frame and its nearest sample in this run
+        with h5py.File(os.path.join(out_all, "result.h5"), "r") as f:
+            obs = {k: f["observables/" + k][()] for k in
+                   ("Z/step", "Z/value", "Z_contact/value")}
+        n = len(asnap["radius"])
+        near = []
+        for k in range(1, len(anet["step"])):
+            at = int(np.argmin(np.abs(obs["Z/step"] - int(anet["step"][k]))))
+            fk = frame(anet, k)
+            near.append((round(float(obs["Z/value"][at]), 3), round(2.0 * len(fk["i"]) / n, 3),
+                         round(float(obs["Z_contact/value"][at]), 3),
+                         round(2.0 * int(fk["contact"].sum()) / n, 3)))
+        print("coordination against frames:", near)
+        check(len(near) >= 3 and all(abs(z - zf) < 0.03 * zf and abs(zc - zcf) < 0.25 * zcf
+                                     for z, zf, zc, zcf in near),
+              "snapshots: Z and Z_contact of the samples nearest the frames are the frames' "
+              "2 x pairs / N and 2 x contacts / N ((Z, frame, Z_contact, frame): %s)" % near)
         check(int(anet["step"][0]) == 0 and int(anet["step"][-1]) == sa["steps"] and
               len(anet["step"]) == 6,
               "snapshots: 6 frames (5 snapshots and the initial state) from step 0 to the last "

@@ -217,9 +217,18 @@ int main(void)
         for (int i = 0; i < s.n; ++i)
             yy_exp -= s.m[i] * u * u;
         yy_exp /= s.cell.volume;
+        double max_dev_syy = 0;
         for (int step = 0; step < 1500 && rc == 0; ++step) {
             lub_shear_sample smp;
-            rc = lub_shear_step(&s, LUB_SAMPLE_STRESS, &smp);
+            /* with the servo's sigma_yy too, and alone every third step: smp.syy (what the
+             * servo holds) is the stress's yy, kinetic part included */
+            const unsigned want =
+                step % 3 == 2 ? LUB_SAMPLE_SYY : LUB_SAMPLE_STRESS | LUB_SAMPLE_SYY;
+            rc = lub_shear_step(&s, want, &smp);
+            if (fabs(smp.syy - yy_exp) > max_dev_syy)
+                max_dev_syy = fabs(smp.syy - yy_exp);
+            if (want == LUB_SAMPLE_SYY)
+                continue;
             double tot[9];
             lub_stress_total(&smp.stress, tot);
             for (int part = 0; part < LUB_SP_KIN; ++part)
@@ -242,6 +251,8 @@ int main(void)
         ST_CHECK(max_active == 0 && max_pair == 0.0, "interactions in the affine test");
         ST_CHECK(max_xy < 1e-9 * fabs(yy_exp), "kinetic sigma_xy not zero: %g", max_xy);
         ST_CHECK(max_dev_yy < 1e-9 * fabs(yy_exp), "kinetic sigma_yy drift %g", max_dev_yy);
+        ST_CHECK(max_dev_syy < 1e-9 * fabs(yy_exp), "servo sigma_yy off by %g (kinetic %g)",
+                 max_dev_syy, yy_exp);
         lub_shear_free(&s);
     }
     /* 1b. the drag towards the affine flow (drag_viscosity): without interactions the
