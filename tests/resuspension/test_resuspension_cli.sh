@@ -284,7 +284,13 @@ echo '{"scene":"resuspension","n":40,"strain":0.3,"average_from":0.1}' >"$work/e
 rc1=$?
 $PY - "$work/ext/summary.json" "$work/ext2.json" <<'PYEOF'
 import json, sys
-spec = json.load(open(sys.argv[1]))["spec"]
+summary = json.load(open(sys.argv[1]))
+# fewer than 32 averaged samples: the height's error bar is the naive SEM, like phi_err's
+# (until 2026-12-06 it was null)
+h = summary["results"]["suspension_height"]
+assert summary["phi_err_method"] == "naive (fewer than 32 samples)", summary["phi_err_method"]
+assert h["stderr"] is not None and 0 < h["stderr"] < h["value"], h
+spec = summary["spec"]
 assert spec["shear_drag_viscosity"] == 1.0 / 30.0, spec["shear_drag_viscosity"]
 spec["strain"] = 0.4
 json.dump(spec, open(sys.argv[2], "w"))
