@@ -1,16 +1,31 @@
-"""Bit-for-bit comparison of two result.h5 files, for the tests that compare a continued run
-with the run that never stopped (test_resume.py, test_slurm_resume.py)."""
+"""Bit-for-bit comparison of two result.h5 files (datasets and attributes), for the tests that
+compare a continued run with the run that never stopped (test_resume.py, test_slurm_resume.py).
+Until 2026-12-06 attributes (units, box boundary, root status) were not compared."""
 import h5py
 import numpy as np
 
 
 def h5_items(path):
-    """Every dataset of result.h5 except /parameters (build and spec text) as name -> array."""
+    """Every dataset of result.h5 except /parameters (build and spec text) as name -> array,
+    and every attribute of the file, its groups and datasets (units, box boundary, root
+    status) as name@attribute -> array."""
     items = {}
     with h5py.File(path, "r") as f:
+        def attributes(name, obj):
+            for key, value in obj.attrs.items():
+                value = np.asarray(value)
+                if value.dtype.kind == "O":  # variable-length strings: compare the text
+                    value = np.asarray([v.decode() if isinstance(v, bytes) else str(v)
+                                        for v in value.ravel()]).reshape(value.shape)
+                items["%s@%s" % (name, key)] = value
+
         def visit(name, obj):
-            if isinstance(obj, h5py.Dataset) and not name.startswith("parameters"):
+            if name.startswith("parameters"):
+                return
+            if isinstance(obj, h5py.Dataset):
                 items[name] = obj[()]
+            attributes(name, obj)
+        attributes("", f)
         f.visititems(visit)
     return items
 
