@@ -135,9 +135,14 @@ int lub_rs_init(lub_rs_system *s, const lub_rs_params *p, const lub_law_params *
 static int rebuild(lub_rs_system *s)
 {
     int m[3];
-    if (lub_cell_flip(&s->cell, m))
-        s->flips++;
+    const int flipped = lub_cell_flip(&s->cell, m);
+    s->flips += flipped;
     for (int i = 0; i < s->n; ++i) {
+        /* the images counted so far in the new cell vectors (h_j' = h_j - m_j h_0), so that
+         * x + H img is unchanged by the flip (until 2026-12-06 it jumped by a cell width
+         * along x for a body that had crossed the tilted side) */
+        if (flipped)
+            lub_cell_flip_shift(m, &s->img[3 * i]);
         const int mob = i < s->n_mobile;
         vec3 *vp = (mob || s->p.orientation == LUB_RS_VORTICITY) ? &s->v[i] : NULL;
         int k[3];
