@@ -26,10 +26,11 @@ void lub_progress_init(lub_progress *p, FILE *stream, double interval_s)
 
 static void emit(lub_progress *p, double fraction, int64_t step, double now)
 {
-    /* this process's steps over this process's time, from the first update */
+    /* this process's steps over this process's time, from the first update (none: a final
+     * line before any step, rate 0) */
     const double elapsed = now - p->t_base;
     const double done = fraction - p->fraction_base;
-    const double rate = elapsed > 0 ? (double)(step - p->step_base) / elapsed : 0.0;
+    const double rate = p->have_base && elapsed > 0 ? (double)(step - p->step_base) / elapsed : 0.0;
     const double eta = (done > 0 && fraction < 1) ? elapsed * (1.0 - fraction) / done : 0.0;
     fprintf(p->stream, "progress fraction=%.4f step=%lld steps_per_s=%.3g eta_s=%.1f\n", fraction,
             (long long)step, rate, eta);
@@ -44,11 +45,13 @@ void lub_progress_update(lub_progress *p, double fraction, int64_t step)
     p->fraction = fraction;
     /* reading the clock every call costs ~20 ns; callers may call every step */
     double now = lub_wall_seconds();
-    if (!p->have_base) {
+    if (!p->have_base) { /* no line yet: it would have no rate and no ETA */
         p->have_base = 1;
         p->t_base = now;
         p->fraction_base = fraction < 0 ? 0 : fraction > 1 ? 1 : fraction;
         p->step_base = step;
+        p->t_last = now;
+        return;
     }
     if (now - p->t_last < p->interval_s)
         return;

@@ -4,7 +4,8 @@
  * completed, the fraction reached when it was stopped by a signal). `step` and `fraction` are
  * the run's own (a resumed run goes on from the checkpoint's); `steps_per_s` and `eta_s` count
  * from the first lub_progress_update of this process, so the steps and the fraction a resumed
- * run started from, and the set-up before its first step, are not read as this process's
+ * run started from, and the set-up before its first step, are not read as this process's; the
+ * first line comes `interval_s` after the first update (one at it would have neither)
  * (until 2026-12-06 a resumed run reported all its steps over this process's time: ten times
  * the rate, and an ETA far too short). */
 #ifndef LUBDEM_PROGRESS_H

@@ -1132,9 +1132,14 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         lub_stats_result hr;
         lub_stats_analyse(B.series_h + h0i, (size_t)lp.navg, 0, B.scratch2, &hr);
         hs_sem = hr.sem;
-        if (!(hs_sem >= 0.0) && lp.navg >= 2) { /* as phi_err: the naive SEM (phi_err_method) */
+        if (!(hs_sem >= 0.0) && lp.navg >= LUB_STATS_MIN_BATCHES) {
+            /* too few samples after the MSER cut: batch means over the whole averaging
+             * window, as phi_err */
+            lub_stats_analyse_window(B.series_h + h0i, (size_t)lp.navg, 0, B.scratch2, &hr);
+            hs_sem = hr.sem;
+        } else if (!(hs_sem >= 0.0) && lp.navg >= 2) {
+            /* fewer than 32 averaged samples: the naive SEM, as phi_err (phi_err_method) */
             hs_sem = sqrt(lub_stats_var(B.series_h + h0i, (size_t)lp.navg) / (double)lp.navg);
-            sem_batch_means = 0;
         }
         inv = lub_profile_inventory(B.phi, nb, dy);
         lub_profile_normal_viscosity(B.phi, B.phi_err, nb, dy, p.Sh, B.eta, B.eta_err);

@@ -56,9 +56,12 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
     json_error_t jerr;
     r->body = json_loadb(body, len, JSON_REJECT_DUPLICATES, &jerr);
     if (!r->body) {
-        /* a number beyond a double or an int64 is named at its member, as lubdem does */
+        /* a number beyond a double or an int64 is named at its member, as lubdem does; it
+         * parses the text again (up to 100 times), so only for a body of at most 64 KiB, on
+         * the request's thread */
         lub_error big;
-        char *text = body && !memchr(body, '\0', len) ? malloc(len + 1) : NULL;
+        char *text =
+            body && len <= ((size_t)64 << 10) && !memchr(body, '\0', len) ? malloc(len + 1) : NULL;
         int named = -1;
         if (text) {
             memcpy(text, body, len);

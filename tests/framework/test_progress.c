@@ -40,6 +40,7 @@ static void check_run(double f0, long long s0, double f1, long long s1, double p
     sleep_s(0.1); /* set-up before the first step: not counted */
     const double t0 = lub_wall_seconds();
     lub_progress_update(&p, f0, s0);
+    CHECK(ftell(f) == 0); /* no line at the first update: it would have no rate, no ETA */
     sleep_s(pause);
     lub_progress_update(&p, f1, s1);
     const double took = lub_wall_seconds() - t0;
