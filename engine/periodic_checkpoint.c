@@ -32,8 +32,11 @@ void lub_periodic_failed(lub_periodic_ckpt *pc, const char *why)
 {
     unlink(pc->copy_tmp);
     unlink(pc->ckpt_tmp);
-    if (!pc->failure[0])
-        snprintf(pc->failure, sizeof pc->failure, "%s", why);
+    if (!pc->failure[0]) { /* the first reason, cut to the buffer */
+        const size_t n = strnlen(why, sizeof pc->failure - 1);
+        memcpy(pc->failure, why, n);
+        pc->failure[n] = '\0';
+    }
     pc->next_at = lub_wall_seconds() + pc->every_s;
 }
 
