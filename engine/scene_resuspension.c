@@ -1264,13 +1264,17 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (gd * sqrt(a / grav) > 5e-2)
         json_array_append_new(warn, json_string("inertial number gd sqrt(a/g) above 5e-2: "
                                                 "inertia enhances resuspension (seed 000 §IV.C)"));
-    if (!steady)
-        json_array_append_new(
-            warn, json_string(stopped_at >= 0 ? "suspension height not steady (MSER-5) when the "
-                                                "run was stopped by a signal: lubdem run "
-                                                "--resume continues it"
-                                              : "suspension height not steady (MSER-5): "
-                                                "increase /strain"));
+    if (!steady) {
+        const char *why = stopped_at < 0 ? "suspension height not steady (MSER-5): increase "
+                                           "/strain"
+                          : ctx->checkpoint_written
+                              ? "suspension height not steady (MSER-5) when the run was "
+                                "stopped by a signal: lubdem run --resume continues it"
+                              : "suspension height not steady (MSER-5) when the run was "
+                                "stopped by a signal, whose checkpoint could not be written: "
+                                "run it again";
+        json_array_append_new(warn, json_string(why));
+    }
     if (p.orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) && fabs(bulk_rate - gd) > 0.2 * gd)
         json_array_append_new(warn, json_string("the bed is not sheared homogeneously (bulk "
                                                 "dv_x/dy differs from gd by more than 20 %, see "

@@ -1375,6 +1375,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .strain_reached = lp.strain,
             .stopped = stopped_by_request,
             .strain_target = p.strain,
+            .checkpoint_kept = ctx->checkpoint_written,
             .transient_strain = p.transient_strain,
             .sample_strain = p.sample_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,

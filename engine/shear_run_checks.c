@@ -123,14 +123,15 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
     const int after_transient = !(st->strain_reached < st->transient_strain);
     if (!st->steady && st->stopped)
         add_warning(out, &n,
-                    "the run was stopped by a signal at strain %.3g of /strain %g, %s: %s; "
-                    "lubdem run --resume continues it",
+                    "the run was stopped by a signal at strain %.3g of /strain %g, %s: %s; %s",
                     st->strain_reached, st->strain_target,
                     after_transient ? "before a steady state was detected"
                                     : "inside the transient (/transient_strain)",
                     st->steady_samples == 0.0
                         ? "there are no steady-state samples and the steady-state results are null"
-                        : "the means are not steady-state values");
+                        : "the means are not steady-state values",
+                    st->checkpoint_kept ? "lubdem run --resume continues it"
+                                        : "its checkpoint could not be written: run it again");
     else if (!st->steady && st->steady_samples == 0.0 && after_transient &&
              st->sample_strain > st->strain_reached - st->transient_strain)
         add_warning(out, &n,

@@ -233,8 +233,13 @@ int main(void)
     st.strain_reached = 1.0;
     st.stopped = 1;
     st.strain_target = 50.0;
+    st.checkpoint_kept = 1;
     one("stopped in the transient", &st, "stopped by a signal at strain 1 of /strain 50, inside",
         "null; lubdem run --resume continues it");
+    st.checkpoint_kept = 0; /* the checkpoint could not be written: --resume would start afresh */
+    one("stopped without a checkpoint", &st, "stopped by a signal", "could not be written");
+    ST_CHECK(!strstr(text[0], "--resume"), "no checkpoint, yet --resume advised: %s", text[0]);
+    st.checkpoint_kept = 1;
     st.strain_reached = 10.0;
     st.steady_samples = 30.0;
     one("stopped before a steady state", &st, "before a steady state was detected",
