@@ -73,18 +73,23 @@ int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_
     double *pos = malloc((size_t)n * 3 * sizeof *pos);
     double *vel = malloc((size_t)n * 3 * sizeof *vel);
     double *omega = malloc((size_t)n * 3 * sizeof *omega);
+    /* the images, where the new file has them: the stopped run's, or 0 from a file written
+     * before images were (they then start at the stop) */
+    const int with_image = lub_h5_particles_has_image(to);
+    int32_t *image = with_image ? calloc((size_t)n * 3, sizeof *image) : NULL;
     int rc = 0;
-    if (!pos || !vel || !omega) {
+    if (!pos || !vel || !omega || (with_image && !image)) {
         snprintf(err, len, "out of memory (snapshots of the stopped run)");
         rc = -1;
     }
     for (int64_t k = 0; k < frames && rc == 0; ++k) {
         int64_t step = 0;
         double time = 0.0, edges[9];
-        if (lub_h5r_frame_read(from, k, &step, &time, edges, pos, vel, omega)) {
+        if (lub_h5r_frame_read(from, k, &step, &time, edges, pos, vel, omega) ||
+            (with_image && lub_h5r_frame_image(from, k, image) < 0)) {
             snprintf(err, len, "cannot read snapshot %lld: %s", (long long)k, lub_h5r_error(from));
             rc = -1;
-        } else if (lub_h5_particles_snapshot(to, step, time, edges, pos, vel, omega)) {
+        } else if (lub_h5_particles_snapshot(to, step, time, edges, pos, vel, omega, image)) {
             snprintf(err, len, "cannot copy snapshot %lld: %s", (long long)k,
                      lub_h5_last_error(to));
             rc = -1;
@@ -93,6 +98,7 @@ int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_
     free(pos);
     free(vel);
     free(omega);
+    free(image);
     return rc;
 }
 

@@ -33,6 +33,7 @@ struct lub_h5_reader {
     int p_state;
     char p_err[400];
     dataset p_step, p_time, p_edges, p_pos, p_vel, p_omega; /* vel, omega: id < 0 when absent */
+    dataset p_image;                                        /* id < 0 when absent */
     int64_t frames, np;
 };
 
@@ -117,9 +118,9 @@ lub_h5_reader *lub_h5r_open(const char *path, char *err, size_t len)
         snprintf(err, len, "result file: out of memory opening %s", path);
         return NULL;
     }
-    dataset *all[9] = {&r->s_step,  &r->s_time, &r->s_value, &r->p_step, &r->p_time,
-                       &r->p_edges, &r->p_pos,  &r->p_vel,   &r->p_omega};
-    for (int i = 0; i < 9; ++i)
+    dataset *all[10] = {&r->s_step,  &r->s_time, &r->s_value, &r->p_step,  &r->p_time,
+                        &r->p_edges, &r->p_pos,  &r->p_vel,   &r->p_omega, &r->p_image};
+    for (int i = 0; i < 10; ++i)
         all[i]->id = H5I_INVALID_HID;
     r->file = lub_h5_open_read(path, "result file", err, len);
     if (r->file < 0) {
@@ -149,8 +150,9 @@ static void close_series(lub_h5_reader *r)
 
 static void close_particles(lub_h5_reader *r)
 {
-    dataset *p[6] = {&r->p_step, &r->p_time, &r->p_edges, &r->p_pos, &r->p_vel, &r->p_omega};
-    for (int i = 0; i < 6; ++i)
+    dataset *p[7] = {&r->p_step, &r->p_time,  &r->p_edges, &r->p_pos,
+                     &r->p_vel,  &r->p_omega, &r->p_image};
+    for (int i = 0; i < 7; ++i)
         dataset_close(p[i]);
     r->p_state = 0;
 }
@@ -308,12 +310,14 @@ static int open_particles(lub_h5_reader *r)
     if (!lub_h5_path_exists(r->file, PARTICLES))
         return particles_bad(r, "result file: %.200s has no particle snapshots (no %s)", r->path,
                              PARTICLES);
-    static const char *const paths[6] = {
+    static const char *const paths[7] = {
         PARTICLES "/position/value", PARTICLES "/position/step",
         PARTICLES "/position/time",  PARTICLES "/box/edges/value",
-        PARTICLES "/velocity/value", PARTICLES "/angular_velocity/value"};
-    dataset *ds[6] = {&r->p_pos, &r->p_step, &r->p_time, &r->p_edges, &r->p_vel, &r->p_omega};
-    for (int i = 0; i < 6; ++i) {
+        PARTICLES "/velocity/value", PARTICLES "/angular_velocity/value",
+        PARTICLES "/image/value"};
+    dataset *ds[7] = {&r->p_pos, &r->p_step,  &r->p_time, &r->p_edges,
+                      &r->p_vel, &r->p_omega, &r->p_image};
+    for (int i = 0; i < 7; ++i) {
         const int st = dataset_open(r->file, paths[i], ds[i]);
         if (st < 0 || (st > 0 && i < 4))
             return particles_bad(r, "result file: %s is missing or not a readable array", paths[i]);
@@ -329,7 +333,7 @@ static int open_particles(lub_h5_reader *r)
         r->p_edges.dims[2] != 3)
         return particles_bad(r, "result file: %s is not an array [F][3][3] of %llu frames",
                              paths[3], (unsigned long long)frames);
-    for (int i = 4; i < 6; ++i)
+    for (int i = 4; i < 7; ++i)
         if (ds[i]->id >= 0 && !particle_shape(ds[i], n))
             return particles_bad(r, "result file: %s is not an array [F][%llu][3]", paths[i],
                                  (unsigned long long)n);
@@ -385,6 +389,23 @@ int lub_h5r_frame_read(lub_h5_reader *r, int64_t k, int64_t *step, double *time,
         (edges && read_rows(&r->p_edges, H5T_NATIVE_DOUBLE, k, 1, edges) < 0) ||
         (pos && read_rows(&r->p_pos, H5T_NATIVE_DOUBLE, k, 1, pos) < 0))
         return fail(r, "result file: cannot read frame %lld of %.200s", (long long)k, r->path);
+    return 0;
+}
+
+int lub_h5r_frame_image(lub_h5_reader *r, int64_t k, int32_t *image)
+{
+    if (!r || open_particles(r) < 0)
+        return -1;
+    if (k < 0 || k >= r->frames)
+        return fail(r, "result file: frame %lld is out of range: %.200s has %lld frames",
+                    (long long)k, r->path, (long long)r->frames);
+    if (r->p_image.id < 0)
+        return 1;
+    if ((int64_t)r->p_image.dims[0] != r->frames)
+        return fail(r, "result file: %.200s has images in %llu of its %lld particle snapshots",
+                    r->path, (unsigned long long)r->p_image.dims[0], (long long)r->frames);
+    if (read_rows(&r->p_image, H5T_NATIVE_INT32, k, 1, image) < 0)
+        return fail(r, "result file: cannot read the images of frame %lld", (long long)k);
     return 0;
 }
 

@@ -61,6 +61,7 @@ struct lub_h5 {
     int64_t np;
     int64_t nframes;
     hid_t p_step, p_time, p_pos, p_vel, p_omega, p_edges;
+    hid_t p_image; /* H5MD image [F][n][3] int32, or invalid when the scene writes none */
     /* room for snapshots (lub_h5_snapshots_skipped) */
     char *path;          /* the file's path, for the free space of its file system */
     uint64_t byte_limit; /* RLIMIT_FSIZE (soft) at creation, or lub_h5_set_byte_limit */
@@ -256,6 +257,7 @@ lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
         return NULL;
     }
     f->p_step = f->p_time = f->p_pos = f->p_vel = f->p_omega = f->p_edges = H5I_INVALID_HID;
+    f->p_image = H5I_INVALID_HID;
     f->path = strdup(path);
     f->byte_limit = UINT64_MAX;
     struct rlimit fsize;
@@ -519,6 +521,30 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const ch
     return 0;
 }
 
+int lub_h5_particles_define_image(lub_h5 *f)
+{
+    if (f->lost)
+        return 0;
+    if (f->p_pos < 0)
+        return set_err(f, "define /particles/all/image before", "lub_h5_particles_define");
+    hid_t g = H5Gcreate2(f->file, "/particles/all/image", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    int rc = g < 0;
+    if (g >= 0) {
+        rc |= H5Lcreate_hard(f->file, "/particles/all/position/step", g, "step", H5P_DEFAULT,
+                             H5P_DEFAULT) < 0;
+        rc |= H5Lcreate_hard(f->file, "/particles/all/position/time", g, "time", H5P_DEFAULT,
+                             H5P_DEFAULT) < 0;
+        hsize_t frame[2] = {(hsize_t)f->np, 3};
+        f->p_image = create_extendible(g, "value", H5T_STD_I32LE, 3, frame, 1, 0);
+        H5Gclose(g);
+    }
+    if (rc || f->p_image < 0)
+        return write_failed(f, "create", "/particles/all/image", -1);
+    return 0;
+}
+
+int lub_h5_particles_has_image(const lub_h5 *f) { return f && f->p_image >= 0; }
+
 /* 1 if `what` (a frame of frame_bytes: "a snapshot", "a frame of /pair_network") leaves
  * LUB_H5_SNAPSHOT_RESERVE_BYTES below the file-size limit and on the file system; otherwise 0
  * with reason[len] set. */
@@ -570,7 +596,8 @@ int64_t lub_h5_snapshots_skipped(const lub_h5 *f, int64_t *first_step, char *why
 }
 
 int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double *edges,
-                              const double *pos, const double *vel, const double *omega)
+                              const double *pos, const double *vel, const double *omega,
+                              const int32_t *image)
 {
     if (f->lost)
         return 0;
@@ -578,7 +605,10 @@ int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double
         return set_err(f, "write a snapshot before", "lub_h5_particles_define");
     const uint64_t frame_bytes =
         (uint64_t)f->np * 3u * sizeof(double) * (1u + (vel != NULL) + (omega != NULL)) +
-        2u * sizeof(double) + 9u * sizeof(double);
+        2u * sizeof(double) + 9u * sizeof(double) +
+        (image ? (uint64_t)f->np * 3u * sizeof(int32_t) : 0u);
+    if (image && f->p_image < 0)
+        return set_err(f, "write an image before", "lub_h5_particles_define_image");
     if (f->frames_skipped > 0 ||
         !room_for(f, "a snapshot", frame_bytes, f->skip_reason, sizeof f->skip_reason)) {
         if (f->frames_skipped++ == 0)
@@ -597,6 +627,8 @@ int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double
         rc |= append_rows(f->p_vel, H5T_NATIVE_DOUBLE, 3, frame, at, 1, vel);
     if (omega)
         rc |= append_rows(f->p_omega, H5T_NATIVE_DOUBLE, 3, frame, at, 1, omega);
+    if (image)
+        rc |= append_rows(f->p_image, H5T_NATIVE_INT32, 3, frame, at, 1, image);
     if (rc)
         return write_failed(f, "append", "a particle snapshot", step);
     f->nframes++;
@@ -806,8 +838,9 @@ int lub_h5_finish(lub_h5 *f, const char *status, char *why, size_t len)
     }
     for (int i = 0; i < f->nframe_sets; ++i)
         frames_free(f->frame_sets[i]);
-    hid_t handles[6] = {f->p_step, f->p_time, f->p_pos, f->p_vel, f->p_omega, f->p_edges};
-    for (int i = 0; i < 6; ++i)
+    hid_t handles[7] = {f->p_step,  f->p_time,  f->p_pos,  f->p_vel,
+                        f->p_omega, f->p_edges, f->p_image};
+    for (int i = 0; i < 7; ++i)
         if (handles[i] >= 0)
             H5Dclose(handles[i]);
     if (!f->lost)

@@ -4,8 +4,9 @@
  *   /observables/<name>        {step int64[T], time f64[T], value f64[T] | [T][3] | [T][3][3]}
  *                              series in one table hard-link one shared step/time pair
  *   /particles/all/...         optional snapshots: box, position, velocity, angular_velocity,
- *                              radius, id (positions as the scene passes them: wrapped
- *                              into the cell by simple_shear, unwrapped by resuspension)
+ *                              radius, id, optional image (positions as the scene passes
+ *                              them: wrapped into the cell with their images by simple_shear,
+ *                              unwrapped by resuspension)
  *   /profiles/<name>           free-form arrays (profiles, distributions), attribute "unit"
  *   /<group> (frame sets)      records of a varying count per frame (an interaction network):
  *                              step int64[F], time f64[F], row_start int64[F], row_count
@@ -71,7 +72,15 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius,
  * reserve covers the rest of a run's output (time series, distributions, parameters).
  * lub_h5_snapshots_skipped tells how many were skipped, from which step, and why. */
 int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double *edges,
-                              const double *pos, const double *vel, const double *omega);
+                              const double *pos, const double *vel, const double *omega,
+                              const int32_t *image);
+/* H5MD's image element, /particles/all/image {step, time: the position's; value int32
+ * [F][n][3]}: the cell images a position was wrapped by, so that position + image . edges (the
+ * same frame's edge vectors) is the unwrapped one. After lub_h5_particles_define, before the
+ * first snapshot; every snapshot then passes image[n][3] (NULL for a file without it). */
+int lub_h5_particles_define_image(lub_h5 *f);
+/* 1 when lub_h5_particles_define_image has made the image element. */
+int lub_h5_particles_has_image(const lub_h5 *f);
 #define LUB_H5_SNAPSHOT_RESERVE_BYTES ((uint64_t)64 << 20)
 /* Snapshots not written for lack of room (0: none); *first_step (may be NULL) gets the step of
  * the first, why[len] (may be NULL) the reason (limit or free space, with the sizes in MiB). */

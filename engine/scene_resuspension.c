@@ -993,8 +993,8 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
             for (int r = 0; r < 3; ++r) /* rows = edge vectors = columns of H */
                 for (int c = 0; c < 3; ++c)
                     edges[3 * r + c] = S.cell.h[c][r];
-            if (lub_h5_particles_snapshot(ctx->out, S.step, t, edges, B.snap_x, B.snap_v,
-                                          B.snap_w)) {
+            if (lub_h5_particles_snapshot(ctx->out, S.step, t, edges, B.snap_x, B.snap_v, B.snap_w,
+                                          NULL)) {
                 snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
                          lub_h5_last_error(ctx->out));
                 rc = LUB_EXIT_IO;

@@ -533,7 +533,7 @@ static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
         for (int c = 0; c < 3; ++c)
             edges[3 * r + c] = s->cell.h[c][r]; /* rows = edge vectors */
     return lub_h5_particles_snapshot(ctx->out, s->step, s->time, edges, (const double *)s->x,
-                                     (const double *)s->v, (const double *)s->w);
+                                     (const double *)s->v, (const double *)s->w, s->img);
 }
 
 /* The interaction network of the system's current state (pair_network.h, computed into net,
@@ -974,7 +974,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     if (ctx->resume_path) { /* the stopped run's rows, snapshots and network frames, unchanged */
         char why[600] = "";
         const char *bnd[3] = {"periodic", "periodic", "periodic"};
-        if (p.snapshots > 0 && lub_h5_particles_define(ctx->out, n, radius, bnd))
+        if (p.snapshots > 0 && (lub_h5_particles_define(ctx->out, n, radius, bnd) ||
+                                lub_h5_particles_define_image(ctx->out)))
             snprintf(why, sizeof why, "%s", lub_h5_last_error(ctx->out));
         else if (lub_h5_continue_output(ctx->resume_result, tab, 17, tnames, tnc, resume_rows,
                                         ctx->out, n, p.snapshots > 0 ? resume_frames : 0, why,
@@ -995,7 +996,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         if (p.pair_network == LUB_NETWORK_SNAPSHOTS &&
             (exit_code = ss_network_frame(ctx, &sys, network, &net, 0)) != LUB_EXIT_OK)
             goto cleanup;
-        if (lub_h5_particles_define(ctx->out, n, radius, bnd) || ss_snapshot(ctx, &sys)) {
+        if (lub_h5_particles_define(ctx->out, n, radius, bnd) ||
+            lub_h5_particles_define_image(ctx->out) || ss_snapshot(ctx, &sys)) {
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
             exit_code = LUB_EXIT_IO;
             goto cleanup;

@@ -50,6 +50,7 @@ void lub_shear_free(lub_shear_system *s)
     free(s->inv_i);
     free(s->inv_i_share);
     free(s->row_scratch);
+    free(s->img);
     free(s->tstress);
     free(s->tsyy);
     free(s->tcount);
@@ -93,13 +94,14 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
     s->inv_i = malloc(un * sizeof *s->inv_i);
     s->inv_i_share = malloc(un * sizeof *s->inv_i_share);
     s->row_scratch = malloc(2 * un * sizeof *s->row_scratch);
+    s->img = calloc(3 * un, sizeof *s->img);
     s->tstress = calloc((size_t)threads, sizeof *s->tstress);
     s->tsyy = calloc((size_t)threads, sizeof *s->tsyy);
     s->tcount = calloc(LUB_COUNT_N * (size_t)threads, sizeof *s->tcount);
     s->acc = calloc((size_t)threads, sizeof *s->acc);
     if (!s->x || !s->v || !s->w || !s->f || !s->t || !s->x_ref || !s->r || !s->m || !s->inv_m ||
-        !s->inv_i || !s->inv_i_share || !s->row_scratch || !s->tstress || !s->tsyy || !s->tcount ||
-        !s->acc) {
+        !s->inv_i || !s->inv_i_share || !s->row_scratch || !s->img || !s->tstress || !s->tsyy ||
+        !s->tcount || !s->acc) {
         lub_shear_free(s);
         return LUB_SHEAR_NOMEM;
     }
@@ -209,8 +211,8 @@ int lub_shear_step_control(lub_shear_system *s, lub_step_control *c)
 
 /* Bytes of each array element, shared by lub_shear_memory_bytes and lub_shear_min_bytes. */
 enum {
-    PARTICLE_BYTES = 6 * sizeof(vec3) + 7 * sizeof(double),     /* x v w f t x_ref; r m 1/m 1/I
-                                                                    share, 2 scratch rows */
+    PARTICLE_BYTES = 6 * sizeof(vec3) + 7 * sizeof(double) + 3 * sizeof(int32_t), /* x v w f t
+                                 x_ref; r m 1/m 1/I share, 2 scratch rows; images */
     THREAD_PARTICLE_BYTES = 2 * sizeof(vec3) + 2 * sizeof(int), /* per-thread pair sums */
     NLIST_PARTICLE_BYTES = sizeof(size_t) + 2 * sizeof(int) + sizeof(vec3),
     NLIST_PAIR_BYTES = 5 * sizeof(int32_t),                              /* i, j, image shift */
@@ -281,10 +283,19 @@ static int topology_update_due(const lub_shear_system *s)
 static int rebuild(lub_shear_system *s)
 {
     int m[3];
-    if (lub_cell_flip(&s->cell, m))
-        s->flips++;
-    for (int i = 0; i < s->n; ++i)
-        lub_cell_wrap(&s->cell, &s->x[i], &s->v[i], NULL);
+    const int flipped = lub_cell_flip(&s->cell, m);
+    s->flips += flipped;
+    for (int i = 0; i < s->n; ++i) {
+        int32_t *im = &s->img[3 * i];
+        int k[3] = {im[0], im[1], im[2]};
+        if (flipped) /* the images in the new cell vectors: x + H img unchanged */
+            lub_cell_flip_shift(m, k);
+        int w[3];
+        lub_cell_wrap(&s->cell, &s->x[i], &s->v[i], w);
+        im[0] = k[0] + w[0];
+        im[1] = k[1] + w[1];
+        im[2] = k[2] + w[2];
+    }
     int rc = lub_nlist_build(&s->nl, &s->cell, s->x, s->r, s->n);
     if (rc == LUB_NLIST_CELL_TOO_SMALL) {
         snprintf(s->fail_msg, sizeof s->fail_msg,

@@ -64,16 +64,23 @@ static int write_file(const char *path, int with_omega, int with_particles)
             radius[i] = 0.5 + 0.01 * i;
         const char *boundary[3] = {"periodic", "periodic", "none"};
         CHECK(lub_h5_particles_define(f, N, radius, boundary) == 0);
+        /* images with the angular velocities (the file without them has none either) */
+        if (with_omega)
+            CHECK(lub_h5_particles_define_image(f) == 0 && lub_h5_particles_has_image(f));
         static double fields[3][N * 3];
+        static int32_t image[N * 3];
         for (int k = 0; k < FRAMES; ++k) {
             for (int field = 0; field < 3; ++field)
                 for (int i = 0; i < N; ++i)
                     for (int c = 0; c < 3; ++c)
                         fields[field][3 * i + c] = particle_of(k, field, i, c);
+            for (int j = 0; j < N * 3; ++j)
+                image[j] = 100 * k + j - 50;
             const double box[9] = {10 + k, 0, 0, 0.5 * k, 11, 0, 0, 0, 12};
             /* the last frame of an unbounded scene: no edges (zeros) */
             CHECK(lub_h5_particles_snapshot(f, 100 * k, 0.5 * k, k == 2 ? NULL : box, fields[0],
-                                            fields[1], with_omega ? fields[2] : NULL) == 0);
+                                            fields[1], with_omega ? fields[2] : NULL,
+                                            with_omega ? image : NULL) == 0);
         }
     }
     CHECK(lub_h5_close(f, "complete") == 0);
@@ -191,6 +198,14 @@ static void check_particles(const char *path, int with_omega)
                 bad += with_omega && omega[3 * i + c] != particle_of(k, 2, i, c);
             }
         CHECK(bad == 0);
+        /* the images, where written: as written; else "none" (1), image untouched */
+        int32_t image[N * 3];
+        memset(image, 0x7f, sizeof image);
+        const int irc = lub_h5r_frame_image(r, k, image);
+        int ibad = 0;
+        for (int j = 0; j < N * 3; ++j)
+            ibad += image[j] != (with_omega ? 100 * k + j - 50 : 0x7f7f7f7f);
+        CHECK(irc == (with_omega ? 0 : 1) && ibad == 0);
         /* only some of the outputs */
         CHECK(lub_h5r_frame_read(r, k, NULL, NULL, NULL, pos, NULL, NULL) == 0);
         CHECK(lub_h5r_frame_read(r, k, &step, NULL, NULL, NULL, NULL, NULL) == 0 &&
@@ -200,6 +215,8 @@ static void check_particles(const char *path, int with_omega)
     CHECK(strstr(lub_h5r_error(r), "out of range") != NULL);
     printf("frame out of range: %s\n", lub_h5r_error(r));
     CHECK(lub_h5r_frame_read(r, -1, &step, &time, edges, pos, vel, NULL) == -1);
+    int32_t image[N * 3];
+    CHECK(lub_h5r_frame_image(r, FRAMES, image) == -1);
     if (!with_omega) {
         CHECK(lub_h5r_frame_read(r, 0, &step, &time, edges, pos, vel, omega) == -1);
         CHECK(strstr(lub_h5r_error(r), "angular velocities") != NULL);

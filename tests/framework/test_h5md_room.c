@@ -71,7 +71,7 @@ static int64_t run(const char *path, double room_frames, int64_t *first_step, ch
         const double box[9] = {10, 0, 0, 0, 10, 0, 0, 0, 10};
         const double row[1] = {0.1 * k};
         /* every snapshot returns 0, written or skipped */
-        CHECK(lub_h5_particles_snapshot(f, 7 * k, 0.7 * k, box, pos, vel, omega) == 0);
+        CHECK(lub_h5_particles_snapshot(f, 7 * k, 0.7 * k, box, pos, vel, omega, NULL) == 0);
         CHECK(lub_h5_table_append(t, 7 * k, 0.7 * k, row) == 0);
         CHECK(lub_h5_flush(f) == 0); /* the file size the next check sees is exact */
     }
@@ -126,7 +126,7 @@ static void lost_output(const char *dir)
     const char *boundary[3] = {"periodic", "periodic", "periodic"};
     const int64_t dims[1] = {3};
     CHECK(lub_h5_particles_define(f, N, radius, boundary) == 0);
-    CHECK(lub_h5_particles_snapshot(f, 1, 0.1, box, pos, vel, omega) == 0);
+    CHECK(lub_h5_particles_snapshot(f, 1, 0.1, box, pos, vel, omega, NULL) == 0);
     CHECK(lub_h5_write_array(f, "profile", 1, dims, box, "1") == 0);
     CHECK(lub_h5_write_parameters(f, "{}", "{}", "{}") == 0);
     CHECK(lub_h5_flush(f) == 0);

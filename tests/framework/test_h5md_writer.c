@@ -41,7 +41,7 @@ int main(int argc, char **argv)
             pos[i] = fr * 100 + i;
             vel[i] = -i;
         }
-        if (lub_h5_particles_snapshot(f, fr * 7, fr * 0.7, edges, pos, vel, NULL))
+        if (lub_h5_particles_snapshot(f, fr * 7, fr * 0.7, edges, pos, vel, NULL, NULL))
             return 1;
     }
     double prof[6] = {0, 1, 2, 3, 4, 5};

@@ -404,6 +404,40 @@ wait $pid; rc=$?
 check "[ $rc -eq 5 ] && grep -q 'stopped while generating the packing' $W/bigpack/summary.json && grep -q '\"partial\"' $W/bigpack/summary.json" \
   "SIGTERM during the packing: rc=$rc"
 
+# 4c. the snapshots' images (H5MD /particles/all/image, since 2026-12-06): position + image .
+# edges is continuous from snapshot to snapshot through the wraps and the two flips of 2 strain
+# (the wrapped positions jump by a cell width); a checkpoint written before images were (no
+# system/images) is continued with images from 0
+echo '{"scene":"simple_shear","n_particles":300,"strain":2,"snapshots":100}' \
+  | "$LUBDEM" run - --out "$W/images" --quiet 2>/dev/null; rc=$?
+check "[ $rc -eq 0 ]" "images run: exit $rc"
+"$PY" - "$W/images/result.h5" <<'PYEOF' || fail=1
+import sys, h5py, numpy as np
+with h5py.File(sys.argv[1], "r") as f:
+    x = f["particles/all/position/value"][()]
+    e = f["particles/all/box/edges/value"][()]
+    im = f["particles/all/image/value"][()]
+    same_steps = np.array_equal(f["particles/all/image/step"][()], f["particles/all/position/step"][()])
+u = x + np.einsum("fnk,fkd->fnd", im.astype(float), e)
+tilt = e[:, 1, 0] / e[:, 0, 0]
+wrapped, unwrapped = np.abs(np.diff(x, axis=0)).max(), np.abs(np.diff(u, axis=0)).max()
+print(f"images: {im.dtype} {im.shape}, largest move between snapshots {unwrapped:.3f} a "
+      f"unwrapped, {wrapped:.3f} a wrapped, tilt {tilt.min():.2f}..{tilt.max():.2f}")
+ok = im.dtype == np.int32 and im.shape == x.shape and same_steps and wrapped > 5 and unwrapped < 1
+ok = ok and tilt.max() > 0.45 and tilt.min() < -0.45  # flipped
+if not ok: print("FAIL: images do not unwrap the positions", file=sys.stderr)
+sys.exit(0 if ok else 1)
+PYEOF
+echo '{"scene":"simple_shear","n_particles":300,"strain":0.6,"snapshots":3}' > "$W/oldck.json"
+"$LUBDEM" run "$W/oldck.json" --out "$W/oldck" --keep-checkpoint --quiet 2>/dev/null
+"$PY" -c "import h5py; f = h5py.File('$W/oldck/checkpoint.h5', 'r+'); del f['system/images']"
+sed -i 's/"strain":0.6/"strain":0.8/' "$W/oldck.json"
+"$LUBDEM" run "$W/oldck.json" --out "$W/oldck" --resume --quiet 2>"$W/oldck.err"; rc=$?
+"$PY" -c "import h5py; f = h5py.File('$W/oldck/result.h5', 'r'); assert f['particles/all/image/value'].shape == f['particles/all/position/value'].shape and f.attrs['status'] == 'complete'"
+prc=$?
+check "[ $rc -eq 0 ] && [ $prc -eq 0 ]" \
+  "checkpoint without images continued: exit $rc / $prc $(cat "$W/oldck.err")"
+
 # 5. runaway particle: a numerical failure, not a result
 echo '{"scene":"simple_shear","n_particles":300,"strain":1,"snapshots":0,"dt":0.01}' \
   | "$LUBDEM" run - --out "$W/runaway" --quiet 2>"$W/runaway.err"; rc=$?
