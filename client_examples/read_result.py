@@ -32,6 +32,16 @@ with h5py.File(sys.argv[1], "r") as f:
             j = net["j"][first:first + count][contact]
             print("contact number Z_c = contact ends on the N particles / N = %.3f"
                   % ((2 * int((j < n).sum()) + int((j >= n).sum())) / n))
+    if "particles/all/image" in f:  # simple_shear: positions wrapped into the cell
+        # unwrapped = position + image . edges (edges: that frame's rows = edge vectors);
+        # the displacement includes the affine shear flow
+        x, im = f["particles/all/position/value"], f["particles/all/image/value"]
+        e = f["particles/all/box/edges/value"]
+        if len(x) > 1:
+            d = (x[-1] + im[-1] @ e[-1]) - (x[0] + im[0] @ e[0])
+            print("unwrapped displacement, first to last snapshot: rms %.3f a (x %.3f, y %.3f, "
+                  "z %.3f)" % tuple([float((d ** 2).sum(1).mean() ** 0.5)] +
+                                    [float((d[:, c] ** 2).mean() ** 0.5) for c in range(3)]))
     params = f.get("parameters")
     if params is not None:
         for key in params:
