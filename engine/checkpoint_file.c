@@ -400,6 +400,11 @@ int lub_ckpt_get_i64_or(lub_ckpt *c, const char *name, int64_t absent, int64_t *
     return 0;
 }
 
+int lub_ckpt_has(lub_ckpt *c, const char *name)
+{
+    return c && name && *name && lub_h5_path_exists(c->file, name) > 0;
+}
+
 int lub_ckpt_count(lub_ckpt *c, const char *name, size_t *count)
 {
     if (!c)

@@ -52,6 +52,8 @@ int lub_ckpt_count(lub_ckpt *c, const char *name, size_t *count);
 /* lub_ckpt_get_i64 of a member newer than some checkpoints: *v = absent when the checkpoint
  * does not hold `name` (no error set); -1 as lub_ckpt_get_i64 when it holds something else. */
 int lub_ckpt_get_i64_or(lub_ckpt *c, const char *name, int64_t absent, int64_t *v);
+/* 1 when the checkpoint holds `name`, 0 when not (no error set either way). */
+int lub_ckpt_has(lub_ckpt *c, const char *name);
 
 /* Convenience scalars: 1-D datasets of one element. */
 int lub_ckpt_put_f64(lub_ckpt *c, const char *name, double v);

@@ -392,6 +392,13 @@ int lub_h5r_frame_read(lub_h5_reader *r, int64_t k, int64_t *step, double *time,
     return 0;
 }
 
+int lub_h5r_has_image(lub_h5_reader *r)
+{
+    if (!r || open_particles(r) < 0)
+        return -1;
+    return r->p_image.id >= 0;
+}
+
 int lub_h5r_frame_image(lub_h5_reader *r, int64_t k, int32_t *image)
 {
     if (!r || open_particles(r) < 0)

@@ -53,6 +53,9 @@ int lub_h5r_frame_read(lub_h5_reader *r, int64_t k, int64_t *step, double *time,
 /* The images of frame k (/particles/all/image, [n][3]): 0 read, 1 when the file has none (then
  * image is untouched), -1 on an error (k out of range, images in only some frames). */
 int lub_h5r_frame_image(lub_h5_reader *r, int64_t k, int32_t *image);
+/* 1 when the file's particle snapshots have an image element, 0 when not, -1 on an error (no
+ * snapshots). */
+int lub_h5r_has_image(lub_h5_reader *r);
 
 /* Rows [row0, row0 + count) of the dataset at `path` (from the root; rank 1 with ncomp 1,
  * or [R][ncomp]) into out (count * ncomp values of `type`, a lub_h5_type of h5md_writer.h:

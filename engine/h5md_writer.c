@@ -527,6 +527,8 @@ int lub_h5_particles_define_image(lub_h5 *f)
         return 0;
     if (f->p_pos < 0)
         return set_err(f, "define /particles/all/image before", "lub_h5_particles_define");
+    if (f->nframes > 0 || f->frames_skipped > 0) /* its rows would not line up */
+        return set_err(f, "define /particles/all/image after", "a particle snapshot");
     hid_t g = H5Gcreate2(f->file, "/particles/all/image", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     int rc = g < 0;
     if (g >= 0) {
@@ -609,6 +611,9 @@ int lub_h5_particles_snapshot(lub_h5 *f, int64_t step, double time, const double
         (image ? (uint64_t)f->np * 3u * sizeof(int32_t) : 0u);
     if (image && f->p_image < 0)
         return set_err(f, "write an image before", "lub_h5_particles_define_image");
+    if (!image && f->p_image >= 0) /* the image rows would fall behind the positions' */
+        return set_err(f, "write a snapshot without its image after",
+                       "lub_h5_particles_define_image");
     if (f->frames_skipped > 0 ||
         !room_for(f, "a snapshot", frame_bytes, f->skip_reason, sizeof f->skip_reason)) {
         if (f->frames_skipped++ == 0)

@@ -526,6 +526,20 @@ static void ss_ratio_stat(const ss_series *ser, int num, int den, size_t min_sta
     lub_stats_ratio(ser->v[num] + d, ser->v[den] + d, ser->n - d, z, scratch, &r->mean, &r->sem);
 }
 
+/* 1 when the stopped run's result file (path) has images with its snapshots, or none to copy;
+ * 0 for a file written before images were: its continuation then has none either, so that no
+ * frame carries images that are not its own. */
+static int ss_stopped_has_image(const char *path, int64_t frames)
+{
+    if (frames <= 0)
+        return 1;
+    char err[8];
+    lub_h5_reader *r = lub_h5r_open(path, err, sizeof err);
+    const int has = r && lub_h5r_has_image(r) == 1;
+    lub_h5r_close(r);
+    return has;
+}
+
 static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
 {
     double edges[9];
@@ -533,7 +547,8 @@ static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
         for (int c = 0; c < 3; ++c)
             edges[3 * r + c] = s->cell.h[c][r]; /* rows = edge vectors */
     return lub_h5_particles_snapshot(ctx->out, s->step, s->time, edges, (const double *)s->x,
-                                     (const double *)s->v, (const double *)s->w, s->img);
+                                     (const double *)s->v, (const double *)s->w,
+                                     lub_h5_particles_has_image(ctx->out) ? s->img : NULL);
 }
 
 /* The interaction network of the system's current state (pair_network.h, computed into net,
@@ -975,7 +990,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         char why[600] = "";
         const char *bnd[3] = {"periodic", "periodic", "periodic"};
         if (p.snapshots > 0 && (lub_h5_particles_define(ctx->out, n, radius, bnd) ||
-                                lub_h5_particles_define_image(ctx->out)))
+                                (ss_stopped_has_image(ctx->resume_result, resume_frames) &&
+                                 lub_h5_particles_define_image(ctx->out))))
             snprintf(why, sizeof why, "%s", lub_h5_last_error(ctx->out));
         else if (lub_h5_continue_output(ctx->resume_result, tab, 17, tnames, tnc, resume_rows,
                                         ctx->out, n, p.snapshots > 0 ? resume_frames : 0, why,
@@ -1377,7 +1393,10 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .strain_reached = lp.strain,
             .stopped = stopped_by_request,
             .strain_target = p.strain,
-            .checkpoint_kept = ctx->checkpoint_written,
+            /* a checkpoint to go on from: this stop's, or (the run driver keeps it when this
+             * one failed) the one this run continued from or its last periodic one */
+            .checkpoint_kept = ctx->checkpoint_written || ctx->resume_path ||
+                               (ctx->periodic && ctx->periodic->written > 0),
             .transient_strain = p.transient_strain,
             .sample_strain = p.sample_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,

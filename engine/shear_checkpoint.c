@@ -83,8 +83,7 @@ int lub_shear_saved_particles(lub_ckpt *c, int *n, double **radius)
  * unwrapped positions jump there by whole cell vectors). 0, or -1 with the error set. */
 static int restore_images(lub_ckpt *c, lub_shear_system *s)
 {
-    size_t count = 0;
-    if (lub_ckpt_count(c, "system/images", &count) != 0) {
+    if (!lub_ckpt_has(c, "system/images")) {
         memset(s->img, 0, 3 * (size_t)s->n * sizeof *s->img);
         return 0;
     }

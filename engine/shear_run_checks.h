@@ -31,7 +31,8 @@ typedef struct {
     int stopped;                   /* 1: a signal stopped the run before /strain (its steady-state
                                       advice is then --resume, not a longer /strain) */
     double strain_target;          /* the spec's /strain (for the stopped run's message) */
-    int checkpoint_kept;           /* a stopped run's checkpoint was written (--resume goes on) */
+    int checkpoint_kept;           /* a stopped run has a checkpoint to go on from (its own, the
+                                      one it continued from, or a periodic one) */
     double transient_strain;       /* the spec's /transient_strain */
     double sample_strain;          /* the spec's /sample_strain (0: not known) */
     double dt_over_elastic;        /* a time step fixed by the spec's /dt, over dt_elastic

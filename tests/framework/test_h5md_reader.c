@@ -82,6 +82,11 @@ static int write_file(const char *path, int with_omega, int with_particles)
                                             fields[1], with_omega ? fields[2] : NULL,
                                             with_omega ? image : NULL) == 0);
         }
+        if (with_omega) { /* refused: rows that would not line up with the positions' */
+            CHECK(lub_h5_particles_define_image(f) == -1);
+            CHECK(lub_h5_particles_snapshot(f, 900, 9.0, NULL, fields[0], fields[1], fields[2],
+                                            NULL) == -1);
+        }
     }
     CHECK(lub_h5_close(f, "complete") == 0);
     return 0;
