@@ -73,10 +73,10 @@ int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_
     double *pos = malloc((size_t)n * 3 * sizeof *pos);
     double *vel = malloc((size_t)n * 3 * sizeof *vel);
     double *omega = malloc((size_t)n * 3 * sizeof *omega);
-    /* the images, where the new file has them: the stopped run's, or 0 from a file written
-     * before images were (they then start at the stop) */
+    /* the images, where the new file has them (the scene defines them only when the stopped
+     * run's file has them too) */
     const int with_image = lub_h5_particles_has_image(to);
-    int32_t *image = with_image ? calloc((size_t)n * 3, sizeof *image) : NULL;
+    int32_t *image = with_image ? malloc((size_t)n * 3 * sizeof *image) : NULL;
     int rc = 0;
     if (!pos || !vel || !omega || (with_image && !image)) {
         snprintf(err, len, "out of memory (snapshots of the stopped run)");
@@ -85,9 +85,12 @@ int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_
     for (int64_t k = 0; k < frames && rc == 0; ++k) {
         int64_t step = 0;
         double time = 0.0, edges[9];
-        if (lub_h5r_frame_read(from, k, &step, &time, edges, pos, vel, omega) ||
-            (with_image && lub_h5r_frame_image(from, k, image) < 0)) {
+        const int irc = with_image ? lub_h5r_frame_image(from, k, image) : 0;
+        if (lub_h5r_frame_read(from, k, &step, &time, edges, pos, vel, omega) || irc < 0) {
             snprintf(err, len, "cannot read snapshot %lld: %s", (long long)k, lub_h5r_error(from));
+            rc = -1;
+        } else if (irc > 0) {
+            snprintf(err, len, "the stopped run's snapshots have no images");
             rc = -1;
         } else if (lub_h5_particles_snapshot(to, step, time, edges, pos, vel, omega, image)) {
             snprintf(err, len, "cannot copy snapshot %lld: %s", (long long)k,

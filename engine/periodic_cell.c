@@ -128,3 +128,15 @@ void lub_cell_flip_shift(const int m[3], int shift[3])
 {
     shift[0] += m[1] * shift[1] + m[2] * shift[2];
 }
+
+void lub_cell_wrap_counted(const lub_cell *c, const int m[3], int flipped, vec3 *x, vec3 *v,
+                           int img[3])
+{
+    if (flipped)
+        lub_cell_flip_shift(m, img);
+    int k[3];
+    lub_cell_wrap(c, x, v, k);
+    img[0] += k[0];
+    img[1] += k[1];
+    img[2] += k[2];
+}

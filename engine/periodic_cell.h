@@ -72,5 +72,10 @@ int lub_cell_flip(lub_cell *c, int m[3]);
 /* Image shift of a pair after a flip with multiples m: c_new = (I + F)^-1 c, i.e.
  * c_new[0] = c[0] + m[1] c[1] + m[2] c[2]. */
 void lub_cell_flip_shift(const int m[3], int shift[3]);
+/* lub_cell_wrap of a body whose images are counted: img (the cell images removed from it so
+ * far) is first carried into the cell flipped by m (flipped 0: no flip since the last call),
+ * then the wrap's shift is added, so that the unwrapped position x + H img does not change. */
+void lub_cell_wrap_counted(const lub_cell *c, const int m[3], int flipped, vec3 *x, vec3 *v,
+                           int img[3]);
 
 #endif

@@ -138,18 +138,11 @@ static int rebuild(lub_rs_system *s)
     const int flipped = lub_cell_flip(&s->cell, m);
     s->flips += flipped;
     for (int i = 0; i < s->n; ++i) {
-        /* the images counted so far in the new cell vectors (h_j' = h_j - m_j h_0), so that
-         * x + H img is unchanged by the flip (until 2026-12-06 it jumped by a cell width
-         * along x for a body that had crossed the tilted side) */
-        if (flipped)
-            lub_cell_flip_shift(m, &s->img[3 * i]);
+        /* the images carried through flips too (until 2026-12-06 they were not, and x + H img
+         * jumped by a cell width along x for a body that had crossed the tilted side) */
         const int mob = i < s->n_mobile;
         vec3 *vp = (mob || s->p.orientation == LUB_RS_VORTICITY) ? &s->v[i] : NULL;
-        int k[3];
-        lub_cell_wrap(&s->cell, &s->x[i], vp, k);
-        s->img[3 * i] += k[0];
-        s->img[3 * i + 1] += k[1];
-        s->img[3 * i + 2] += k[2];
+        lub_cell_wrap_counted(&s->cell, m, flipped, &s->x[i], vp, &s->img[3 * i]);
     }
     int rc = lub_nlist_build(&s->nl, &s->cell, s->x, s->r, s->n);
     if (rc == LUB_NLIST_NOMEM)

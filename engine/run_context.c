@@ -147,3 +147,9 @@ int lub_memory_fits(lub_run_ctx *ctx, double bytes, const char *what, const char
     snprintf(need.what, sizeof need.what, "%s", what);
     return lub_memory_need_fits(ctx, &need);
 }
+
+int lub_run_resumable(const lub_run_ctx *ctx)
+{
+    return ctx->checkpoint_written || ctx->resume_path ||
+           (ctx->periodic && ctx->periodic->written > 0);
+}

@@ -116,4 +116,9 @@ int lub_memory_fits(lub_run_ctx *ctx, double bytes, const char *what, const char
 /* The same for a need the scene states in full (scene.h: memory_need). */
 int lub_memory_need_fits(lub_run_ctx *ctx, const lub_memory_need *need);
 
+/* 1 when a stopped run has a checkpoint --resume goes on from: the one it wrote at the stop,
+ * or, when that failed, the one it continued from or its last periodic one (which the run
+ * driver keeps then). For the scenes' advice; call after the stop's checkpoint. */
+int lub_run_resumable(const lub_run_ctx *ctx);
+
 #endif

@@ -1267,8 +1267,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
     if (!steady) {
         const char *why = stopped_at < 0 ? "suspension height not steady (MSER-5): increase "
                                            "/strain"
-                          : ctx->checkpoint_written || ctx->resume_path ||
-                                  (ctx->periodic && ctx->periodic->written > 0)
+                          : lub_run_resumable(ctx)
                               ? "suspension height not steady (MSER-5) when the run was "
                                 "stopped by a signal: lubdem run --resume continues it"
                               : "suspension height not steady (MSER-5) when the run was "

@@ -542,6 +542,7 @@ static int ss_stopped_has_image(const char *path, int64_t frames)
 
 static int ss_snapshot(lub_run_ctx *ctx, const lub_shear_system *s)
 {
+    _Static_assert(sizeof(int) == sizeof(int32_t), "the images are written as int32");
     double edges[9];
     for (int r = 0; r < 3; ++r)
         for (int c = 0; c < 3; ++c)
@@ -1393,10 +1394,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .strain_reached = lp.strain,
             .stopped = stopped_by_request,
             .strain_target = p.strain,
-            /* a checkpoint to go on from: this stop's, or (the run driver keeps it when this
-             * one failed) the one this run continued from or its last periodic one */
-            .checkpoint_kept = ctx->checkpoint_written || ctx->resume_path ||
-                               (ctx->periodic && ctx->periodic->written > 0),
+            .checkpoint_kept = lub_run_resumable(ctx),
             .transient_strain = p.transient_strain,
             .sample_strain = p.sample_strain,
             .dt_over_elastic = p.dt > 0.0 ? p.dt / dt_el : 0.0,

@@ -211,7 +211,7 @@ int lub_shear_step_control(lub_shear_system *s, lub_step_control *c)
 
 /* Bytes of each array element, shared by lub_shear_memory_bytes and lub_shear_min_bytes. */
 enum {
-    PARTICLE_BYTES = 6 * sizeof(vec3) + 7 * sizeof(double) + 3 * sizeof(int32_t), /* x v w f t
+    PARTICLE_BYTES = 6 * sizeof(vec3) + 7 * sizeof(double) + 3 * sizeof(int), /* x v w f t
                                  x_ref; r m 1/m 1/I share, 2 scratch rows; images */
     THREAD_PARTICLE_BYTES = 2 * sizeof(vec3) + 2 * sizeof(int), /* per-thread pair sums */
     NLIST_PARTICLE_BYTES = sizeof(size_t) + 2 * sizeof(int) + sizeof(vec3),
@@ -285,17 +285,8 @@ static int rebuild(lub_shear_system *s)
     int m[3];
     const int flipped = lub_cell_flip(&s->cell, m);
     s->flips += flipped;
-    for (int i = 0; i < s->n; ++i) {
-        int32_t *im = &s->img[3 * i];
-        int k[3] = {im[0], im[1], im[2]};
-        if (flipped) /* the images in the new cell vectors: x + H img unchanged */
-            lub_cell_flip_shift(m, k);
-        int w[3];
-        lub_cell_wrap(&s->cell, &s->x[i], &s->v[i], w);
-        im[0] = k[0] + w[0];
-        im[1] = k[1] + w[1];
-        im[2] = k[2] + w[2];
-    }
+    for (int i = 0; i < s->n; ++i)
+        lub_cell_wrap_counted(&s->cell, m, flipped, &s->x[i], &s->v[i], &s->img[3 * i]);
     int rc = lub_nlist_build(&s->nl, &s->cell, s->x, s->r, s->n);
     if (rc == LUB_NLIST_CELL_TOO_SMALL) {
         snprintf(s->fail_msg, sizeof s->fail_msg,

@@ -88,7 +88,7 @@ typedef struct {
     double *inv_i_share; /* lub_inertia_share(inv_i, close (u < a) neighbours at the last
                             step): the inverse inertia the pair law is given */
     double *row_scratch; /* [2n] Gershgorin row sums of lub_shear_step_control */
-    int32_t *img;        /* [3n] cell images removed by wrapping so far, in the current cell
+    int *img;            /* [3n] cell images removed by wrapping so far, in the current cell
                             vectors (unwrapped x + H img; carried through flips) */
     lub_cell cell;
     double h_ref[3][3];
