@@ -62,6 +62,9 @@ struct lub_h5 {
     int64_t nframes;
     hid_t p_step, p_time, p_pos, p_vel, p_omega, p_edges;
     hid_t p_image; /* H5MD image [F][n][3] int32, or invalid when the scene writes none */
+    /* units of the time and particle datasets (lub_h5_set_units; empty: no attribute) */
+    char unit_time[LUB_H5_UNIT_MAX], unit_length[LUB_H5_UNIT_MAX];
+    char unit_velocity[LUB_H5_UNIT_MAX], unit_angular_velocity[LUB_H5_UNIT_MAX];
     /* room for snapshots (lub_h5_snapshots_skipped) */
     char *path;          /* the file's path, for the free space of its file system */
     uint64_t byte_limit; /* RLIMIT_FSIZE (soft) at creation, or lub_h5_set_byte_limit */
@@ -299,6 +302,33 @@ lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
     return f;
 }
 
+static void copy_unit(char dst[LUB_H5_UNIT_MAX], const char *src)
+{
+    snprintf(dst, LUB_H5_UNIT_MAX, "%s", src ? src : "");
+}
+
+int lub_h5_set_units(lub_h5 *f, const char *time, const char *length, const char *velocity,
+                     const char *angular_velocity)
+{
+    const char *u[4] = {time, length, velocity, angular_velocity};
+    for (int k = 0; k < 4; ++k)
+        if (u[k] && strlen(u[k]) >= LUB_H5_UNIT_MAX)
+            return set_err(f, "use a unit this long:", u[k]);
+    if (f->ntables > 0 || f->p_pos >= 0 || f->nframe_sets > 0)
+        return set_err(f, "set the units after", "a table, particles or a frame set is defined");
+    copy_unit(f->unit_time, time);
+    copy_unit(f->unit_length, length);
+    copy_unit(f->unit_velocity, velocity);
+    copy_unit(f->unit_angular_velocity, angular_velocity);
+    return 0;
+}
+
+/* The "unit" attribute of dataset d, when the unit is set; 0 on success or nothing to do. */
+static int unit_attr(hid_t d, const char *unit)
+{
+    return d < 0 || !unit[0] ? 0 : write_string_attr(d, "unit", unit);
+}
+
 int lub_h5_write_parameters(lub_h5 *f, const char *spec_verbatim, const char *spec_resolved,
                             const char *units_json)
 {
@@ -405,7 +435,7 @@ lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *nam
             /* explicit-mode step/time, shared by the table through hard links */
             t->step_ds = create_extendible(g, "step", H5T_STD_I64LE, 1, NULL, ROWS_PER_CHUNK, 1);
             t->time_ds = create_extendible(g, "time", H5T_IEEE_F64LE, 1, NULL, ROWS_PER_CHUNK, 1);
-            ok = t->step_ds >= 0 && t->time_ds >= 0;
+            ok = t->step_ds >= 0 && t->time_ds >= 0 && unit_attr(t->time_ds, f->unit_time) == 0;
         } else {
             char src[512];
             snprintf(src, sizeof src, "/observables/%s/step", names[0]);
@@ -476,6 +506,7 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const ch
     hid_t sp = H5Screate_simple(1, &nn, NULL);
     hid_t d = H5Dcreate2(g, "radius", H5T_IEEE_F64LE, sp, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
     rc |= d < 0 || H5Dwrite(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, radius) < 0;
+    rc |= unit_attr(d, f->unit_length);
     if (d >= 0)
         H5Dclose(d);
     int64_t *ids = malloc(sizeof(int64_t) * (size_t)(n > 0 ? n : 1));
@@ -493,6 +524,7 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const ch
     f->p_step = create_extendible(pos, "step", H5T_STD_I64LE, 1, NULL, 64, 0);
     f->p_time = create_extendible(pos, "time", H5T_IEEE_F64LE, 1, NULL, 64, 0);
     f->p_pos = create_extendible(pos, "value", H5T_IEEE_F64LE, 3, frame, 1, 0);
+    rc |= unit_attr(f->p_time, f->unit_time) | unit_attr(f->p_pos, f->unit_length);
     H5Gclose(pos);
     const char *others[2] = {"velocity", "angular_velocity"};
     hid_t *ds[2] = {&f->p_vel, &f->p_omega};
@@ -503,6 +535,7 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const ch
         rc |= H5Lcreate_hard(f->file, "/particles/all/position/time", og, "time", H5P_DEFAULT,
                              H5P_DEFAULT) < 0;
         *ds[k] = create_extendible(og, "value", H5T_IEEE_F64LE, 3, frame, 1, 0);
+        rc |= unit_attr(*ds[k], k == 0 ? f->unit_velocity : f->unit_angular_velocity);
         H5Gclose(og);
     }
     hid_t edges = make_group(box, "edges");
@@ -512,6 +545,7 @@ int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const ch
                          H5P_DEFAULT) < 0;
     hsize_t ed[2] = {3, 3};
     f->p_edges = create_extendible(edges, "value", H5T_IEEE_F64LE, 3, ed, 64, 0);
+    rc |= unit_attr(f->p_edges, f->unit_length);
     H5Gclose(edges);
     H5Gclose(box);
     H5Gclose(g);

@@ -51,6 +51,17 @@ int lub_h5_output_lost(const lub_h5 *f, char *why, size_t len);
 int lub_h5_write_parameters(lub_h5 *f, const char *spec_verbatim, const char *spec_resolved,
                             const char *units_json);
 
+/* Units of the datasets the scene's scales give (strings as the observables' units: "1/gd",
+ * "a", "a*gd", "gd"; NULL or "" for none), written as their "unit" attribute: `time` on the
+ * `time` datasets of the tables and of the particle snapshots, `length` on the particles'
+ * position, radius and box edges, `velocity` and `angular_velocity` on theirs (the image
+ * element is a count and has none; frame sets take their time unit in lub_h5_frames_define).
+ * Before any table, particle group or frame set is defined (-1 after, or for a unit of
+ * LUB_H5_UNIT_MAX characters or more; lub_h5_last_error). */
+#define LUB_H5_UNIT_MAX 48
+int lub_h5_set_units(lub_h5 *f, const char *time, const char *length, const char *velocity,
+                     const char *angular_velocity);
+
 /* A table of time series sampled together. ncomp[i] is 1 (scalar), 3 (vector) or 9 (3x3
  * tensor, row-major, sigma_ij = value[3*i + j]). Names may contain '/' for subgroups under
  * /observables. The table keeps pointers to nothing passed in (names are copied). */

@@ -319,7 +319,9 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
                           .eta_max = -INFINITY,
                           .strain_min = NAN,
                           .strain_max = NAN};
-    st.tab = lub_h5_table_create(ctx->out, 14, names, ncomp, units);
+    st.tab = lub_h5_set_units(ctx->out, "s", NULL, NULL, NULL) == 0
+                 ? lub_h5_table_create(ctx->out, 14, names, ncomp, units)
+                 : NULL;
     if (!st.tab) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         json_decref(model);

@@ -301,7 +301,9 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
                            "velocity", "force_contact", "force_lubrication"};
     const int ncomp[] = {1, 1, 1, 1, 1, 1};
     const char *units[] = {"a", "1", "a", "a/tau_c", "m g", "m g"};
-    lub_h5_table *tab = lub_h5_table_create(ctx->out, 6, names, ncomp, units);
+    lub_h5_table *tab = lub_h5_set_units(ctx->out, "tau_c", "a", "a/tau_c", "1/tau_c") == 0
+                            ? lub_h5_table_create(ctx->out, 6, names, ncomp, units)
+                            : NULL;
     if (!tab) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         return LUB_EXIT_IO;

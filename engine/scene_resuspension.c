@@ -802,7 +802,9 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                            "kinetic_energy",    "max_fluctuation_speed", "dilute_particles"};
     const int ncomp[] = {1, 1, 1, 1, 1, 1};
     const char *units[] = {"a", "a", "1", "eta gd a^3", "a gd", "1"};
-    lub_h5_table *tab = lub_h5_table_create(ctx->out, 6, names, ncomp, units);
+    lub_h5_table *tab = lub_h5_set_units(ctx->out, "1/gd", "a", "a gd", "gd") == 0
+                            ? lub_h5_table_create(ctx->out, 6, names, ncomp, units)
+                            : NULL;
     const char *bnd[3] = {"periodic", "none", "periodic"};
     int snap_ok = p.snapshots == 0 || lub_h5_particles_define(ctx->out, N, B.radius, bnd) == 0;
     /* /pair_network: its arrays (about 3 kB a particle at phi 0.5) are kept from frame to frame */

@@ -972,7 +972,11 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     const int tnc[] = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 9, 9, 9, 9, 9, 9, 1};
     const char *tunits[] = {"1",  "1", su, "1", "1", "1", "1", "1", "a",
                             "gd", su,  su, su,  su,  su,  su,  "1"};
-    lub_h5_table *tab = lub_h5_table_create(ctx->out, 17, tnames, tnc, tunits);
+    lub_h5_table *tab =
+        lub_h5_set_units(ctx->out, p.pressure ? "eta/P" : "1/gd", "a",
+                         p.pressure ? "a*P/eta" : "a*gd", p.pressure ? "P/eta" : "gd") == 0
+            ? lub_h5_table_create(ctx->out, 17, tnames, tnc, tunits)
+            : NULL;
     if (!tab) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         exit_code = LUB_EXIT_IO;

@@ -253,7 +253,9 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
     const char *names[] = {"relative_position", "gap", "center_gap", "spin1", "spin2"};
     const int ncomp[] = {3, 1, 1, 3, 3};
     const char *units[] = {"a", "a", "a", "gd", "gd"};
-    lub_h5_table *tab = lub_h5_table_create(ctx->out, 5, names, ncomp, units);
+    lub_h5_table *tab = lub_h5_set_units(ctx->out, "1/gd", "a", "a gd", "gd") == 0
+                            ? lub_h5_table_create(ctx->out, 5, names, ncomp, units)
+                            : NULL;
     if (!tab) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         return LUB_EXIT_IO;

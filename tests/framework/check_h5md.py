@@ -5,7 +5,9 @@ usage: check_h5md.py FILE.h5 [--status complete] [--writer-test]
 Checks: /h5md version [1,1], author/name, creator/name+version; root attribute status;
 /parameters spec_verbatim/spec_resolved are JSON; every /observables/*/ element has step,
 time and value of matching length; elements of one table hard-link the same step dataset;
-/particles groups have box with dimension/boundary, position/velocity sharing step/time.
+/particles groups have box with dimension/boundary, position/velocity sharing step/time;
+every time dataset, the particles' position, velocity, angular velocity, radius and box edges
+carry a "unit" attribute (since 2026-12-06; the image element is a count and has none).
 With --writer-test, also checks the exact values written by test_h5md_writer."""
 import json
 import sys
@@ -18,6 +20,11 @@ def fail(msg):
     print("h5md_check=FAIL")
     print(msg, file=sys.stderr)
     sys.exit(1)
+
+
+def unit_of(ds):
+    u = ds.attrs.get("unit")
+    return u.decode() if isinstance(u, bytes) else u
 
 
 def main():
@@ -57,6 +64,8 @@ def main():
                         fail(f"/observables/{name}: step/time/value lengths differ")
                     if n > 1 and np.any(np.diff(obj["step"][()]) < 0):
                         fail(f"/observables/{name}: step not monotone")
+                    if not unit_of(obj["time"]):
+                        fail(f"/observables/{name}/time has no unit attribute")
             f["observables"].visititems(visit)
         if "particles" in f:
             for gname, g in f["particles"].items():
@@ -69,6 +78,19 @@ def main():
                 if h5py.h5o.get_info(g["velocity"]["step"].id).addr != \
                         h5py.h5o.get_info(pos["step"].id).addr:
                     fail("velocity/step is not a hard link to position/step")
+                units = {k: unit_of(g[k]["value"]) for k in
+                         ("position", "velocity", "angular_velocity")}
+                units["time"] = unit_of(pos["time"])
+                units["radius"] = unit_of(g["radius"])
+                units["box/edges"] = unit_of(box["edges"]["value"])
+                missing = [k for k, u in units.items() if not u]
+                if missing:
+                    fail(f"/particles/{gname}: no unit attribute on {', '.join(missing)}")
+                if units["box/edges"] != units["position"] or units["radius"] != units["position"]:
+                    fail(f"/particles/{gname}: position, radius and box edges in different units "
+                         f"{units}")
+                if "image" in g and "unit" in g["image"]["value"].attrs:
+                    fail(f"/particles/{gname}/image carries a unit: it counts cells")
         if "--writer-test" in args:
             obs = f["observables"]
             s = obs["scalar"]["value"][()]
@@ -87,6 +109,15 @@ def main():
                 fail("table step datasets are not hard-linked")
             if obs["vec"]["value"].attrs["unit"] not in ("eta gd", b"eta gd"):
                 fail("unit attribute")
+            p = f["particles"]["all"]
+            want = {"observables/scalar/time": "1/gd", "particles/all/position/time": "1/gd",
+                    "particles/all/position/value": "a", "particles/all/radius": "a",
+                    "particles/all/box/edges/value": "a",
+                    "particles/all/velocity/value": "a*gd",
+                    "particles/all/angular_velocity/value": "gd"}
+            for k, u in want.items():
+                if unit_of(f[k]) != u:
+                    fail(f"{k}: unit {unit_of(f[k])!r}, written {u!r}")
             p = f["particles"]["all"]
             if p["position"]["value"].shape != (3, 4, 3) or p["position"]["value"][2, 3, 2] != 211:
                 fail("positions")

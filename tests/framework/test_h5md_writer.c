@@ -1,6 +1,7 @@
 /* Writes an H5MD file through h5md_writer.c with known values; check_h5md.py then verifies
  * the layout (H5MD 1.1), the hard links and every value. Usage: test_h5md_writer OUT.h5 */
 #include <stdio.h>
+#include <string.h>
 
 #include "h5md_writer.h"
 
@@ -17,9 +18,27 @@ int main(int argc, char **argv)
     const char *names[3] = {"scalar", "vec", "group/tensor"};
     const int ncomp[3] = {1, 3, 9};
     const char *units[3] = {"a", "eta gd", NULL};
+    char longest[LUB_H5_UNIT_MAX + 1];
+    memset(longest, 'a', LUB_H5_UNIT_MAX);
+    longest[LUB_H5_UNIT_MAX] = '\0';
+    if (lub_h5_set_units(f, longest, NULL, NULL, NULL) != -1 ||
+        !strstr(lub_h5_last_error(f), "unit this long")) {
+        fprintf(stderr, "a unit of %d characters was accepted\n", LUB_H5_UNIT_MAX);
+        return 1;
+    }
+    longest[LUB_H5_UNIT_MAX - 1] = '\0'; /* the longest one kept */
+    if (lub_h5_set_units(f, "1/gd", longest, NULL, NULL) ||
+        lub_h5_set_units(f, "1/gd", "a", "a*gd", "gd")) {
+        fprintf(stderr, "set_units: %s\n", lub_h5_last_error(f));
+        return 1;
+    }
     lub_h5_table *t = lub_h5_table_create(f, 3, names, ncomp, units);
     if (!t)
         return 1;
+    if (lub_h5_set_units(f, "s", "m", NULL, NULL) != -1) { /* too late: the table has its own */
+        fprintf(stderr, "units were changed after a table was defined\n");
+        return 1;
+    }
     /* 2500 rows: crosses two in-memory buffer flushes and one partial buffer */
     for (int r = 0; r < 2500; ++r) {
         double row[13];

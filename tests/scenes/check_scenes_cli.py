@@ -48,6 +48,8 @@ with tempfile.TemporaryDirectory() as tmp:
           f"exp_rate {s['results']['exp_rate']['value']:.6f} vs 8/9")
     with h5py.File(os.path.join(d, "result.h5"), "r") as h:
         t = h["observables/gap/time"][:]
+        tu = h["observables/gap/time"].attrs.get("unit")
+        check(tu == "tau_c", f"falling_sphere time unit attribute tau_c (got {tu!r})")
         u = h["observables/gap/value"][:]
         check(len(t) == 200, f"200 samples of the gap (got {len(t)})")
         pre = u > 2 * 0.001
@@ -68,6 +70,8 @@ with tempfile.TemporaryDirectory() as tmp:
     check(abs(y / 0.5 - 1) < 0.01, f"final offset {y:.6f} vs 0.5")
     with h5py.File(os.path.join(d, "result.h5"), "r") as h:
         r = h["observables/relative_position/value"][:]
+        tu = h["observables/relative_position/time"].attrs.get("unit")
+        check(tu == "1/gd", f"two_spheres_shear time unit attribute 1/gd (got {tu!r})")
         check(r.shape[1] == 3 and r[0, 0] == -10.0 and r[-1, 0] > 6.0,
               f"relative trajectory from x=-10 to x={r[-1, 0]:.2f} ({r.shape[0]} samples)")
 

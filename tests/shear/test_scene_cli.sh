@@ -246,6 +246,27 @@ echo '{"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":0.1,"s
   | "$LUBDEM" run - --out "$W/p0" --quiet 2>/dev/null; rc=$?
 check "[ $rc -eq 0 ] && \"$PY\" -c \"import json; r = json.load(open('$W/p0/summary.json'))['results']; assert 'ref' not in r['mu'] and 'ref' not in r['phi'], r['mu']\"" \
   "frictionless imposed pressure: rc=$rc, reference values from the mu_m = 0.5 laws"
+# the time and particle datasets carry their units (since 2026-12-06): at imposed pressure time
+# is in eta/P and velocities in a P/eta; at imposed phi (4c) in 1/gd and a gd
+units_are() { # DIR time position velocity angular_velocity
+  "$PY" - "$@" <<'PYEOF'
+import sys, h5py
+d, want = sys.argv[1], dict(zip(["time", "position", "velocity", "angular_velocity"], sys.argv[2:]))
+with h5py.File(d + "/result.h5", "r") as f:
+    got = {"time": f["observables/mu/time"].attrs.get("unit"),
+           "snapshot time": f["particles/all/position/time"].attrs.get("unit"),
+           "radius": f["particles/all/radius"].attrs.get("unit"),
+           "box edges": f["particles/all/box/edges/value"].attrs.get("unit")}
+    for k in ("position", "velocity", "angular_velocity"):
+        got[k] = f[f"particles/all/{k}/value"].attrs.get("unit")
+    got["image"] = f["particles/all/image/value"].attrs.get("unit", "none")
+want.update({"snapshot time": want["time"], "radius": "a", "box edges": "a", "image": "none"})
+bad = {k: (got[k], v) for k, v in want.items() if got[k] != v}
+print(f"units {d}: {got}")
+sys.exit(1 if bad else 0)
+PYEOF
+}
+check "units_are $W/p0 eta/P a a*P/eta P/eta" "imposed-pressure units of the time and particle datasets"
 
 # 3. imposed pressure: the servo brings -sigma_yy to P = 1
 echo '{"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":1,"phi":0.3,"strain":2,"transient_strain":1,"snapshots":0}' \
@@ -429,6 +450,7 @@ ok = ok and tilt.max() > 0.45 and tilt.min() < -0.45  # flipped
 if not ok: print("FAIL: images do not unwrap the positions", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
+check "units_are $W/images 1/gd a a*gd gd" "imposed-phi units of the time and particle datasets"
 echo '{"scene":"simple_shear","n_particles":300,"strain":0.6,"snapshots":3}' > "$W/oldck.json"
 "$LUBDEM" run "$W/oldck.json" --out "$W/oldck" --keep-checkpoint --quiet 2>/dev/null
 "$PY" -c "
