@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "memory_budget.h"
@@ -152,4 +153,30 @@ int lub_run_resumable(const lub_run_ctx *ctx)
 {
     return ctx->checkpoint_written || ctx->resume_path ||
            (ctx->periodic && ctx->periodic->written > 0);
+}
+
+int lub_run_withdraw_resume_advice(json_t *summary_extra)
+{
+    json_t *list = json_object_get(summary_extra, "warnings");
+    size_t k;
+    json_t *w;
+    int replaced = 0;
+    const size_t from = strlen(LUB_RESUME_ADVICE), to = strlen(LUB_RERUN_ADVICE);
+    json_array_foreach (list, k, w) {
+        const char *text = json_string_value(w);
+        const char *at = text ? strstr(text, LUB_RESUME_ADVICE) : NULL;
+        if (!at)
+            continue;
+        const size_t head = (size_t)(at - text), len = strlen(text);
+        char *out = malloc(len - from + to + 1);
+        if (!out)
+            continue; /* out of memory: the advice stays, beside the driver's own warning */
+        memcpy(out, text, head);
+        memcpy(out + head, LUB_RERUN_ADVICE, to);
+        memcpy(out + head + to, at + from, len - head - from + 1);
+        json_array_set_new(list, k, json_string(out));
+        free(out);
+        ++replaced;
+    }
+    return replaced;
 }

@@ -120,5 +120,15 @@ int lub_memory_need_fits(lub_run_ctx *ctx, const lub_memory_need *need);
  * or, when that failed, the one it continued from or its last periodic one (which the run
  * driver keeps then). For the scenes' advice; call after the stop's checkpoint. */
 int lub_run_resumable(const lub_run_ctx *ctx);
+/* The scenes' advice to a stopped run that lub_run_resumable says can be continued, ending a
+ * summary warning. The checkpoint may still be lost afterwards (result.h5 or the checkpoint
+ * cannot be put in place): the run driver then replaces it with LUB_RERUN_ADVICE in every
+ * warning (summary and stderr), so that no warning advises --resume beside its own "no
+ * checkpoint was kept". */
+#define LUB_RESUME_ADVICE "lubdem run --resume continues it"
+#define LUB_RERUN_ADVICE "its checkpoint was not kept: run it again"
+/* Replaces LUB_RESUME_ADVICE by LUB_RERUN_ADVICE in the warnings of `summary_extra` (its
+ * "warnings" array of strings); returns how many were replaced. */
+int lub_run_withdraw_resume_advice(json_t *summary_extra);
 
 #endif

@@ -179,7 +179,8 @@ static int fits_in_memory(const lub_scene *scene, const json_t *resolved, lub_ru
  * diagnostic, with this appended. Either way the summary still carries the run's results,
  * and the advice names the spec members that set the output's size where the scene has them. */
 static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir,
-                                  const char *reason, const json_t *resolved, int checkpoint_kept)
+                                  const char *reason, int room, const json_t *resolved,
+                                  int checkpoint_kept)
 {
     char advice[160] = "";
     const int samples = json_object_get(resolved, "sample_strain") != NULL;
@@ -189,7 +190,15 @@ static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir
                  samples ? "raise /sample_strain" : "", samples && snapshots ? ", " : "",
                  snapshots ? "lower /snapshots" : "");
     char text[sizeof ctx->diagnostic];
-    if (checkpoint_kept)
+    if (!room) /* result.h5 was written but could not take its name (a folder of that name) */
+        snprintf(text, sizeof text,
+                 "cannot put result.h5 in place in %s: %s; this run's file was removed, and "
+                 "summary.json holds the run's results without it%s",
+                 out_dir, reason,
+                 checkpoint_kept ? "; the checkpoint it continued from (or its last periodic "
+                                   "one) is kept with the file holding its rows"
+                                 : "");
+    else if (checkpoint_kept)
         snprintf(text, sizeof text,
                  "cannot write result.h5 in %s: %s; this run's file was removed, and "
                  "summary.json holds the run's results without it; the checkpoint it continued "
@@ -203,10 +212,12 @@ static void report_result_h5_lost(lub_run_ctx *ctx, int *rc, const char *out_dir
                  "run's results without it; give the run room (free disk space; the file-size "
                  "limit: ulimit -f, lubdemd --fsize-mb)%s",
                  out_dir, reason[0] ? reason : "HDF5 error", advice);
-    if (*rc != LUB_EXIT_OK && *rc != LUB_EXIT_INTERRUPTED) {
+    if (*rc != LUB_EXIT_OK) { /* a stopped run's diagnostic says why it stopped: kept */
         const size_t len = strlen(ctx->diagnostic);
         snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len, "%s%s",
                  len ? "; besides, " : "", text);
+        if (*rc == LUB_EXIT_INTERRUPTED)
+            *rc = LUB_EXIT_IO;
         return;
     }
     snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", text);
@@ -436,27 +447,26 @@ int lub_run_spec(const lub_run_request *req)
     }
     /* A stop request that came after the scene's last step does not make the run partial: it
      * completed (every scene that can stop early returns LUB_EXIT_INTERRUPTED when it did). */
+    /* why a stopped run stopped (the --resume advice and the note on stderr follow once the
+     * checkpoint is known to be kept, below) */
+    const char *stop_advice = NULL;
     if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested == SIGXCPU) {
         const size_t used = strlen(ctx.diagnostic);
         snprintf(ctx.diagnostic + used, sizeof ctx.diagnostic - used,
                  "%sstopped at the CPU time limit of this process (SIGXCPU: ulimit -t, lubdemd "
-                 "--cpu-s): the results are those of the steps done%s",
-                 used ? "; " : "",
-                 ctx.checkpoint_written
-                     ? "; lubdem run --resume with a higher limit continues the run"
-                     : "");
-        fprintf(req->diag, "note: %s\n", ctx.diagnostic);
+                 "--cpu-s): the results are those of the steps done",
+                 used ? "; " : "");
+        stop_advice = "; lubdem run --resume with a higher limit continues the run";
     } else if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested &&
                !ctx.diagnostic[0]) {
         /* SIGTERM, SIGINT: said in the summary too (until 2026-12-06 only its status said it) */
         const int sig = (int)*req->stop_requested;
         snprintf(ctx.diagnostic, sizeof ctx.diagnostic,
-                 "stopped by a signal (%s): the results are those of the steps done%s",
+                 "stopped by a signal (%s): the results are those of the steps done",
                  sig == SIGTERM  ? "SIGTERM"
                  : sig == SIGINT ? "SIGINT"
-                                 : "a stop request",
-                 ctx.checkpoint_written ? "; lubdem run --resume continues the run" : "");
-        fprintf(req->diag, "note: %s\n", ctx.diagnostic);
+                                 : "a stop request");
+        stop_advice = "; lubdem run --resume continues the run";
     }
     if (ctx.threads < threads_requested) {
         char text[256];
@@ -501,8 +511,10 @@ int lub_run_spec(const lub_run_request *req)
         h5_failed = 1;
         snprintf(h5_reason, sizeof h5_reason, "%s (putting it on disk)", strerror(errno));
     }
+    int h5_room = 1; /* the loss is one of room (disk, file-size limit), not of its name */
     if (!h5_failed && rename(h5_tmp, h5_dst) != 0) {
         h5_failed = 1;
+        h5_room = lub_h5_output_failure(errno);
         snprintf(h5_reason, sizeof h5_reason, "%s", strerror(errno));
     }
     const int renamed = !h5_failed;
@@ -539,6 +551,17 @@ int lub_run_spec(const lub_run_request *req)
         unlink(ckpt_tmp);
         if (text[0])
             append_warning(&ctx, text);
+        /* the scene advised --resume before the checkpoint was lost (until 2026-12-06 both
+         * pieces of advice stood side by side) */
+        if (!checkpoint_kept)
+            lub_run_withdraw_resume_advice(ctx.summary_extra);
+    }
+    if (stop_advice) { /* the diagnostic of a stopped run advises --resume only if it can */
+        if (checkpoint_kept) {
+            const size_t used = strlen(ctx.diagnostic);
+            snprintf(ctx.diagnostic + used, sizeof ctx.diagnostic - used, "%s", stop_advice);
+        }
+        fprintf(req->diag, "note: %s\n", ctx.diagnostic);
     }
     if (ctx.periodic) {
         unlink(copy_tmp);
@@ -562,7 +585,8 @@ int lub_run_spec(const lub_run_request *req)
             checkpoint_kept && resuming && strcmp(resume_result, h5_dst) == 0;
         if (!rows_in_result)
             unlink(h5_dst);
-        report_result_h5_lost(&ctx, &rc, req->out_dir, h5_reason, resolved, checkpoint_kept);
+        report_result_h5_lost(&ctx, &rc, req->out_dir, h5_reason, h5_room, resolved,
+                              checkpoint_kept);
     }
 
     /* summary: fixed members, then whatever the scene added (active_terms, units, ...) */

@@ -1271,7 +1271,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                            "/strain"
                           : lub_run_resumable(ctx)
                               ? "suspension height not steady (MSER-5) when the run was "
-                                "stopped by a signal: lubdem run --resume continues it"
+                                "stopped by a signal: " LUB_RESUME_ADVICE
                               : "suspension height not steady (MSER-5) when the run was "
                                 "stopped by a signal, whose checkpoint could not be written: "
                                 "run it again";

@@ -7,6 +7,8 @@
 
 #include "run_context.h"
 
+#include "run_context.h"
+
 /* appends one formatted message to out[*n] */
 __attribute__((format(printf, 3, 4))) static void
 add_warning(char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN], int *n, const char *fmt, ...)
@@ -130,7 +132,7 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     st->steady_samples == 0.0
                         ? "there are no steady-state samples and the steady-state results are null"
                         : "the means are not steady-state values",
-                    st->checkpoint_kept ? "lubdem run --resume continues it"
+                    st->checkpoint_kept ? LUB_RESUME_ADVICE
                                         : "its checkpoint could not be written: run it again");
     else if (!st->steady && st->steady_samples == 0.0 && after_transient &&
              st->sample_strain > st->strain_reached - st->transient_strain)

@@ -5,8 +5,10 @@
  * than the law's. */
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <string.h>
 
+#include "run_context.h"
 #include "shear_run_checks.h"
 #include "shear_test.h"
 
@@ -236,6 +238,20 @@ int main(void)
     st.checkpoint_kept = 1;
     one("stopped in the transient", &st, "stopped by a signal at strain 1 of /strain 50, inside",
         "null; lubdem run --resume continues it");
+    { /* the run driver withdraws that advice when it keeps no checkpoint after all */
+        char kept_text[LUB_SHEAR_WARNING_LEN];
+        snprintf(kept_text, sizeof kept_text, "%s", text[0]);
+        json_t *extra = json_pack("{s:[s, i, s]}", "warnings", kept_text, 7, "other advice");
+        ST_CHECK(lub_run_withdraw_resume_advice(extra) == 1, "one piece of advice withdrawn");
+        const char *w = json_string_value(json_array_get(json_object_get(extra, "warnings"), 0));
+        const size_t head = strlen(kept_text) - strlen(LUB_RESUME_ADVICE);
+        ST_CHECK(w && !strstr(w, "--resume") && strncmp(w, kept_text, head) == 0 &&
+                     strcmp(w + head, LUB_RERUN_ADVICE) == 0,
+                 "withdrawn advice: %s", w ? w : "(none)");
+        ST_CHECK(lub_run_withdraw_resume_advice(extra) == 0, "withdrawn twice");
+        ST_CHECK(lub_run_withdraw_resume_advice(NULL) == 0, "no summary: nothing to withdraw");
+        json_decref(extra);
+    }
     st.checkpoint_kept = 0; /* the checkpoint could not be written: --resume would start afresh */
     one("stopped without a checkpoint", &st, "stopped by a signal", "could not be written");
     ST_CHECK(!strstr(text[0], "--resume"), "no checkpoint, yet --resume advised: %s", text[0]);

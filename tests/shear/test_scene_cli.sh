@@ -409,6 +409,34 @@ if not ok: print("FAIL: partial result invalid", file=sys.stderr)
 sys.exit(0 if ok else 1)
 PYEOF
 
+# 4a. a stopped run whose result.h5 cannot take its name (a folder result.h5 in DIR): its
+# checkpoint goes with it, so no warning nor the diagnostic may advise --resume (until
+# 2026-12-06 the scene's warning said "lubdem run --resume continues it" beside the driver's
+# "no checkpoint was kept ... --resume will start this run afresh", the diagnostic advised
+# putting room on the disk, and it no longer said that the run was stopped)
+mkdir -p "$W/dirh5/result.h5/keep"
+echo '{"scene":"simple_shear","n_particles":40,"cutoff":0.1,"skin":0.05,"strain":100,"transient_strain":99,"sample_strain":0.01,"snapshots":0}' > "$W/dirh5.json"
+"$LUBDEM" run "$W/dirh5.json" --out "$W/dirh5" --quiet 2>"$W/dirh5.err" & pid=$!
+sleep 2
+kill -TERM $pid
+wait $pid; rc=$?
+check "[ $rc -eq 4 ] && [ ! -e $W/dirh5/checkpoint.h5 ] && [ -d $W/dirh5/result.h5/keep ] && ! grep -q -- '--resume continues' $W/dirh5.err && grep -q '^error: stopped by a signal (SIGTERM).*; besides, cannot put result.h5 in place' $W/dirh5.err" \
+  "stopped run without its result.h5: rc=$rc, $(cat $W/dirh5.err)"
+"$PY" - "$W/dirh5/summary.json" <<'PYEOF' || fail=1
+import json, sys
+s = json.load(open(sys.argv[1]))
+w, d = s.get("warnings", []), s.get("diagnostic", "")
+print(f"dirh5 warnings={w} diagnostic={d!r}")
+ok = (s["status"] == "failed" and "checkpoint" not in s
+      and not any("--resume continues" in x for x in w) and "--resume" not in d
+      and d.startswith("stopped by a signal (SIGTERM)") and "free disk space" not in d
+      and any(x.startswith("the run was stopped by a signal") and x.endswith("run it again")
+              for x in w)
+      and any(x.startswith("no checkpoint was kept") for x in w))
+if not ok: print("FAIL: advice of a stopped run that lost its result.h5", file=sys.stderr)
+sys.exit(0 if ok else 1)
+PYEOF
+
 # 4b. SIGTERM while a large packing is being generated (1e5 spheres at phi 0.55: 20 s on the
 # release build, which ignored the signal until it was done): stops within a few seconds,
 # exit 5, status partial with a diagnostic, a valid H5MD file without observables
