@@ -526,6 +526,30 @@ static void ss_ratio_stat(const ss_series *ser, int num, int den, size_t min_sta
     lub_stats_ratio(ser->v[num] + d, ser->v[den] + d, ser->n - d, z, scratch, &r->mean, &r->sem);
 }
 
+/* The /target_rel_error check ("run until the headline is known to target_rel_error"): 1 when
+ * the headline's standard error, as the summary written now would report it (same steady
+ * window, same estimator), is at most target_rel_error of its mean over at least
+ * target_min_strain of steady window; *zero_mean is set when that window is steady with a
+ * mean of 0, which has no relative error (0 +- 0 is 0/0, not "known to x %"): no stop on it,
+ * and a warning says why. scratch, ratio_z: ser->n doubles each. */
+static int ss_target_reached(const ss_params *p, const ss_series *ser, int headline,
+                             double *scratch, double *ratio_z, int *zero_mean)
+{
+    const size_t start = ss_steady_start(ser, p->pressure, p->transient_strain, NULL);
+    lub_stats_result sr;
+    lub_stats_analyse(ser->v[headline], ser->n, start, scratch, &sr);
+    if (headline == S_MU)
+        ss_ratio_stat(ser, S_SXY, S_P, start, ratio_z, scratch, &sr);
+    /* shorter windows hold too few correlation times of phi, and a stop chosen by a low error
+     * of mu then also picks a low error of phi (tests/shear/README.md, "Run until mu is
+     * known") */
+    const double averaged = start < ser->n ? ser->strain[ser->n - 1] - ser->strain[start] : 0.0;
+    const int checked = sr.steady && averaged >= p->target_min_strain;
+    *zero_mean = checked && sr.mean == 0.0;
+    return checked && isfinite(sr.sem) && sr.mean != 0.0 &&
+           sr.sem <= p->target_rel_error * fabs(sr.mean);
+}
+
 /* 1 when the stopped run's result file (path) has images with its snapshots, or none to copy;
  * 0 for a file written before images were: its continuation then has none either, so that no
  * frame carries images that are not its own. */
@@ -1034,8 +1058,17 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     const int headline = p.pressure ? S_MU : S_ETA;
     double row[10 + 6 * 9 + 1];
     _Static_assert(sizeof row == SS_ROW_BYTES, "SS_ROW_BYTES: one row of the time series");
+    /* A continuation of a run whose last step was a /target_rel_error check (next_check is
+     * set one strain past the strain of the check) repeats that check with its own
+     * /target_rel_error and /target_min_strain, as a run asked for them from the start would
+     * have made it at that step: a run stopped on its target and extended with the same target
+     * and a longer /strain stops there, with no step more (until 2026-12-06 it went on to the
+     * next check, one strain later). */
+    if (ctx->resume_path && p.target_rel_error > 0 && lp.next_check == lp.strain + 1.0 &&
+        ss_target_reached(&p, &ser, headline, scratch, ratio_z, &target_zero_mean))
+        stopped_early = 1;
     int64_t step;
-    for (step = lp.step; step < lp.sched.nsteps; ++step) {
+    for (step = lp.step; step < lp.sched.nsteps && !stopped_early; ++step) {
 
         if (ctx->periodic && lub_periodic_due(ctx->periodic, step)) {
             /* the state before step `step`, as at a stop (the run then goes on) */
@@ -1202,25 +1235,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             /* "run until the headline is known to target_rel_error" */
             if (p.target_rel_error > 0 && lp.strain >= lp.next_check) {
                 lp.next_check = lp.strain + 1.0;
-                /* the headline as the summary written now would report it (same steady
-                 * window, same estimator; steady: from the headline's drift test) ... */
-                const size_t start = ss_steady_start(&ser, p.pressure, p.transient_strain, NULL);
-                lub_stats_result sr;
-                lub_stats_analyse(ser.v[headline], ser.n, start, scratch, &sr);
-                if (headline == S_MU)
-                    ss_ratio_stat(&ser, S_SXY, S_P, start, ratio_z, scratch, &sr);
-                /* ... over at least target_min_strain of that window: shorter windows hold
-                 * too few correlation times of phi, and a stop chosen by a low error of mu
-                 * then also picks a low error of phi (tests/shear/README.md, "Run until mu is
-                 * known") */
-                const double averaged =
-                    start < ser.n ? ser.strain[ser.n - 1] - ser.strain[start] : 0.0;
-                /* a mean of 0 has no relative error (0 +- 0 is 0/0, not "known to x %"): no
-                 * stop on it, and a warning says why */
-                const int checked = sr.steady && averaged >= p.target_min_strain;
-                target_zero_mean = checked && sr.mean == 0.0;
-                if (checked && isfinite(sr.sem) && sr.mean != 0.0 &&
-                    sr.sem <= p.target_rel_error * fabs(sr.mean)) {
+                if (ss_target_reached(&p, &ser, headline, scratch, ratio_z, &target_zero_mean)) {
                     stopped_early = 1;
                     ++step;
                     break;

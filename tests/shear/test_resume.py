@@ -48,6 +48,9 @@ SPEC --out DIR --resume` continues it. Checked:
  10. extension of a completed resuspension run (--keep-checkpoint; its checkpoint is taken
     before the sample its end forces): --resume with twice the /strain equals, bit for bit, a
     run asked for it from the start (summary and result.h5); less /strain is refused (exit 2).
+ 11. extension of a run that stopped on its /target_rel_error: with the same target and a
+    longer /strain it stops where it did (no step more), with a smaller one it goes on; both
+    equal, bit for bit, a run asked for the new spec from the start.
 The stop is sent once the progress lines pass a fraction, so that it lands mid-run on any
 machine. The sanitizer build (~5 times slower) runs every case on a shorter strain (the
 equalities do not depend on it). Usage: test_resume.py LUBDEM WORKDIR [--sanitized]
@@ -446,6 +449,41 @@ ia, ib = h5_items(os.path.join(ref10, "result.h5")), h5_items(os.path.join(ext10
 bad = differing_items(ia, ib)
 check(not bad, f"10: result.h5 equal bit for bit to the long run's ({len(ia)} datasets, "
       f"{len(ref_steps)} rows)" + (f"; differ: {bad[:5]}" if bad else ""))
+
+# ---- 11. extending a run that stopped on its /target_rel_error ----
+# A run asked for a longer /strain with the same target stops where the short one did; the
+# extension repeats the check made at the stopped run's last step and stops there too, with no
+# step more (until 2026-12-06 it went on to the next check, one strain later: 4.05 -> 5.07 in
+# the reviewer's run). A smaller target goes on, to the steps of a run asked for it from the
+# start. The tiny cell (40 spheres, cut-off 0.1 a) takes under a second per run.
+ext11, ref11 = os.path.join(WORK, "ext11"), os.path.join(WORK, "ref11")
+base11 = {"scene": "simple_shear", "n_particles": 40, "cutoff": 0.1, "skin": 0.05, "phi": 0.45,
+          "transient_strain": 0.5, "target_rel_error": 0.2, "target_min_strain": 1,
+          "sample_strain": 0.01, "snapshots": 0}  # snapshots keep the first run's spacing
+for label, target in (("same target", 0.2), ("smaller target", 0.1)):
+    for d in (ext11, ref11):
+        shutil.rmtree(d, ignore_errors=True)
+    rc, _, err = run(write_spec("short11", dict(base11, strain=8)), ext11, "--keep-checkpoint")
+    s = summary(ext11)
+    check(rc == 0 and s["stopped_on_target_error"] and s["results"]["strain_reached"]["value"] < 8,
+          f"11 ({label}): the 8-strain run stopped on /target_rel_error 0.2 at strain "
+          f"{s['results']['strain_reached']['value']:.3f} (exit {rc}) {err[-200:]}")
+    long11 = write_spec("long11", dict(base11, strain=16, target_rel_error=target))
+    rc, _, err = run(long11, ext11, "--resume")
+    check(rc == 0, f"11 ({label}): extension to /strain 16 exit 0 (got {rc}) {err[-300:]}")
+    rc, _, err = run(long11, ref11)
+    s, r = summary(ext11), summary(ref11)
+    check(rc == 0 and s["steps"] == r["steps"] and
+          s["stopped_on_target_error"] == r["stopped_on_target_error"] and
+          s["results"] == r["results"],
+          f"11 ({label}): extended to {s['steps']} steps, stopped on the target "
+          f"{s['stopped_on_target_error']}; the run asked for /strain 16 from the start: "
+          f"{r['steps']} steps, {r['stopped_on_target_error']}; results equal "
+          f"{s['results'] == r['results']}")
+    ia, ib = h5_items(os.path.join(ref11, "result.h5")), h5_items(os.path.join(ext11, "result.h5"))
+    bad = differing_items(ia, ib)
+    check(not bad, f"11 ({label}): result.h5 equal bit for bit ({len(ia)} datasets)"
+          + (f"; differ: {bad[:5]}" if bad else ""))
 
 print(f"resume_failures={len(failures)}")
 sys.exit(1 if failures else 0)
