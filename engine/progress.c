@@ -21,7 +21,7 @@ void lub_progress_init(lub_progress *p, FILE *stream, double interval_s)
     p->t_base = p->t_start;
     p->fraction_base = 0.0;
     p->step_base = 0;
-    p->stop_requested = NULL;
+    p->step = 0;
 }
 
 static void emit(lub_progress *p, double fraction, int64_t step, double now)
@@ -43,6 +43,7 @@ void lub_progress_update(lub_progress *p, double fraction, int64_t step)
     if (!p || !p->stream)
         return;
     p->fraction = fraction;
+    p->step = step;
     /* reading the clock every call costs ~20 ns; callers may call every step */
     double now = lub_wall_seconds();
     if (!p->have_base) { /* no line yet: it would have no rate and no ETA */
@@ -62,11 +63,16 @@ void lub_progress_update(lub_progress *p, double fraction, int64_t step)
     emit(p, fraction, step, now);
 }
 
-void lub_progress_final(lub_progress *p, int64_t step)
+void lub_progress_last_step(lub_progress *p, int64_t step)
+{
+    if (p)
+        p->step = step;
+}
+
+void lub_progress_end(lub_progress *p, int completed)
 {
     if (!p || !p->stream)
         return;
-    int stopped = p->stop_requested && *p->stop_requested;
-    double f = stopped ? (p->fraction < 0 ? 0 : p->fraction > 1 ? 1 : p->fraction) : 1.0;
-    emit(p, f, step, lub_wall_seconds());
+    const double f = completed ? 1.0 : p->fraction < 0 ? 0 : p->fraction > 1 ? 1 : p->fraction;
+    emit(p, f, p->step, lub_wall_seconds());
 }

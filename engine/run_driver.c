@@ -380,7 +380,6 @@ int lub_run_spec(const lub_run_request *req)
 
     lub_progress progress;
     lub_progress_init(&progress, req->progress, 0.5);
-    progress.stop_requested = req->stop_requested;
     lub_run_ctx ctx;
     memset(&ctx, 0, sizeof ctx);
     ctx.out = h5;
@@ -588,6 +587,9 @@ int lub_run_spec(const lub_run_request *req)
         report_result_h5_lost(&ctx, &rc, req->out_dir, h5_reason, h5_room, resolved,
                               checkpoint_kept);
     }
+
+    /* the last progress line: 1 only for a run that completed (a failed run's said 1) */
+    lub_progress_end(&progress, rc == LUB_EXIT_OK);
 
     /* summary: fixed members, then whatever the scene added (active_terms, units, ...) */
     json_t *summary = json_object();

@@ -330,7 +330,7 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_rheo_error rerr;
     memset(&rerr, 0, sizeof rerr);
     int rc = lub_rheo_run(&tp, g0, s0, segs, nseg, (int)ns, rheo_sink, &st, &rerr);
-    lub_progress_final(ctx->progress, st.step);
+    lub_progress_last_step(ctx->progress, st.step);
     json_object_set_new(ctx->summary_extra, "model_parameters", model);
     json_object_set_new(
         ctx->summary_extra, "active_terms",

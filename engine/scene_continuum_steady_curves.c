@@ -131,7 +131,7 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
             free(buf);
             json_object_set_new(ctx->summary_extra, "steps", json_integer(i));
             json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
-            lub_progress_final(ctx->progress, i);
+            lub_progress_last_step(ctx->progress, i);
             return LUB_EXIT_INTERRUPTED;
         }
         if ((i & 1023) == 0)
@@ -250,7 +250,7 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
                                   "tables", "Pa.s per unit |gd| (thesis eta0)"));
     json_object_set_new(ctx->summary_extra, "steps", json_integer(n));
     json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
-    lub_progress_final(ctx->progress, n);
+    lub_progress_last_step(ctx->progress, n);
     return LUB_EXIT_OK;
 }
 

@@ -399,7 +399,7 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
         if ((n & 1023) == 0)
             lub_progress_update(ctx->progress, (double)n / (double)nsteps, s.step);
     }
-    lub_progress_final(ctx->progress, s.step);
+    lub_progress_last_step(ctx->progress, s.step);
 
     const lub_pair_output *o = &s.p[0].out;
     const double rate = -lsq_slope(&fit);

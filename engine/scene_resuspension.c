@@ -1078,7 +1078,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         if ((step & 255) == 0)
             lub_progress_update(ctx->progress, (double)step / (double)lp.sched.nsteps, S.step);
     }
-    lub_progress_final(ctx->progress, S.step);
+    lub_progress_last_step(ctx->progress, S.step);
     ctx->checkpoint_written = end_checkpoint && rc == LUB_EXIT_OK;
     /* a stop between the sample of a step and the step: that state into the checkpoint */
     if (stopped_at >= 0 && ctx->checkpoint_path) {

@@ -139,7 +139,7 @@ static int ch_run(const json_t *resolved, lub_run_ctx *ctx)
         free(buf);
         json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
         json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
-        lub_progress_final(ctx->progress, 0);
+        lub_progress_last_step(ctx->progress, 0);
         return LUB_EXIT_INTERRUPTED;
     }
     if (solved == -3) { /* the closest profile misses the inventory: no results */
@@ -166,7 +166,7 @@ static int ch_run(const json_t *resolved, lub_run_ctx *ctx)
         free(buf);
         json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
         json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
-        lub_progress_final(ctx->progress, 0);
+        lub_progress_last_step(ctx->progress, 0);
         return LUB_EXIT_NUMERICAL;
     }
     if (solved) {
@@ -206,7 +206,7 @@ static int ch_run(const json_t *resolved, lub_run_ctx *ctx)
                                   "U (mean velocity)", "pressure", "eta0 U/R"));
     json_object_set_new(ctx->summary_extra, "steps", json_integer(n));
     json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
-    lub_progress_final(ctx->progress, n);
+    lub_progress_last_step(ctx->progress, n);
     return LUB_EXIT_OK;
 }
 

@@ -128,7 +128,7 @@ static int rs_work_failed(lub_run_ctx *ctx, const lub_resusp_work *work, const r
 {
     json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
     json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
-    lub_progress_final(ctx->progress, 0);
+    lub_progress_last_step(ctx->progress, 0);
     if (work->status == LUB_RESUSP_STOPPED) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "stopped by a signal while the profile was computed: no results (the profile "
@@ -237,7 +237,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
         free(uy);
         json_object_set_new(ctx->summary_extra, "steps", json_integer(0));
         json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
-        lub_progress_final(ctx->progress, 0);
+        lub_progress_last_step(ctx->progress, 0);
         /* a power law near n = 1 strains the quadrature (raise n); otherwise the profile's
          * scale has left the doubles (lambda, inventory/shields far from 1) */
         const int power = p.law.kind == LUB_NLAW_POWER, near_one = power && p.law.n < 1.05;
@@ -289,7 +289,7 @@ static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
                                   "Sh = eta0 gd/(drho g a)"));
     json_object_set_new(ctx->summary_extra, "steps", json_integer(n));
     json_object_set_new(ctx->summary_extra, "simulated_time", json_real(0.0));
-    lub_progress_final(ctx->progress, n);
+    lub_progress_last_step(ctx->progress, n);
     return LUB_EXIT_OK;
 }
 

@@ -1261,7 +1261,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         }
         lub_progress_update(ctx->progress, (double)(step + 1) / (double)lp.sched.nsteps, step + 1);
     }
-    lub_progress_final(ctx->progress, step);
+    lub_progress_last_step(ctx->progress, step);
     /* a stop between two steps (or the end, with --keep-checkpoint): the state before step
      * `step` into the checkpoint, with the rows and snapshots written so far (before the
      * last snapshot written below) */

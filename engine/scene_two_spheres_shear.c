@@ -330,7 +330,7 @@ static int ts_run(const json_t *resolved, lub_run_ctx *ctx)
         if ((s.step & 1023) == 0)
             lub_progress_update(ctx->progress, s.t / p.duration, s.step);
     }
-    lub_progress_final(ctx->progress, s.step);
+    lub_progress_last_step(ctx->progress, s.step);
     rel = v3_sub(s.b[1].x, s.b[0].x);
     {
         double un_end = v3_norm(rel) - 2.0 * a;

@@ -55,8 +55,14 @@ static void check_run(double f0, long long s0, double f1, long long s1, double p
     /* the two agree on the time: eta = (s1 - s0) / rate * ratio */
     CHECK(eta * rate / (double)(s1 - s0) > ratio * 0.95 &&
           eta * rate / (double)(s1 - s0) < ratio * 1.05);
+    /* the final line of a run that failed or stopped: the fraction reached, not 1 (a failed
+     * run's said 1 until 2026-12-06) */
+    lub_progress_last_step(&p, s1 + 10);
+    lub_progress_end(&p, 0);
+    CHECK(last_line(f, &fr, &step, &rate, &eta) && fr > f1 - 1e-4 && fr < f1 + 1e-4 &&
+          step == s1 + 10);
     /* the final line of a completed run: fraction 1, ETA 0 */
-    lub_progress_final(&p, s1 + 10);
+    lub_progress_end(&p, 1);
     CHECK(last_line(f, &fr, &step, &rate, &eta) && fr == 1.0 && eta == 0.0 && step == s1 + 10);
     fclose(f);
 }
@@ -71,10 +77,12 @@ int main(void)
     if (f) {
         lub_progress p;
         lub_progress_init(&p, f, 0.05);
-        lub_progress_final(&p, 0);
+        lub_progress_end(&p, 1);
         double fr, rate, eta;
         long long step;
         CHECK(last_line(f, &fr, &step, &rate, &eta) && fr == 1.0 && step == 0 && rate == 0.0);
+        lub_progress_end(&p, 0); /* failed before its first step */
+        CHECK(last_line(f, &fr, &step, &rate, &eta) && fr == 0.0 && step == 0);
         fclose(f);
     }
     if (failures)
