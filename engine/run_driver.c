@@ -456,15 +456,17 @@ int lub_run_spec(const lub_run_request *req)
                  "--cpu-s): the results are those of the steps done",
                  used ? "; " : "");
         stop_advice = "; lubdem run --resume with a higher limit continues the run";
-    } else if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested &&
-               !ctx.diagnostic[0]) {
-        /* SIGTERM, SIGINT: said in the summary too (until 2026-12-06 only its status said it) */
+    } else if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested) {
+        /* SIGTERM, SIGINT: said in the summary too (until 2026-12-06 only its status said it);
+         * a scene that says why itself ("stopped while generating the packing") keeps its
+         * words, which go to stderr too (they did not until 2026-12-06) */
         const int sig = (int)*req->stop_requested;
-        snprintf(ctx.diagnostic, sizeof ctx.diagnostic,
-                 "stopped by a signal (%s): the results are those of the steps done",
-                 sig == SIGTERM  ? "SIGTERM"
-                 : sig == SIGINT ? "SIGINT"
-                                 : "a stop request");
+        if (!ctx.diagnostic[0])
+            snprintf(ctx.diagnostic, sizeof ctx.diagnostic,
+                     "stopped by a signal (%s): the results are those of the steps done",
+                     sig == SIGTERM  ? "SIGTERM"
+                     : sig == SIGINT ? "SIGINT"
+                                     : "a stop request");
         stop_advice = "; lubdem run --resume continues the run";
     }
     if (ctx.threads < threads_requested) {

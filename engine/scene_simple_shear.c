@@ -1353,6 +1353,10 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             } else { /* one window for all: the stress parts add up to their totals */
                 lub_stats_analyse_window(ser.v[k], ser.n, start, scratch, &sr);
             }
+            /* an imposed phi has no error: its series moves by round-off only (its error bar
+             * was 1.7e-16 until 2026-12-06) */
+            if (k == S_PHI && !p.pressure)
+                sr.sem = 0.0;
             mean_of[k] = sr.mean;
             sem_of[k] = sr.sem;
             const char *unit = "1";
@@ -1429,6 +1433,10 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
             .phi_mean = p.pressure ? mean_of[S_PHI] : NAN,
             .phi_law = p.pressure ? ref_of[S_PHI] : NAN,
             .article_set = p.delaunay && !(p.law.params.terms & (LUB_TERM_ROLL | LUB_TERM_TWIST)),
+            .headline_sem = p.pressure ? sem_of[S_MU] : sem_of[S_ETA],
+            .target_rel_error = p.target_rel_error,
+            .stopped_on_target = stopped_early,
+            .target_zero_mean = target_zero_mean,
         };
         char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
         const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

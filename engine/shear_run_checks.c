@@ -7,16 +7,26 @@
 
 #include "run_context.h"
 
-#include "run_context.h"
-
 /* appends one formatted message to out[*n] */
 __attribute__((format(printf, 3, 4))) static void
 add_warning(char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN], int *n, const char *fmt, ...)
 {
+    if (*n >= LUB_SHEAR_WARNINGS_MAX) /* cannot happen (the header counts them): dropped */
+        return;
     va_list ap;
     va_start(ap, fmt);
     vsnprintf(out[(*n)++], LUB_SHEAR_WARNING_LEN, fmt, ap);
     va_end(ap);
+}
+
+/* x rounded up to two significant digits (the factor a warning asks for must be enough: 1.306
+ * printed with %.2g was "1.3") */
+static double round_up_2(double x)
+{
+    if (!(x > 0.0) || !isfinite(x))
+        return x;
+    const double unit = pow(10.0, floor(log10(x)) - 1.0);
+    return ceil(x / unit - 1e-9) * unit;
 }
 
 /* a NaN or infinite value (0/0, x/0 of an empty or zero series) fails no check */
@@ -47,7 +57,7 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "elastic number k/(P a) = %.3g is below %.0e: the contacts are not rigid "
                     "enough for rigid-sphere rheology (eta_r and phi still move with the "
                     "stiffness there); raise /stiffness by %.2g or more",
-                    el, LUB_SHEAR_EL_MIN, LUB_SHEAR_EL_MIN / el);
+                    el, LUB_SHEAR_EL_MIN, round_up_2(LUB_SHEAR_EL_MIN / el));
     if (exceeds(st->kinetic_share, LUB_SHEAR_KINETIC_SHARE_MAX) ||
         exceeds(st->kinetic_share_pressure, LUB_SHEAR_KINETIC_SHARE_MAX))
         add_warning(out, &n,
@@ -112,7 +122,9 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     st->headline_law, phi_text, tol_text);
     }
     const int dt_fixed = st->dt_over_elastic > 0.0;
-    if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
+    if (n >= LUB_SHEAR_WARNINGS_MAX)
+        ; /* full (cannot happen: the header counts them) */
+    else if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
         lub_fixed_dt_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_elastic, "dt_elastic");
     else if (exceeds(st->dt_over_stiffness, LUB_SHEAR_DT_STIFFNESS_MAX))
         lub_fixed_dt_stiffness_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_stiffness,
@@ -134,6 +146,15 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                         : "the means are not steady-state values",
                     st->checkpoint_kept ? LUB_RESUME_ADVICE
                                         : "its checkpoint could not be written: run it again");
+    else if (!st->steady && st->steady_samples == 0.0 && after_transient &&
+             st->sample_strain > st->strain_reached - st->transient_strain &&
+             st->strain_reached - st->transient_strain < LUB_SHEAR_SAMPLE_SPAN_MIN)
+        add_warning(out, &n,
+                    "no steady-state samples: the run ended at strain %.3g, only %.3g after "
+                    "/transient_strain %.3g, and the steady-state results are null; raise "
+                    "/strain above /transient_strain",
+                    st->strain_reached, st->strain_reached - st->transient_strain,
+                    st->transient_strain);
     else if (!st->steady && st->steady_samples == 0.0 && after_transient &&
              st->sample_strain > st->strain_reached - st->transient_strain)
         add_warning(out, &n,
@@ -159,5 +180,19 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "no steady state detected (the transient lasts into the "
                     "second half of the run, or the watched series drift after it): the means "
                     "are not steady-state values; raise /strain");
+    /* a target error the run did not reach before /strain (a stopped run's advice is above) */
+    const double rel = fabs(st->headline_sem / st->headline);
+    if (st->target_rel_error > 0.0 && !st->stopped_on_target && !st->stopped &&
+        !st->target_zero_mean && isfinite(rel))
+        add_warning(out, &n,
+                    "the run ended at /strain %g without stopping on /target_rel_error %g: the "
+                    "relative error of %s is %.2g%s; raise /strain (lubdem run --keep-checkpoint "
+                    "lets a run be extended)",
+                    st->strain_target, st->target_rel_error, st->headline_is_mu ? "mu" : "eta_r",
+                    rel,
+                    rel <= st->target_rel_error
+                        ? ", within the target, but over less than /target_min_strain of steady "
+                          "window or before the last check (one a strain)"
+                        : "");
     return n;
 }

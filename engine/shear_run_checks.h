@@ -56,6 +56,10 @@ typedef struct {
                                   NaN: none) */
     int article_set;           /* 1 when the run uses the interaction set the §2 law was fitted
                                   with (lubrication_pairs "delaunay", no roll/twist torque) */
+    double headline_sem;       /* the headline's standard error (NaN: unknown) */
+    double target_rel_error;   /* the spec's /target_rel_error (0: none) */
+    int stopped_on_target;     /* 1: the run stopped on it */
+    int target_zero_mean;      /* 1: the headline averaged 0 (the scene says so itself) */
 } lub_shear_run_state;
 
 /* Thresholds and why (tests/shear/README.md, sections named):
@@ -129,8 +133,12 @@ typedef struct {
 #define LUB_SHEAR_LAW_ETA_TOL 0.15
 #define LUB_SHEAR_LAW_PHI_TOL 0.015
 
-/* at most 8 at once: the jamming warning replaces two, the law's needs a steady state */
-enum { LUB_SHEAR_WARNINGS_MAX = 8, LUB_SHEAR_WARNING_LEN = 400 };
+/* at most 9 at once: the jamming warning replaces two, the law's needs a steady state and the
+ * steady state's a run without one (10 leaves one spare; add_warning drops any beyond) */
+enum { LUB_SHEAR_WARNINGS_MAX = 10, LUB_SHEAR_WARNING_LEN = 400 };
+/* A run that ends less than this strain after /transient_strain is told to raise /strain,
+ * not to lower /sample_strain: 10 samples at the smallest /sample_strain (1e-4) */
+#define LUB_SHEAR_SAMPLE_SPAN_MIN 1e-3
 
 /* Writes one message per failed check into out[0..], each naming what failed (with its value
  * and threshold, where the check has them) and the spec member to change (a JSON pointer).

@@ -299,7 +299,50 @@ int main(void)
     st.phi_mean = 0.55;
     none("mu and phi within their tolerances", &st);
 
-    /* everything at once (imposed pressure): eight messages, each naming the spec member to
+    /* a /target_rel_error the run did not reach: said, with the error reached (a run that
+     * missed a 0.5 % target ended complete without a word) */
+    st = clean();
+    st.headline = 1.28;
+    st.headline_sem = 0.0265; /* 2.07 % */
+    st.target_rel_error = 0.005;
+    st.strain_target = 5.0;
+    one("target error missed", &st,
+        "the run ended at /strain 5 without stopping on /target_rel_error 0.005: the relative "
+        "error of eta_r is 0.021;",
+        "raise /strain (lubdem run --keep-checkpoint lets a run be extended)");
+    st.headline_sem = 0.005; /* within the target, but the run did not stop on it */
+    one("target error within, not stopped", &st, "error of eta_r is 0.0039, within the target",
+        "raise /strain");
+    st.stopped_on_target = 1;
+    none("stopped on the target", &st);
+    st.stopped_on_target = 0;
+    st.target_zero_mean = 1; /* the scene's own warning says why */
+    none("target error of a zero mean", &st);
+    st.target_zero_mean = 0;
+    st.headline_sem = NAN;
+    none("target error without an error bar", &st);
+    st.target_rel_error = 0.0;
+    st.headline_sem = 0.0265;
+    none("no target", &st);
+
+    /* the stiffness factor is rounded up: El 3829 needs 1.306, which %.2g printed as 1.3 */
+    st = clean();
+    st.elastic_number = 3829.0;
+    one("El factor rounded up", &st, "elastic number k/(P a) = 3.83e+03", "by 1.4 or more");
+
+    /* a run that ended 5e-5 strain after /transient_strain (the step's rounding past
+     * /strain = /transient_strain): raise /strain, since no /sample_strain (minimum 1e-4)
+     * fits (it advised lowering /sample_strain) */
+    st = clean();
+    st.steady = 0;
+    st.steady_samples = 0.0;
+    st.transient_strain = 2.0;
+    st.strain_reached = 2.0000503;
+    st.sample_strain = 0.02;
+    one("strain equal to the transient", &st, "the run ended at strain 2, only 5.03e-05 after",
+        "raise /strain above /transient_strain");
+
+    /* everything at once (imposed pressure): nine messages, each naming the spec member to
      * change (a JSON pointer after "; raise ", "; lower " or "; set "), none truncated; first
      * without a steady state (its message), then with one (the law's message instead) */
     st = clean();
@@ -318,11 +361,15 @@ int main(void)
     st.lost_pairs = 12345.0;
     st.dt_over_elastic = 70.0;
     st.pressure_ratio = 0.5;
+    st.target_rel_error = 0.01;
+    st.headline_sem = 0.07;
+    st.strain_target = 10.0;
     for (int steady = 0; steady <= 1; ++steady) {
         st.steady = steady;
         const char *w;
         int n = count(&st, &w);
-        ST_CHECK(n == LUB_SHEAR_WARNINGS_MAX, "all checks, steady %d: %d warnings", steady, n);
+        ST_CHECK(n == 9 && n < LUB_SHEAR_WARNINGS_MAX, "all checks, steady %d: %d warnings", steady,
+                 n);
         int law = 0;
         for (int k = 0; k < n; ++k)
             law += strstr(text[k], "reference law") != NULL;

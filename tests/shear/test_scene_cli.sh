@@ -170,7 +170,8 @@ for k in ["phi", "pressure", "mu", "eta_r", "Iv", "eta_11", "eta_22", "eta_33", 
     if v is None or not math.isfinite(v): bad.append(f"{k} not finite")
 r = s["results"]
 if not (r["pressure"]["value"] > 0 and r["eta_r"]["value"] > 0): bad.append("no positive stress")
-if abs(r["phi"]["value"] - 0.55) > 1e-9: bad.append("phi not imposed")
+if abs(r["phi"]["value"] - 0.55) > 1e-9 or r["phi"]["stderr"] != 0:
+    bad.append(f"phi not imposed, or with an error bar: {r['phi']}")
 f = h5py.File(d + "/result.h5", "r")
 if f.attrs["status"] not in (b"complete", "complete"): bad.append("h5 status")
 if not 0.0 < r["bond_order_q6"]["value"] < 0.3: bad.append("bond order of a disordered packing")
@@ -441,7 +442,7 @@ PYEOF
 # release build, which ignored the signal until it was done): stops within a few seconds,
 # exit 5, status partial with a diagnostic, a valid H5MD file without observables
 echo '{"scene":"simple_shear","n_particles":100000,"phi":0.55,"strain":1}' > "$W/bigpack.json"
-"$LUBDEM" run "$W/bigpack.json" --out "$W/bigpack" --quiet 2>/dev/null & pid=$!
+"$LUBDEM" run "$W/bigpack.json" --out "$W/bigpack" --quiet 2>"$W/bigpack.err" & pid=$!
 sleep 0.5
 kill -TERM $pid
 for _ in $(seq 50); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
@@ -450,8 +451,10 @@ if kill -0 $pid 2>/dev/null; then
   kill -9 $pid
 fi
 wait $pid; rc=$?
-check "[ $rc -eq 5 ] && grep -q 'stopped while generating the packing' $W/bigpack/summary.json && grep -q '\"partial\"' $W/bigpack/summary.json" \
-  "SIGTERM during the packing: rc=$rc"
+# ... and says so on stderr too, without advising --resume (no checkpoint: until 2026-12-06
+# stderr was empty)
+check "[ $rc -eq 5 ] && grep -q 'stopped while generating the packing' $W/bigpack/summary.json && grep -q '\"partial\"' $W/bigpack/summary.json && grep -q '^note: stopped while generating the packing' $W/bigpack.err && ! grep -q -- '--resume' $W/bigpack.err" \
+  "SIGTERM during the packing: rc=$rc, stderr: $(cat $W/bigpack.err)"
 
 # 4c. the snapshots' images (H5MD /particles/all/image, since 2026-12-06): position + image .
 # edges is continuous from snapshot to snapshot through the wraps and the two flips of 2 strain
