@@ -24,6 +24,20 @@ def check(cond, what):
     fails += 0 if cond else 1
 
 
+SUMMARY_SCHEMA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "schema",
+                              "summary.schema.json")
+
+
+def check_summary_schema(s, label):
+    """the summary against schema/summary.schema.json, which admits no undocumented member"""
+    import jsonschema
+    try:
+        jsonschema.validate(s, json.load(open(SUMMARY_SCHEMA)))
+        check(True, f"{label} summary matches summary.schema.json")
+    except jsonschema.ValidationError as e:
+        check(False, f"{label} summary against summary.schema.json: {e.message[:300]}")
+
+
 def run(spec, out):
     with open(os.path.join(out, "spec.json"), "w") as f:
         json.dump(spec, f)
@@ -40,6 +54,7 @@ with tempfile.TemporaryDirectory() as tmp:
     check(p.returncode == 0, f"falling_sphere exit 0 (got {p.returncode}: {p.stderr.strip()})")
     s = json.load(open(os.path.join(d, "summary.json")))
     check(s["status"] == "complete", "falling_sphere status complete")
+    check_summary_schema(s, "falling_sphere")
     check(s.get("active_terms") == ["gravity", "normal_lubrication", "normal_contact"],
           f"falling_sphere active_terms {s.get('active_terms')}")
     check("tau_c" in s.get("units", {}).get("time", ""), "falling_sphere units.time = tau_c")
@@ -63,6 +78,7 @@ with tempfile.TemporaryDirectory() as tmp:
     check(p.returncode == 0, f"two_spheres_shear exit 0 (got {p.returncode}: {p.stderr.strip()})")
     s = json.load(open(os.path.join(d, "summary.json")))
     check(s["status"] == "complete", "two_spheres_shear status complete")
+    check_summary_schema(s, "two_spheres_shear")
     check(s.get("active_terms") == ["stokes_drag", "stokes_drag_torque", "rotation",
                                     "normal_lubrication", "shear_lubrication", "roll", "twist",
                                     "friction"], f"two_spheres_shear active_terms {s.get('active_terms')}")

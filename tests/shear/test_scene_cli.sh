@@ -158,11 +158,15 @@ check "[ $rc -eq 0 ]" "robustness run exit $rc"
 # stiffness 1e4 at phi = 0.55 is below the rigid limit (El = 1e4/<P> was 1.3e3 in this short
 # run): the summary and stderr say so and name /stiffness
 check "grep -q '^warning: elastic number .*/stiffness' $W/run.err" "no elastic-number warning on stderr"
-"$PY" - "$W/run" <<'PYEOF' || fail=1
-import json, math, sys, h5py, numpy
+"$PY" - "$W/run" "$(dirname "$0")/../../schema/summary.schema.json" <<'PYEOF' || fail=1
+import json, math, sys, h5py, numpy, jsonschema
 d = sys.argv[1]
 s = json.load(open(d + "/summary.json"))
 bad = []
+try:  # the schema admits no undocumented member
+    jsonschema.validate(s, json.load(open(sys.argv[2])))
+except jsonschema.ValidationError as e:
+    bad.append("summary.schema.json: " + e.message[:300])
 if s["status"] != "complete": bad.append("status " + s["status"])
 for k in ["phi", "pressure", "mu", "eta_r", "Iv", "eta_11", "eta_22", "eta_33", "Z", "Z_contact",
           "crushed_contact_fraction", "bond_order_q6"]:
