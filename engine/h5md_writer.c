@@ -587,6 +587,11 @@ int lub_h5_particles_has_image(const lub_h5 *f) { return f && f->p_image >= 0; }
 static int room_for(const lub_h5 *f, const char *what, uint64_t frame_bytes, char *reason,
                     size_t len)
 {
+    /* the chunks HDF5 still holds in its cache (1 MiB per dataset: 2.2 MiB of snapshots and
+     * frames of 300 particles) are not in the file's size until they are written: a snapshot
+     * was checked against a size that much too small (until 2026-12-06); a failed flush shows
+     * again at the write that follows */
+    H5Fflush(f->file, H5F_SCOPE_LOCAL);
     hsize_t size = 0;
     if (H5Fget_filesize(f->file, &size) < 0)
         size = 0;
