@@ -20,7 +20,8 @@ static void eval_scalar(lub_pairs *ps, size_t k, const lub_cell *cell, const lub
     if (rc == LUB_PAIR_OK) {
         sums->syy += o.force1.y * d.y;
         sums->contacts += o.contact;
-        sums->crushed += un < -law->alpha * law->eps * 0.5 * (b->r[ps->i[k]] + b->r[ps->j[k]]);
+        sums->crushed += o.contact && /* crushed contacts, as the batched lanes count them */
+                         un < -law->alpha * law->eps * 0.5 * (b->r[ps->i[k]] + b->r[ps->j[k]]);
     } else if (rc == LUB_PAIR_NONFINITE && *fail_k < 0) {
         *fail_k = (long)k;
         *fail_un = un;

@@ -99,7 +99,7 @@ static inline int lub_pair_eval(lub_pairs *ps, size_t k, const lub_cell *cell,
 typedef struct {
     double syy;    /* sum of f1.y d.y (contact-law part of sigma_yy times the volume) */
     long contacts; /* pairs in contact (u < eps a) */
-    long crushed;  /* pairs with u_n < -alpha eps a (asperities fully crushed) */
+    long crushed;  /* contacts with u_n < -alpha eps a (asperities fully crushed) */
 } lub_pair_range_sums;
 
 /* Evaluates the pairs k0 <= k < k1 for a step that needs only forces and torques (no stress

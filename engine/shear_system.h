@@ -75,10 +75,10 @@ typedef struct {
     double syy;        /* total sigma_yy (LUB_SAMPLE_SYY or LUB_SAMPLE_STRESS) */
     size_t n_active;   /* pairs inside the cut-off */
     size_t n_contacts; /* pairs in contact (u < eps a) */
-    size_t n_crushed;  /* pairs with u_n < -alpha eps a: asperities crushed, the bulk spring and a
-                          persistent lubrication force carry the load (notes §11 P5); a non-zero
-                          count means the stiffness is too low for the stress level */
-    size_t n_sliding;  /* contacts sliding at the Coulomb limit (|F_s,contact| = mu |F_c|) */
+    size_t n_crushed; /* contacts with u_n < -alpha eps a: asperities crushed, the bulk spring and a
+                         persistent lubrication force carry the load (notes §11 P5); a non-zero
+                         count means the stiffness is too low for the stress level */
+    size_t n_sliding; /* contacts sliding at the Coulomb limit (|F_s,contact| = mu |F_c|) */
 } lub_shear_sample;
 
 typedef struct {

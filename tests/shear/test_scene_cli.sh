@@ -211,6 +211,50 @@ for b in bad: print("FAIL:", b, file=sys.stderr)
 sys.exit(1 if bad else 0)
 PYEOF
 
+# 2a. crushed_contact_fraction is crushed contacts over contacts (u_n < -alpha eps a_ij among
+# the pairs in contact): recomputed from the interaction network at every sample of the
+# steady window (soft contacts at phi 0.56 crush; a network frame at every step; the frames
+# come from a run 0.005 strain longer, the same trajectory, since a run writes no frame at
+# its last sample). Until 2026-12-06 it counted every pair that compressed, in contact or not
+# (0.1369 against 0.1334 here).
+for run in crush crush_longer; do
+  strain=0.08; [ $run = crush_longer ] && strain=0.085
+  echo '{"scene":"simple_shear","n_particles":300,"phi":0.56,"strain":'$strain',"stiffness":1e3,"transient_strain":0.005,"dt_stiffness_safety":0,"sample_strain":1e-4,"snapshots":1000,"pair_network":"snapshots"}' \
+    | "$LUBDEM" run - --out "$W/$run" --quiet 2>/dev/null; rc=$?
+  check "[ $rc -eq 0 ]" "$run run exit $rc"
+done
+"$PY" - "$W/crush" "$W/crush_longer" <<'PYEOF' || fail=1
+import json, sys, h5py, numpy as np
+a, b = sys.argv[1], sys.argv[2]
+s = json.load(open(a + "/summary.json"))
+r, law = s["results"], s["spec"]["law"]
+with h5py.File(a + "/result.h5", "r") as f:
+    steps = f["observables/strain/step"][()]
+window = steps[len(steps) - int(r["steady_samples"]["value"]):]
+sub, anyp = [], []
+with h5py.File(b + "/result.h5", "r") as f:
+    net, radius = f["pair_network"], f["particles/all/radius"][()]
+    frame = {int(x): k for k, x in enumerate(net["step"][()])}
+    missing = [int(x) for x in window if int(x) not in frame]
+    for x in window:
+        if int(x) in missing:
+            continue
+        k = frame[int(x)]
+        rows = slice(net["row_start"][k], net["row_start"][k] + net["row_count"][k])
+        contact = net["contact"][rows].astype(bool)
+        a_ij = 0.5 * (radius[net["i"][rows]] + radius[net["j"][rows]])
+        crushed = net["centre_gap"][rows] < -law["alpha"] * law["eps"] * a_ij
+        sub.append((crushed & contact).sum() / contact.sum())
+        anyp.append(crushed.sum() / contact.sum())
+got = r["crushed_contact_fraction"]["value"]
+print(f"crushed_contact_fraction {got} recomputed {np.mean(sub):.10g} (every compressed pair: "
+      f"{np.mean(anyp):.10g}) over {len(sub)} samples, missing {missing}")
+ok = not missing and abs(got - np.mean(sub)) < 1e-9 and abs(np.mean(anyp) - np.mean(sub)) > 1e-4
+if not ok: print("FAIL: crushed_contact_fraction is not crushed contacts / contacts (or the run "
+                 "cannot tell the two counts apart)", file=sys.stderr)
+sys.exit(0 if ok else 1)
+PYEOF
+
 # 2b. Delaunay interaction set: completes, reports its statistics, fewer interacting pairs
 #     than the same run with every pair inside 2a
 for set in cutoff delaunay; do
