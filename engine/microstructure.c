@@ -78,9 +78,12 @@ int lub_pdf_bin(const lub_pdf *p, vec3 n, int *inversed)
 
 double lub_pdf_solid_angle(const lub_pdf *p, int bin)
 {
-    int it = bin / p->np;
-    double dt = PI / p->nt, dp = PI / p->np;
-    return sin((it + 0.5) * dt) * dt * dp;
+    /* the bin's exact area, (cos theta_i - cos theta_i+1) dphi: the midpoint rule
+     * sin((i + 1/2) dtheta) dtheta dphi used until 2026-12-06 made every density low by
+     * sin(dtheta/2)/(dtheta/2) (0.9976 at 13 bins in theta, 0.64 at 1) */
+    const int it = bin / p->np;
+    const double dt = PI / p->nt, dp = PI / p->np;
+    return (cos(it * dt) - cos((it + 1) * dt)) * dp;
 }
 
 void lub_pdf_add_pair(lub_pdf *p, const lub_pair_output *o, vec3 branch, vec3 w, double a,

@@ -3,13 +3,14 @@
  * Orientation of a pair normal n (1 -> 2): theta = arccos(n_y) in [0, pi] (gradient axis at
  * theta = 0), phi = atan2(n_x, n_z) (vorticity z at phi = 0, flow x at phi = pi/2). Central
  * symmetry: pairs with phi < 0 are mapped to (pi - theta, phi + pi) and flagged "inversed";
- * only phi in [0, pi) is binned. n_theta x n_phi uniform bins, solid angle
- * dS = sin((i + 1/2) dtheta) dtheta dphi. Indices are clamped (theta = pi exactly goes to the
+ * only phi in [0, pi) is binned. n_theta x n_phi bins uniform in angle, solid angle
+ * dS = (cos(i dtheta) - cos((i + 1) dtheta)) dphi, the bin's exact area (the midpoint rule
+ * until 2026-12-06). Indices are clamped (theta = pi exactly goes to the
  * last bin, notes §11 P15).
  * Accumulated per snapshot (only pairs inside the cut-off):
  *   interaction density  P   = sum 1/(N dS)      (integral over the hemisphere = Z/2)
  *   contact density      P_c = same, contact pairs only
- *   mean gap             sum u_n/a (geometric gap u_n, as in the reference code)
+ *   mean gap             sum u_n/a_ij (geometric gap u_n over the pair's mean radius)
  *   mean relative velocity sum w (contact-point relative velocity, sign flipped if inversed)
  *   stress densities     sum F_part (x) l / (V dS) for NC, SC, NL, SL
  * lub_pdf_finish() divides by the number of snapshots (densities) and by the pair counts (mean
