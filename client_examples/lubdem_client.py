@@ -66,6 +66,10 @@ class JobFailed(Exception):
     pass
 
 
+class NotEnded(Exception):
+    """The job has not ended (queued or running): it cannot be continued or downloaded yet."""
+
+
 class Client:
     def __init__(self, url="http://127.0.0.1:8080", token=None, timeout=30):
         self.url = url.rstrip("/")
@@ -135,20 +139,33 @@ class Client:
             raise
 
     def stopped_with_checkpoint(self, job_id):
-        """True when the job failed because its run was stopped (the service's CPU time
-        limit) and kept the checkpoint a continuation goes on from."""
+        """True when the job failed because its run was stopped and kept the checkpoint a
+        continuation goes on from: stopped at the service's CPU time limit (its summary's
+        status "partial"), or killed (SIGKILL: the OOM killer, an operator) on its last
+        attempt before its engine wrote a summary, with a periodic checkpoint kept."""
         doc = self.ended(job_id)
+        summary = doc.get("summary")
         return (doc.get("status") in (422, 500) and
-                (doc.get("summary") or {}).get("status") == "partial" and
+                (summary is None or summary.get("status") == "partial") and
                 "checkpoint.h5" in (doc.get("outputs") or {}))
 
     def inputs_of(self, job_id):
-        """The inputs an ended job ran with, defaults included: the spec its summary states,
-        without "scene". What a continuation of it submits (the service compares them with
-        the job's own)."""
-        spec = (self.summary(job_id) or {}).get("spec")
+        """The inputs an ended job ran with: the spec its summary states (defaults included),
+        without "scene", or, where the engine wrote no summary (it was killed), the inputs the
+        job was submitted with. What a continuation of it submits (the service compares them
+        with the job's own, defaults included). Raises NotEnded for a job that has not ended."""
+        job = self.status(job_id)
+        if job["status"] not in ENDED:
+            raise NotEnded("job %s is %s: a job can be continued once it has ended (successful, "
+                           "or failed with a checkpoint); wait for it (lubdem_client.py status "
+                           "%s)" % (job_id, job["status"], job_id))
+        doc = self.ended(job_id)
+        spec = (doc.get("summary") or {}).get("spec")
         if not isinstance(spec, dict):
-            raise KeyError("job %s has no summary stating its spec" % job_id)
+            spec = doc.get("inputs")
+        if not isinstance(spec, dict):
+            raise KeyError("job %s has no summary stating its spec, and the service did not "
+                           "give its inputs" % job_id)
         return {k: v for k, v in spec.items() if k != "scene"}
 
     def extension_of(self, job_id, changes=None):
@@ -410,7 +427,10 @@ def main(argv=None):
         elif a.cmd == "list":
             for j in c.jobs(a.status):
                 print(j["jobID"], j["processID"], j["status"], j.get("progress", 0))
-    except (ApiError, JobFailed, TimeoutError, KeyError, IOError) as e:
+    except KeyError as e:  # str() of a KeyError quotes its message
+        print("error:", e.args[0] if e.args else e, file=sys.stderr)
+        return 1
+    except (ApiError, JobFailed, NotEnded, TimeoutError, IOError) as e:
         print("error:", e, file=sys.stderr)
         return 1
     except ValueError as e:  # INPUTS or CHANGES that are not JSON

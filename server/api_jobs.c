@@ -236,6 +236,25 @@ static json_t *outputs_json(lubd_request *r, const char *id, json_t **summary)
     return outputs;
 }
 
+/* The inputs the job was submitted with (its spec without "scene"): what a job that
+ * continues it submits, also when the engine wrote no summary stating its spec (an engine
+ * killed with SIGKILL). NULL when they cannot be read. */
+static json_t *inputs_json(lubd_request *r, const char *id)
+{
+    char *text = NULL;
+    sqlite3 *db = lubd_db_acquire(&r->srv->pool);
+    const int found = lubd_queue_spec(db, id, &text);
+    lubd_db_release(&r->srv->pool, db);
+    json_t *spec = found == 1 ? json_loads(text, JSON_DECODE_ANY, NULL) : NULL;
+    free(text);
+    if (!json_is_object(spec)) {
+        json_decref(spec);
+        return NULL;
+    }
+    json_object_del(spec, "scene");
+    return spec;
+}
+
 enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
 {
     lubd_fault f;
@@ -280,6 +299,9 @@ enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
             return lubd_reply_fault(r, &f);
         }
         json_t *body = lubd_fault_json(&f, r->url);
+        json_t *inputs = inputs_json(r, id);
+        if (inputs)
+            json_object_set_new(body, "inputs", inputs);
         if (json_is_object(summary))
             json_object_set_new(body, "summary", summary);
         else
@@ -290,9 +312,10 @@ enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
     }
     char self[1200];
     snprintf(self, sizeof self, "%s/jobs/%s/results", r->base, id);
-    json_t *o =
-        json_pack("{s:s, s:s, s:o, s:o, s:[{s:s, s:s, s:s}]}", "jobID", id, "processID",
-                  j.process_id, "summary", summary ? summary : json_null(), "outputs", outputs,
-                  "links", "href", self, "rel", "self", "type", "application/json");
+    json_t *inputs = inputs_json(r, id);
+    json_t *o = json_pack("{s:s, s:s, s:o, s:o, s:o, s:[{s:s, s:s, s:s}]}", "jobID", id,
+                          "processID", j.process_id, "inputs", inputs ? inputs : json_null(),
+                          "summary", summary ? summary : json_null(), "outputs", outputs, "links",
+                          "href", self, "rel", "self", "type", "application/json");
     return lubd_reply_json(r, 200, o);
 }

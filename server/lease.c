@@ -33,7 +33,8 @@ int lubd_lease_claim(sqlite3 *db, const char *worker, int lease_s, lubd_claim *c
                         "engine_pid = NULL WHERE id = (SELECT id FROM jobs WHERE state = "
                         "'accepted' ORDER BY priority DESC, seq LIMIT 1) "
                         "RETURNING id, attempt, spec_json, process_id, "
-                        "coalesce(json_extract(request_json, '$.continue_from'), '')",
+                        "coalesce(json_extract(request_json, '$.continue_from'), ''), "
+                        "max_attempts",
                         &st) != 0) {
         lubd_db_rollback(db);
         return -1;
@@ -50,6 +51,7 @@ int lubd_lease_claim(sqlite3 *db, const char *worker, int lease_s, lubd_claim *c
                  (const char *)sqlite3_column_text(st, 3));
         snprintf(c->continue_from, sizeof c->continue_from, "%s",
                  (const char *)sqlite3_column_text(st, 4));
+        c->max_attempts = sqlite3_column_int(st, 5);
         result = c->spec_json ? 1 : -1;
         rc = sqlite3_step(st); /* finish the statement */
     }
@@ -282,6 +284,46 @@ static int exec_claim(sqlite3 *db, const lubd_claim *c, const char *sql)
     int rc = sqlite3_step(st);
     sqlite3_finalize(st);
     return rc == SQLITE_DONE ? sqlite3_changes(db) : sql_err(db);
+}
+
+int lubd_lease_requeue(sqlite3 *db, const lubd_claim *c, const char *message)
+{
+    if (lubd_db_begin(db) != 0)
+        return -1;
+    sqlite3_stmt *st;
+    int n = -1;
+    if (lubd_db_prepare(db,
+                        "UPDATE jobs SET state = 'accepted', worker = NULL, lease_token = NULL, "
+                        "lease_until = NULL, engine_pid = NULL, progress = 0, message = ?3, "
+                        "updated = " LUBD_SQL_NOW " WHERE id = ?1 AND lease_token = ?2 AND "
+                        "state = 'running' AND attempt < max_attempts",
+                        &st) == 0) {
+        sqlite3_bind_text(st, 1, c->id, -1, SQLITE_STATIC);
+        sqlite3_bind_text(st, 2, c->token, -1, SQLITE_STATIC);
+        sqlite3_bind_text(st, 3, message, -1, SQLITE_TRANSIENT);
+        const int rc = sqlite3_step(st);
+        sqlite3_finalize(st);
+        n = rc == SQLITE_DONE ? sqlite3_changes(db) : sql_err(db);
+    }
+    if (n > 0 && lubd_db_prepare(db,
+                                 "INSERT INTO job_events(job_id, at, event, attempt, worker, "
+                                 "token) VALUES (?1, " LUBD_SQL_NOW ", 'requeued', ?2, ?3, ?4)",
+                                 &st) == 0) {
+        sqlite3_bind_text(st, 1, c->id, -1, SQLITE_STATIC);
+        sqlite3_bind_int(st, 2, c->attempt);
+        sqlite3_bind_text(st, 3, c->worker, -1, SQLITE_STATIC);
+        sqlite3_bind_text(st, 4, c->token, -1, SQLITE_STATIC);
+        if (sqlite3_step(st) != SQLITE_DONE)
+            n = sql_err(db);
+        sqlite3_finalize(st);
+    } else if (n > 0) {
+        n = -1;
+    }
+    if (n < 0 || lubd_db_commit(db) != 0) {
+        lubd_db_rollback(db);
+        return -1;
+    }
+    return n > 0 ? 1 : 0;
 }
 
 int lubd_lease_release(sqlite3 *db, const lubd_claim *c)

@@ -17,6 +17,7 @@ typedef struct {
     char worker[64];
     char process_id[64];
     int attempt;
+    int max_attempts;       /* the job's --max-attempts when it was submitted */
     char *spec_json;        /* malloc'd, owned by the claim; free with lubd_lease_clear */
     char continue_from[33]; /* the job whose checkpoint this one continues ("" = none) */
 } lubd_claim;
@@ -52,6 +53,13 @@ int lubd_lease_fail(sqlite3 *db, const lubd_claim *c, const char *kind, const ch
 int lubd_lease_fail_with_outputs(sqlite3 *db, const lubd_claim *c, const char *kind,
                                  const char *message, const char *out_dir, const char *result_dir,
                                  const lubd_output_file *files, int n);
+/* Gives the job back to the queue as its next attempt (the attempt is used up) when
+ * attempt < max_attempts: its engine was killed from outside (SIGKILL: the kernel's OOM
+ * killer, an operator), and the next attempt continues from the periodic checkpoint the engine
+ * left, as after a worker's death. `message` becomes the job's message and is the reason the
+ * job log states. 1 requeued, 0 lease lost, dismissed or no attempt left (nothing changed),
+ * -1 error. */
+int lubd_lease_requeue(sqlite3 *db, const lubd_claim *c, const char *message);
 /* Gives the job back to the queue without consuming an attempt (graceful shutdown). */
 int lubd_lease_release(sqlite3 *db, const lubd_claim *c);
 /* After a dismissal: drops the lease fields if the job still carries our token. */

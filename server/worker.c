@@ -12,11 +12,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
 
+#include "checkpoint_file.h"
 #include "continuation.h"
 #include "db.h"
 #include "deletion.h"
@@ -142,8 +144,11 @@ static int beat_while_finishing(void *ctx)
     return b->lost;
 }
 
-/* Enumerates the output files and checksums them, heartbeating through *beat. Returns the
- * count, or -1 (the folder cannot be read, or beat->lost). */
+/* Enumerates the output files and checksums them, heartbeating through *beat. The engine's
+ * temporary files (".name" or "name.tmp": half-written, e.g. the .result.h5.tmp of an engine
+ * killed mid-run) are removed, so that they do not go into result/ unlisted with the rest.
+ * Called once the engine has exited. Returns the count, or -1 (the folder cannot be read, or
+ * beat->lost). */
 static int collect_outputs(const char *out_dir, lubd_output_file *files, char names[][64], int max,
                            finishing_beat *beat)
 {
@@ -153,13 +158,20 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
     int n = 0;
     struct dirent *e;
     while ((e = readdir(d)) && n < max) {
-        if (e->d_name[0] == '.' || strlen(e->d_name) >= 64)
+        if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
             continue;
-        size_t len = strlen(e->d_name);
-        if (len > 4 && strcmp(e->d_name + len - 4, ".tmp") == 0)
-            continue;
+        const size_t len = strlen(e->d_name);
         char path[1400];
         if (lubd_pathf(path, sizeof path, "%s/%s", out_dir, e->d_name) != 0)
+            continue;
+        if (e->d_name[0] == '.' || (len > 4 && strcmp(e->d_name + len - 4, ".tmp") == 0)) {
+            struct stat tmp_st;
+            if (lstat(path, &tmp_st) == 0 && S_ISREG(tmp_st.st_mode) && unlink(path) != 0)
+                fprintf(stderr, "lubdemd worker: cannot remove the temporary file %s: %s\n", path,
+                        strerror(errno));
+            continue;
+        }
+        if (len >= 64)
             continue;
         struct stat st;
         if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode))
@@ -179,6 +191,46 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
     }
     closedir(d);
     return beat->lost ? -1 : n;
+}
+
+/* The step a checkpoint was written at, read with the engine's own checkpoint reader
+ * (checkpoint_file.h): simple_shear stores it as run/step, resuspension as the first of
+ * run/ints. -1 when the file cannot be read or holds neither. */
+static long long checkpoint_step(const char *path)
+{
+    char err[300];
+    lub_ckpt *ck = lub_ckpt_open(path, err, sizeof err);
+    if (!ck)
+        return -1;
+    int64_t step = -1, ints[6];
+    size_t n = 0;
+    if (lub_ckpt_get_i64_or(ck, "run/step", -1, &step) != 0)
+        step = -1;
+    if (step < 0 && lub_ckpt_count(ck, "run/ints", &n) == 0 && n == 6 &&
+        lub_ckpt_get(ck, "run/ints", LUB_CKPT_I64, 6, ints) == 0)
+        step = ints[0];
+    lub_ckpt_close(ck, NULL, 0);
+    return step;
+}
+
+/* After an engine killed mid-run that had written a periodic checkpoint (checkpoint.h5 with
+ * checkpoint-result.h5, the file holding its rows, both written after `started`): the
+ * summary.json and result.h5 in out_dir older than the engine are those of the stopped run it
+ * continued from, which the checkpoint supersedes; they go, so that the job is not served the
+ * summary and rows of an earlier point of its run as its own. */
+static void drop_superseded(const char *out_dir, time_t started)
+{
+    char path[1400];
+    struct stat st;
+    lubd_pathf(path, sizeof path, "%s/checkpoint-result.h5", out_dir);
+    if (stat(path, &st) != 0 || st.st_mtime < started)
+        return;
+    static const char *const old[2] = {"summary.json", "result.h5"};
+    for (int k = 0; k < 2; ++k) {
+        lubd_pathf(path, sizeof path, "%s/%s", out_dir, old[k]);
+        if (stat(path, &st) == 0 && st.st_mtime < started && unlink(path) != 0)
+            fprintf(stderr, "lubdemd worker: cannot remove %s: %s\n", path, strerror(errno));
+    }
 }
 
 /* what the job log adds when a continuation starts from files handed over to it */
@@ -219,10 +271,14 @@ typedef enum { END_EXITED, END_LOST, END_SHUTDOWN } end_reason;
 
 /* Watches a started engine to its end: copies its output into the log, turns its progress
  * lines into heartbeats, and stops it (SIGTERM, then SIGKILL after the grace time) when the
- * service stops or the lease is lost. Leaves the engine's wait status in *status_out. */
+ * service stops or the lease is lost. Leaves the engine's wait status in *status_out and the
+ * CPU time it used (user + system, s) in *cpu_s_out. */
 static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
-                                   const lubd_engine_proc *ep_in, int log_fd, int *status_out)
+                                   const lubd_engine_proc *ep_in, int log_fd, int *status_out,
+                                   double *cpu_s_out)
 {
+    struct rusage ru;
+    memset(&ru, 0, sizeof ru);
     const lubd_config *cfg = w->cfg;
     lubd_engine_proc ep = *ep_in;
     double hb_every = cfg->lease_s / 3.0;
@@ -273,7 +329,7 @@ static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
             sleep_ms(50);
         }
         if (!exited) {
-            pid_t r = waitpid(ep.pid, &status, WNOHANG);
+            pid_t r = wait4(ep.pid, &status, WNOHANG, &ru);
             if (r == ep.pid)
                 exited = 1;
         }
@@ -308,6 +364,8 @@ static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
     close(ep.stdout_fd);
     kill(-ep.pid, SIGKILL); /* anything the engine left behind in its group */
     *status_out = status;
+    *cpu_s_out = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
+                 (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
     return why;
 }
 
@@ -335,12 +393,14 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     char keep_dir[1400], ckpt_path[1500], prev_out[1400];
     snprintf(keep_dir, sizeof keep_dir, "%s/resume-out", job_dir);
     snprintf(prev_out, sizeof prev_out, "%s/attempt-%d/out", job_dir, c->attempt - 1);
-    int resume = 0;
+    int resume = 0, resume_from = -1; /* 0: this attempt's own out folder, 1: the previous one's */
     const char *sources[2] = {out_dir, c->attempt > 1 ? prev_out : NULL};
     if (lubd_rm_rf(keep_dir) == 0)
         for (int k = 0; k < 2 && !resume && sources[k]; ++k) {
             snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", sources[k]);
             resume = access(ckpt_path, F_OK) == 0 && rename(sources[k], keep_dir) == 0;
+            if (resume)
+                resume_from = k;
         }
     if (lubd_rm_rf(attempt_dir) != 0 || lubd_mkdir_p(attempt_dir, 0750) != 0 ||
         (resume && rename(keep_dir, out_dir) != 0) ||
@@ -356,8 +416,19 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         lubd_lease_fail(w->db, c, "system", msg);
         return;
     }
-    dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt, w->name,
-            resume ? ", continuing from the checkpoint of its stopped run" : "");
+    if (resume_from == 1) {
+        char ckpt_now[1500], step_note[64] = "";
+        lubd_pathf(ckpt_now, sizeof ckpt_now, "%s/checkpoint.h5", out_dir);
+        const long long step = checkpoint_step(ckpt_now);
+        if (step >= 0)
+            snprintf(step_note, sizeof step_note, "step %lld, ", step);
+        dprintf(log_fd,
+                "lubdemd: job %s attempt %d on worker %s, continuing from the checkpoint of "
+                "attempt %d (%sthe last one its engine left)\n",
+                c->id, c->attempt, w->name, c->attempt - 1, step_note);
+    } else
+        dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt, w->name,
+                resume ? ", continuing from the checkpoint of its stopped run" : "");
     /* A job submitted with "continue_from" that has no checkpoint of its own yet starts from
      * the earlier job's kept files. */
     int from_other = !resume && c->continue_from[0];
@@ -389,6 +460,8 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     end_reason why;
     int status = 0;
     char st_text[200];
+    double cpu_used = 0.0;
+    time_t started_at = time(NULL);
     for (;;) {
         lubd_engine_proc ep;
         if (lubd_engine_spawn(&eo, &ep) != 0) {
@@ -397,8 +470,15 @@ static void run_job(worker_ctx *w, lubd_claim *c)
             lubd_lease_fail(w->db, c, "system", msg);
             return;
         }
-        why = supervise_engine(w, c, &ep, log_fd, &status);
+        started_at = time(NULL);
+        why = supervise_engine(w, c, &ep, log_fd, &status, &cpu_used);
         lubd_describe_status(status, st_text, sizeof st_text);
+        if (why == END_EXITED && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL &&
+            cfg->cpu_s > 0 && cpu_used >= (double)cfg->cpu_s)
+            snprintf(st_text, sizeof st_text,
+                     "killed by signal 9 (SIGKILL) at the hard CPU time limit of this service "
+                     "(%.0f s of CPU; lubdemd --cpu-s %ld, then 5 s to stop after SIGXCPU)",
+                     cpu_used, cfg->cpu_s);
         dprintf(log_fd, "lubdemd: engine finished: %s\n", st_text);
         /* Exit 2 of a continuation is the engine refusing the checkpoint (damaged, cut short,
          * its rows' file gone, or written for another spec by an older service): the job's
@@ -431,16 +511,61 @@ static void run_job(worker_ctx *w, lubd_claim *c)
                 from_other ? c->continue_from : "", taken ? HANDED_NOTE : "");
         eo.resume = from_other;
     }
-    close(log_fd);
-
     if (why == END_SHUTDOWN) {
+        close(log_fd);
         lubd_lease_release(w->db, c);
         return;
     }
     if (why == END_LOST) {
+        close(log_fd);
         lubd_lease_drop(w->db, c);
         return;
     }
+    /* An engine killed with SIGKILL by something other than this service (the kernel's OOM
+     * killer, an operator; not the hard CPU time limit, which the message above names, nor a
+     * DELETE or the service's stop, which end as END_LOST / END_SHUTDOWN) is what a worker's
+     * death is to the job: it runs again as its next attempt, from the checkpoint the engine
+     * left (its last periodic one), up to max_attempts. */
+    const int killed_outside = WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL &&
+                               !(cfg->cpu_s > 0 && cpu_used >= (double)cfg->cpu_s);
+    char ckpt_file[1500], ckpt_note[300] = "";
+    struct stat ckpt_st;
+    lubd_pathf(ckpt_file, sizeof ckpt_file, "%s/checkpoint.h5", out_dir);
+    const int have_ckpt = killed_outside && stat(ckpt_file, &ckpt_st) == 0;
+    const long long ckpt_step = have_ckpt ? checkpoint_step(ckpt_file) : -1;
+    char step_text[64] = "";
+    if (ckpt_step >= 0)
+        snprintf(step_text, sizeof step_text, " of step %lld", ckpt_step);
+    if (have_ckpt && ckpt_st.st_mtime >= started_at)
+        snprintf(ckpt_note, sizeof ckpt_note,
+                 "the checkpoint%s (the last periodic one its engine wrote, %.0f s before the "
+                 "kill)",
+                 step_text, difftime(time(NULL), ckpt_st.st_mtime));
+    else if (have_ckpt)
+        snprintf(ckpt_note, sizeof ckpt_note,
+                 "the checkpoint%s its engine started from (it wrote no periodic one)", step_text);
+    if (killed_outside)
+        drop_superseded(out_dir, started_at);
+    if (killed_outside && c->attempt < c->max_attempts) {
+        snprintf(msg, sizeof msg,
+                 "requeued: the engine was killed by signal 9 (SIGKILL) on attempt %d of %d, not "
+                 "by this service (the kernel's OOM killer, or an operator); attempt %d %s%s",
+                 c->attempt, c->max_attempts, c->attempt + 1,
+                 have_ckpt ? "continues from "
+                           : "starts again from the beginning (the engine "
+                             "had written no checkpoint: lubdemd "
+                             "--checkpoint-s)",
+                 ckpt_note);
+        dprintf(log_fd, "lubdemd: %s\n", msg);
+        close(log_fd);
+        const int rq = lubd_lease_requeue(w->db, c, msg);
+        if (rq == 0)
+            lubd_lease_drop(w->db, c);
+        else if (rq < 0) /* the lease lapses and the reaper requeues it */
+            fprintf(stderr, "lubdemd worker %s: could not requeue %s\n", w->name, c->id);
+        return;
+    }
+    close(log_fd);
     finishing_beat beat = {w, c, 0.0, 0};
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
         lubd_output_file files[16];
@@ -490,12 +615,26 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     }
     char diag[600] = "";
     summary_diagnostic(out_dir, diag, sizeof diag);
-    if (!diag[0])
+    if (!diag[0] && !killed_outside) /* a killed engine's last line says nothing of the kill */
         log_diagnostic(log_path, diag, sizeof diag);
     /* 4 = cannot write output; 126/127 = the engine could not be executed: infrastructure. */
     int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     const char *kind = (code == 4 || code == 126 || code == 127) ? "system" : "executor";
-    snprintf(msg, sizeof msg, "engine failed (%s)%s%s", st_text, diag[0] ? ": " : "", diag);
+    if (killed_outside && have_ckpt)
+        snprintf(msg, sizeof msg,
+                 "engine failed (killed by signal 9 (SIGKILL) on attempt %d, the last of %d, not "
+                 "by this service: the kernel's OOM killer or an operator); %s is kept with the "
+                 "job's files (checkpoint.h5): a job submitted with \"continue_from\": \"%s\" "
+                 "continues the run (lubdem_client.py extend %s '{}')",
+                 c->attempt, c->max_attempts, ckpt_note, c->id, c->id);
+    else if (killed_outside)
+        snprintf(msg, sizeof msg,
+                 "engine failed (killed by signal 9 (SIGKILL) on attempt %d, the last of %d, not "
+                 "by this service: the kernel's OOM killer or an operator); no checkpoint was "
+                 "kept (the engine had written none: lubdemd --checkpoint-s)",
+                 c->attempt, c->max_attempts);
+    else
+        snprintf(msg, sizeof msg, "engine failed (%s)%s%s", st_text, diag[0] ? ": " : "", diag);
     /* What the engine wrote is kept and served with the failure: the summary, the partial
      * result.h5 of a run stopped at its CPU time limit (with the checkpoint it continues
      * from), the result.h5 of a run that failed numerically (status failed, its series up to

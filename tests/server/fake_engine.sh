@@ -14,6 +14,11 @@
 #   22 -> completes at once (exit 0) with a small summary.json and result.h5
 #   21 -> ignores SIGTERM and goes on writing its result.h5, its folder made again should it
 #         be removed, until SIGKILL (an engine slow to stop, deleted meanwhile)
+#   8 -> writes a periodic checkpoint (checkpoint.h5, checkpoint-result.h5) and a temporary
+#        .result.h5.tmp, then is killed with SIGKILL (as by the OOM killer); run with --resume
+#        (from that checkpoint) it completes (exit 0)
+#   6 -> as 8, but killed again on every run, --resume or not
+#   9 -> ignores SIGXCPU and spins until the hard CPU time limit's SIGKILL
 spec=$2 out=$4
 mkdir -p "$out"
 echo "progress fraction=0.5000 step=10 steps_per_s=1.0e+03 eta_s=1.0"
@@ -40,6 +45,27 @@ case $(tr -d ' \n' < "$spec") in
   *'"duration":21'[,}]*)
     trap 'echo "fake engine: SIGTERM ignored"' TERM
     while :; do mkdir -p "$out"; echo row >> "$out/result.h5"; sleep 0.1; done ;;
+  *'"duration":8'[,}]*|*'"duration":6'[,}]*)
+    case " $* " in
+      *" --resume "*)
+        if [ ! -f "$out/checkpoint.h5" ]; then
+          echo "error: fake engine: --resume without a checkpoint" >&2; exit 2
+        fi
+        case $(tr -d ' \n' < "$spec") in
+          *'"duration":8'[,}]*)
+            printf '{"scene": "falling_sphere", "status": "complete"}\n' > "$out/summary.json"
+            printf 'rows of a continued run\n' > "$out/result.h5"
+            rm -f "$out/checkpoint-result.h5" "$out/.result.h5.tmp"; exit 0 ;;
+        esac ;;
+    esac
+    printf 'state of the fake engine\n' > "$out/checkpoint.h5"
+    printf 'rows up to the checkpoint\n' > "$out/checkpoint-result.h5"
+    printf 'half-written\n' > "$out/.result.h5.tmp"
+    echo "fake engine: checkpoint written"
+    kill -KILL $$ ;;
+  *'"duration":9'[,}]*)
+    trap '' XCPU
+    while :; do :; done ;;
   *'"duration":7'[,}]*)
     exit 0 ;;
   *'"duration":5'[,}]*)

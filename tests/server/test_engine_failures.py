@@ -16,7 +16,9 @@ SIGTERM) is being stopped leaves no folder once the engine is gone; a completed 
 database refuses to record for longer than a lease (a trigger standing in for a full disk) is
 recorded on its first attempt once the database takes it. Last, on a 60 s lease: a second service on the same
 run directory is refused while the first runs, and a job left running by a service killed with
-SIGKILL runs again at once when the service restarts, not a lease later."""
+SIGKILL runs again at once when the service restarts, not a lease later. Last, engines killed
+with SIGKILL (killed_by_signal): from outside, retried from their checkpoint; at the hard CPU
+time limit, not retried."""
 import hashlib
 import os
 import resource
@@ -94,6 +96,10 @@ def run():
                 T.check(st == 404, "result.h5 of failed job %s -> %s" % (dur, st))
             st, _, res = srv.request("GET", "/jobs/%s/results/.result.h5.tmp" % ids[dur], tok)
             T.check(st == 404, "temporary file of failed job %s -> %s" % (dur, st))
+            # nor kept unlisted with the served files (it used to be moved into result/)
+            kept_dir = os.path.join(srv.run, "jobs", ids[dur], "result")
+            on_disk = sorted(os.listdir(kept_dir)) if os.path.isdir(kept_dir) else []
+            T.check(on_disk == kept[dur], "files of failed job %s on disk: %s" % (dur, on_disk))
             st, _, log = srv.request("GET", "/jobs/%s/log" % ids[dur], tok, raw=True)
             T.check(st == 200 and b"progress fraction=0.5000" in log, "log of %s" % dur)
             if dur == 11:
@@ -119,6 +125,70 @@ def run():
     finally:
         rec.stop()
     restart_after_kill(a)
+    killed_by_signal(a)
+
+
+def events_of(srv, job):
+    db = sqlite3.connect(os.path.join(srv.run, "queue.db"))
+    events = [e for (e,) in db.execute(
+        "SELECT event FROM job_events WHERE job_id = ? ORDER BY rowid", (job,))]
+    db.close()
+    return events
+
+
+def killed_by_signal(a):
+    """Engines killed with SIGKILL. From outside the service (the OOM killer, an operator):
+    the job runs again as its next attempt from the checkpoint the engine left, up to
+    --max-attempts, each attempt's log saying why; after the last one it fails with the
+    checkpoint kept and says how to continue it (the temporary file is not kept). At the
+    service's own hard CPU time limit: failed at once, not retried (until 2026-12-07 every
+    SIGKILL failed the job at once)."""
+    srv = T.Server(a, "engine_failures_killed", workers=2,
+                   extra=["--cpu-s", "1", "--max-attempts", "3"]).fresh()
+    tok = srv.token("frank")
+    srv.start()
+    try:
+        once, always, spin = submit(srv, tok, 8), submit(srv, tok, 6), submit(srv, tok, 9)
+        final = T.wait_final(srv, tok, once, timeout=60)
+        jobs = os.path.join(srv.run, "jobs")
+        T.check(final["status"] == "successful" and final["attempt"] == 2 and
+                events_of(srv, once) == ["submitted", "claimed", "requeued", "claimed",
+                                         "successful"],
+                "engine killed once: %s, events %s" % (final, events_of(srv, once)))
+        log1 = open(os.path.join(jobs, once, "attempt-1", "log")).read()
+        log2 = open(os.path.join(jobs, once, "attempt-2", "log")).read()
+        T.check("requeued: the engine was killed by signal 9 (SIGKILL) on attempt 1 of 3, not by "
+                "this service" in log1 and "attempt 2 continues from the checkpoint (the last "
+                "periodic one its engine wrote" in log1 and
+                "continuing from the checkpoint of attempt 1" in log2,
+                "logs of the killed job:\n%s\n%s" % (log1, log2))
+        final = T.wait_final(srv, tok, always, timeout=60)
+        T.check(final["status"] == "failed" and final["attempt"] == 3 and
+                "killed by signal 9 (SIGKILL) on attempt 3, the last of 3" in final["message"] and
+                "is kept" in final["message"] and
+                '"continue_from": "%s"' % always in final["message"] and
+                events_of(srv, always).count("requeued") == 2,
+                "engine killed on every attempt: %s, events %s" % (final, events_of(srv, always)))
+        st, _, res = srv.request("GET", "/jobs/%s/results" % always, tok)
+        on_disk = sorted(os.listdir(os.path.join(jobs, always, "result")))
+        T.check(st == 422 and sorted(res.get("outputs") or {}) ==
+                ["checkpoint-result.h5", "checkpoint.h5"] and res.get("summary") is None and
+                res.get("inputs") == {"duration": 6} and
+                on_disk == ["checkpoint-result.h5", "checkpoint.h5"],
+                "results of the job killed on every attempt: %s %s, on disk %s" % (st, res,
+                                                                                   on_disk))
+        client = lubdem_client.Client("http://127.0.0.1:%d" % srv.port, tok)
+        T.check(client.stopped_with_checkpoint(always) and
+                client.inputs_of(always) == {"duration": 6},
+                "the client sees a run it can continue, with its inputs")
+        final = T.wait_final(srv, tok, spin, timeout=120)
+        T.check(final["status"] == "failed" and final["attempt"] == 1 and
+                "at the hard CPU time limit of this service" in final["message"] and
+                "requeued" not in events_of(srv, spin),
+                "engine killed at the hard CPU limit: %s, events %s" % (final,
+                                                                         events_of(srv, spin)))
+    finally:
+        srv.stop()
 
 
 def submit(srv, tok, duration):
