@@ -390,8 +390,9 @@ static void run_job(worker_ctx *w, lubd_claim *c)
      * engine left the last of its periodic checkpoints (--checkpoint-s). That out folder is
      * kept (moved aside, then into this attempt's folder); the rest of the attempt folder (the
      * leftovers of a crash) is cleared as before. */
-    char keep_dir[1400], ckpt_path[1500], prev_out[1400];
+    char keep_dir[1400], keep_log[1400], ckpt_path[1500], prev_out[1400];
     snprintf(keep_dir, sizeof keep_dir, "%s/resume-out", job_dir);
+    snprintf(keep_log, sizeof keep_log, "%s/resume-log", job_dir);
     snprintf(prev_out, sizeof prev_out, "%s/attempt-%d/out", job_dir, c->attempt - 1);
     int resume = 0, resume_from = -1; /* 0: this attempt's own out folder, 1: the previous one's */
     const char *sources[2] = {out_dir, c->attempt > 1 ? prev_out : NULL};
@@ -402,8 +403,18 @@ static void run_job(worker_ctx *w, lubd_claim *c)
             if (resume)
                 resume_from = k;
         }
+    /* The log of an attempt that runs again under its number (released when the service
+     * stopped) is kept and appended to: what its first run printed (its progress, the stop,
+     * the engine's warnings) stays in attempt-<n>/log. */
+    int kept_log = 0;
+    if (unlink(keep_log) == 0 || errno == ENOENT) {
+        char old_log[1400];
+        snprintf(old_log, sizeof old_log, "%s/log", attempt_dir);
+        kept_log = rename(old_log, keep_log) == 0;
+    }
     if (lubd_rm_rf(attempt_dir) != 0 || lubd_mkdir_p(attempt_dir, 0750) != 0 ||
         (resume && rename(keep_dir, out_dir) != 0) ||
+        (kept_log && rename(keep_log, log_path) != 0) ||
         lubd_write_file_atomic(spec_path, c->spec_json, strlen(c->spec_json)) != 0) {
         lubd_pathf(msg, sizeof msg, "system error: cannot prepare %s: %s", attempt_dir,
                    strerror(errno));
@@ -512,6 +523,10 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         eo.resume = from_other;
     }
     if (why == END_SHUTDOWN) {
+        dprintf(log_fd,
+                "lubdemd: the service is stopping: the job goes back to the queue, and attempt %d "
+                "runs again when the service starts again\n",
+                c->attempt);
         close(log_fd);
         lubd_lease_release(w->db, c);
         return;
