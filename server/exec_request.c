@@ -45,6 +45,45 @@ static int check_members(const json_t *body, lubd_fault *f)
     return 0;
 }
 
+/* 1 with *out set when v is a real of integral value within the range of a 64-bit integer. */
+static int integral_real(const json_t *v, json_int_t *out)
+{
+    if (!json_is_real(v))
+        return 0;
+    const double x = json_real_value(v);
+    if (!(x >= -9223372036854775808.0 && x < 9223372036854775808.0) || x != (double)(long long)x)
+        return 0;
+    *out = (json_int_t)x;
+    return 1;
+}
+
+/* The body's numbers by value, for the fingerprint: a real of integral value within the range
+ * of a 64-bit integer becomes that integer (1e5, 100000.0 and 100000 are one number; -0.0 is
+ * 0), in place, through objects and arrays. Other reals keep jansson's shortest round-trip
+ * text, so 0.5 and 0.50 already print alike. */
+static void numbers_by_value(json_t *v)
+{
+    json_int_t n;
+    if (json_is_object(v)) {
+        const char *key;
+        json_t *m;
+        json_object_foreach (v, key, m) {
+            if (integral_real(m, &n))
+                json_object_set_new(v, key, json_integer(n)); /* replaces: no rehash */
+            else
+                numbers_by_value(m);
+        }
+    } else if (json_is_array(v)) {
+        for (size_t i = 0; i < json_array_size(v); ++i) {
+            json_t *m = json_array_get(v, i);
+            if (integral_real(m, &n))
+                json_array_set_new(v, i, json_integer(n));
+            else
+                numbers_by_value(m);
+        }
+    }
+}
+
 int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_exec_request *r,
                     lubd_fault *f)
 {
@@ -146,7 +185,12 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
                   err.message);
         goto fail;
     }
-    char *canon = json_dumps(r->body, JSON_SORT_KEYS | JSON_COMPACT);
+    /* the fingerprint of an Idempotency-Key's request: members in any order, numbers by
+     * value (as a continuation's spec is compared, engine/resume_spec.h) */
+    json_t *by_value = json_deep_copy(r->body);
+    numbers_by_value(by_value);
+    char *canon = by_value ? json_dumps(by_value, JSON_SORT_KEYS | JSON_COMPACT) : NULL;
+    json_decref(by_value);
     if (!canon) {
         lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "out of memory");
         goto fail;

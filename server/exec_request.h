@@ -21,7 +21,8 @@ typedef struct {
     json_t *spec;     /* inputs + scene, as submitted */
     json_t *resolved; /* spec with every default filled in */
     int priority;
-    char fingerprint[65];   /* sha256 of process id + canonical (sorted, compact) body */
+    char fingerprint[65];   /* sha256 of process id + canonical body (sorted, compact, reals
+                             * of integral value as integers: numbers compare by value) */
     char continue_from[33]; /* "continue_from" of the body ("" = none) */
 } lubd_exec_request;
 

@@ -79,11 +79,25 @@ def run():
             t.join(30)
         T.check(len(race) == 4 and all(s == 201 for s, _ in race)
                 and len({j for _, j in race}) == 1, "racing retries: %s" % race)
+        # Numbers compare by value: the same key with the same numbers spelt otherwise (an
+        # integer for a real of integral value, an exponent, members reordered) is the same
+        # request and gets the original job (it was a 409 until 2026-12-06).
+        st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", tokens[0],
+                                 b'{"inputs": {"duration": 2}, "priority": -1}',
+                                 {"Idempotency-Key": "by-value"})
+        T.check(st == 201, "keyed submission: %s %s" % (st, doc))
+        for text in (b'{"priority": -1, "inputs": {"duration": 2.0}}',
+                     b'{"inputs": {"duration": 2e0}, "priority": -1}'):
+            st, h, again = srv.request("POST", "/processes/falling_sphere/execution", tokens[0],
+                                       text, {"Idempotency-Key": "by-value"})
+            T.check(st == 201 and again.get("jobID") == doc["jobID"] and
+                    h.get("idempotent-replayed") == "true",
+                    "%s under the same key: %s %s" % (text, st, again))
         # Key reused with a different body -> 409, nothing new queued.
         st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", tokens[0],
                                  {"inputs": {"duration": 99.0}}, {"Idempotency-Key": "race-key"})
         T.check(st == 409 and "different request" in doc["detail"], "409: %s %s" % (st, doc))
-        # The queue holds exactly TOTAL + 1 jobs, all distinct.
+        # The queue holds exactly TOTAL + 2 jobs (the race's and by-value's), all distinct.
         ids, path = [], "/jobs?limit=1000"
         while path:
             st, _, lst = srv.request("GET", path, admin)
@@ -91,10 +105,10 @@ def run():
             ids += [j["jobID"] for j in lst["jobs"]]
             nxt = [l["href"] for l in lst["links"] if l["rel"] == "next"]
             path = nxt[0].split(str(srv.port), 1)[1] if nxt else None
-        T.check(len(ids) == TOTAL + 1 and len(set(ids)) == TOTAL + 1,
+        T.check(len(ids) == TOTAL + 2 and len(set(ids)) == TOTAL + 2,
                 "queue has %d jobs (%d distinct)" % (len(ids), len(set(ids))))
         st, _, health = srv.request("GET", "/health")
-        T.check(health["queue"]["accepted"] == TOTAL + 1, "health queue depth")
+        T.check(health["queue"]["accepted"] == TOTAL + 2, "health queue depth")
         # Per-user cap -> 429 with Retry-After.
         for i in range(3):
             st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", capped,

@@ -121,6 +121,38 @@ static void test_exec(void)
     CHECK(strcmp(r.fingerprint, r2.fingerprint) != 0); /* process id is part of it */
     lubd_exec_free(&r2);
     lubd_exec_free(&r);
+    /* numbers compare by value: an integer and a real of equal value, a real's spellings, -0.0
+     * and 0, in objects and arrays, are one request; other values are not (until 2026-12-06
+     * "stiffness": 1e5 then 100000 under one Idempotency-Key was a 409) */
+    static const char *const same[][2] = {
+        {"{\"inputs\": {\"stiffness\": 1e5, \"phi\": 0.5}}",
+         "{\"inputs\": {\"phi\": 0.50, \"stiffness\": 100000}}"},
+        {"{\"inputs\": {\"stiffness\": 100000.0, \"strain\": 2}}",
+         "{\"inputs\": {\"stiffness\": 1.0e5, \"strain\": 2.0}}"},
+        {"{\"inputs\": {\"law\": {\"eps\": 0}}, \"priority\": 0}",
+         "{\"inputs\": {\"law\": {\"eps\": -0.0}}, \"priority\": 0}"},
+        {"{\"inputs\": {}, \"outputs\": {\"x\": [1, 2.5, 3e0]}}",
+         "{\"inputs\": {}, \"outputs\": {\"x\": [1.0, 2.50, 3]}}"}};
+    for (size_t k = 0; k < sizeof same / sizeof same[0]; ++k) {
+        CHECK(lubd_exec_parse(same[k][0], strlen(same[k][0]), "simple_shear", &r, &f) == 0);
+        CHECK(lubd_exec_parse(same[k][1], strlen(same[k][1]), "simple_shear", &r2, &f) == 0);
+        CHECK(strcmp(r.fingerprint, r2.fingerprint) == 0);
+        lubd_exec_free(&r);
+        lubd_exec_free(&r2);
+    }
+    static const char *const differ[][2] = {
+        {"{\"inputs\": {\"stiffness\": 1e5}}", "{\"inputs\": {\"stiffness\": 100001}}"},
+        {"{\"inputs\": {\"phi\": 0.5}}", "{\"inputs\": {\"phi\": 0.5000000000000001}}"},
+        {"{\"inputs\": {\"strain\": 2}}", "{\"inputs\": {\"strain\": \"2\"}}"}};
+    for (size_t k = 0; k < sizeof differ / sizeof differ[0]; ++k) {
+        CHECK(lubd_exec_parse(differ[k][0], strlen(differ[k][0]), "simple_shear", &r, &f) == 0);
+        const int parsed =
+            lubd_exec_parse(differ[k][1], strlen(differ[k][1]), "simple_shear", &r2, &f) == 0;
+        CHECK(!parsed || strcmp(r.fingerprint, r2.fingerprint) != 0);
+        lubd_exec_free(&r);
+        if (parsed)
+            lubd_exec_free(&r2);
+    }
     const char *bad = "{\"inputs\": {\"duration\": -1}}";
     CHECK(lubd_exec_parse(bad, strlen(bad), "falling_sphere", &r, &f) == -1);
     CHECK(f.status == 400 && strcmp(f.pointer, "/inputs/duration") == 0);
