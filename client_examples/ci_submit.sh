@@ -5,7 +5,13 @@
 #   ci_submit.sh PROCESS INPUTS_JSON [TIMEOUT_S] [OUT_FILE]
 #   LUBDEM_URL, LUBDEM_TOKEN as in walkthrough.sh.
 #   LUBDEM_IDEMPOTENCY_KEY  defaults to ci-$CI_JOB_ID-PROCESS (or a random key): a retried CI
-#                           step gets the same job back instead of a duplicate.
+#                           step gets the same job back instead of a duplicate, and waits for
+#                           it. A job this script timed out on is left running for that reason
+#                           (exit 3 says how to dismiss it). Should the key's job have been
+#                           dismissed (DELETE), the step submits anew under KEY-after-JOBID, a
+#                           key that a further retry finds again.
+#   LUBDEM_DISMISS_ON_TIMEOUT=1  dismiss the job on a timeout instead (a retried step then
+#                           submits a new job, as above).
 #   LUBDEM_FAIL_ON_WARNINGS=1  exit 4 when the run's summary has warnings (its own validity
 #                           checks, e.g. simple_shear's elastic number); they are printed as
 #                           'warning: ...' lines either way.
@@ -27,13 +33,25 @@ TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 field() { sed -n "s/^ *\"$1\": *\"\([^\"]*\)\".*/\1/p" | head -n 1; }
 
-CODE=$(curl -sS --retry 5 --retry-all-errors --retry-delay 1 -o "$TMP/job.json" -w '%{http_code}' \
-       -H "$AUTH" -H 'Content-Type: application/json' -H "Idempotency-Key: $KEY" \
-       -d "{\"inputs\": $INPUTS}" "$URL/processes/$PROCESS/execution")
-if [ "$CODE" != 201 ]; then
-  echo "submission rejected (HTTP $CODE):"; cat "$TMP/job.json"; exit 2
-fi
-JOB=$(field jobID < "$TMP/job.json")
+# A key names its request for a day: a job dismissed under it (by an earlier step's
+# LUBDEM_DISMISS_ON_TIMEOUT=1, or by hand) would come back to every retry and fail it. Such a
+# job is submitted again under KEY-after-JOBID, which the next retry finds in turn.
+for TRY in 1 2 3 4 5 6; do
+  CODE=$(curl -sS --retry 5 --retry-all-errors --retry-delay 1 -o "$TMP/job.json" -w '%{http_code}' \
+         -H "$AUTH" -H 'Content-Type: application/json' -H "Idempotency-Key: $KEY" \
+         -d "{\"inputs\": $INPUTS}" "$URL/processes/$PROCESS/execution")
+  if [ "$CODE" != 201 ]; then
+    echo "submission rejected (HTTP $CODE):"; cat "$TMP/job.json"; exit 2
+  fi
+  JOB=$(field jobID < "$TMP/job.json")
+  [ "$(field status < "$TMP/job.json")" = dismissed ] || break
+  if [ "$TRY" = 6 ]; then
+    echo "job $JOB (Idempotency-Key $KEY) was dismissed, as were the jobs before it; giving up"
+    exit 1
+  fi
+  echo "job $JOB (Idempotency-Key $KEY) was dismissed; submitting again"
+  KEY="$KEY-after-$JOB"
+done
 echo "job $JOB submitted (Idempotency-Key $KEY)"
 DEADLINE=$(( $(date +%s) + TIMEOUT ))
 while :; do
@@ -41,14 +59,21 @@ while :; do
   STATUS=$(field status < "$TMP/job.json")
   case "$STATUS" in successful|failed|dismissed) break ;; esac
   if [ "$(date +%s)" -ge "$DEADLINE" ]; then
-    echo "timeout after ${TIMEOUT}s (status $STATUS); dismissing"
-    curl -fsS -X DELETE -H "$AUTH" -o /dev/null "$URL/jobs/$JOB" || true
+    if [ "${LUBDEM_DISMISS_ON_TIMEOUT:-0}" = 1 ]; then
+      echo "timeout after ${TIMEOUT}s (status $STATUS); dismissing job $JOB"
+      curl -fsS -X DELETE -H "$AUTH" -o /dev/null "$URL/jobs/$JOB" || true
+    else
+      echo "timeout after ${TIMEOUT}s (status $STATUS): job $JOB is left to run, and a retried" \
+           "step with Idempotency-Key $KEY waits for it; to cancel it:" \
+           "curl -X DELETE -H 'Authorization: Bearer ...' $URL/jobs/$JOB"
+    fi
     exit 3
   fi
   sleep 1
 done
 if [ "$STATUS" != successful ]; then
-  echo "job $JOB $STATUS: $(field message < "$TMP/job.json")"
+  MESSAGE=$(field message < "$TMP/job.json")
+  echo "job $JOB $STATUS: ${MESSAGE#"$STATUS: "}"
   curl -fsS -H "$AUTH" "$URL/jobs/$JOB/log" | tail -n 20 || true
   # the failure's problem document carries the engine's summary where it wrote one (its
   # diagnostic; all results of a run that only lost its result.h5): keep it as an artifact

@@ -18,6 +18,7 @@ library only; uses lubdem_client.py from this directory).
     --observables L  summary results to tabulate, comma-separated   [phi,mu,eta_r,Iv,...]
     --key PREFIX     idempotency key prefix: running the same command again (after a crash,
                      in a retried CI step) finds the same jobs instead of queueing new ones
+                     (printed as "found POINT job ID (status)", new ones as "queued ...")
     --timeout S      give up waiting after S seconds in all                  [3600]
     --poll S         seconds between status requests                            [2]
     --out CSV        also write the table as CSV (one row per value, written even when some
@@ -163,6 +164,11 @@ def wait_all(client, chains, deadline, poll=2.0, cont=None, prune=False):
         if not open_ids or time.time() > deadline:
             break
         time.sleep(poll)
+    # a continuation submitted in the last round before the deadline has not been polled yet
+    # (it used to be a KeyError here instead of the timeout's table)
+    for c in chains:
+        if c[-1] not in last:
+            last[c[-1]] = client.status(c[-1])
     return [last[c[-1]] for c in chains], open_ids
 
 
@@ -224,7 +230,10 @@ def main(argv=None):
                     file=sys.stderr)
             return 2
         job_ids.append(job["jobID"])
-        print("queued %s job %s" % (point, job["jobID"]), flush=True)
+        if job.get("replayed"):  # found by its --key: queued by an earlier run of the command
+            print("found %s job %s (%s)" % (point, job["jobID"], job["status"]), flush=True)
+        else:
+            print("queued %s job %s" % (point, job["jobID"]), flush=True)
 
     chains = [[j] for j in job_ids]  # every job of each value, the first one first
 
@@ -237,8 +246,9 @@ def main(argv=None):
         job = client.submit(a.process, bodies[i], idempotency_key=key,
                             continue_from=doc["jobID"])
         chains[i].append(job["jobID"])
-        print("continued %s job %s as job %s" % (points[i], doc["jobID"], job["jobID"]),
-              flush=True)
+        print("%s %s job %s as job %s" % ("found the continuation of" if job.get("replayed")
+                                          else "continued", points[i], doc["jobID"],
+                                          job["jobID"]), flush=True)
 
     try:
         jobs, still_open = wait_all(client, chains, time.time() + a.timeout, a.poll,

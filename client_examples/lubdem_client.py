@@ -103,7 +103,9 @@ class Client:
                continue_from=None):
         """Queues a job; with continue_from (a jobID), one that continues that ended job's run
         from its checkpoint (same inputs; simple_shear may change /strain, /target_rel_error,
-        /target_min_strain, /pair_network, resuspension /strain, /pair_network)."""
+        /target_min_strain, /pair_network, resuspension /strain, /pair_network). Returns the
+        job's status document, with "replayed": True when the service answered with the job an
+        earlier request under the same idempotency_key made (nothing new queued)."""
         body = {"inputs": inputs}
         if priority is not None:
             body["priority"] = priority
@@ -114,7 +116,11 @@ class Client:
             headers["Idempotency-Key"] = idempotency_key
         for attempt in range(retries + 1):
             try:
-                return self._req("POST", "/processes/%s/execution" % process, body, headers)
+                r, payload = self._req("POST", "/processes/%s/execution" % process, body,
+                                       headers, raw=True)
+                doc = json.loads(payload)
+                doc["replayed"] = r.headers.get("Idempotent-Replayed") == "true"
+                return doc
             except ApiError as e:
                 if e.status == 429 and attempt < retries:
                     time.sleep(5)

@@ -53,5 +53,13 @@ with h5py.File(sys.argv[1], "r") as f:
                     print(key + ":", json.dumps(json.loads(text))[:200])
                 except ValueError:
                     print(key + ":", text[:200])
+            elif isinstance(obj, h5py.Group):
+                # e.g. /parameters/build: the provenance is in the group's attributes
+                attrs = {k: (v.decode() if isinstance(v, bytes) else
+                             v.tolist() if hasattr(v, "tolist") else v)
+                         for k, v in obj.attrs.items()}
+                members = list(obj)
+                print(key + ":", ", ".join("%s=%s" % (k, attrs[k]) for k in sorted(attrs)) +
+                      (" (members: %s)" % ", ".join(members) if members else ""))
             else:
                 print(key + ":", obj)

@@ -1,0 +1,142 @@
+"""Client examples retried and timed out, against a live server:
+
+* ci_submit.sh that times out leaves its job to run (it used to dismiss it, and a retried CI
+  step with the same Idempotency-Key then got the dismissed job back for a day and could
+  never succeed): the retried step finds the same job and succeeds; with
+  LUBDEM_DISMISS_ON_TIMEOUT=1 the job is dismissed, and the retried step submits a new one
+  under KEY-after-JOBID;
+* lubdem_client.py extend of a running job says it has not ended (it said HTTP 404);
+* read_result.py prints the build provenance (the attributes of /parameters/build; it printed
+  the group's repr);
+* flow_curve.py --chain with --key run again after the deadline passed, when a continuation
+  is submitted in its last round of polls: the table is written and it exits 1 on the timeout
+  (it raised KeyError), and the jobs it found again are printed as "found", not "queued"."""
+import csv
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+
+import lubd_testlib as T
+
+
+def run():
+    a = T.args()
+    ce = a.clients
+    out_dir = os.path.join(a.work, "client-retries-out")
+    shutil.rmtree(out_dir, ignore_errors=True)
+    os.makedirs(out_dir)
+
+    def sh(srv, tok, *argv, timeout=300, extra_env=None):
+        e = dict(os.environ, LUBDEM_URL="http://127.0.0.1:%d" % srv.port, LUBDEM_TOKEN=tok,
+                 PATH="/usr/bin:/bin:" + os.environ.get("PATH", ""), **(extra_env or {}))
+        r = subprocess.run(list(argv), env=e, capture_output=True, text=True, timeout=timeout,
+                           cwd=out_dir)
+        return r.returncode, r.stdout + r.stderr
+
+    srv = T.Server(a, "client-retries", workers=1).fresh()
+    tok = srv.token("ci")
+    srv.start()
+    try:
+        ci = os.path.join(ce, "ci_submit.sh")
+
+        def block():
+            """A long job that keeps the only worker busy."""
+            st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", tok,
+                                     {"inputs": {"duration": 1e6}})
+            T.check(st == 201, "blocker: %s" % doc)
+            deadline = time.time() + 30
+            while doc["status"] != "running" and time.time() < deadline:
+                time.sleep(0.1)
+                doc = srv.request("GET", "/jobs/" + doc["jobID"], tok)[2]
+            T.check(doc["status"] == "running", "blocker running: %s" % doc)
+            return doc["jobID"]
+
+        blocker = block()
+        # extend of a running job: the client says it has not ended
+        rc, out = sh(srv, tok, sys.executable, os.path.join(ce, "lubdem_client.py"), "extend",
+                     blocker, "{}")
+        T.check(rc == 1 and "is running: a job can be continued once it has ended" in out and
+                "404" not in out, "extend of a running job:\n" + out)
+        # ci_submit.sh times out while its job waits behind the blocker: the job stays
+        inputs = '{"duration": 30.0}'
+        key = {"LUBDEM_IDEMPOTENCY_KEY": "ci-retry-1"}
+        h5 = os.path.join(out_dir, "ci.h5")
+        rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "1", h5, extra_env=key)
+        job = re.search(r"job ([0-9a-f]{32}) submitted", out)
+        T.check(rc == 3 and job and "left to run" in out, "ci_submit.sh timeout:\n" + out)
+        job = job.group(1)
+        st, _, doc = srv.request("GET", "/jobs/" + job, tok)
+        T.check(doc["status"] == "accepted", "the timed-out CI job: %s" % doc)
+        srv.request("DELETE", "/jobs/" + blocker, tok)
+        # the retried step: the same job, which it waits for, successful
+        rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "300", h5, extra_env=key)
+        T.check(rc == 0 and ("job %s submitted" % job) in out and "verified" in out,
+                "retried CI step after a timeout:\n" + out)
+        # LUBDEM_DISMISS_ON_TIMEOUT=1: dismissed, and the retried step submits anew
+        blocker = block()
+        key = {"LUBDEM_IDEMPOTENCY_KEY": "ci-retry-2"}
+        rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "1", h5,
+                     extra_env=dict(key, LUBDEM_DISMISS_ON_TIMEOUT="1"))
+        job = re.search(r"job ([0-9a-f]{32}) submitted", out)
+        T.check(rc == 3 and job and "dismissing job" in out,
+                "ci_submit.sh timeout, dismissing:\n" + out)
+        job = job.group(1)
+        T.check(srv.request("GET", "/jobs/" + job, tok)[2]["status"] == "dismissed",
+                "dismissed on timeout")
+        srv.request("DELETE", "/jobs/" + blocker, tok)
+        rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "300", h5, extra_env=key)
+        again = re.search(r"job ([0-9a-f]{32}) submitted \(Idempotency-Key ci-retry-2-after-%s\)"
+                          % job, out)
+        T.check(rc == 0 and again and again.group(1) != job and
+                ("job %s (Idempotency-Key ci-retry-2) was dismissed; submitting again" % job)
+                in out and "verified" in out,
+                "retried CI step after a dismissal:\n" + out)
+        # once more: the job of the derived key is found again, no new one
+        rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "300", h5, extra_env=key)
+        T.check(rc == 0 and ("job %s submitted" % again.group(1)) in out,
+                "a second retry finds the resubmitted job:\n" + out)
+        # read_result.py: the build provenance from the group's attributes
+        try:
+            import h5py  # noqa: F401
+            rc, out = sh(srv, tok, sys.executable, os.path.join(ce, "read_result.py"), h5)
+            T.check(rc == 0 and re.search(r"^build: .*compiler=.*git_commit=.*version=", out,
+                                          re.M) and "<HDF5 group" not in out,
+                    "read_result.py build provenance:\n" + out)
+        except ImportError:
+            print("h5py not available: read_result.py not exercised")
+    finally:
+        srv.stop()
+
+    # flow_curve.py: a run stopped at the CPU time limit (1 s) with its checkpoint, then the
+    # same command with --chain 2 and a deadline already passed: its first round of polls
+    # submits the continuation, which is then past the deadline
+    slow = T.Server(a, "client-retries-cpu", workers=1, extra=["--cpu-s", "1"]).fresh()
+    tok = slow.token("ci")
+    slow.start()
+    try:
+        fc = [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv",
+              "--values", "0.1", "--base",
+              '{"control": "pressure", "n_particles": 300, "strain": 1000}', "--poll", "0.2",
+              "--key", "fc-late"]
+        rc, out = sh(slow, tok, *fc, "--timeout", "120")
+        first = re.search(r"^queued /Iv=0.1 job ([0-9a-f]{32})$", out, re.M)
+        T.check(rc == 1 and first and "CPU time limit" in out,
+                "flow_curve.py, a run stopped at the CPU limit:\n" + out)
+        csv_path = os.path.join(out_dir, "late.csv")
+        rc, out = sh(slow, tok, *fc, "--timeout", "0", "--chain", "2", "--out", csv_path)
+        with open(csv_path) if os.path.exists(csv_path) else open(os.devnull) as f:
+            rows = list(csv.DictReader(f))
+        T.check(rc == 1 and "Traceback" not in out and "timeout after 0 s" in out and
+                ("found /Iv=0.1 job %s (failed)" % first.group(1)) in out and
+                "queued" not in out and ("continued /Iv=0.1 job %s" % first.group(1)) in out and
+                len(rows) == 1 and rows[0]["jobs"] == "2" and
+                rows[0]["status"] in ("accepted", "running"),
+                "flow_curve.py, a continuation past the deadline:\n%s\n%s" % (out, rows))
+    finally:
+        slow.stop()
+
+
+T.main(run)
