@@ -342,9 +342,11 @@ int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_
         /* The lease (if any) is kept so the worker's fenced heartbeat sees the change. */
         rc = exec_bound(db,
                         "UPDATE jobs SET state = 'dismissed', failure_kind = 'cancelled', "
-                        "message = CASE state WHEN 'running' THEN 'dismissed: engine stopped' "
-                        "ELSE 'dismissed before it started' END, finished = " LUBD_SQL_NOW
-                        ", updated = " LUBD_SQL_NOW " WHERE id = ?1",
+                        "message = CASE state WHEN 'running' THEN 'stopped while it ran "
+                        "(DELETE): its engine is stopped and the files it wrote are removed "
+                        "(its log stays)' ELSE 'taken out of the queue (DELETE) before it "
+                        "started' END, finished = " LUBD_SQL_NOW ", updated = " LUBD_SQL_NOW
+                        " WHERE id = ?1",
                         id);
         if (rc == 0)
             rc = exec_bound(db,
@@ -354,8 +356,11 @@ int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_
                             id);
     } else {
         rc = exec_bound(db,
-                        "UPDATE jobs SET purged = 1, state = 'dismissed', updated = " LUBD_SQL_NOW
-                        " WHERE id = ?1",
+                        "UPDATE jobs SET purged = 1, state = 'dismissed', message = CASE state "
+                        "WHEN 'dismissed' THEN 'deleted: its files and log are removed (it had "
+                        "been dismissed)' ELSE 'deleted: its results, files and log are removed "
+                        "(it had ended ' || state || coalesce(': ' || substr(message, 1, 400), '') "
+                        "|| ')' END, updated = " LUBD_SQL_NOW " WHERE id = ?1",
                         id);
         if (rc == 0)
             rc = exec_bound(db, "DELETE FROM results WHERE job_id = ?1", id);

@@ -532,6 +532,15 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         return;
     }
     if (why == END_LOST) {
+        lubd_job now;
+        if (lubd_queue_get(w->db, c->id, &now) == 1 && strcmp(now.state, "dismissed") == 0)
+            dprintf(log_fd,
+                    "lubdemd: the job was dismissed (DELETE) while it ran: the service stopped "
+                    "its engine and removes the files it wrote, so nothing of this run can be "
+                    "continued (whatever the engine said above)\n");
+        else
+            dprintf(log_fd, "lubdemd: this attempt lost its lease (its job was requeued or "
+                            "ended meanwhile): the engine was stopped\n");
         close(log_fd);
         lubd_lease_drop(w->db, c);
         return;

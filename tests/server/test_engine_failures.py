@@ -142,7 +142,8 @@ def killed_by_signal(a):
     --max-attempts, each attempt's log saying why; after the last one it fails with the
     checkpoint kept and says how to continue it (the temporary file is not kept). At the
     service's own hard CPU time limit: failed at once, not retried (until 2026-12-07 every
-    SIGKILL failed the job at once)."""
+    SIGKILL failed the job at once). A finished job deleted says so in the DELETE's answer (it
+    said "completed")."""
     srv = T.Server(a, "engine_failures_killed", workers=2,
                    extra=["--cpu-s", "1", "--max-attempts", "3"]).fresh()
     tok = srv.token("frank")
@@ -187,6 +188,11 @@ def killed_by_signal(a):
                 "requeued" not in events_of(srv, spin),
                 "engine killed at the hard CPU limit: %s, events %s" % (final,
                                                                          events_of(srv, spin)))
+        st, _, doc = srv.request("DELETE", "/jobs/" + once, tok)
+        T.check(st == 200 and doc["status"] == "dismissed" and
+                doc["message"].startswith("deleted: its results, files and log are removed (it "
+                                          "had ended successful: completed)"),
+                "DELETE of a finished job: %s %s" % (st, doc))
     finally:
         srv.stop()
 
@@ -244,6 +250,14 @@ def dismissed_while_running(srv, tok):
     T.check(not os.path.exists(out), "a dismissed run's files stay in %s" % out)
     st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
     T.check(st == 200 and b"progress fraction=0.5000" in log, "log of the dismissed job: %s" % log)
+    # the log says what the service did last: the engine's own last words (a stopped run's
+    # "lubdem run --resume continues the run") no longer hold once its files are removed
+    last = log.decode().rstrip("\n").rsplit("\n", 1)[-1]
+    T.check(last.startswith("lubdemd: the job was dismissed (DELETE) while it ran") and
+            "removes the files it wrote" in last, "last line of the dismissed job's log: %s" % last)
+    st, _, doc = srv.request("GET", "/jobs/" + job, tok)
+    T.check(doc["message"].startswith("stopped while it ran (DELETE)"),
+            "message of the dismissed job: %s" % doc["message"])
 
 
 def deleted_while_stopping(srv, tok):
