@@ -80,16 +80,35 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
         json_object_set_new(o, "inputsSchema", schema);
     else
         json_object_set_new(o, "inputsSchemaError", json_string(err.text));
-    json_object_set_new(
-        o, "outputs",
-        json_pack("{s:{s:s, s:s, s:{s:s, s:s}}, s:{s:s, s:s, s:{s:s, s:s, s:s}}}", "summary.json",
-                  "title", "summary", "description",
-                  "headline results (see schema/summary.schema.json)", "schema", "type", "object",
-                  "contentMediaType", "application/json", "result.h5", "title", "H5MD result file",
-                  "description",
-                  "observables, snapshots, verbatim and resolved spec, build provenance", "schema",
-                  "type", "string", "contentEncoding", "binary", "contentMediaType",
-                  "application/x-hdf5"));
+    json_t *outputs = json_pack(
+        "{s:{s:s, s:s, s:{s:s, s:s}}, s:{s:s, s:s, s:{s:s, s:s, s:s}}}", "summary.json", "title",
+        "summary", "description", "headline results (see schema/summary.schema.json)", "schema",
+        "type", "object", "contentMediaType", "application/json", "result.h5", "title",
+        "H5MD result file", "description",
+        "observables, snapshots, verbatim and resolved spec, build provenance", "schema", "type",
+        "string", "contentEncoding", "binary", "contentMediaType", "application/x-hdf5");
+    if (s->resumable) {
+        /* the files a continuation (continue_from) goes on from, served with the results */
+        json_object_set_new(
+            outputs, "checkpoint.h5",
+            json_pack("{s:s, s:s, s:{s:s, s:s, s:s}}", "title", "checkpoint", "description",
+                      "the run's state, which a job with continue_from continues: of a run "
+                      "stopped (the CPU time limit) or killed on its last attempt after a "
+                      "periodic checkpoint, and of a completed run under lubdemd "
+                      "--keep-checkpoints 1 (the default) when the process can be extended",
+                      "schema", "type", "string", "contentEncoding", "binary", "contentMediaType",
+                      "application/x-hdf5"));
+        json_object_set_new(
+            outputs, "checkpoint-result.h5",
+            json_pack("{s:s, s:s, s:{s:s, s:s, s:s}}", "title", "rows of a periodic checkpoint",
+                      "description",
+                      "a copy of result.h5 as it was at a periodic checkpoint (lubdemd "
+                      "--checkpoint-s), which that checkpoint.h5 goes with: of a failed run "
+                      "whose checkpoint is a periodic one",
+                      "schema", "type", "string", "contentEncoding", "binary", "contentMediaType",
+                      "application/x-hdf5"));
+    }
+    json_object_set_new(o, "outputs", outputs);
     return lubd_reply_json(r, 200, o);
 }
 

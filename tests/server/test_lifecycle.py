@@ -105,6 +105,17 @@ def run():
                 and doc["inputs"]["duration"]["schema"]["type"] == "number"
                 and "scene" not in doc["inputs"], "process description inputs")
         T.check(doc["jobControlOptions"] == ["async-execute", "dismiss"], "jobControlOptions")
+        T.check(sorted(doc["outputs"]) == ["result.h5", "summary.json"],
+                "outputs of falling_sphere: %s" % sorted(doc["outputs"]))
+        # the processes whose jobs keep checkpoints list them among their outputs (they did not
+        # until 2026-12-06, though their results served them)
+        for pid in ("simple_shear", "resuspension"):
+            st, _, doc = srv.request("GET", "/processes/" + pid)
+            T.check(st == 200 and sorted(doc["outputs"]) == ["checkpoint-result.h5",
+                                                             "checkpoint.h5", "result.h5",
+                                                             "summary.json"] and
+                    doc["outputs"]["checkpoint.h5"]["schema"]["contentMediaType"] ==
+                    "application/x-hdf5", "outputs of %s: %s" % (pid, doc.get("outputs")))
 
         specs = {"falling_sphere": {"duration": 2.0},
                  "two_spheres_shear": {"duration": 5.0}}
