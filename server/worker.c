@@ -20,6 +20,7 @@
 
 #include "checkpoint_file.h"
 #include "continuation.h"
+#include "periodic_checkpoint.h"
 #include "db.h"
 #include "deletion.h"
 #include "engine_child.h"
@@ -213,22 +214,46 @@ static long long checkpoint_step(const char *path)
     return step;
 }
 
-/* After an engine killed mid-run that had written a periodic checkpoint (checkpoint.h5 with
- * checkpoint-result.h5, the file holding its rows, both written after `started`): the
- * summary.json and result.h5 in out_dir older than the engine are those of the stopped run it
- * continued from, which the checkpoint supersedes; they go, so that the job is not served the
- * summary and rows of an earlier point of its run as its own. */
-static void drop_superseded(const char *out_dir, time_t started)
+static double wall_now(void)
 {
-    char path[1400];
+    struct timespec ts;
+    clock_gettime(CLOCK_REALTIME, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* A file's modification time (s since the epoch, sub-second), -1 when it cannot be read. */
+static double mtime_of(const char *path)
+{
     struct stat st;
-    lubd_pathf(path, sizeof path, "%s/checkpoint-result.h5", out_dir);
-    if (stat(path, &st) != 0 || st.st_mtime < started)
+    if (stat(path, &st) != 0)
+        return -1.0;
+    return (double)st.st_mtim.tv_sec + 1e-9 * (double)st.st_mtim.tv_nsec;
+}
+
+/* After an engine killed mid-run that had written a periodic checkpoint of its own (a
+ * checkpoint.h5 newer than `started` that names checkpoint-result.h5 as the file holding its
+ * rows, periodic_checkpoint.h): the summary.json and result.h5 in out_dir older than the engine
+ * are those of the stopped run it continued from, which that checkpoint supersedes; they go, so
+ * that the job is not served the summary and rows of an earlier point of its run as its own.
+ * A checkpoint that names result.h5 (the stopped run's own) keeps them. */
+static void drop_superseded(const char *out_dir, double started)
+{
+    char path[1400], err[300];
+    lubd_pathf(path, sizeof path, "%s/checkpoint.h5", out_dir);
+    if (mtime_of(path) < started)
+        return;
+    lub_ckpt *ck = lub_ckpt_open(path, err, sizeof err);
+    char *rows = ck ? lub_ckpt_get_text(ck, "output_file") : NULL;
+    const int periodic = rows && strcmp(rows, LUB_PERIODIC_OUTPUT) == 0;
+    free(rows);
+    lub_ckpt_close(ck, NULL, 0);
+    if (!periodic)
         return;
     static const char *const old[2] = {"summary.json", "result.h5"};
     for (int k = 0; k < 2; ++k) {
         lubd_pathf(path, sizeof path, "%s/%s", out_dir, old[k]);
-        if (stat(path, &st) == 0 && st.st_mtime < started && unlink(path) != 0)
+        const double t = mtime_of(path);
+        if (t >= 0.0 && t < started && unlink(path) != 0)
             fprintf(stderr, "lubdemd worker: cannot remove %s: %s\n", path, strerror(errno));
     }
 }
@@ -471,8 +496,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     end_reason why;
     int status = 0;
     char st_text[200];
-    double cpu_used = 0.0;
-    time_t started_at = time(NULL);
+    double cpu_used = 0.0, started_at = wall_now();
     for (;;) {
         lubd_engine_proc ep;
         if (lubd_engine_spawn(&eo, &ep) != 0) {
@@ -481,7 +505,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
             lubd_lease_fail(w->db, c, "system", msg);
             return;
         }
-        started_at = time(NULL);
+        started_at = wall_now();
         why = supervise_engine(w, c, &ep, log_fd, &status, &cpu_used);
         lubd_describe_status(status, st_text, sizeof st_text);
         if (why == END_EXITED && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL &&
@@ -553,18 +577,18 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     const int killed_outside = WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL &&
                                !(cfg->cpu_s > 0 && cpu_used >= (double)cfg->cpu_s);
     char ckpt_file[1500], ckpt_note[300] = "";
-    struct stat ckpt_st;
     lubd_pathf(ckpt_file, sizeof ckpt_file, "%s/checkpoint.h5", out_dir);
-    const int have_ckpt = killed_outside && stat(ckpt_file, &ckpt_st) == 0;
+    const double ckpt_time = killed_outside ? mtime_of(ckpt_file) : -1.0;
+    const int have_ckpt = ckpt_time >= 0.0;
     const long long ckpt_step = have_ckpt ? checkpoint_step(ckpt_file) : -1;
     char step_text[64] = "";
     if (ckpt_step >= 0)
         snprintf(step_text, sizeof step_text, " of step %lld", ckpt_step);
-    if (have_ckpt && ckpt_st.st_mtime >= started_at)
+    if (have_ckpt && ckpt_time >= started_at)
         snprintf(ckpt_note, sizeof ckpt_note,
                  "the checkpoint%s (the last periodic one its engine wrote, %.0f s before the "
                  "kill)",
-                 step_text, difftime(time(NULL), ckpt_st.st_mtime));
+                 step_text, wall_now() - ckpt_time);
     else if (have_ckpt)
         snprintf(ckpt_note, sizeof ckpt_note,
                  "the checkpoint%s its engine started from (it wrote no periodic one)", step_text);
@@ -576,9 +600,9 @@ static void run_job(worker_ctx *w, lubd_claim *c)
                  "by this service (the kernel's OOM killer, or an operator); attempt %d %s%s",
                  c->attempt, c->max_attempts, c->attempt + 1,
                  have_ckpt ? "continues from "
-                           : "starts again from the beginning (the engine "
-                             "had written no checkpoint: lubdemd "
-                             "--checkpoint-s)",
+                           : "starts again from the beginning (the engine had left no "
+                             "checkpoint; simple_shear and resuspension write periodic ones "
+                             "under lubdemd --checkpoint-s)",
                  ckpt_note);
         dprintf(log_fd, "lubdemd: %s\n", msg);
         close(log_fd);
@@ -655,7 +679,8 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         snprintf(msg, sizeof msg,
                  "engine failed (killed by signal 9 (SIGKILL) on attempt %d, the last of %d, not "
                  "by this service: the kernel's OOM killer or an operator); no checkpoint was "
-                 "kept (the engine had written none: lubdemd --checkpoint-s)",
+                 "kept (the engine had left none; simple_shear and resuspension write periodic "
+                 "ones under lubdemd --checkpoint-s)",
                  c->attempt, c->max_attempts);
     else
         snprintf(msg, sizeof msg, "engine failed (%s)%s%s", st_text, diag[0] ? ": " : "", diag);
