@@ -357,10 +357,14 @@ for label, spec, ref, threads in (("8a", spec1, ref1, "1"), ("8b", spec6, ref6, 
     rc, _, err = run(spec, killed, "--threads", threads, "--resume", "--checkpoint-every", "0.3")
     check(rc == 0, f"{label}: resumed after kill -9, exit 0 (got {rc}) {err[-300:]}")
     compare_runs(ref, killed, label)
+    # a continuation of more than 1 s (over 3 intervals) takes at least one periodic
+    # checkpoint; on a loaded host the kill can land late (it waits for the first checkpoint
+    # file), leaving a continuation too short for one (seen once: 0 periodic checkpoints)
+    wall = summary(killed).get("wall_time_s", 0.0)
     check(not os.path.exists(os.path.join(killed, "checkpoint-result.h5")) and
-          summary(killed).get("periodic_checkpoints", 0) >= 1,
+          (summary(killed).get("periodic_checkpoints", 0) >= 1 or wall <= 1.0),
           f"{label}: the copy removed at the end; {summary(killed).get('periodic_checkpoints')} "
-          "periodic checkpoints in the continuation")
+          f"periodic checkpoints in the continuation of {wall:.2f} s")
 
 # ---- 9. continued on another thread count ----
 rc, _, err = run(spec1, res9, "--threads", "2", "--resume")
