@@ -16,6 +16,26 @@ static int sql_err(sqlite3 *db)
     return -1;
 }
 
+/* Records `event` ("claimed", a final state, "requeued") of claim c in job_events: 0, or -1
+ * (sql_err) on an SQLite error. Inside the caller's transaction. */
+static int add_claim_event(sqlite3 *db, const lubd_claim *c, const char *event)
+{
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db,
+                        "INSERT INTO job_events(job_id, at, event, attempt, worker, token) "
+                        "VALUES (?1, " LUBD_SQL_NOW ", ?2, ?3, ?4, ?5)",
+                        &st) != 0)
+        return -1;
+    sqlite3_bind_text(st, 1, c->id, -1, SQLITE_STATIC);
+    sqlite3_bind_text(st, 2, event, -1, SQLITE_STATIC);
+    sqlite3_bind_int(st, 3, c->attempt);
+    sqlite3_bind_text(st, 4, c->worker, -1, SQLITE_STATIC);
+    sqlite3_bind_text(st, 5, c->token, -1, SQLITE_STATIC);
+    const int rc = sqlite3_step(st);
+    sqlite3_finalize(st);
+    return rc == SQLITE_DONE ? 0 : sql_err(db);
+}
+
 int lubd_lease_claim(sqlite3 *db, const char *worker, int lease_s, lubd_claim *c)
 {
     memset(c, 0, sizeof *c);
@@ -58,22 +78,8 @@ int lubd_lease_claim(sqlite3 *db, const char *worker, int lease_s, lubd_claim *c
     if (rc != SQLITE_DONE)
         result = sql_err(db);
     sqlite3_finalize(st);
-    if (result == 1) {
-        if (lubd_db_prepare(db,
-                            "INSERT INTO job_events(job_id, at, event, attempt, worker, token) "
-                            "VALUES (?1, " LUBD_SQL_NOW ", 'claimed', ?2, ?3, ?4)",
-                            &st) != 0) {
-            result = -1;
-        } else {
-            sqlite3_bind_text(st, 1, c->id, -1, SQLITE_STATIC);
-            sqlite3_bind_int(st, 2, c->attempt);
-            sqlite3_bind_text(st, 3, c->worker, -1, SQLITE_STATIC);
-            sqlite3_bind_text(st, 4, c->token, -1, SQLITE_STATIC);
-            if (sqlite3_step(st) != SQLITE_DONE)
-                result = sql_err(db);
-            sqlite3_finalize(st);
-        }
-    }
+    if (result == 1 && add_claim_event(db, c, "claimed") != 0)
+        result = -1;
     if (result < 0 || lubd_db_commit(db) != 0) {
         lubd_db_rollback(db);
         lubd_lease_clear(c);
@@ -163,19 +169,7 @@ static int finish_row(sqlite3 *db, const lubd_claim *c, const char *state, const
     sqlite3_finalize(st);
     if (rc != SQLITE_DONE)
         return sql_err(db);
-    if (lubd_db_prepare(db,
-                        "INSERT INTO job_events(job_id, at, event, attempt, worker, token) "
-                        "VALUES (?1, " LUBD_SQL_NOW ", ?2, ?3, ?4, ?5)",
-                        &st) != 0)
-        return -1;
-    sqlite3_bind_text(st, 1, c->id, -1, SQLITE_STATIC);
-    sqlite3_bind_text(st, 2, state, -1, SQLITE_STATIC);
-    sqlite3_bind_int(st, 3, c->attempt);
-    sqlite3_bind_text(st, 4, c->worker, -1, SQLITE_STATIC);
-    sqlite3_bind_text(st, 5, c->token, -1, SQLITE_STATIC);
-    rc = sqlite3_step(st);
-    sqlite3_finalize(st);
-    return rc == SQLITE_DONE ? 0 : sql_err(db);
+    return add_claim_event(db, c, state);
 }
 
 /* Moves out_dir to result_dir, registers its files and finishes the row in `state`, in one
@@ -305,20 +299,8 @@ int lubd_lease_requeue(sqlite3 *db, const lubd_claim *c, const char *message)
         sqlite3_finalize(st);
         n = rc == SQLITE_DONE ? sqlite3_changes(db) : sql_err(db);
     }
-    if (n > 0 && lubd_db_prepare(db,
-                                 "INSERT INTO job_events(job_id, at, event, attempt, worker, "
-                                 "token) VALUES (?1, " LUBD_SQL_NOW ", 'requeued', ?2, ?3, ?4)",
-                                 &st) == 0) {
-        sqlite3_bind_text(st, 1, c->id, -1, SQLITE_STATIC);
-        sqlite3_bind_int(st, 2, c->attempt);
-        sqlite3_bind_text(st, 3, c->worker, -1, SQLITE_STATIC);
-        sqlite3_bind_text(st, 4, c->token, -1, SQLITE_STATIC);
-        if (sqlite3_step(st) != SQLITE_DONE)
-            n = sql_err(db);
-        sqlite3_finalize(st);
-    } else if (n > 0) {
+    if (n > 0 && add_claim_event(db, c, "requeued") != 0)
         n = -1;
-    }
     if (n < 0 || lubd_db_commit(db) != 0) {
         lubd_db_rollback(db);
         return -1;
