@@ -490,7 +490,8 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
                                const rs_buffers *b, int nb, const lub_rs_system *S,
                                const char *output_file, char *why, size_t len)
 {
-    lub_ckpt *c = lub_run_checkpoint_create(path, "resuspension", resolved, output_file, why, len);
+    lub_ckpt *c =
+        lub_run_checkpoint_create(path, "resuspension", lp->step, resolved, output_file, why, len);
     if (!c)
         return -1;
     const int64_t ints[6] = {lp->step, lp->avg_start_step,  lp->nh,

@@ -650,7 +650,8 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
                                int64_t network_frames_in_file, const lub_shear_system *sys,
                                const char *output_file, char *why, size_t len)
 {
-    lub_ckpt *c = lub_run_checkpoint_create(path, "simple_shear", resolved, output_file, why, len);
+    lub_ckpt *c =
+        lub_run_checkpoint_create(path, "simple_shear", lp->step, resolved, output_file, why, len);
     if (!c)
         return -1;
     int rc = lub_ckpt_put_i64(c, "run/step", lp->step) ||

@@ -122,11 +122,10 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     st->headline_law, phi_text, tol_text);
     }
     const int dt_fixed = st->dt_over_elastic > 0.0;
-    if (n >= LUB_SHEAR_WARNINGS_MAX)
-        ; /* full (cannot happen: the header counts them) */
-    else if (exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
+    const int room = n < LUB_SHEAR_WARNINGS_MAX; /* always (the header counts them) */
+    if (room && exceeds(st->dt_over_elastic, LUB_SHEAR_DT_OVER_ELASTIC_MAX))
         lub_fixed_dt_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_elastic, "dt_elastic");
-    else if (exceeds(st->dt_over_stiffness, LUB_SHEAR_DT_STIFFNESS_MAX))
+    else if (room && exceeds(st->dt_over_stiffness, LUB_SHEAR_DT_STIFFNESS_MAX))
         lub_fixed_dt_stiffness_warning(out[n++], LUB_SHEAR_WARNING_LEN, st->dt_over_stiffness,
                                        LUB_SHEAR_DT_STIFFNESS_MAX);
     if (exceeds(st->lost_pairs, 0.0))

@@ -171,8 +171,9 @@ int lub_schedule_load(lub_ckpt *c, const char *name, lub_schedule *sc)
     return 0;
 }
 
-lub_ckpt *lub_run_checkpoint_create(const char *path, const char *scene, const json_t *resolved,
-                                    const char *output_file, char *why, size_t len)
+lub_ckpt *lub_run_checkpoint_create(const char *path, const char *scene, int64_t step,
+                                    const json_t *resolved, const char *output_file, char *why,
+                                    size_t len)
 {
     lub_ckpt *c = lub_ckpt_create(path, why, len);
     if (!c)
@@ -180,6 +181,7 @@ lub_ckpt *lub_run_checkpoint_create(const char *path, const char *scene, const j
     char *spec = lub_json_dumps(resolved, JSON_COMPACT | JSON_SORT_KEYS);
     const int no_spec = !spec;
     const int rc = no_spec || lub_ckpt_put_text(c, "scene", scene) ||
+                   lub_ckpt_put_i64(c, "step", step) ||
                    lub_ckpt_put_text(c, "spec_resolved", spec) ||
                    lub_ckpt_put_text(c, "output_file", output_file);
     free(spec);
@@ -190,6 +192,18 @@ lub_ckpt *lub_run_checkpoint_create(const char *path, const char *scene, const j
         return NULL;
     }
     return c;
+}
+
+int64_t lub_run_checkpoint_step(const char *path)
+{
+    char err[300];
+    lub_ckpt *c = lub_ckpt_open(path, err, sizeof err);
+    int64_t step = -1;
+    if (c && lub_ckpt_get_i64_or(c, "step", -1, &step) != 0)
+        step = -1;
+    if (c)
+        lub_ckpt_close(c, NULL, 0);
+    return step;
 }
 
 int lub_run_checkpoint_close(lub_ckpt *c, int failed, char *why, size_t len)

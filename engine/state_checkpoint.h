@@ -21,11 +21,16 @@
 #include "step_schedule.h"
 #include "step_stiffness.h"
 
-/* A new checkpoint at path for a run of `scene`: its resolved spec (text "spec_resolved", which
- * --resume compares) and the file that holds its rows (text "output_file"). NULL with why[len]
- * on failure (nothing left open). */
-lub_ckpt *lub_run_checkpoint_create(const char *path, const char *scene, const json_t *resolved,
-                                    const char *output_file, char *why, size_t len);
+/* A new checkpoint at path for a run of `scene` at `step` (the steps done: "step", which the
+ * service names in its messages), its resolved spec (text "spec_resolved", which --resume
+ * compares) and the file that holds its rows (text "output_file"). NULL with why[len] on
+ * failure (nothing left open). */
+lub_ckpt *lub_run_checkpoint_create(const char *path, const char *scene, int64_t step,
+                                    const json_t *resolved, const char *output_file, char *why,
+                                    size_t len);
+/* The steps done of the checkpoint at path (its "step"), or -1 when the file cannot be read or
+ * has none (written before 2026-12-06). */
+int64_t lub_run_checkpoint_step(const char *path);
 /* Closes a checkpoint made by lub_run_checkpoint_create; 0, or -1 when `failed` (a put of the
  * caller's failed) or the close failed, with why[len] the first failed write. */
 int lub_run_checkpoint_close(lub_ckpt *c, int failed, char *why, size_t len);

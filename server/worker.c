@@ -21,6 +21,7 @@
 #include "checkpoint_file.h"
 #include "continuation.h"
 #include "periodic_checkpoint.h"
+#include "state_checkpoint.h"
 #include "db.h"
 #include "deletion.h"
 #include "engine_child.h"
@@ -192,26 +193,6 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
     }
     closedir(d);
     return beat->lost ? -1 : n;
-}
-
-/* The step a checkpoint was written at, read with the engine's own checkpoint reader
- * (checkpoint_file.h): simple_shear stores it as run/step, resuspension as the first of
- * run/ints. -1 when the file cannot be read or holds neither. */
-static long long checkpoint_step(const char *path)
-{
-    char err[300];
-    lub_ckpt *ck = lub_ckpt_open(path, err, sizeof err);
-    if (!ck)
-        return -1;
-    int64_t step = -1, ints[6];
-    size_t n = 0;
-    if (lub_ckpt_get_i64_or(ck, "run/step", -1, &step) != 0)
-        step = -1;
-    if (step < 0 && lub_ckpt_count(ck, "run/ints", &n) == 0 && n == 6 &&
-        lub_ckpt_get(ck, "run/ints", LUB_CKPT_I64, 6, ints) == 0)
-        step = ints[0];
-    lub_ckpt_close(ck, NULL, 0);
-    return step;
 }
 
 /* The wall clock that stamps files (Linux: the coarse real-time clock, one tick behind the
@@ -457,7 +438,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     if (resume_from == 1) {
         char ckpt_now[1500], step_note[64] = "";
         lubd_pathf(ckpt_now, sizeof ckpt_now, "%s/checkpoint.h5", out_dir);
-        const long long step = checkpoint_step(ckpt_now);
+        const long long step = lub_run_checkpoint_step(ckpt_now);
         if (step >= 0)
             snprintf(step_note, sizeof step_note, "step %lld, ", step);
         dprintf(log_fd,
@@ -582,7 +563,7 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     lubd_pathf(ckpt_file, sizeof ckpt_file, "%s/checkpoint.h5", out_dir);
     const double ckpt_time = killed_outside ? mtime_of(ckpt_file) : -1.0;
     const int have_ckpt = ckpt_time >= 0.0;
-    const long long ckpt_step = have_ckpt ? checkpoint_step(ckpt_file) : -1;
+    const long long ckpt_step = have_ckpt ? lub_run_checkpoint_step(ckpt_file) : -1;
     char step_text[64] = "";
     if (ckpt_step >= 0)
         snprintf(step_text, sizeof step_text, " of step %lld", ckpt_step);
