@@ -38,6 +38,13 @@ double lub_dem_eta_r(double phi, double phi_m)
     return mu1 * s2 + (mu2 - mu1) * s2 / (1.0 + I0 * s2) + pow(1.0 - phi, -2.5);
 }
 
+double lub_dem_mu(double Iv, double phi_m)
+{
+    const double mu1 = 0.36, mu2 = 0.7, I0 = 0.0133;
+    const double phi = phi_m / (1.0 + sqrt(Iv));
+    return mu1 + (mu2 - mu1) / (1.0 + I0 / Iv) + Iv * pow(1.0 - phi, -2.5);
+}
+
 double lub_dem_eta22(double psi)
 {
     double om = 1.0 - psi;

@@ -52,7 +52,10 @@ double lub_normal_law_eta(const lub_normal_law *L, double phi);
 /* DEM seed (physics-reference §2-3). */
 double lub_dem_phi_m(double mu_m);
 double lub_dem_eta_r(double phi, double phi_m); /* sigma_xy/(eta0 gd), 0 < phi < phi_m */
-double lub_dem_eta22(double psi);               /* 0 <= psi < 1 */
+/* mu(Iv) = sigma_xy/P at imposed particle pressure (§2: mu_c + mu_h with phi = phi_m/(1 +
+ * Iv^0.5)), Iv > 0; fitted for mu_m >= 0.36 */
+double lub_dem_mu(double Iv, double phi_m);
+double lub_dem_eta22(double psi); /* 0 <= psi < 1 */
 double lub_dem_lambda33(double phi, double phi_rcp);
 
 /* Miller & Morris (2006) SBM closure (2.41h,i). */

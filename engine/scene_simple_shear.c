@@ -31,6 +31,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "continuum_normal_laws.h"
 #include "h5md_continue.h"
 #include "law_spec.h"
 #include "network_output.h"
@@ -144,23 +145,6 @@ static int ss_network_frame(lub_run_ctx *ctx, lub_shear_system *s, lub_h5_frames
         return LUB_EXIT_IO;
     }
     return LUB_EXIT_OK;
-}
-
-static double ref_phi_m(double mu_m) { return 0.6301 - 0.0794 * (1.0 - exp(-mu_m / 0.4032)); }
-static double ref_mu(double Iv, double phi_m)
-{
-    double mu1 = 0.36, mu2 = 0.7, I0 = 0.0133;
-    double phi = phi_m / (1.0 + sqrt(Iv));
-    return mu1 + (mu2 - mu1) / (1.0 + I0 / Iv) + Iv * pow(1.0 - phi, -2.5);
-}
-
-static double ref_eta_r(double phi, double phi_m)
-{
-    double mu1 = 0.36, mu2 = 0.7, I0 = 0.0133;
-    if (phi >= phi_m)
-        return INFINITY;
-    double q = phi_m / phi - 1.0;
-    return mu1 / (q * q) + (mu2 - mu1) / (q * q + I0) + pow(1.0 - phi, -2.5);
 }
 
 /* The time loop's state besides the system (shear_system.h): what a checkpoint holds with the
@@ -930,10 +914,10 @@ static void ss_law_values(const lub_ss_params *p, double mu_m, double phi_m,
     if (mu_m < 0.36)
         return;
     if (p->pressure) {
-        ref_of[SS_OBS_MU] = ref_mu(p->Iv, phi_m);
+        ref_of[SS_OBS_MU] = lub_dem_mu(p->Iv, phi_m);
         ref_of[SS_OBS_PHI] = phi_m / (1.0 + sqrt(p->Iv));
-    } else {
-        ref_of[SS_OBS_ETA] = ref_eta_r(p->phi, phi_m); /* infinite at and above phi_m: none */
+    } else if (p->phi < phi_m) { /* none at and above phi_m */
+        ref_of[SS_OBS_ETA] = lub_dem_eta_r(p->phi, phi_m);
     }
     for (int k = 0; k < SS_OBS_COUNT; ++k)
         if (!isfinite(ref_of[k]))
@@ -1116,7 +1100,7 @@ static void ss_write_summary(ss_run_state *r)
     lub_ss_steady_stats st;
     lub_ss_series_statistics(&r->p, r->gd, r->s0, &r->ser, &st);
     const double mu_m = (r->p.law.params.terms & LUB_TERM_FRICTION) ? r->p.law.params.mu : 0.0;
-    const double phi_m = ref_phi_m(mu_m);
+    const double phi_m = lub_dem_phi_m(mu_m);
     double ref_of[SS_OBS_COUNT];
     ss_law_values(&r->p, mu_m, phi_m, ref_of);
     ss_put_results(r, &st, ref_of);

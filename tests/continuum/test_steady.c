@@ -94,6 +94,15 @@ static void section_G(void)
     const double en2[6] = {0.60, 2.39, 7.73, 13.5, 25.3, 73.9};
     double phim = lub_dem_phi_m(0.5);
     check_near("G.phim_mu0.5", phim, 0.5737, 5e-5);
+    /* mu(Iv) of physics-reference §2 at phi_m(0.5), the law simple_shear reports as its ref:
+     * values of the digest's formula to 4 decimals (mu_c 0.3914 / 0.5691 / 1.0784 / 3.0238 at
+     * Iv 1e-3 / 1e-2 / 0.1 / 1; the README's results table quotes 0.569 at 1e-2) */
+    const double mu_iv[4][2] = {{1e-3, 0.3914}, {1e-2, 0.5691}, {0.1, 1.0784}, {1.0, 3.0238}};
+    for (int i = 0; i < 4; ++i) {
+        char mu_name[64];
+        snprintf(mu_name, sizeof mu_name, "G.mu_Iv%g", mu_iv[i][0]);
+        check_near(mu_name, lub_dem_mu(mu_iv[i][0], phim), mu_iv[i][1], 5e-5);
+    }
     lub_m4_laws L = lub_m4_laws_thesis();
     char name[96];
     for (int i = 0; i < 7; ++i) {
