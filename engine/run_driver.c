@@ -319,47 +319,73 @@ static const char *status_of(int rc)
     }
 }
 
-int lub_run_spec(const lub_run_request *req)
-{
-    json_t *resolved = parse_and_resolve(req->spec_text, req->diag, req->json_errors);
-    if (!resolved)
-        return LUB_EXIT_BAD_SPEC; /* nothing created */
-    const lub_scene *scene = lub_scene_find(json_string_value(json_object_get(resolved, "scene")));
+/* ------------------------------------------------------------------------------------------ */
+/* One run, in phases over one state (lub_run_spec at the end orchestrates them). */
 
-    if (mkdir_p(req->out_dir) != 0) {
-        fprintf(req->diag, "error: cannot create output folder %s: %s\n", req->out_dir,
-                strerror(errno));
-        json_decref(resolved);
-        return LUB_EXIT_IO;
-    }
-    char h5_tmp[4200], h5_dst[4200], errbuf[256], ckpt_tmp[4200], ckpt_dst[4200];
-    char copy_tmp[4200], copy_dst[4200], resume_result[4200];
-    snprintf(h5_tmp, sizeof h5_tmp, "%s/.result.h5.tmp", req->out_dir);
-    snprintf(h5_dst, sizeof h5_dst, "%s/result.h5", req->out_dir);
-    snprintf(ckpt_tmp, sizeof ckpt_tmp, "%s/.checkpoint.h5.tmp", req->out_dir);
-    snprintf(ckpt_dst, sizeof ckpt_dst, "%s/checkpoint.h5", req->out_dir);
-    snprintf(copy_tmp, sizeof copy_tmp, "%s/.%s.tmp", req->out_dir, LUB_PERIODIC_OUTPUT);
-    snprintf(copy_dst, sizeof copy_dst, "%s/%s", req->out_dir, LUB_PERIODIC_OUTPUT);
-    const int had_checkpoint = access(ckpt_dst, F_OK) == 0;
-    const int resuming = req->resume && had_checkpoint && scene->resumable;
-    if (resuming) { /* before anything is written: the old files stay as they are on refusal */
-        char why[2 * sizeof ckpt_dst + 1024]; /* two paths and the spec members that differ */
-        char at[256];                         /* the first member that differs, if any */
-        if (check_resume(ckpt_dst, req->out_dir, resolved, scene->resume_may_differ, resume_result,
-                         sizeof resume_result, why, sizeof why, at, sizeof at)) {
-            char line[sizeof why + sizeof ckpt_dst + 64];
-            snprintf(line, sizeof line, "--resume: cannot continue from %s: %s", ckpt_dst, why);
+#define RUN_PATH_LEN 4200
+
+typedef struct {
+    const lub_run_request *req;
+    const lub_scene *scene;
+    json_t *resolved;
+    /* the files in DIR: result.h5 and checkpoint.h5 are written under a temporary name and
+     * renamed; copy_*: the periodic checkpoint's copy of result.h5 */
+    char h5_tmp[RUN_PATH_LEN], h5_dst[RUN_PATH_LEN], ckpt_tmp[RUN_PATH_LEN], ckpt_dst[RUN_PATH_LEN],
+        copy_tmp[RUN_PATH_LEN], copy_dst[RUN_PATH_LEN];
+    char resume_result[RUN_PATH_LEN]; /* the stopped run's file with the rows (check_resume) */
+    int resuming;                     /* continues the checkpoint in DIR */
+    lub_h5 *h5;
+    lub_progress progress;
+    lub_periodic_ckpt periodic;
+    lub_run_ctx ctx;
+    int threads_requested, processors;
+    int rc;                  /* the exit code so far */
+    double wall;             /* the scene's wall time, s */
+    const char *stop_advice; /* a stopped run's --resume advice, added if its checkpoint is kept */
+    int h5_failed, h5_room;  /* result.h5 lost; the loss is one of room, not of its name */
+    char h5_reason[400];
+    int renamed;         /* result.h5 took its name */
+    int checkpoint_kept; /* a checkpoint.h5 in DIR continues this run */
+} run_state;
+
+/* The files' paths in DIR. */
+static void run_paths(run_state *s)
+{
+    const char *dir = s->req->out_dir;
+    snprintf(s->h5_tmp, sizeof s->h5_tmp, "%s/.result.h5.tmp", dir);
+    snprintf(s->h5_dst, sizeof s->h5_dst, "%s/result.h5", dir);
+    snprintf(s->ckpt_tmp, sizeof s->ckpt_tmp, "%s/.checkpoint.h5.tmp", dir);
+    snprintf(s->ckpt_dst, sizeof s->ckpt_dst, "%s/checkpoint.h5", dir);
+    snprintf(s->copy_tmp, sizeof s->copy_tmp, "%s/.%s.tmp", dir, LUB_PERIODIC_OUTPUT);
+    snprintf(s->copy_dst, sizeof s->copy_dst, "%s/%s", dir, LUB_PERIODIC_OUTPUT);
+}
+
+/* What a checkpoint already in DIR means for this run: continued (--resume, its scene), a
+ * refusal (--resume: it does not fit, or is another scene's), or replaced (with a note). Runs
+ * before anything is written: the old files stay as they are on refusal. LUB_EXIT_OK, or
+ * LUB_EXIT_BAD_SPEC with the refusal reported. */
+static int run_check_checkpoint(run_state *s)
+{
+    const lub_run_request *req = s->req;
+    const int had_checkpoint = access(s->ckpt_dst, F_OK) == 0;
+    s->resuming = req->resume && had_checkpoint && s->scene->resumable;
+    if (s->resuming) {
+        char why[2 * RUN_PATH_LEN + 1024]; /* two paths and the spec members that differ */
+        char at[256];                      /* the first member that differs, if any */
+        if (check_resume(s->ckpt_dst, req->out_dir, s->resolved, s->scene->resume_may_differ,
+                         s->resume_result, sizeof s->resume_result, why, sizeof why, at,
+                         sizeof at)) {
+            char line[sizeof why + RUN_PATH_LEN + 64];
+            snprintf(line, sizeof line, "--resume: cannot continue from %s: %s", s->ckpt_dst, why);
             report_refusal(req->diag, req->json_errors, at, line, line);
-            json_decref(resolved);
             return LUB_EXIT_BAD_SPEC;
         }
     } else if (req->resume && had_checkpoint) { /* another scene's checkpoint: left as it is */
-        char why[sizeof ckpt_dst + 1024];
-        other_scene_refusal(ckpt_dst, scene, why, sizeof why);
-        char line[sizeof why + sizeof ckpt_dst + 64];
-        snprintf(line, sizeof line, "--resume: cannot continue from %s: %s", ckpt_dst, why);
+        char why[RUN_PATH_LEN + 1024];
+        other_scene_refusal(s->ckpt_dst, s->scene, why, sizeof why);
+        char line[sizeof why + RUN_PATH_LEN + 64];
+        snprintf(line, sizeof line, "--resume: cannot continue from %s: %s", s->ckpt_dst, why);
         report_refusal(req->diag, req->json_errors, "/scene", line, line);
-        json_decref(resolved);
         return LUB_EXIT_BAD_SPEC;
     } else if (req->resume && req->progress) {
         fprintf(req->progress,
@@ -371,115 +397,127 @@ int lub_run_spec(const lub_run_request *req)
                 "replaces it (lubdem run --resume continues it)\n",
                 req->out_dir);
     }
-    lub_h5 *h5 = lub_h5_create(h5_tmp, errbuf, sizeof errbuf);
-    if (!h5) {
-        fprintf(req->diag, "error: %s\n", errbuf);
-        json_decref(resolved);
-        return LUB_EXIT_IO;
-    }
+    return LUB_EXIT_OK;
+}
 
-    lub_progress progress;
-    lub_progress_init(&progress, req->progress, 0.5);
-    lub_run_ctx ctx;
-    memset(&ctx, 0, sizeof ctx);
-    ctx.out = h5;
-    ctx.progress = &progress;
-    ctx.stop_requested = req->stop_requested;
-    ctx.summary_results = json_object();
-    ctx.summary_extra = json_object();
-    if (scene->resumable) {
-        ctx.checkpoint_path = ckpt_tmp;
-        ctx.checkpoint_always = req->keep_checkpoint;
+/* The scene's context: output file, progress, stop flag, checkpoints, threads. */
+static void run_context_init(run_state *s)
+{
+    const lub_run_request *req = s->req;
+    lub_run_ctx *ctx = &s->ctx;
+    lub_progress_init(&s->progress, req->progress, 0.5);
+    memset(ctx, 0, sizeof *ctx);
+    ctx->out = s->h5;
+    ctx->progress = &s->progress;
+    ctx->stop_requested = req->stop_requested;
+    ctx->summary_results = json_object();
+    ctx->summary_extra = json_object();
+    if (s->scene->resumable) {
+        ctx->checkpoint_path = s->ckpt_tmp;
+        ctx->checkpoint_always = req->keep_checkpoint;
     }
-    if (resuming) {
-        ctx.resume_path = ckpt_dst;
-        ctx.resume_result = resume_result;
+    if (s->resuming) {
+        ctx->resume_path = s->ckpt_dst;
+        ctx->resume_result = s->resume_result;
     }
-    lub_periodic_ckpt periodic;
-    if (scene->resumable && req->checkpoint_every_s > 0.0) {
-        lub_periodic_init(&periodic, req->checkpoint_every_s, h5_tmp, copy_tmp, copy_dst, ckpt_tmp,
-                          ckpt_dst);
-        ctx.periodic = &periodic;
+    if (s->scene->resumable && req->checkpoint_every_s > 0.0) {
+        lub_periodic_init(&s->periodic, req->checkpoint_every_s, s->h5_tmp, s->copy_tmp,
+                          s->copy_dst, s->ckpt_tmp, s->ckpt_dst);
+        ctx->periodic = &s->periodic;
     }
     /* more threads than processors only slow a run down (every OpenMP barrier waits for a
      * thread that is not running: on 2 processors: 1.6 s with 2 threads, 51 s with 256) */
-    const int threads_requested = req->threads > 0 ? req->threads : 1;
-    const int processors = lub_processors_available();
-    ctx.threads = lub_threads_usable(threads_requested);
+    s->threads_requested = req->threads > 0 ? req->threads : 1;
+    s->processors = lub_processors_available();
+    ctx->threads = lub_threads_usable(s->threads_requested);
+}
 
-    double t0 = lub_wall_seconds();
-    int rc = fits_in_memory(scene, resolved, &ctx) ? scene->run(resolved, &ctx) : LUB_EXIT_INTERNAL;
-    double wall = lub_wall_seconds() - t0;
-    /* A refused continuation, or one that failed before it took up the stopped run (the
-     * memory check, say), ran nothing: the stopped run's files stay as they were (its
-     * checkpoint still continues it), and nothing new is kept. */
+/* A refused continuation, or one that failed before it took up the stopped run (the memory
+ * check, say), ran nothing: the stopped run's files stay as they were (its checkpoint still
+ * continues it), and nothing new is kept. 1 (reported, s->rc the exit code) when the run is
+ * one of those. */
+static int run_not_begun(run_state *s)
+{
+    const lub_run_request *req = s->req;
+    lub_run_ctx *ctx = &s->ctx;
     const int not_begun =
-        resuming && !ctx.resume_begun && rc != LUB_EXIT_OK && rc != LUB_EXIT_INTERRUPTED;
-    if (ctx.resume_rejected || not_begun) {
-        lub_h5_finish(h5, "failed", NULL, 0);
-        unlink(h5_tmp);
-        unlink(ckpt_tmp);
-        if (ctx.resume_rejected) { /* "cannot continue from DIR/checkpoint.h5: [/member: ]..." */
-            char line[sizeof ctx.diagnostic + 16], prefix[sizeof ckpt_dst + 32], at[256] = "";
-            snprintf(line, sizeof line, "--resume: %s", ctx.diagnostic);
-            snprintf(prefix, sizeof prefix, "cannot continue from %s: ", ckpt_dst);
-            if (strncmp(ctx.diagnostic, prefix, strlen(prefix)) == 0)
-                leading_pointer(ctx.diagnostic + strlen(prefix), at, sizeof at);
-            report_refusal(req->diag, req->json_errors, at, line, line);
-        } else { /* a spec refusal only the run makes keeps its pointer under --json-errors */
-            char line[sizeof ctx.diagnostic + 4400], at[256] = "";
-            snprintf(line, sizeof line,
-                     "--resume: %s; the stopped run's files in %s are left as they were "
-                     "(--resume continues from them)",
-                     ctx.diagnostic, req->out_dir);
-            if (rc == LUB_EXIT_BAD_SPEC)
-                leading_pointer(ctx.diagnostic, at, sizeof at);
-            if (rc == LUB_EXIT_BAD_SPEC && req->json_errors)
-                report_refusal(req->diag, 1, at, line, line);
-            else
-                fprintf(req->diag, "error: %s\n", line);
-        }
-        json_decref(ctx.summary_results);
-        json_decref(ctx.summary_extra);
-        json_decref(resolved);
-        return ctx.resume_rejected ? LUB_EXIT_BAD_SPEC : rc;
+        s->resuming && !ctx->resume_begun && s->rc != LUB_EXIT_OK && s->rc != LUB_EXIT_INTERRUPTED;
+    if (!(ctx->resume_rejected || not_begun))
+        return 0;
+    lub_h5_finish(s->h5, "failed", NULL, 0);
+    unlink(s->h5_tmp);
+    unlink(s->ckpt_tmp);
+    if (ctx->resume_rejected) { /* "cannot continue from DIR/checkpoint.h5: [/member: ]..." */
+        char line[sizeof ctx->diagnostic + 16], prefix[RUN_PATH_LEN + 32], at[256] = "";
+        snprintf(line, sizeof line, "--resume: %s", ctx->diagnostic);
+        snprintf(prefix, sizeof prefix, "cannot continue from %s: ", s->ckpt_dst);
+        if (strncmp(ctx->diagnostic, prefix, strlen(prefix)) == 0)
+            leading_pointer(ctx->diagnostic + strlen(prefix), at, sizeof at);
+        report_refusal(req->diag, req->json_errors, at, line, line);
+        s->rc = LUB_EXIT_BAD_SPEC;
+    } else { /* a spec refusal only the run makes keeps its pointer under --json-errors */
+        char line[sizeof ctx->diagnostic + 4400], at[256] = "";
+        snprintf(line, sizeof line,
+                 "--resume: %s; the stopped run's files in %s are left as they were "
+                 "(--resume continues from them)",
+                 ctx->diagnostic, req->out_dir);
+        if (s->rc == LUB_EXIT_BAD_SPEC)
+            leading_pointer(ctx->diagnostic, at, sizeof at);
+        if (s->rc == LUB_EXIT_BAD_SPEC && req->json_errors)
+            report_refusal(req->diag, 1, at, line, line);
+        else
+            fprintf(req->diag, "error: %s\n", line);
     }
-    /* A stop request that came after the scene's last step does not make the run partial: it
-     * completed (every scene that can stop early returns LUB_EXIT_INTERRUPTED when it did). */
-    /* why a stopped run stopped (the --resume advice and the note on stderr follow once the
-     * checkpoint is known to be kept, below) */
-    const char *stop_advice = NULL;
-    if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested == SIGXCPU) {
-        const size_t used = strlen(ctx.diagnostic);
-        snprintf(ctx.diagnostic + used, sizeof ctx.diagnostic - used,
+    return 1;
+}
+
+/* Why a stopped run stopped, into the diagnostic; the --resume advice (s->stop_advice) and
+ * the note on stderr follow once the checkpoint is known to be kept (run_report_stop). A stop
+ * request that came after the scene's last step does not make the run partial: it completed
+ * (every scene that can stop early returns LUB_EXIT_INTERRUPTED when it did). */
+static void run_stop_reason(run_state *s)
+{
+    const lub_run_request *req = s->req;
+    lub_run_ctx *ctx = &s->ctx;
+    if (s->rc != LUB_EXIT_INTERRUPTED || !req->stop_requested || !*req->stop_requested)
+        return;
+    if (*req->stop_requested == SIGXCPU) {
+        const size_t used = strlen(ctx->diagnostic);
+        snprintf(ctx->diagnostic + used, sizeof ctx->diagnostic - used,
                  "%sstopped at the CPU time limit of this process (SIGXCPU: ulimit -t, lubdemd "
                  "--cpu-s): the results are those of the steps done",
                  used ? "; " : "");
-        stop_advice = "; lubdem run --resume with a higher limit continues the run";
-    } else if (rc == LUB_EXIT_INTERRUPTED && req->stop_requested && *req->stop_requested) {
-        /* SIGTERM, SIGINT: said in the summary too (until 2026-12-06 only its status said it);
-         * a scene that says why itself ("stopped while generating the packing") keeps its
-         * words, which go to stderr too (they did not until 2026-12-06) */
-        const int sig = (int)*req->stop_requested;
-        if (!ctx.diagnostic[0])
-            snprintf(ctx.diagnostic, sizeof ctx.diagnostic,
-                     "stopped by a signal (%s): the results are those of the steps done",
-                     sig == SIGTERM  ? "SIGTERM"
-                     : sig == SIGINT ? "SIGINT"
-                                     : "a stop request");
-        stop_advice = "; lubdem run --resume continues the run";
+        s->stop_advice = "; lubdem run --resume with a higher limit continues the run";
+        return;
     }
-    if (ctx.threads < threads_requested) {
+    /* SIGTERM, SIGINT: said in the summary too (until 2026-12-06 only its status said it); a
+     * scene that says why itself ("stopped while generating the packing") keeps its words,
+     * which go to stderr too (they did not until 2026-12-06) */
+    const int sig = (int)*req->stop_requested;
+    if (!ctx->diagnostic[0])
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "stopped by a signal (%s): the results are those of the steps done",
+                 sig == SIGTERM  ? "SIGTERM"
+                 : sig == SIGINT ? "SIGINT"
+                                 : "a stop request");
+    s->stop_advice = "; lubdem run --resume continues the run";
+}
+
+/* The driver's warnings: fewer threads than asked for, particle snapshots not written. */
+static void run_driver_warnings(run_state *s)
+{
+    lub_run_ctx *ctx = &s->ctx;
+    if (ctx->threads < s->threads_requested) {
         char text[256];
         snprintf(text, sizeof text,
                  "--threads %d asked for more threads than the %d processor%s this process may "
                  "run on; the run used %d (more threads would only slow it down)",
-                 threads_requested, processors, processors == 1 ? "" : "s", ctx.threads);
-        append_warning(&ctx, text);
+                 s->threads_requested, s->processors, s->processors == 1 ? "" : "s", ctx->threads);
+        append_warning(ctx, text);
     }
     char why[256];
     int64_t first_skipped = 0;
-    const int64_t skipped = lub_h5_snapshots_skipped(h5, &first_skipped, why, sizeof why);
+    const int64_t skipped = lub_h5_snapshots_skipped(s->h5, &first_skipped, why, sizeof why);
     if (skipped > 0) {
         char text[512];
         snprintf(text, sizeof text,
@@ -487,130 +525,132 @@ int lub_run_spec(const lub_run_request *req)
                  "outputs are not affected; lower /snapshots (or run with more room)",
                  (long long)skipped, skipped == 1 ? "" : "s", (long long)first_skipped,
                  skipped == 1 ? "was" : "were", why);
-        append_warning(&ctx, text);
+        append_warning(ctx, text);
     }
+}
 
-    /* result.h5: parameters, status, close, rename; on failure it is removed (which frees its
-     * space for the summary) and the run's results still go to summary.json */
-    char *resolved_text = lub_json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS);
-    json_t *units = json_object_get(ctx.summary_extra, "units");
+/* result.h5: parameters, status, close, sync, rename; s->h5_failed (with its reason and
+ * whether it was room) when any of them failed; s->h5 is freed. */
+static void run_finish_result_h5(run_state *s)
+{
+    char *resolved_text = lub_json_dumps(s->resolved, JSON_INDENT(2) | JSON_SORT_KEYS);
+    json_t *units = json_object_get(s->ctx.summary_extra, "units");
     char *units_text = units ? json_dumps(units, JSON_COMPACT | JSON_SORT_KEYS) : NULL;
     const int params_failed =
-        lub_h5_write_parameters(h5, req->spec_text, resolved_text, units_text) != 0;
+        lub_h5_write_parameters(s->h5, s->req->spec_text, resolved_text, units_text) != 0;
     char params_reason[256] = ""; /* lub_h5_finish frees h5 and its last error */
     if (params_failed)
-        snprintf(params_reason, sizeof params_reason, "%s", lub_h5_last_error(h5));
-    char h5_reason[400];
-    int h5_failed = lub_h5_finish(h5, status_of(rc), h5_reason, sizeof h5_reason) != 0;
-    if (params_failed && !h5_failed) {
-        h5_failed = 1;
-        snprintf(h5_reason, sizeof h5_reason, "%s", params_reason);
+        snprintf(params_reason, sizeof params_reason, "%s", lub_h5_last_error(s->h5));
+    s->h5_failed = lub_h5_finish(s->h5, status_of(s->rc), s->h5_reason, sizeof s->h5_reason) != 0;
+    s->h5 = NULL;
+    if (params_failed && !s->h5_failed) {
+        s->h5_failed = 1;
+        snprintf(s->h5_reason, sizeof s->h5_reason, "%s", params_reason);
     }
     free(resolved_text);
     free(units_text);
-    if (!h5_failed && sync_file(h5_tmp) != 0) {
-        h5_failed = 1;
-        snprintf(h5_reason, sizeof h5_reason, "%s (putting it on disk)", strerror(errno));
+    if (!s->h5_failed && sync_file(s->h5_tmp) != 0) {
+        s->h5_failed = 1;
+        snprintf(s->h5_reason, sizeof s->h5_reason, "%s (putting it on disk)", strerror(errno));
     }
-    int h5_room = 1; /* the loss is one of room (disk, file-size limit), not of its name */
-    if (!h5_failed && rename(h5_tmp, h5_dst) != 0) {
-        h5_failed = 1;
-        h5_room = lub_h5_output_failure(errno);
-        snprintf(h5_reason, sizeof h5_reason, "%s", strerror(errno));
+    s->h5_room = 1;
+    if (!s->h5_failed && rename(s->h5_tmp, s->h5_dst) != 0) {
+        s->h5_failed = 1;
+        s->h5_room = lub_h5_output_failure(errno);
+        snprintf(s->h5_reason, sizeof s->h5_reason, "%s", strerror(errno));
     }
-    const int renamed = !h5_failed;
-    /* checkpoint.h5 goes with the result.h5 just renamed: a new one replaces the old (and a
-     * periodic one's copy of result.h5); a run that ends otherwise removes the old one and its
-     * copy (its result.h5 has been replaced), except a run stopped without a new one that was
-     * continued or took periodic checkpoints (the last checkpoint and the file with its rows
-     * still go together) */
-    int checkpoint_kept = 0;
-    if (ctx.checkpoint_written && renamed && sync_file(ckpt_tmp) == 0 &&
-        rename(ckpt_tmp, ckpt_dst) == 0) {
-        checkpoint_kept = 1;
-        unlink(copy_dst);
+    s->renamed = !s->h5_failed;
+}
+
+/* checkpoint.h5 goes with the result.h5 just renamed: a new one replaces the old (and a
+ * periodic one's copy of result.h5); a run that ends otherwise removes the old one and its
+ * copy (its result.h5 has been replaced), except a run stopped without a new one that was
+ * continued or took periodic checkpoints (the last checkpoint and the file with its rows
+ * still go together). Sets s->checkpoint_kept. */
+static void run_settle_checkpoint(run_state *s)
+{
+    lub_run_ctx *ctx = &s->ctx;
+    if (ctx->checkpoint_written && s->renamed && sync_file(s->ckpt_tmp) == 0 &&
+        rename(s->ckpt_tmp, s->ckpt_dst) == 0) {
+        s->checkpoint_kept = 1;
+        unlink(s->copy_dst);
+        return;
+    }
+    const char *reason = s->renamed ? strerror(errno) : "result.h5 could not be written";
+    /* The checkpoint this run continued from, or the last periodic one, still goes with the
+     * file holding its rows when the run was stopped, or when it lost its result.h5: --resume
+     * continues from it once the run has room. */
+    const int periodic_taken = ctx->periodic && ctx->periodic->written > 0;
+    if ((s->rc == LUB_EXIT_INTERRUPTED || s->h5_failed) && (s->resuming || periodic_taken)) {
+        s->checkpoint_kept = access(s->ckpt_dst, F_OK) == 0;
     } else {
-        const char *reason = renamed ? strerror(errno) : "result.h5 could not be written";
-        /* The checkpoint this run continued from, or the last periodic one, still goes with
-         * the file holding its rows when the run was stopped, or when it lost its result.h5:
-         * --resume continues from it once the run has room. */
-        const int periodic_taken = ctx.periodic && ctx.periodic->written > 0;
-        if ((rc == LUB_EXIT_INTERRUPTED || h5_failed) && (resuming || periodic_taken)) {
-            checkpoint_kept = access(ckpt_dst, F_OK) == 0;
-        } else {
-            unlink(ckpt_dst);
-            unlink(copy_dst);
-        }
-        char text[600] = "";
-        const char *then = checkpoint_kept ? "--resume continues from the last one kept"
-                                           : "--resume will start this run afresh";
-        if (ctx.checkpoint_written)
-            snprintf(text, sizeof text, "no checkpoint was kept (%s): %s", reason, then);
-        else if (ctx.checkpoint_failure[0])
-            snprintf(text, sizeof text, "no checkpoint was written (%s): %s",
-                     ctx.checkpoint_failure, then);
-        unlink(ckpt_tmp);
-        if (text[0])
-            append_warning(&ctx, text);
-        /* the scene advised --resume before the checkpoint was lost (until 2026-12-06 both
-         * pieces of advice stood side by side) */
-        if (!checkpoint_kept)
-            lub_run_withdraw_resume_advice(ctx.summary_extra);
+        unlink(s->ckpt_dst);
+        unlink(s->copy_dst);
     }
-    if (stop_advice) { /* the diagnostic of a stopped run advises --resume only if it can */
-        if (checkpoint_kept) {
-            const size_t used = strlen(ctx.diagnostic);
-            snprintf(ctx.diagnostic + used, sizeof ctx.diagnostic - used, "%s", stop_advice);
+    char text[600] = "";
+    const char *then = s->checkpoint_kept ? "--resume continues from the last one kept"
+                                          : "--resume will start this run afresh";
+    if (ctx->checkpoint_written)
+        snprintf(text, sizeof text, "no checkpoint was kept (%s): %s", reason, then);
+    else if (ctx->checkpoint_failure[0])
+        snprintf(text, sizeof text, "no checkpoint was written (%s): %s", ctx->checkpoint_failure,
+                 then);
+    unlink(s->ckpt_tmp);
+    if (text[0])
+        append_warning(ctx, text);
+    /* the scene advised --resume before the checkpoint was lost (until 2026-12-06 both pieces
+     * of advice stood side by side) */
+    if (!s->checkpoint_kept)
+        lub_run_withdraw_resume_advice(ctx->summary_extra);
+}
+
+/* A stopped run's note on stderr (advising --resume only if it can), and a failed periodic
+ * checkpoint's warning. */
+static void run_report_stop(run_state *s)
+{
+    lub_run_ctx *ctx = &s->ctx;
+    if (s->stop_advice) {
+        if (s->checkpoint_kept) {
+            const size_t used = strlen(ctx->diagnostic);
+            snprintf(ctx->diagnostic + used, sizeof ctx->diagnostic - used, "%s", s->stop_advice);
         }
-        fprintf(req->diag, "note: %s\n", ctx.diagnostic);
+        fprintf(s->req->diag, "note: %s\n", ctx->diagnostic);
     }
-    if (ctx.periodic) {
-        unlink(copy_tmp);
-        if (ctx.periodic->failure[0]) {
+    if (ctx->periodic) {
+        unlink(s->copy_tmp);
+        if (ctx->periodic->failure[0]) {
             char text[600];
             snprintf(text, sizeof text,
                      "a periodic checkpoint failed (%s); the run went on, with the last one "
                      "taken (%ld in all)",
-                     ctx.periodic->failure, ctx.periodic->written);
-            append_warning(&ctx, text);
+                     ctx->periodic->failure, ctx->periodic->written);
+            append_warning(ctx, text);
         }
     }
-    const int scene_rc = rc; /* what the scene said, before the loss of result.h5 is added */
-    char scene_diagnostic[sizeof ctx.diagnostic];
-    memcpy(scene_diagnostic, ctx.diagnostic, sizeof scene_diagnostic);
-    if (h5_failed) {
-        unlink(h5_tmp);
-        /* an older result.h5 in DIR is not this run's (a stale one beside this run's summary
-         * was taken for its file), unless it holds the rows of the checkpoint kept */
-        const int rows_in_result =
-            checkpoint_kept && resuming && strcmp(resume_result, h5_dst) == 0;
-        if (!rows_in_result)
-            unlink(h5_dst);
-        report_result_h5_lost(&ctx, &rc, req->out_dir, h5_reason, h5_room, resolved,
-                              checkpoint_kept);
-    }
+}
 
-    /* the last progress line: 1 only for a run that completed (a failed run's said 1) */
-    lub_progress_end(&progress, rc == LUB_EXIT_OK);
-
-    /* summary: fixed members, then whatever the scene added (active_terms, units, ...) */
+/* summary.json: fixed members, then whatever the scene added (active_terms, units, ...);
+ * results at 10 significant digits, the spec exact. 0, or -1 with *failed_errno. */
+static int run_write_summary(run_state *s, int *failed_errno)
+{
+    lub_run_ctx *ctx = &s->ctx;
     json_t *summary = json_object();
-    json_object_set_new(summary, "scene", json_string(scene->name));
-    json_object_set_new(summary, "status", json_string(status_of(rc)));
-    json_object_set_new(summary, "exit_code", json_integer(rc));
-    json_object_set(summary, "results", ctx.summary_results);
-    json_object_update(summary, ctx.summary_extra);
-    json_object_set_new(summary, "wall_time_s", json_real(wall));
-    json_object_set_new(summary, "threads", json_integer(ctx.threads));
-    json_object_set_new(summary, "threads_requested", json_integer(threads_requested));
-    if (resuming)
-        json_object_set_new(summary, "resumed_from_step", json_integer(ctx.resumed_from_step));
-    if (checkpoint_kept)
+    json_object_set_new(summary, "scene", json_string(s->scene->name));
+    json_object_set_new(summary, "status", json_string(status_of(s->rc)));
+    json_object_set_new(summary, "exit_code", json_integer(s->rc));
+    json_object_set(summary, "results", ctx->summary_results);
+    json_object_update(summary, ctx->summary_extra);
+    json_object_set_new(summary, "wall_time_s", json_real(s->wall));
+    json_object_set_new(summary, "threads", json_integer(ctx->threads));
+    json_object_set_new(summary, "threads_requested", json_integer(s->threads_requested));
+    if (s->resuming)
+        json_object_set_new(summary, "resumed_from_step", json_integer(ctx->resumed_from_step));
+    if (s->checkpoint_kept)
         json_object_set_new(summary, "checkpoint", json_string("checkpoint.h5"));
-    if (ctx.periodic)
-        json_object_set_new(summary, "periodic_checkpoints", json_integer(ctx.periodic->written));
-    if (ctx.diagnostic[0])
-        json_object_set_new(summary, "diagnostic", json_string(ctx.diagnostic));
+    if (ctx->periodic)
+        json_object_set_new(summary, "periodic_checkpoints", json_integer(ctx->periodic->written));
+    if (ctx->diagnostic[0])
+        json_object_set_new(summary, "diagnostic", json_string(ctx->diagnostic));
     json_object_set_new(summary, "lubdem_version", json_string(lub_build_version()));
     json_object_set_new(summary, "git_commit", json_string(lub_build_git()));
     /* results at 10 significant digits; the spec exact, so that a continuation built from it
@@ -622,56 +662,156 @@ int lub_run_spec(const lub_run_request *req)
         summary = rounded;
         lub_json_round_reals(summary, 10);
     }
-    json_object_set(summary, "spec", resolved);
+    json_object_set(summary, "spec", s->resolved);
     char *text = lub_json_dumps(summary, JSON_INDENT(2));
     errno = 0;
-    const int summary_failed = write_file_atomic(req->out_dir, "summary.json", text) != 0;
-    const int summary_errno = errno;
-    sync_file(req->out_dir); /* the renames into DIR, on disk too (best effort) */
+    const int failed = write_file_atomic(s->req->out_dir, "summary.json", text) != 0;
+    *failed_errno = errno;
+    sync_file(s->req->out_dir); /* the renames into DIR, on disk too (best effort) */
     free(text);
+    json_decref(summary);
+    return failed ? -1 : 0;
+}
 
-    /* the scene's advisory warnings (summary "warnings"), one line each, for runs that did not
-     * fail: a failed run's last stderr line stays its error */
-    json_t *warnings = json_object_get(ctx.summary_extra, "warnings");
-    if (json_is_array(warnings) && (rc == LUB_EXIT_OK || rc == LUB_EXIT_INTERRUPTED)) {
-        size_t w;
-        json_t *wtext;
-        json_array_foreach (warnings, w, wtext) {
-            if (json_is_string(wtext))
-                fprintf(req->diag, "warning: %s\n", json_string_value(wtext));
-        }
+/* The scene's advisory warnings (summary "warnings") on stderr, one line each, for runs that
+ * did not fail: a failed run's last stderr line stays its error. */
+static void run_report_warnings(run_state *s)
+{
+    json_t *warnings = json_object_get(s->ctx.summary_extra, "warnings");
+    if (!json_is_array(warnings) || (s->rc != LUB_EXIT_OK && s->rc != LUB_EXIT_INTERRUPTED))
+        return;
+    size_t w;
+    json_t *wtext;
+    json_array_foreach (warnings, w, wtext) {
+        if (json_is_string(wtext))
+            fprintf(s->req->diag, "warning: %s\n", json_string_value(wtext));
     }
-    if (!summary_failed &&
-        (rc == LUB_EXIT_NUMERICAL || rc == LUB_EXIT_INTERNAL || rc == LUB_EXIT_IO))
+}
+
+/* stderr once the summary is written: the error of a failed run, or the refusal only the run
+ * could make. */
+static void run_report_outcome(run_state *s)
+{
+    const lub_run_request *req = s->req;
+    lub_run_ctx *ctx = &s->ctx;
+    if (s->rc == LUB_EXIT_NUMERICAL || s->rc == LUB_EXIT_INTERNAL || s->rc == LUB_EXIT_IO)
         fprintf(req->diag, "error: %s\n",
-                ctx.diagnostic[0] ? ctx.diagnostic : "the scene failed without a diagnostic");
-    if (!summary_failed && rc == LUB_EXIT_BAD_SPEC) { /* a refusal only the run could make */
-        const char *line = ctx.diagnostic[0] ? ctx.diagnostic : "refused";
+                ctx->diagnostic[0] ? ctx->diagnostic : "the scene failed without a diagnostic");
+    if (s->rc == LUB_EXIT_BAD_SPEC) { /* a refusal only the run could make */
+        const char *line = ctx->diagnostic[0] ? ctx->diagnostic : "refused";
         char pointer[256];
         const char *message = leading_pointer(line, pointer, sizeof pointer);
         report_refusal(req->diag, req->json_errors, pointer, message, line);
     }
-    if (summary_failed) { /* the diagnostic above would point to a summary that is not there */
-        if (scene_rc != LUB_EXIT_OK && scene_rc != LUB_EXIT_INTERRUPTED)
-            fprintf(req->diag, "error: %s\n",
-                    scene_diagnostic[0] ? scene_diagnostic
-                                        : "the scene failed without a diagnostic");
-        if (h5_failed)
-            fprintf(req->diag, "error: cannot write result.h5 in %s: %s\n", req->out_dir,
-                    h5_reason[0] ? h5_reason : "HDF5 error");
-        fprintf(req->diag, "error: cannot write the results in %s%s%s\n", req->out_dir,
-                summary_errno ? ": " : "", summary_errno ? strerror(summary_errno) : "");
-        if (renamed) { /* no result.h5 without its summary, no checkpoint without both */
-            unlink(h5_dst);
-            unlink(ckpt_dst);
-            unlink(copy_dst);
-        }
-        /* nothing is left to read: 4 whatever the run's own outcome was */
-        rc = LUB_EXIT_IO;
+}
+
+/* A summary that could not be written: the errors the summary would have held go to stderr,
+ * and no result.h5 or checkpoint stays without it. Exit 4 whatever the run's own outcome was:
+ * nothing is left to read. scene_rc, scene_diagnostic: the scene's own outcome, before the
+ * loss of result.h5 was added. */
+static void run_summary_lost(run_state *s, int summary_errno, int scene_rc,
+                             const char *scene_diagnostic)
+{
+    const lub_run_request *req = s->req;
+    if (scene_rc != LUB_EXIT_OK && scene_rc != LUB_EXIT_INTERRUPTED)
+        fprintf(req->diag, "error: %s\n",
+                scene_diagnostic[0] ? scene_diagnostic : "the scene failed without a diagnostic");
+    if (s->h5_failed)
+        fprintf(req->diag, "error: cannot write result.h5 in %s: %s\n", req->out_dir,
+                s->h5_reason[0] ? s->h5_reason : "HDF5 error");
+    fprintf(req->diag, "error: cannot write the results in %s%s%s\n", req->out_dir,
+            summary_errno ? ": " : "", summary_errno ? strerror(summary_errno) : "");
+    if (s->renamed) { /* no result.h5 without its summary, no checkpoint without both */
+        unlink(s->h5_dst);
+        unlink(s->ckpt_dst);
+        unlink(s->copy_dst);
     }
-    json_decref(summary);
-    json_decref(ctx.summary_results);
-    json_decref(ctx.summary_extra);
-    json_decref(resolved);
+    s->rc = LUB_EXIT_IO;
+}
+
+/* Everything after the scene's run: result.h5, the checkpoint, the summary, stderr. */
+static void run_conclude(run_state *s)
+{
+    lub_run_ctx *ctx = &s->ctx;
+    run_stop_reason(s);
+    run_driver_warnings(s);
+    /* on failure result.h5 is removed (which frees its space for the summary) and the run's
+     * results still go to summary.json */
+    run_finish_result_h5(s);
+    run_settle_checkpoint(s);
+    run_report_stop(s);
+    const int scene_rc = s->rc; /* what the scene said, before the loss of result.h5 is added */
+    char scene_diagnostic[sizeof ctx->diagnostic];
+    memcpy(scene_diagnostic, ctx->diagnostic, sizeof scene_diagnostic);
+    if (s->h5_failed) {
+        unlink(s->h5_tmp);
+        /* an older result.h5 in DIR is not this run's (a stale one beside this run's summary
+         * was taken for its file), unless it holds the rows of the checkpoint kept */
+        const int rows_in_result =
+            s->checkpoint_kept && s->resuming && strcmp(s->resume_result, s->h5_dst) == 0;
+        if (!rows_in_result)
+            unlink(s->h5_dst);
+        report_result_h5_lost(ctx, &s->rc, s->req->out_dir, s->h5_reason, s->h5_room, s->resolved,
+                              s->checkpoint_kept);
+    }
+    /* the last progress line: 1 only for a run that completed (a failed run's said 1) */
+    lub_progress_end(&s->progress, s->rc == LUB_EXIT_OK);
+    int summary_errno = 0;
+    const int summary_failed = run_write_summary(s, &summary_errno) != 0;
+    run_report_warnings(s);
+    if (!summary_failed)
+        run_report_outcome(s);
+    else
+        run_summary_lost(s, summary_errno, scene_rc, scene_diagnostic);
+}
+
+int lub_run_spec(const lub_run_request *req)
+{
+    run_state *s = calloc(1, sizeof *s);
+    if (!s) {
+        fprintf(req->diag, "error: out of memory\n");
+        return LUB_EXIT_INTERNAL;
+    }
+    s->req = req;
+    s->resolved = parse_and_resolve(req->spec_text, req->diag, req->json_errors);
+    if (!s->resolved) {
+        free(s);
+        return LUB_EXIT_BAD_SPEC; /* nothing created */
+    }
+    s->scene = lub_scene_find(json_string_value(json_object_get(s->resolved, "scene")));
+    if (mkdir_p(req->out_dir) != 0) {
+        fprintf(req->diag, "error: cannot create output folder %s: %s\n", req->out_dir,
+                strerror(errno));
+        s->rc = LUB_EXIT_IO;
+    } else {
+        run_paths(s);
+        s->rc = run_check_checkpoint(s);
+    }
+    if (s->rc == LUB_EXIT_OK) {
+        char errbuf[256];
+        s->h5 = lub_h5_create(s->h5_tmp, errbuf, sizeof errbuf);
+        if (!s->h5) {
+            fprintf(req->diag, "error: %s\n", errbuf);
+            s->rc = LUB_EXIT_IO;
+        }
+    }
+    if (s->rc != LUB_EXIT_OK) { /* refused or not started: nothing run, nothing written */
+        const int rc = s->rc;
+        json_decref(s->resolved);
+        free(s);
+        return rc;
+    }
+    run_context_init(s);
+    const double t0 = lub_wall_seconds();
+    s->rc = fits_in_memory(s->scene, s->resolved, &s->ctx) ? s->scene->run(s->resolved, &s->ctx)
+                                                           : LUB_EXIT_INTERNAL;
+    s->wall = lub_wall_seconds() - t0;
+    if (!run_not_begun(s))
+        run_conclude(s);
+    const int rc = s->rc;
+    json_decref(s->ctx.summary_results);
+    json_decref(s->ctx.summary_extra);
+    json_decref(s->resolved);
+    free(s);
     return rc;
 }
