@@ -1,0 +1,159 @@
+/* test_series.c — the steady-state statistics of a simple_shear run's series
+ * (simple_shear_series.h) on synthetic series whose answers are known: ratio observables are
+ * ratios of time averages (an exact proportion gives the ratio with no error), the stress parts
+ * are averaged over their total's window (they add up to it), Iv is gd/<P> in the stress unit,
+ * an imposed phi has no error while a free one has, a drifting headline is not steady, the
+ * /target_rel_error check stops on a small error and never on a zero mean, and the room of the
+ * series grows without losing samples. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "shear_test.h"
+#include "simple_shear_series.h"
+
+#define SAMPLES 600
+#define SAMPLE_STRAIN 0.02
+
+/* a deterministic noise in [-0.5, 0.5) (64-bit LCG) */
+static double noise(uint64_t *state)
+{
+    *state = *state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(*state >> 11) / 9007199254740992.0 - 0.5;
+}
+
+/* SAMPLES samples of a stationary suspension: P = 2 + noise, sigma_xy = mu P (exact), the
+ * stress parts 40 / 60 % of sigma_xy, eta_11 = 1.3 eta_22, eta_33 = 0.7 eta_22; phi = phi0 +
+ * phi_noise * noise; sxy_drift adds a linear rise of sigma_xy over the run */
+static void fill(lub_ss_series *ser, double mu, double phi0, double phi_noise, double sxy_drift)
+{
+    uint64_t rng = 12345;
+    ST_CHECK(lub_ss_series_reserve(ser, 16) == 0, "reserve");
+    for (int i = 0; i < SAMPLES; ++i) {
+        if (ser->n == ser->cap) /* grown while it fills: the samples held stay */
+            ST_CHECK(lub_ss_series_reserve(ser, 2 * ser->cap) == 0, "grow");
+        double v[SS_OBS_COUNT];
+        memset(v, 0, sizeof v);
+        const double P = 2.0 + noise(&rng);
+        const double sxy = mu * P + sxy_drift * i / SAMPLES;
+        const double e22 = P; /* gd = 1, s0 = 1 */
+        v[SS_OBS_PHI] = phi0 + phi_noise * noise(&rng);
+        v[SS_OBS_P] = P;
+        v[SS_OBS_MU] = sxy / P;
+        v[SS_OBS_ETA] = sxy;
+        v[SS_OBS_IV] = 1.0 / P;
+        v[SS_OBS_SXY] = sxy;
+        v[SS_OBS_ETA11] = 1.3 * e22;
+        v[SS_OBS_ETA22] = e22;
+        v[SS_OBS_ETA33] = 0.7 * e22;
+        v[SS_OBS_L1] = 1.3;
+        v[SS_OBS_L3] = 0.7;
+        v[SS_OBS_XY_NC] = 0.4 * sxy;
+        v[SS_OBS_XY_SC] = 0.6 * sxy;
+        ST_CHECK(lub_ss_series_append(ser, SAMPLE_STRAIN * i, v) == 0, "append %d", i);
+    }
+}
+
+int main(void)
+{
+    lub_ss_params p;
+    memset(&p, 0, sizeof p);
+    p.transient_strain = 1.0;
+    lub_ss_steady_stats st;
+
+    /* imposed volume, mu 0.6 */
+    lub_ss_series ser;
+    memset(&ser, 0, sizeof ser);
+    fill(&ser, 0.6, 0.5, 1e-15, 0.0); /* an imposed phi moves by round-off */
+    ST_CHECK(ser.n == SAMPLES && ser.strain[SAMPLES - 1] == SAMPLE_STRAIN * (SAMPLES - 1),
+             "samples kept while the room grew: %zu", ser.n);
+    lub_ss_series_statistics(&p, 1.0, 1.0, &ser, &st);
+    ST_CHECK(st.steady, "a stationary series is steady (drift z %g)", st.worst_drift_z);
+    ST_CHECK(ser.strain[st.start] >= p.transient_strain, "window from strain %g",
+             ser.strain[st.start]);
+    ST_CHECK(fabs(st.mean[SS_OBS_MU] - 0.6) < 1e-14 && st.sem[SS_OBS_MU] < 1e-14,
+             "mu = <sigma_xy>/<P> exactly: %.17g +- %g", st.mean[SS_OBS_MU], st.sem[SS_OBS_MU]);
+    ST_CHECK(fabs(st.mean[SS_OBS_L1] - 1.3) < 1e-14 && fabs(st.mean[SS_OBS_L3] - 0.7) < 1e-14,
+             "normal-stress ratios %.17g %.17g", st.mean[SS_OBS_L1], st.mean[SS_OBS_L3]);
+    ST_CHECK(fabs(st.mean[SS_OBS_IV] - 1.0 / st.mean[SS_OBS_P]) < 1e-15,
+             "Iv = gd/<P>: %.17g against %.17g (the mean of 1/P is %s)", st.mean[SS_OBS_IV],
+             1.0 / st.mean[SS_OBS_P], "larger");
+    ST_CHECK(fabs(st.mean[SS_OBS_XY_NC] + st.mean[SS_OBS_XY_SC] - st.mean[SS_OBS_SXY]) < 1e-14,
+             "the parts add up to sigma_xy: %.17g + %.17g against %.17g", st.mean[SS_OBS_XY_NC],
+             st.mean[SS_OBS_XY_SC], st.mean[SS_OBS_SXY]);
+    ST_CHECK(st.sem[SS_OBS_PHI] == 0.0, "an imposed phi has no error: %g", st.sem[SS_OBS_PHI]);
+    ST_CHECK(st.sem[SS_OBS_P] > 0.0 && isfinite(st.sem[SS_OBS_P]), "P has an error: %g",
+             st.sem[SS_OBS_P]);
+
+    /* the same in the units of an imposed pressure: gd = Iv = 0.01, s0 = 1 */
+    lub_ss_series_statistics(&p, 0.01, 1.0, &ser, &st);
+    ST_CHECK(fabs(st.mean[SS_OBS_IV] - 0.01 / st.mean[SS_OBS_P]) < 1e-15, "Iv = gd/(s0 <P>): %g",
+             st.mean[SS_OBS_IV]);
+
+    /* /target_rel_error: mu known exactly stops the run once the window is long enough */
+    p.target_rel_error = 0.02;
+    p.target_min_strain = 5.0;
+    int zero = -1;
+    p.pressure = 0; /* headline eta_r = sigma_xy/(eta gd): its error is not 0 */
+    const int eta_stop = lub_ss_target_reached(&p, &ser, &zero);
+    p.pressure = 1; /* headline mu */
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 1 && zero == 0,
+             "mu known to 0 %% stops (zero_mean %d)", zero);
+    p.target_min_strain = 100.0; /* longer than the window */
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0, "no stop on a window too short");
+    p.target_min_strain = 5.0;
+    p.target_rel_error = 1e-6;
+    p.pressure = 0;
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0 && eta_stop == 1,
+             "eta_r's error (about 1 %% of a noise of 30 %%) is above 1e-6 of it, below 2 %%");
+    lub_ss_series_free(&ser);
+
+    /* mu is <sigma_xy>/<P>, not the mean of the sampled ratios: sigma_xy with a noise of its
+     * own */
+    p.pressure = 1;
+    fill(&ser, 0.6, 0.55, 0.0, 0.0);
+    uint64_t rng = 777;
+    for (size_t i = 0; i < ser.n; ++i) {
+        ser.v[SS_OBS_SXY][i] += 0.3 * noise(&rng);
+        ser.v[SS_OBS_MU][i] = ser.v[SS_OBS_SXY][i] / ser.v[SS_OBS_P][i];
+    }
+    lub_ss_series_statistics(&p, 0.01, 1.0, &ser, &st);
+    double sum_sxy = 0.0, sum_p = 0.0, sum_ratio = 0.0;
+    for (size_t i = st.start; i < ser.n; ++i) {
+        sum_sxy += ser.v[SS_OBS_SXY][i];
+        sum_p += ser.v[SS_OBS_P][i];
+        sum_ratio += ser.v[SS_OBS_MU][i];
+    }
+    const double ratio_of_means = sum_sxy / sum_p;
+    const double mean_of_ratios = sum_ratio / (double)(ser.n - st.start);
+    ST_CHECK(fabs(st.mean[SS_OBS_MU] - ratio_of_means) < 1e-12 &&
+                 fabs(mean_of_ratios - ratio_of_means) > 1e-4,
+             "mu %.10g: <sigma_xy>/<P> %.10g, mean of the ratios %.10g", st.mean[SS_OBS_MU],
+             ratio_of_means, mean_of_ratios);
+    ST_CHECK(st.sem[SS_OBS_MU] > 0.0 && st.sem[SS_OBS_MU] < 0.01, "mu's error %g",
+             st.sem[SS_OBS_MU]);
+    lub_ss_series_free(&ser);
+
+    /* a free phi has an error; a rising sigma_xy is not steady */
+    p.pressure = 1;
+    p.target_rel_error = 0.5;
+    fill(&ser, 0.6, 0.55, 0.01, 0.0);
+    lub_ss_series_statistics(&p, 0.01, 1.0, &ser, &st);
+    ST_CHECK(st.sem[SS_OBS_PHI] > 1e-5 && st.sem[SS_OBS_PHI] < 1e-3,
+             "a free phi's error: %g (noise 0.01/sqrt(12), %d samples)", st.sem[SS_OBS_PHI],
+             SAMPLES);
+    lub_ss_series_free(&ser);
+    fill(&ser, 0.6, 0.55, 0.0, 1.0);
+    lub_ss_series_statistics(&p, 0.01, 1.0, &ser, &st);
+    ST_CHECK(!st.steady, "a drifting mu is not steady (drift z %g)", st.worst_drift_z);
+    lub_ss_series_free(&ser);
+
+    /* a headline of exactly 0 has no relative error: no stop, and it is said */
+    fill(&ser, 0.0, 0.55, 0.0, 0.0);
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0 && zero == 1,
+             "mu = 0 +- 0 does not stop (zero_mean %d)", zero);
+    lub_ss_series_free(&ser);
+    ST_CHECK(ser.v[0] == NULL && ser.cap == 0, "free leaves an empty series");
+    ST_DONE();
+}
