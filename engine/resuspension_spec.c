@@ -176,7 +176,9 @@ static int rs_check_width(const lub_rs_spec *p, lub_error *err)
                     r_floor > r_max ? " or /floor/radius" : "", p->width);
 }
 
-int lub_rs_spec_read(json_t *spec, lub_rs_spec *p, lub_error *err)
+/* The top-level members (objects aside), the orientation, the sample count and the averaging
+ * window. */
+static int rs_read_members(json_t *spec, lub_rs_spec *p, lub_error *err)
 {
     static const char *keys[] = {"scene",
                                  "n",
@@ -259,7 +261,12 @@ int lub_rs_spec_read(json_t *spec, lub_rs_spec *p, lub_error *err)
         return lub_fail(err, "/average_from",
                         "must be below /strain (%s) so that something is averaged (got %s)",
                         lub_real_text(p->strain, strain), lub_real_text(p->average_from, from));
+    return 0;
+}
 
+/* /dilute_drag: the Stokes drag on particles with few interactions. */
+static int rs_read_dilute_drag(json_t *spec, lub_rs_spec *p, lub_error *err)
+{
     json_t *dd = lub_spec_object(spec, "", "dilute_drag", err);
     if (!dd)
         return -1;
@@ -270,7 +277,12 @@ int lub_rs_spec_read(json_t *spec, lub_rs_spec *p, lub_error *err)
         lub_spec_integer(dd, "/dilute_drag", "max_interactions", -1, 1000, 1, 2, &p->dilute_max,
                          err))
         return -1;
+    return 0;
+}
 
+/* /floor: its spheres' radius and jitter, which must not let the smallest particle through. */
+static int rs_read_floor(json_t *spec, lub_rs_spec *p, lub_error *err)
+{
     json_t *fl = lub_spec_object(spec, "", "floor", err);
     if (!fl)
         return -1;
@@ -292,7 +304,12 @@ int lub_rs_spec_read(json_t *spec, lub_rs_spec *p, lub_error *err)
                         "passes a floor of radius %.4g with jitter %.4g, smallest particle "
                         "radius is %.4g a",
                         pass, p->floor_radius, p->floor_jitter, rmin);
+    return 0;
+}
 
+/* /analysis: the bulk selection and the law comparison of the statistics. */
+static int rs_read_analysis(json_t *spec, lub_rs_spec *p, lub_error *err)
+{
     json_t *an = lub_spec_object(spec, "", "analysis", err);
     if (!an)
         return -1;
@@ -313,7 +330,14 @@ int lub_rs_spec_read(json_t *spec, lub_rs_spec *p, lub_error *err)
         lub_spec_number(an, "/analysis", "phi_window", (lub_range){0.0, 100.0, 0, 0}, 1, 2.0,
                         &p->phi_window, err))
         return -1;
+    return 0;
+}
 
+int lub_rs_spec_read(json_t *spec, lub_rs_spec *p, lub_error *err)
+{
+    if (rs_read_members(spec, p, err) || rs_read_dilute_drag(spec, p, err) ||
+        rs_read_floor(spec, p, err) || rs_read_analysis(spec, p, err))
+        return -1;
     json_t *law = lub_spec_object(spec, "", "law", err);
     if (!law || lub_law_spec_resolve(law, "/law", &rs_law_opts, &p->law, err) ||
         lub_law_spec_check_cutoff(&p->law, "/law", p->cutoff, err))
