@@ -352,3 +352,17 @@ int lub_rs_spec_resolve(json_t *spec, lub_error *err)
     lub_rs_spec p;
     return lub_rs_spec_read(spec, &p, err);
 }
+
+lub_rs_scales lub_rs_spec_scales(const lub_rs_spec *p)
+{
+    lub_rs_scales s;
+    /* units: a = eta = gd = 1 */
+    s.a = 1.0;
+    s.eta = 1.0;
+    s.gd = 1.0;
+    s.gravity = s.a * s.gd * s.gd / (p->I * p->I);
+    s.drho = s.eta * s.gd / (p->Sh * s.gravity * s.a);
+    s.rho = p->density_ratio * s.drho;
+    s.stokes = s.rho * s.gd * s.a * s.a / s.eta;
+    return s;
+}

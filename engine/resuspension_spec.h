@@ -6,7 +6,8 @@
  *
  * Units (dimensionless): length a (mean radius), viscosity eta, time 1/gd; the members are the
  * scene's dimensionless groups (Shields number Sh, inertial number I, density ratio, contact
- * stiffness g_bulk/(eta gd a); README, Scene `resuspension`).
+ * stiffness g_bulk/(eta gd a); README, Scene `resuspension`). lub_rs_spec_scales gives what
+ * they make of gravity, densities and the Stokes number with a = eta = gd = 1.
  * Ownership: lub_rs_spec_read fills a caller-owned struct and keeps no reference to the JSON;
  * it writes defaults and the normalised /pair_network into the spec it is given (as every
  * scene's reader does: the resolved spec states every member). No global state.
@@ -32,12 +33,22 @@ typedef struct {
     lub_law_spec law;
 } lub_rs_spec;
 
+/* The run's scales: units a = eta = gd = 1 and what the spec's groups make of the gravity g =
+ * 1/I^2, the buoyant density difference drho = I^2/Sh, the particle density rho = density_ratio
+ * drho and the particle Stokes number St = rho gd a^2/eta = density_ratio I^2/Sh. */
+typedef struct {
+    double a, eta, gd;
+    double gravity, drho, rho, stokes;
+} lub_rs_scales;
+
 /* Reads every member of spec (the scene's resolve and run), defaults written in, and checks the
  * rules above: 0 or -1 with err. */
 int lub_rs_spec_read(json_t *spec, lub_rs_spec *p, lub_error *err);
 
 /* The scene's resolve (scene.h): lub_rs_spec_read into a struct that is thrown away. */
 int lub_rs_spec_resolve(json_t *spec, lub_error *err);
+
+lub_rs_scales lub_rs_spec_scales(const lub_rs_spec *p);
 
 /* The elastic bound of a particle of radius r (the run takes the lightest particle's), from
  * the spec: m = (4/3) pi r^3 rho, rho = density_ratio drho, drho = I^2/Sh, g = stiffness,

@@ -26,8 +26,14 @@
  * bulk points eta_ii(phi) after lub_profile_select_bulk, phi averaged over analysis.phi_window
  * (default 2 a, one diameter: lub_profile_coarse_grain) so that the layering next to the floor
  * does not bias them, and the seed's laws (eq. 9; for the vorticity orientation eta_33 =
- * lambda_33 eta_22 with eq. 8) at that averaged phi for comparison.
+ * lambda_33 eta_22 with eq. 8) at that averaged phi for comparison (resuspension_statistics.h;
+ * written by resuspension_summary.h).
  * y in all outputs is measured from the floor centre plane.
+ *
+ * The run (rs_run) goes through its phases with one rs_run_state: the spec
+ * (resuspension_spec.h), the bed on its floor, the system and its step, the sample buffers, the
+ * outputs, the continuation of a stopped run, the time loop, its end (the checkpoint of a stop,
+ * the final network), the failure advice, and the report (statistics, profiles, summary).
  */
 #include <math.h>
 #include <stdio.h>
@@ -43,32 +49,17 @@
 #include "resuspension_checkpoint.h"
 #include "resuspension_profile.h"
 #include "resuspension_spec.h"
+#include "resuspension_statistics.h"
+#include "resuspension_summary.h"
 #include "resuspension_system.h"
 #include "run_context.h"
 #include "scene.h"
-#include "scene_summary.h"
-#include "shear_run_checks.h"
 #include "state_checkpoint.h"
-#include "stats.h"
 #include "step_count.h"
 #include "step_schedule.h"
 #include "step_stiffness.h"
 
 #define RS_PI 3.14159265358979323846
-
-/* Seed's laws (resuspension article eq. 8–9). */
-static double eta22_law(double phi, double phi_m)
-{
-    const double x = phi / phi_m;
-    if (!(x < 1.0))
-        return INFINITY;
-    return pow(x, 9.0) / ((1.0 - x) * (1.0 - x)) + 150.0 * pow(x, 10.0);
-}
-static double lambda33_law(double phi)
-{
-    const double x = phi / 0.64;
-    return pow(x, 7.5) / (1e-3 + pow(x, 6.0));
-}
 
 /* Everything allocated for a run (freed in one place). */
 typedef struct {
@@ -124,12 +115,6 @@ static int rs_samples_reserve(rs_buffers *b, int nb, int64_t total, int64_t avg,
         return -1;
     b->scratch2 = s2;
     return 0;
-}
-
-static int write_profiles(lub_h5 *h5, const char *name, int n, const double *data, const char *unit)
-{
-    int64_t dims[1] = {n};
-    return lub_h5_write_array(h5, name, 1, dims, data, unit);
 }
 
 /* The time loop's state besides the system and the sample buffers: what a checkpoint holds
@@ -261,711 +246,761 @@ static int rs_network_frame(lub_run_ctx *ctx, lub_rs_system *S, lub_h5_frames *f
     return LUB_EXIT_OK;
 }
 
-static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
+/* The time series of result.h5 /observables, one row per sample. */
+#define RS_NSERIES 6
+static const char *const rs_series_names[RS_NSERIES] = {
+    "suspension_height", "center_of_mass_height", "mean_phi",
+    "kinetic_energy",    "max_fluctuation_speed", "dilute_particles"};
+static const int rs_series_ncomp[RS_NSERIES] = {1, 1, 1, 1, 1, 1};
+static const char *const rs_series_units[RS_NSERIES] = {"a", "a", "1", "eta gd a^3", "a gd", "1"};
+
+/* One run: what its phases (rs_run) share. Zeroed at the start; freed by rs_run_state_free. */
+typedef struct {
+    lub_run_ctx *ctx;
+    const json_t *resolved; /* the resolved spec (written into checkpoints) */
+    lub_rs_spec p;          /* its law scaled by the system's set-up */
+    lub_rs_scales sc;
+    int N; /* free particles */
+    rs_buffers B;
+    lub_rs_system S;
+    rs_loop lp; /* the loop's state: a fresh start, or the checkpoint's (resumed) */
+    /* the bed and the cell (a) */
+    lub_bed_info binfo;
+    double L, rf, rmin, vsum, y_floor, y_lid, h_init, Ly;
+    int nfloor;
+    /* the step (1/gd) */
+    double dt, dt_crit;
+    int dt_adapts;     /* the step follows the pairs' summed stiffness */
+    int step_unstable; /* the failure is one the time step causes (non-finite, escape, runaway) */
+    /* the profile bins and the sample buffers' room */
+    double dy, area;
+    int nb;
+    int64_t nsamp_total, nsamp_avg;
+    int ev_sample, ev_snap; /* events of lp.sched (-1: no snapshots) */
+    /* the outputs */
+    lub_h5_table *tab;
+    lub_h5_frames *network; /* /pair_network (NULL: none) */
+    lub_pair_network net;   /* its arrays, kept from frame to frame */
+    /* the loop */
+    int64_t first_step, frames; /* loop start; snapshots asked for */
+    int64_t stopped_at;         /* the loop index a stop request ended the loop at (-1: none) */
+    int end_checkpoint;         /* --keep-checkpoint: written at the last step, before its sample */
+} rs_run_state;
+
+static void rs_run_state_free(rs_run_state *r)
 {
-    lub_rs_spec p;
+    lub_rs_free(&r->S);
+    rs_buffers_free(&r->B);
+}
+
+/* The resolved spec into r->p and its scales: a spec the resolve accepted, so a refusal here is
+ * the engine's fault (exit 1). */
+static int rs_read_spec(rs_run_state *r)
+{
     lub_error err;
-    json_t *spec = json_deep_copy(resolved);
-    int rr = lub_rs_spec_read(spec, &p, &err);
+    json_t *spec = json_deep_copy(r->resolved);
+    int rr = lub_rs_spec_read(spec, &r->p, &err);
     json_decref(spec);
     if (rr) {
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s: %s", err.pointer, err.message);
+        snprintf(r->ctx->diagnostic, sizeof r->ctx->diagnostic, "%s: %s", err.pointer, err.message);
         return LUB_EXIT_INTERNAL;
     }
-    /* units: a = eta = gd = 1 */
-    const double a = 1.0, eta = 1.0, gd = 1.0;
-    const double grav = a * gd * gd / (p.I * p.I);
-    const double drho = eta * gd / (p.Sh * grav * a);
-    const double rho = p.density_ratio * drho;
-    const double St = rho * gd * a * a / eta;
-    const int N = (int)p.n;
+    r->sc = lub_rs_spec_scales(&r->p);
+    r->N = (int)r->p.n;
+    return LUB_EXIT_OK;
+}
 
-    rs_buffers B;
-    memset(&B, 0, sizeof B);
-    lub_rs_system S;
-    memset(&S, 0, sizeof S);
-    int rc = LUB_EXIT_OK;
-    /* the failure is one the time step causes (non-finite, escape, runaway) */
-    int step_unstable = 0;
-    B.radius = malloc((size_t)N * sizeof *B.radius);
-    B.pos = malloc((size_t)N * sizeof *B.pos);
-    if (!B.radius || !B.pos) {
+/* The bed (resuspension_bed.h) lifted onto the rough floor fitted to its cell, the lid above it
+ * and the cell's height: B.radius, B.pos, B.floor_r, B.floor_pos and the geometry. */
+static int rs_build_bed(rs_run_state *r)
+{
+    const lub_rs_spec *p = &r->p;
+    lub_run_ctx *ctx = r->ctx;
+    rs_buffers *B = &r->B;
+    const int N = r->N;
+    B->radius = malloc((size_t)N * sizeof *B->radius);
+    B->pos = malloc((size_t)N * sizeof *B->pos);
+    if (!B->radius || !B->pos) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory");
-        rs_buffers_free(&B);
         return LUB_EXIT_INTERNAL;
     }
     lub_bed_params bp = {.n = N,
-                         .width = p.width,
-                         .phi_target = p.initial_phi,
-                         .radius_std = p.radius_std,
-                         .seed = (uint64_t)p.seed};
-    lub_bed_info binfo;
-    int brc = lub_bed_build(&bp, B.radius, B.pos, &binfo);
+                         .width = p->width,
+                         .phi_target = p->initial_phi,
+                         .radius_std = p->radius_std,
+                         .seed = (uint64_t)p->seed};
+    int brc = lub_bed_build(&bp, B->radius, B->pos, &r->binfo);
     if (brc) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "initial bed failed (%s; packing code %d, %d per layer, phi %.4g)",
-                 brc == -1 ? "out of memory" : "packing", binfo.info_code, binfo.per_layer,
-                 binfo.layer_phi);
-        rs_buffers_free(&B);
+                 brc == -1 ? "out of memory" : "packing", r->binfo.info_code, r->binfo.per_layer,
+                 r->binfo.layer_phi);
         return LUB_EXIT_INTERNAL;
     }
-    const double L = binfo.side;
+    const double L = r->L = r->binfo.side;
     /* floor: square lattice fitted to the cell width */
-    const int nside = lub_floor_side_count(L, p.floor_radius, 4);
-    const double rf = L / (2.0 * nside);
-    const int nfloor = nside * nside;
+    const int nside = lub_floor_side_count(L, p->floor_radius, 4);
+    const double rf = r->rf = L / (2.0 * nside);
+    r->nfloor = nside * nside;
     double rmax = 0.0, rmin = INFINITY, vsum = 0.0, ylow = INFINITY;
     for (int i = 0; i < N; ++i) {
-        rmax = fmax(rmax, B.radius[i]);
-        rmin = fmin(rmin, B.radius[i]);
-        vsum += 4.0 / 3.0 * RS_PI * pow(B.radius[i], 3.0);
-        ylow = fmin(ylow, B.pos[i].y - B.radius[i]);
+        rmax = fmax(rmax, B->radius[i]);
+        rmin = fmin(rmin, B->radius[i]);
+        vsum += 4.0 / 3.0 * RS_PI * pow(B->radius[i], 3.0);
+        ylow = fmin(ylow, B->pos[i].y - B->radius[i]);
     }
-    if (!(lub_floor_max_passing_radius(rf, p.floor_jitter) < rmin)) {
+    r->rmin = rmin;
+    r->vsum = vsum;
+    if (!(lub_floor_max_passing_radius(rf, p->floor_jitter) < rmin)) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "fitted floor radius %.4g lets particles of radius %.4g through", rf, rmin);
-        rs_buffers_free(&B);
         return LUB_EXIT_INTERNAL;
     }
-    const double y_floor = rf * (1.0 + p.floor_jitter) + 1.0;
-    const double y_start = y_floor + rf * (1.0 + p.floor_jitter) + 0.05;
+    const double y_floor = r->y_floor = rf * (1.0 + p->floor_jitter) + 1.0;
+    const double y_start = y_floor + rf * (1.0 + p->floor_jitter) + 0.05;
     double ytop = 0.0;
     for (int i = 0; i < N; ++i) {
-        B.pos[i].y += y_start - ylow;
-        ytop = fmax(ytop, B.pos[i].y + B.radius[i]);
+        B->pos[i].y += y_start - ylow;
+        ytop = fmax(ytop, B->pos[i].y + B->radius[i]);
     }
-    const double h_init = ytop - y_floor;
-    const double y_lid = y_floor + p.lid_height * h_init;
-    const double d_list = 2.0 * rmax * (1.0 + 0.5 * p.cutoff) + p.skin;
-    const double Ly = y_lid + d_list + 2.0 * rmax + 1.0;
+    r->h_init = ytop - y_floor;
+    r->y_lid = y_floor + p->lid_height * r->h_init;
+    const double d_list = 2.0 * rmax * (1.0 + 0.5 * p->cutoff) + p->skin;
+    r->Ly = r->y_lid + d_list + 2.0 * rmax + 1.0;
 
-    B.floor_r = malloc((size_t)nfloor * sizeof *B.floor_r);
-    B.floor_pos = malloc((size_t)nfloor * sizeof *B.floor_pos);
-    if (!B.floor_r || !B.floor_pos) {
+    B->floor_r = malloc((size_t)r->nfloor * sizeof *B->floor_r);
+    B->floor_pos = malloc((size_t)r->nfloor * sizeof *B->floor_pos);
+    if (!B->floor_r || !B->floor_pos) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory");
-        rs_buffers_free(&B);
         return LUB_EXIT_INTERNAL;
     }
-    for (int i = 0; i < nfloor; ++i)
-        B.floor_r[i] = rf;
-    lub_floor_build(nside, rf, y_floor, p.floor_jitter, (uint64_t)p.seed + 7919u, B.floor_pos);
+    for (int i = 0; i < r->nfloor; ++i)
+        B->floor_r[i] = rf;
+    lub_floor_build(nside, rf, y_floor, p->floor_jitter, (uint64_t)p->seed + 7919u, B->floor_pos);
+    return LUB_EXIT_OK;
+}
 
-    lub_law_spec_scale(&p.law, eta, p.stiffness * eta * gd * a);
-    lub_rs_params sp = {.orientation = p.orientation,
-                        .shear_rate = gd,
-                        .gravity = grav,
-                        .drho = drho,
-                        .rho = rho,
-                        .eta_shear = p.eta_shear * eta,
-                        .eta_dilute = p.eta_dilute * eta,
-                        .dilute_max_interactions = (int)p.dilute_max,
-                        .y_floor = y_floor,
-                        .y_lid = y_lid,
-                        .cutoff = p.cutoff,
-                        .skin = p.skin,
+/* The system (resuspension_system.h) of the bed and the floor, its time step and the step
+ * control; the step-count rule with this bed's lightest particle (exit 2). */
+static int rs_init_system(rs_run_state *r)
+{
+    lub_rs_spec *p = &r->p;
+    const lub_rs_scales *sc = &r->sc;
+    lub_run_ctx *ctx = r->ctx;
+    const int N = r->N;
+    lub_law_spec_scale(&p->law, sc->eta, p->stiffness * sc->eta * sc->gd * sc->a);
+    lub_rs_params sp = {.orientation = p->orientation,
+                        .shear_rate = sc->gd,
+                        .gravity = sc->gravity,
+                        .drho = sc->drho,
+                        .rho = sc->rho,
+                        .eta_shear = p->eta_shear * sc->eta,
+                        .eta_dilute = p->eta_dilute * sc->eta,
+                        .dilute_max_interactions = (int)p->dilute_max,
+                        .y_floor = r->y_floor,
+                        .y_lid = r->y_lid,
+                        .cutoff = p->cutoff,
+                        .skin = p->skin,
                         .dt = 1.0,
                         .threads = ctx->threads};
     /* time step: elastic bound on the lightest particle (normal and tangential), notes §7 */
-    const double mmin = rho * 4.0 / 3.0 * RS_PI * rmin * rmin * rmin;
-    double dt_crit = sqrt(mmin / p.law.params.k_bulk);
-    if (p.law.params.k_t > 0.0)
-        dt_crit = fmin(dt_crit, sqrt(0.4 * mmin / p.law.params.k_t));
-    sp.dt = p.dt > 0.0 ? p.dt : p.dt_safety * dt_crit;
-    int src = lub_rs_init(&S, &sp, &p.law.params, N, B.radius, B.pos, nfloor, B.floor_r,
-                          B.floor_pos, L, Ly, L);
+    const double rmin = r->rmin;
+    const double mmin = sc->rho * 4.0 / 3.0 * RS_PI * rmin * rmin * rmin;
+    double dt_crit = sqrt(mmin / p->law.params.k_bulk);
+    if (p->law.params.k_t > 0.0)
+        dt_crit = fmin(dt_crit, sqrt(0.4 * mmin / p->law.params.k_t));
+    r->dt_crit = dt_crit;
+    sp.dt = p->dt > 0.0 ? p->dt : p->dt_safety * dt_crit;
+    const rs_buffers *B = &r->B;
+    int src = lub_rs_init(&r->S, &sp, &p->law.params, N, B->radius, B->pos, r->nfloor, B->floor_r,
+                          B->floor_pos, r->L, r->Ly, r->L);
     if (src == LUB_RS_NOMEM) {
         lub_diagnostic_out_of_memory(ctx, "system", N, 0.0, "/n");
-        rs_buffers_free(&B);
         return LUB_EXIT_INTERNAL;
     }
     if (src) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "system init failed (%d)", src);
-        rs_buffers_free(&B);
         return LUB_EXIT_INTERNAL;
     }
     /* the step: fixed (/dt), or /dt_safety of the single-pair bound, lowered while the pairs'
      * summed stiffness needs it (/dt_stiffness_safety; step_stiffness.h, checked at every
      * neighbour-list rebuild) */
-    const int dt_adapts = p.dt <= 0.0 && p.dt_stiffness_safety > 0.0;
-    rs_loop lp; /* the loop's state: a fresh start, or the checkpoint's (resumed) */
-    memset(&lp, 0, sizeof lp);
-    lub_step_control_init(&lp.ctl, sp.dt, dt_adapts ? p.dt_stiffness_safety : 0.0);
-    double dt = lp.ctl.dt;
-    if (!ctx->resume_path && !lub_step_count_ok(lub_step_count(p.strain / gd, dt))) {
+    r->dt_adapts = p->dt <= 0.0 && p->dt_stiffness_safety > 0.0;
+    lub_step_control_init(&r->lp.ctl, sp.dt, r->dt_adapts ? p->dt_stiffness_safety : 0.0);
+    const double dt = r->dt = r->lp.ctl.dt;
+    if (!ctx->resume_path && !lub_step_count_ok(lub_step_count(p->strain / sc->gd, dt))) {
         /* the step-count rule (step_count.h) with this bed's lightest particle, which
          * validation could only bound: refused before the first step, exit 2 */
+        lub_error err;
         const double r_eff =
-            p.dt > 0.0 ? 1.0 : pow(dt_crit / lub_rs_elastic_dt(&p, 1.0), 2.0 / 3.0);
-        lub_rs_step_refusal(&p, r_eff, lub_step_count(p.strain / gd, dt), dt, "", &err);
+            p->dt > 0.0 ? 1.0 : pow(dt_crit / lub_rs_elastic_dt(p, 1.0), 2.0 / 3.0);
+        lub_rs_step_refusal(p, r_eff, lub_step_count(p->strain / sc->gd, dt), dt, "", &err);
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s: %s", err.pointer, err.message);
-        lub_rs_free(&S);
-        rs_buffers_free(&B);
         return LUB_EXIT_BAD_SPEC;
     }
-    const double area = lub_rs_area(&S);
+    return LUB_EXIT_OK;
+}
+
+/* The profile bins, the sample event, a fresh loop state and every buffer of the samples and
+ * the statistics (refused beyond the memory the process may use). */
+static int rs_allocate_samples(rs_run_state *r)
+{
+    const lub_rs_spec *p = &r->p;
+    const double gd = r->sc.gd, dt = r->dt;
+    lub_run_ctx *ctx = r->ctx;
+    rs_buffers *B = &r->B;
+    rs_loop *lp = &r->lp;
+    const int N = r->N;
+    r->area = lub_rs_area(&r->S);
 
     /* profile bins from the floor centre plane to the lid */
-    const double dy = p.bin_width;
-    const int nb = (int)ceil((y_lid - y_floor) / dy);
-    lub_schedule_init(&lp.sched, dt, p.strain / gd);
-    const int64_t sample_every = lub_schedule_period(p.sample_strain / gd, dt);
-    const int ev_sample = lub_schedule_add(&lp.sched, sample_every, 0, p.sample_strain / gd);
-    int64_t nsamp_total = lp.sched.nsteps / sample_every + 2;
-    lp.avg_start_step = (int64_t)ceil(p.average_from / (gd * dt) - 1e-9);
-    int64_t nsamp_avg = (lp.sched.nsteps - lp.avg_start_step) / sample_every + 2;
+    const double dy = r->dy = p->bin_width;
+    const int nb = r->nb = (int)ceil((r->y_lid - r->y_floor) / dy);
+    lub_schedule_init(&lp->sched, dt, p->strain / gd);
+    const int64_t sample_every = lub_schedule_period(p->sample_strain / gd, dt);
+    r->ev_sample = lub_schedule_add(&lp->sched, sample_every, 0, p->sample_strain / gd);
+    r->nsamp_total = lp->sched.nsteps / sample_every + 2;
+    lp->avg_start_step = (int64_t)ceil(p->average_from / (gd * dt) - 1e-9);
+    r->nsamp_avg = (lp->sched.nsteps - lp->avg_start_step) / sample_every + 2;
+    lp->min_lowest = INFINITY;
+    lp->y_floor = r->y_floor;
+    lp->y_lid = r->y_lid;
+    const int64_t nsamp_avg = r->nsamp_avg, nsamp_total = r->nsamp_total;
     char profiles_what[128];
     snprintf(profiles_what, sizeof profiles_what,
              "the profiles of %d bins over %lld samples from /average_from on", nb,
              (long long)nsamp_avg);
-    if (!lub_memory_fits(ctx, (double)nsamp_avg * nb * sizeof *B.samples, profiles_what,
-                         "/strain - /average_from (or raise /bin_width or /sample_strain)")) {
-        lub_rs_free(&S);
-        rs_buffers_free(&B);
+    if (!lub_memory_fits(ctx, (double)nsamp_avg * nb * sizeof *B->samples, profiles_what,
+                         "/strain - /average_from (or raise /bin_width or /sample_strain)"))
         return LUB_EXIT_INTERNAL;
-    }
-    B.samples = calloc((size_t)(nsamp_avg * nb), sizeof *B.samples);
-    B.scratch =
-        calloc((size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1, sizeof *B.scratch);
-    B.scratch2 =
-        calloc((size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1, sizeof *B.scratch2);
-    B.series_h = calloc((size_t)nsamp_total, sizeof *B.series_h);
-    B.phi_inst = calloc((size_t)nb, sizeof *B.phi_inst);
-    B.vx_vol = calloc((size_t)nb, sizeof *B.vx_vol);
-    B.vx_sum = calloc((size_t)nb, sizeof *B.vx_sum);
-    B.vx_inst = calloc((size_t)nb, sizeof *B.vx_inst);
-    B.vol = calloc((size_t)nb, sizeof *B.vol);
-    B.phi = calloc((size_t)nb, sizeof *B.phi);
-    B.phi_err = calloc((size_t)nb, sizeof *B.phi_err);
-    B.eta = calloc((size_t)nb, sizeof *B.eta);
-    B.eta_err = calloc((size_t)nb, sizeof *B.eta_err);
-    B.ybin = calloc((size_t)nb, sizeof *B.ybin);
-    B.keepd = calloc((size_t)nb, sizeof *B.keepd);
-    B.law = calloc((size_t)nb, sizeof *B.law);
-    B.pairs_out = calloc((size_t)nb * 4, sizeof *B.pairs_out);
-    B.phi_cg = calloc((size_t)nb, sizeof *B.phi_cg);
-    B.phi_cg_err = calloc((size_t)nb, sizeof *B.phi_cg_err);
-    B.keep = calloc((size_t)nb, sizeof *B.keep);
-    B.snap_x = calloc((size_t)N * 3, sizeof *B.snap_x);
-    B.snap_v = calloc((size_t)N * 3, sizeof *B.snap_v);
-    B.snap_w = calloc((size_t)N * 3, sizeof *B.snap_w);
-    if (!B.samples || !B.scratch || !B.scratch2 || !B.vx_vol || !B.vx_sum || !B.vx_inst ||
-        !B.series_h || !B.phi_inst || !B.vol || !B.phi || !B.phi_err || !B.eta || !B.eta_err ||
-        !B.ybin || !B.keepd || !B.law || !B.pairs_out || !B.keep || !B.snap_x || !B.snap_v ||
-        !B.snap_w || !B.phi_cg || !B.phi_cg_err) {
+    const size_t scratch = (size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1;
+    B->samples = calloc((size_t)(nsamp_avg * nb), sizeof *B->samples);
+    B->scratch = calloc(scratch, sizeof *B->scratch);
+    B->scratch2 = calloc(scratch, sizeof *B->scratch2);
+    B->series_h = calloc((size_t)nsamp_total, sizeof *B->series_h);
+    B->phi_inst = calloc((size_t)nb, sizeof *B->phi_inst);
+    B->vx_vol = calloc((size_t)nb, sizeof *B->vx_vol);
+    B->vx_sum = calloc((size_t)nb, sizeof *B->vx_sum);
+    B->vx_inst = calloc((size_t)nb, sizeof *B->vx_inst);
+    B->vol = calloc((size_t)nb, sizeof *B->vol);
+    B->phi = calloc((size_t)nb, sizeof *B->phi);
+    B->phi_err = calloc((size_t)nb, sizeof *B->phi_err);
+    B->eta = calloc((size_t)nb, sizeof *B->eta);
+    B->eta_err = calloc((size_t)nb, sizeof *B->eta_err);
+    B->ybin = calloc((size_t)nb, sizeof *B->ybin);
+    B->keepd = calloc((size_t)nb, sizeof *B->keepd);
+    B->law = calloc((size_t)nb, sizeof *B->law);
+    B->pairs_out = calloc((size_t)nb * 4, sizeof *B->pairs_out);
+    B->phi_cg = calloc((size_t)nb, sizeof *B->phi_cg);
+    B->phi_cg_err = calloc((size_t)nb, sizeof *B->phi_cg_err);
+    B->keep = calloc((size_t)nb, sizeof *B->keep);
+    B->snap_x = calloc((size_t)N * 3, sizeof *B->snap_x);
+    B->snap_v = calloc((size_t)N * 3, sizeof *B->snap_v);
+    B->snap_w = calloc((size_t)N * 3, sizeof *B->snap_w);
+    if (!B->samples || !B->scratch || !B->scratch2 || !B->vx_vol || !B->vx_sum || !B->vx_inst ||
+        !B->series_h || !B->phi_inst || !B->vol || !B->phi || !B->phi_err || !B->eta ||
+        !B->eta_err || !B->ybin || !B->keepd || !B->law || !B->pairs_out || !B->keep ||
+        !B->snap_x || !B->snap_v || !B->snap_w || !B->phi_cg || !B->phi_cg_err) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "out of memory for the profiles (%d bins x %lld samples): raise /bin_width or "
                  "/sample_strain, or lower /strain - /average_from",
                  nb, (long long)nsamp_avg);
-        lub_rs_free(&S);
-        rs_buffers_free(&B);
         return LUB_EXIT_INTERNAL;
     }
+    return LUB_EXIT_OK;
+}
 
-    const char *names[] = {"suspension_height", "center_of_mass_height", "mean_phi",
-                           "kinetic_energy",    "max_fluctuation_speed", "dilute_particles"};
-    const int ncomp[] = {1, 1, 1, 1, 1, 1};
-    const char *units[] = {"a", "a", "1", "eta gd a^3", "a gd", "1"};
-    lub_h5_table *tab = lub_h5_set_units(ctx->out, "1/gd", "a", "a gd", "gd") == 0
-                            ? lub_h5_table_create(ctx->out, 6, names, ncomp, units)
-                            : NULL;
+/* The outputs defined in result.h5: the time series, the particles (/snapshots), the
+ * interaction network (/pair_network); the snapshot event. */
+static int rs_define_outputs(rs_run_state *r)
+{
+    const lub_rs_spec *p = &r->p;
+    lub_run_ctx *ctx = r->ctx;
+    rs_loop *lp = &r->lp;
+    r->tab = lub_h5_set_units(ctx->out, "1/gd", "a", "a gd", "gd") == 0
+                 ? lub_h5_table_create(ctx->out, RS_NSERIES, rs_series_names, rs_series_ncomp,
+                                       rs_series_units)
+                 : NULL;
     const char *bnd[3] = {"periodic", "none", "periodic"};
-    int snap_ok = p.snapshots == 0 || lub_h5_particles_define(ctx->out, N, B.radius, bnd) == 0;
+    int snap_ok =
+        p->snapshots == 0 || lub_h5_particles_define(ctx->out, r->N, r->B.radius, bnd) == 0;
     /* /pair_network: its arrays (about 3 kB a particle at phi 0.5) are kept from frame to frame */
-    lub_h5_frames *network = p.pair_network != LUB_NETWORK_NONE && tab && snap_ok
-                                 ? lub_network_define(ctx->out, "eta*gd*a^2", "eta*gd*a^3", "1/gd")
-                                 : NULL;
-    lub_pair_network net = {0};
-    int64_t network_last_step = -1;
-    if (!tab || !snap_ok || (p.pair_network != LUB_NETWORK_NONE && !network)) {
+    r->network = p->pair_network != LUB_NETWORK_NONE && r->tab && snap_ok
+                     ? lub_network_define(ctx->out, "eta*gd*a^2", "eta*gd*a^3", "1/gd")
+                     : NULL;
+    if (!r->tab || !snap_ok || (p->pair_network != LUB_NETWORK_NONE && !r->network)) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
-        lub_rs_free(&S);
-        rs_buffers_free(&B);
         return LUB_EXIT_IO;
     }
-    if (network &&
-        !lub_memory_fits(ctx, 1.25 * 20.0 * (double)S.n * (double)LUB_PAIR_NETWORK_PAIR_BYTES,
+    if (r->network &&
+        !lub_memory_fits(ctx, 1.25 * 20.0 * (double)r->S.n * (double)LUB_PAIR_NETWORK_PAIR_BYTES,
                          "the interaction network (/pair_network, 20 pairs a particle)",
-                         "/pair_network")) {
-        lub_rs_free(&S);
-        rs_buffers_free(&B);
+                         "/pair_network"))
         return LUB_EXIT_INTERNAL;
-    }
-    const int64_t snap_every = p.snapshots > 1
-                                   ? (lp.sched.nsteps + p.snapshots - 2) / (p.snapshots - 1)
-                                   : lp.sched.nsteps + 1;
-    const int ev_snap =
-        p.snapshots > 0 ? lub_schedule_add(&lp.sched, snap_every, 0, (double)snap_every * dt) : -1;
+    const int64_t snap_every = p->snapshots > 1
+                                   ? (lp->sched.nsteps + p->snapshots - 2) / (p->snapshots - 1)
+                                   : lp->sched.nsteps + 1;
+    r->ev_snap = p->snapshots > 0
+                     ? lub_schedule_add(&lp->sched, snap_every, 0, (double)snap_every * r->dt)
+                     : -1;
+    return LUB_EXIT_OK;
+}
 
-    lp.min_lowest = INFINITY;
-    lp.y_floor = y_floor;
-    lp.y_lid = y_lid;
-    int64_t first_step = 0, frames = 0; /* loop start; snapshots asked for */
-    if (ctx->resume_path) {             /* the stopped run's state replaces the fresh one */
-        char why[600] = "";
-        rs_loop saved;
-        memset(&saved, 0, sizeof saved);
-        lub_ckpt *ck = lub_ckpt_open(ctx->resume_path, why, sizeof why);
-        if (ck && rs_checkpoint_read_loop(ck, &saved, why, sizeof why) == 0) {
-            if (saved.y_floor != y_floor || saved.y_lid != y_lid ||
-                saved.sched.n_events != lp.sched.n_events) {
+/* Takes up the stopped run's state from ctx->resume_path (--resume): its loop state, samples
+ * and system, and its time series, snapshots and network frames copied into the new result.h5.
+ * Refused (exit 2, ctx->resume_rejected) when the checkpoint does not fit this run. */
+static int rs_continue_stopped_run(rs_run_state *r)
+{
+    const lub_rs_spec *p = &r->p;
+    const double gd = r->sc.gd;
+    lub_run_ctx *ctx = r->ctx;
+    lub_rs_system *S = &r->S;
+    char why[600] = "";
+    rs_loop saved;
+    memset(&saved, 0, sizeof saved);
+    lub_ckpt *ck = lub_ckpt_open(ctx->resume_path, why, sizeof why);
+    if (ck && rs_checkpoint_read_loop(ck, &saved, why, sizeof why) == 0) {
+        if (saved.y_floor != r->y_floor || saved.y_lid != r->y_lid ||
+            saved.sched.n_events != r->lp.sched.n_events) {
+            snprintf(why, sizeof why,
+                     "the bed or the events differ from the stopped run's (another build?)");
+        } else if (lub_rs_restore(ck, S)) {
+            snprintf(why, sizeof why, "%s",
+                     lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "inconsistent pairs");
+        } else if (saved.sched.t_end != p->strain / gd &&
+                   p->strain < S->time * gd * (1.0 - 1e-12)) {
+            /* a continuation may ask for another /strain (resume_may_differ), not for less
+             * than the stopped run has done */
+            snprintf(why, sizeof why,
+                     "/strain: %g here, but the stopped run has already sheared to %.6g", p->strain,
+                     S->time * gd);
+        } else {
+            /* ... and then takes the steps of a run asked for that strain from the start
+             * (lub_schedule_set_end; the checkpoint of a completed run is taken before its
+             * last sample, which only the run's end forces) */
+            if (saved.sched.t_end != p->strain / gd)
+                lub_schedule_set_end(&saved.sched, p->strain / gd);
+            const int64_t left =
+                (saved.sched.nsteps - saved.step) / saved.sched.ev[r->ev_sample].every + 2;
+            if ((double)saved.sched.nsteps > LUB_MAX_STEPS) /* at the stopped run's step */
                 snprintf(why, sizeof why,
-                         "the bed or the events differ from the stopped run's (another build?)");
-            } else if (lub_rs_restore(ck, &S)) {
+                         "/strain: %g would take the run to %.3g steps at its step of %.3g, "
+                         "more than the %.0e a run may take (README, CLI contract, \"Step "
+                         "count\")",
+                         p->strain, (double)saved.sched.nsteps, saved.ctl.dt, LUB_MAX_STEPS);
+            else if (rs_samples_reserve(&r->B, r->nb, saved.nh + left, saved.navg + left,
+                                        &r->nsamp_total, &r->nsamp_avg) ||
+                     rs_checkpoint_read_samples(ck, &saved, &r->B, r->nb)) {
                 snprintf(why, sizeof why, "%s",
-                         lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "inconsistent pairs");
-            } else if (saved.sched.t_end != p.strain / gd &&
-                       p.strain < S.time * gd * (1.0 - 1e-12)) {
-                /* a continuation may ask for another /strain (resume_may_differ), not for less
-                 * than the stopped run has done */
-                snprintf(why, sizeof why,
-                         "/strain: %g here, but the stopped run has already sheared to %.6g",
-                         p.strain, S.time * gd);
-            } else {
-                /* ... and then takes the steps of a run asked for that strain from the start
-                 * (lub_schedule_set_end; the checkpoint of a completed run is taken before its
-                 * last sample, which only the run's end forces) */
-                if (saved.sched.t_end != p.strain / gd)
-                    lub_schedule_set_end(&saved.sched, p.strain / gd);
-                const int64_t left =
-                    (saved.sched.nsteps - saved.step) / saved.sched.ev[ev_sample].every + 2;
-                if ((double)saved.sched.nsteps > LUB_MAX_STEPS) /* at the stopped run's step */
-                    snprintf(why, sizeof why,
-                             "/strain: %g would take the run to %.3g steps at its step of %.3g, "
-                             "more than the %.0e a run may take (README, CLI contract, \"Step "
-                             "count\")",
-                             p.strain, (double)saved.sched.nsteps, saved.ctl.dt, LUB_MAX_STEPS);
-                else if (rs_samples_reserve(&B, nb, saved.nh + left, saved.navg + left,
-                                            &nsamp_total, &nsamp_avg) ||
-                         rs_checkpoint_read_samples(ck, &saved, &B, nb)) {
-                    snprintf(why, sizeof why, "%s",
-                             lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck)
-                                                   : "out of memory (samples)");
-                } else if (lub_h5_continue_output(
-                               ctx->resume_result, tab, 6, names, ncomp, saved.nh, ctx->out, N,
-                               p.snapshots > 0 ? saved.frames_in_file : 0, why, sizeof why) == 0 &&
-                           (!network || lub_h5_continue_frames(ctx->resume_result, network,
-                                                               saved.network_frames_in_file, why,
-                                                               sizeof why) == 0)) {
-                    why[0] = '\0';
-                }
+                         lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "out of memory (samples)");
+            } else if (lub_h5_continue_output(ctx->resume_result, r->tab, RS_NSERIES,
+                                              rs_series_names, rs_series_ncomp, saved.nh, ctx->out,
+                                              r->N, p->snapshots > 0 ? saved.frames_in_file : 0,
+                                              why, sizeof why) == 0 &&
+                       (!r->network || lub_h5_continue_frames(ctx->resume_result, r->network,
+                                                              saved.network_frames_in_file, why,
+                                                              sizeof why) == 0)) {
+                why[0] = '\0';
             }
         }
-        if (ck)
-            lub_ckpt_close(ck, NULL, 0);
-        if (!ck || why[0]) {
-            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
-                     ctx->resume_path, why[0] ? why : "unreadable");
-            ctx->resume_rejected = 1;
-            lub_rs_free(&S);
-            rs_buffers_free(&B);
-            return LUB_EXIT_BAD_SPEC;
-        }
-        lp = saved;
-        dt = lp.ctl.dt;
-        first_step = saved.step;
-        frames = saved.frames_in_file;
-        ctx->resumed_from_step = S.step;
-        ctx->resume_begun = 1;
     }
-    int64_t stopped_at = -1; /* the loop index a stop request ended the loop at */
-    int end_checkpoint = 0;  /* --keep-checkpoint: written at the last step, before its sample */
-    for (int64_t step = first_step; step <= lp.sched.nsteps; ++step) {
-        const double t = S.time;
-        if (step == lp.sched.nsteps && ctx->checkpoint_always && ctx->checkpoint_path) {
+    if (ck)
+        lub_ckpt_close(ck, NULL, 0);
+    if (!ck || why[0]) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
+                 ctx->resume_path, why[0] ? why : "unreadable");
+        ctx->resume_rejected = 1;
+        return LUB_EXIT_BAD_SPEC;
+    }
+    r->lp = saved;
+    r->dt = r->lp.ctl.dt;
+    r->first_step = saved.step;
+    r->frames = saved.frames_in_file;
+    ctx->resumed_from_step = S->step;
+    ctx->resume_begun = 1;
+    return LUB_EXIT_OK;
+}
+
+/* The loop state a checkpoint at loop index `step` holds with the system and the samples: the
+ * snapshots and network frames in the output file so far. */
+static void rs_mark_loop_state(rs_run_state *r, int64_t step)
+{
+    r->lp.step = step;
+    r->lp.frames_in_file = r->frames - lub_h5_snapshots_skipped(r->ctx->out, NULL, NULL, 0);
+    r->lp.network_frames_in_file = lub_h5_frames_written(r->network, NULL);
+}
+
+/* The lowest free sphere's clearance above the floor plane and the count of centres below it,
+ * at a sample or a snapshot. */
+static void rs_track_floor_clearance(rs_run_state *r)
+{
+    int below = 0;
+    double low = lub_rs_lowest(&r->S, &below);
+    r->lp.min_lowest = fmin(r->lp.min_lowest, low - r->y_floor);
+    if (below > r->lp.below_floor_max)
+        r->lp.below_floor_max = below;
+}
+
+/* The sample of loop index `step` at time t: the instantaneous phi(y) and velocity profile, the
+ * time series' row, the height and (from /average_from on) the profile kept for the average.
+ * LUB_EXIT_OK, or LUB_EXIT_IO with the diagnostic set. */
+static int rs_sample(rs_run_state *r, int64_t step, double t)
+{
+    const lub_rs_spec *p = &r->p;
+    const lub_rs_system *S = &r->S;
+    rs_buffers *B = &r->B;
+    rs_loop *lp = &r->lp;
+    const int nb = r->nb;
+    const double dy = r->dy, y_floor = r->y_floor;
+    memset(B->vol, 0, (size_t)nb * sizeof *B->vol);
+    double ysum = 0.0, msum = 0.0;
+    int dilute = 0;
+    const int in_avg = step >= lp->avg_start_step;
+    memset(B->vx_inst, 0, (size_t)nb * sizeof *B->vx_inst);
+    for (int i = 0; i < r->N; ++i) {
+        /* velocity along the flow relative to the floor-plane mean flow: v_x for the
+         * gradient orientation, v_x - gd z for the vorticity one (should be ~ 0) */
+        const double vrel = p->orientation == LUB_RS_VORTICITY
+                                ? S->v[i].x - lub_rs_mean_velocity(S, S->x[i]).x
+                                : S->v[i].x;
+        lub_profile_add_sphere_weighted(B->vol, B->vx_inst, nb, y_floor, dy, S->x[i].y, S->r[i],
+                                        vrel);
+        ysum += S->m[i] * (S->x[i].y - y_floor);
+        msum += S->m[i];
+        dilute += step > 0 && S->nint[i] <= (int)p->dilute_max;
+    }
+    if (in_avg) {
+        lp->contacts_sum += (double)S->n_contacts;
+        lp->crushed_sum += (double)S->n_crushed;
+        for (int i = 0; i < nb; ++i) {
+            B->vx_vol[i] += B->vol[i];
+            B->vx_sum[i] += B->vx_inst[i];
+        }
+    }
+    lub_profile_normalise(B->vol, nb, dy, r->area, B->phi_inst);
+    double pmax = 0.0;
+    for (int i = 0; i < nb; ++i)
+        pmax = fmax(pmax, B->phi_inst[i]);
+    const double hs = lub_profile_height(B->phi_inst, nb, 0.0, dy, 0.5 * pmax);
+    const double inv = lub_profile_inventory(B->phi_inst, nb, dy);
+    const double ke = lub_rs_kinetic_energy(S);
+    lp->max_ke = fmax(lp->max_ke, ke);
+    double row[RS_NSERIES] = {hs, ysum / msum, inv / hs, ke, S->max_speed, (double)dilute};
+    if (lub_h5_table_append(r->tab, S->step, t * r->sc.gd, row)) {
+        snprintf(r->ctx->diagnostic, sizeof r->ctx->diagnostic, "%s",
+                 lub_h5_last_error(r->ctx->out));
+        return LUB_EXIT_IO;
+    }
+    if (lp->nh < r->nsamp_total)
+        B->series_h[lp->nh++] = hs;
+    if (step >= lp->avg_start_step && lp->navg < r->nsamp_avg) {
+        memcpy(&B->samples[lp->navg * nb], B->phi_inst, (size_t)nb * sizeof *B->phi_inst);
+        lp->navg++;
+    }
+    return LUB_EXIT_OK;
+}
+
+/* The particles' snapshot at time t (unwrapped positions, absolute velocities, spins, the
+ * cell's edges). LUB_EXIT_OK, or LUB_EXIT_IO with the diagnostic set. */
+static int rs_snapshot(rs_run_state *r, double t)
+{
+    const lub_rs_system *S = &r->S;
+    rs_buffers *B = &r->B;
+    for (int i = 0; i < r->N; ++i) {
+        vec3 xu, vu;
+        lub_rs_unwrapped(S, i, &xu, &vu);
+        memcpy(&B->snap_x[3 * i], &xu, 3 * sizeof(double));
+        memcpy(&B->snap_v[3 * i], &vu, 3 * sizeof(double));
+        memcpy(&B->snap_w[3 * i], &S->w[i], 3 * sizeof(double));
+    }
+    double edges[9];
+    for (int row = 0; row < 3; ++row) /* rows = edge vectors = columns of H */
+        for (int c = 0; c < 3; ++c)
+            edges[3 * row + c] = S->cell.h[c][row];
+    if (lub_h5_particles_snapshot(r->ctx->out, S->step, t, edges, B->snap_x, B->snap_v, B->snap_w,
+                                  NULL)) {
+        snprintf(r->ctx->diagnostic, sizeof r->ctx->diagnostic, "%s",
+                 lub_h5_last_error(r->ctx->out));
+        return LUB_EXIT_IO;
+    }
+    r->frames++;
+    return LUB_EXIT_OK;
+}
+
+/* A periodic checkpoint (--checkpoint-every) of the state after the sample of loop index
+ * `step`, as at a stop (the run then goes on); a failure is recorded, not fatal. */
+static void rs_periodic_checkpoint(rs_run_state *r, int64_t step)
+{
+    lub_run_ctx *ctx = r->ctx;
+    rs_mark_loop_state(r, step);
+    char why[400] = "";
+    if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
+        if (rs_checkpoint_write(ctx->periodic->ckpt_tmp, r->resolved, &r->lp, &r->B, r->nb, &r->S,
+                                LUB_PERIODIC_OUTPUT, why, sizeof why) == 0)
+            lub_periodic_publish(ctx->periodic);
+        else
+            lub_periodic_failed(ctx->periodic, why);
+    }
+}
+
+/* A step that failed with LUB_RS_* code e: the diagnostic, whether the time step is to blame
+ * (r->step_unstable), and the exit code. */
+static int rs_step_failed(rs_run_state *r, int e)
+{
+    lub_run_ctx *ctx = r->ctx;
+    const lub_rs_system *S = &r->S;
+    if (e == LUB_RS_NOMEM && !S->fail_msg[0]) { /* the pair lists could not grow */
+        char what[96];
+        snprintf(what, sizeof what, "pair lists, step %lld", (long long)S->step);
+        lub_diagnostic_out_of_memory(ctx, what, r->N, 0.0, "/n");
+    } else {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (code %d)", S->fail_msg, e);
+    }
+    const int rc = e == LUB_RS_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
+    r->step_unstable = e == LUB_RS_NONFINITE || e == LUB_RS_ESCAPED || e == LUB_RS_RUNAWAY;
+    if (e == LUB_RS_ESCAPED && S->escaped_below &&
+        lub_rs_weight_overlap(&r->p) >= LUB_RS_WEIGHT_OVERLAP_BLAMED) {
+        /* heavy spheres on soft contacts sink through the floor: not the step's doing */
+        const size_t len = strlen(ctx->diagnostic);
+        snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len,
+                 ": the contacts give way under the bed's weight (a sphere's own weight "
+                 "compresses a contact by %.3g a, (4/3) pi / (/shields /stiffness)); "
+                 "raise /stiffness",
+                 lub_rs_weight_overlap(&r->p));
+        r->step_unstable = 0;
+    }
+    return rc;
+}
+
+/* The step control lowered the step after loop index `step`: the schedule, the averaging start
+ * and the sample buffers follow. LUB_EXIT_OK, or the exit code with the diagnostic set (the
+ * step-count rule; no memory for the samples). */
+static int rs_step_changed(rs_run_state *r, int64_t step)
+{
+    const lub_rs_spec *p = &r->p;
+    const double gd = r->sc.gd;
+    lub_run_ctx *ctx = r->ctx;
+    rs_loop *lp = &r->lp;
+    const double dt = r->dt = lp->ctl.dt;
+    r->S.p.dt = dt;
+    lub_schedule_set_dt(&lp->sched, step + 1, r->S.time, dt);
+    if ((double)lp->sched.nsteps > LUB_MAX_STEPS) { /* step-count rule (step_count.h) */
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "the automatic step fell to %.3g at strain %.4f (the pairs' summed "
+                 "stiffness, /dt_stiffness_safety %g; %ld changes), which would take the "
+                 "run to %.3g steps, more than the %.0e a run may take (README, CLI "
+                 "contract, \"Step count\"); lower /strain or /stiffness",
+                 dt, r->S.time * gd, p->dt_stiffness_safety, lp->ctl.changes,
+                 (double)lp->sched.nsteps, LUB_MAX_STEPS);
+        return LUB_EXIT_NUMERICAL;
+    }
+    if (lp->avg_start_step > step + 1)
+        lp->avg_start_step =
+            step + 1 + (int64_t)ceil((p->average_from / gd - r->S.time) / dt - 1e-9);
+    const int64_t left = (lp->sched.nsteps - step) / lp->sched.ev[r->ev_sample].every + 2;
+    if (rs_samples_reserve(&r->B, r->nb, lp->nh + left, lp->navg + left, &r->nsamp_total,
+                           &r->nsamp_avg)) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (samples)");
+        return LUB_EXIT_INTERNAL;
+    }
+    return LUB_EXIT_OK;
+}
+
+/* The time loop from r->first_step to the end of the schedule: samples, snapshots, network
+ * frames and checkpoints at their events, then the step. Ends at the last step, on a stop
+ * request (r->stopped_at) or on a failure; returns the exit code so far. */
+static int rs_time_loop(rs_run_state *r)
+{
+    lub_run_ctx *ctx = r->ctx;
+    rs_loop *lp = &r->lp;
+    int rc = LUB_EXIT_OK;
+    r->stopped_at = -1;
+    for (int64_t step = r->first_step; step <= lp->sched.nsteps; ++step) {
+        const double t = r->S.time;
+        if (step == lp->sched.nsteps && ctx->checkpoint_always && ctx->checkpoint_path) {
             /* A completed run keeps its state before the samples of its last step, which the
              * end forces (a sample, a snapshot) and a longer run would not take: its extension
              * (a larger /strain) then takes the steps and samples of the longer run. */
-            lp.step = step;
-            lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-            lp.network_frames_in_file = lub_h5_frames_written(network, NULL);
-            end_checkpoint =
-                rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5",
-                                    ctx->checkpoint_failure, sizeof ctx->checkpoint_failure) == 0;
+            rs_mark_loop_state(r, step);
+            r->end_checkpoint =
+                rs_checkpoint_write(ctx->checkpoint_path, r->resolved, lp, &r->B, r->nb, &r->S,
+                                    "result.h5", ctx->checkpoint_failure,
+                                    sizeof ctx->checkpoint_failure) == 0;
         }
-        const int sample = lub_schedule_due(&lp.sched, ev_sample, step) || step == lp.sched.nsteps;
-        const int snap =
-            ev_snap >= 0 && (lub_schedule_due(&lp.sched, ev_snap, step) || step == lp.sched.nsteps);
-        if (sample || snap) {
-            int below = 0;
-            double low = lub_rs_lowest(&S, &below);
-            lp.min_lowest = fmin(lp.min_lowest, low - y_floor);
-            if (below > lp.below_floor_max)
-                lp.below_floor_max = below;
-        }
-        if (sample) {
-            memset(B.vol, 0, (size_t)nb * sizeof *B.vol);
-            double ysum = 0.0, msum = 0.0;
-            int dilute = 0;
-            const int in_avg = step >= lp.avg_start_step;
-            memset(B.vx_inst, 0, (size_t)nb * sizeof *B.vx_inst);
-            for (int i = 0; i < N; ++i) {
-                /* velocity along the flow relative to the floor-plane mean flow: v_x for the
-                 * gradient orientation, v_x - gd z for the vorticity one (should be ~ 0) */
-                const double vrel = p.orientation == LUB_RS_VORTICITY
-                                        ? S.v[i].x - lub_rs_mean_velocity(&S, S.x[i]).x
-                                        : S.v[i].x;
-                lub_profile_add_sphere_weighted(B.vol, B.vx_inst, nb, y_floor, dy, S.x[i].y, S.r[i],
-                                                vrel);
-                ysum += S.m[i] * (S.x[i].y - y_floor);
-                msum += S.m[i];
-                dilute += step > 0 && S.nint[i] <= (int)p.dilute_max;
-            }
-            if (in_avg) {
-                lp.contacts_sum += (double)S.n_contacts;
-                lp.crushed_sum += (double)S.n_crushed;
-                for (int i = 0; i < nb; ++i) {
-                    B.vx_vol[i] += B.vol[i];
-                    B.vx_sum[i] += B.vx_inst[i];
-                }
-            }
-            lub_profile_normalise(B.vol, nb, dy, area, B.phi_inst);
-            double pmax = 0.0;
-            for (int i = 0; i < nb; ++i)
-                pmax = fmax(pmax, B.phi_inst[i]);
-            const double hs = lub_profile_height(B.phi_inst, nb, 0.0, dy, 0.5 * pmax);
-            const double inv = lub_profile_inventory(B.phi_inst, nb, dy);
-            const double ke = lub_rs_kinetic_energy(&S);
-            lp.max_ke = fmax(lp.max_ke, ke);
-            double row[6] = {hs, ysum / msum, inv / hs, ke, S.max_speed, (double)dilute};
-            if (lub_h5_table_append(tab, S.step, t * gd, row)) {
-                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
-                         lub_h5_last_error(ctx->out));
-                rc = LUB_EXIT_IO;
-                break;
-            }
-            if (lp.nh < nsamp_total)
-                B.series_h[lp.nh++] = hs;
-            if (step >= lp.avg_start_step && lp.navg < nsamp_avg) {
-                memcpy(&B.samples[lp.navg * nb], B.phi_inst, (size_t)nb * sizeof *B.phi_inst);
-                lp.navg++;
-            }
-        }
+        const int sample =
+            lub_schedule_due(&lp->sched, r->ev_sample, step) || step == lp->sched.nsteps;
+        const int snap = r->ev_snap >= 0 && (lub_schedule_due(&lp->sched, r->ev_snap, step) ||
+                                             step == lp->sched.nsteps);
+        if (sample || snap)
+            rs_track_floor_clearance(r);
+        if (sample && (rc = rs_sample(r, step, t)) != LUB_EXIT_OK)
+            break;
         /* the network first: its list completion may wrap positions (the snapshot's are
          * unwrapped, lub_rs_unwrapped) */
-        if (snap && p.pair_network == LUB_NETWORK_SNAPSHOTS &&
-            (rc = rs_network_frame(ctx, &S, network, &net, gd, step == lp.sched.nsteps)) !=
-                LUB_EXIT_OK)
+        if (snap && r->p.pair_network == LUB_NETWORK_SNAPSHOTS &&
+            (rc = rs_network_frame(ctx, &r->S, r->network, &r->net, r->sc.gd,
+                                   step == lp->sched.nsteps)) != LUB_EXIT_OK)
             break;
-        if (snap) {
-            for (int i = 0; i < N; ++i) {
-                vec3 xu, vu;
-                lub_rs_unwrapped(&S, i, &xu, &vu);
-                memcpy(&B.snap_x[3 * i], &xu, 3 * sizeof(double));
-                memcpy(&B.snap_v[3 * i], &vu, 3 * sizeof(double));
-                memcpy(&B.snap_w[3 * i], &S.w[i], 3 * sizeof(double));
-            }
-            double edges[9];
-            for (int r = 0; r < 3; ++r) /* rows = edge vectors = columns of H */
-                for (int c = 0; c < 3; ++c)
-                    edges[3 * r + c] = S.cell.h[c][r];
-            if (lub_h5_particles_snapshot(ctx->out, S.step, t, edges, B.snap_x, B.snap_v, B.snap_w,
-                                          NULL)) {
-                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s",
-                         lub_h5_last_error(ctx->out));
-                rc = LUB_EXIT_IO;
-                break;
-            }
-            frames++;
-        }
-        if (step == lp.sched.nsteps)
+        if (snap && (rc = rs_snapshot(r, t)) != LUB_EXIT_OK)
             break;
-        if (ctx->periodic && lub_periodic_due(ctx->periodic, step)) {
-            /* the state after the sample of step `step`, as at a stop (the run then goes on) */
-            lp.step = step;
-            lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-            lp.network_frames_in_file = lub_h5_frames_written(network, NULL);
-            char why[400] = "";
-            if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
-                if (rs_checkpoint_write(ctx->periodic->ckpt_tmp, resolved, &lp, &B, nb, &S,
-                                        LUB_PERIODIC_OUTPUT, why, sizeof why) == 0)
-                    lub_periodic_publish(ctx->periodic);
-                else
-                    lub_periodic_failed(ctx->periodic, why);
-            }
-        }
+        if (step == lp->sched.nsteps)
+            break;
+        if (ctx->periodic && lub_periodic_due(ctx->periodic, step))
+            rs_periodic_checkpoint(r, step);
         if (ctx->stop_requested && *ctx->stop_requested) {
             rc = LUB_EXIT_INTERRUPTED;
-            stopped_at = step;
+            r->stopped_at = step;
             break;
         }
-        int e = lub_rs_step(&S);
+        int e = lub_rs_step(&r->S);
         if (e != LUB_RS_OK) {
-            if (e == LUB_RS_NOMEM && !S.fail_msg[0]) { /* the pair lists could not grow */
-                char what[96];
-                snprintf(what, sizeof what, "pair lists, step %lld", (long long)S.step);
-                lub_diagnostic_out_of_memory(ctx, what, N, 0.0, "/n");
-            } else {
-                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s (code %d)", S.fail_msg, e);
-            }
-            rc = e == LUB_RS_NOMEM ? LUB_EXIT_INTERNAL : LUB_EXIT_NUMERICAL;
-            step_unstable = e == LUB_RS_NONFINITE || e == LUB_RS_ESCAPED || e == LUB_RS_RUNAWAY;
-            if (e == LUB_RS_ESCAPED && S.escaped_below &&
-                lub_rs_weight_overlap(&p) >= LUB_RS_WEIGHT_OVERLAP_BLAMED) {
-                /* heavy spheres on soft contacts sink through the floor: not the step's doing */
-                const size_t len = strlen(ctx->diagnostic);
-                snprintf(ctx->diagnostic + len, sizeof ctx->diagnostic - len,
-                         ": the contacts give way under the bed's weight (a sphere's own weight "
-                         "compresses a contact by %.3g a, (4/3) pi / (/shields /stiffness)); "
-                         "raise /stiffness",
-                         lub_rs_weight_overlap(&p));
-                step_unstable = 0;
-            }
+            rc = rs_step_failed(r, e);
             break;
         }
-        if (lub_rs_step_control(&S, &lp.ctl)) {
-            dt = lp.ctl.dt;
-            S.p.dt = dt;
-            lub_schedule_set_dt(&lp.sched, step + 1, S.time, dt);
-            if ((double)lp.sched.nsteps > LUB_MAX_STEPS) { /* step-count rule (step_count.h) */
-                snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
-                         "the automatic step fell to %.3g at strain %.4f (the pairs' summed "
-                         "stiffness, /dt_stiffness_safety %g; %ld changes), which would take the "
-                         "run to %.3g steps, more than the %.0e a run may take (README, CLI "
-                         "contract, \"Step count\"); lower /strain or /stiffness",
-                         dt, S.time * gd, p.dt_stiffness_safety, lp.ctl.changes,
-                         (double)lp.sched.nsteps, LUB_MAX_STEPS);
-                rc = LUB_EXIT_NUMERICAL;
-                break;
-            }
-            if (lp.avg_start_step > step + 1)
-                lp.avg_start_step =
-                    step + 1 + (int64_t)ceil((p.average_from / gd - S.time) / dt - 1e-9);
-            const int64_t left = (lp.sched.nsteps - step) / lp.sched.ev[ev_sample].every + 2;
-            if (rs_samples_reserve(&B, nb, lp.nh + left, lp.navg + left, &nsamp_total,
-                                   &nsamp_avg)) {
-                snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (samples)");
-                rc = LUB_EXIT_INTERNAL;
-                break;
-            }
-        }
+        if (lub_rs_step_control(&r->S, &lp->ctl) && (rc = rs_step_changed(r, step)) != LUB_EXIT_OK)
+            break;
         if ((step & 255) == 0)
-            lub_progress_update(ctx->progress, (double)step / (double)lp.sched.nsteps, S.step);
+            lub_progress_update(ctx->progress, (double)step / (double)lp->sched.nsteps, r->S.step);
     }
-    lub_progress_last_step(ctx->progress, S.step);
-    ctx->checkpoint_written = end_checkpoint && rc == LUB_EXIT_OK;
+    return rc;
+}
+
+/* After the loop: the checkpoint of a stopped run, the network of the final state, and which
+ * checkpoint the driver may keep. Returns the exit code. */
+static int rs_finish_loop(rs_run_state *r, int rc)
+{
+    lub_run_ctx *ctx = r->ctx;
+    lub_progress_last_step(ctx->progress, r->S.step);
+    ctx->checkpoint_written = r->end_checkpoint && rc == LUB_EXIT_OK;
     /* a stop between the sample of a step and the step: that state into the checkpoint */
-    if (stopped_at >= 0 && ctx->checkpoint_path) {
-        lp.step = stopped_at;
-        lp.frames_in_file = frames - lub_h5_snapshots_skipped(ctx->out, NULL, NULL, 0);
-        lp.network_frames_in_file = lub_h5_frames_written(network, NULL);
+    if (r->stopped_at >= 0 && ctx->checkpoint_path) {
+        rs_mark_loop_state(r, r->stopped_at);
         ctx->checkpoint_written =
-            rs_checkpoint_write(ctx->checkpoint_path, resolved, &lp, &B, nb, &S, "result.h5",
-                                ctx->checkpoint_failure, sizeof ctx->checkpoint_failure) == 0;
+            rs_checkpoint_write(ctx->checkpoint_path, r->resolved, &r->lp, &r->B, r->nb, &r->S,
+                                "result.h5", ctx->checkpoint_failure,
+                                sizeof ctx->checkpoint_failure) == 0;
     }
     /* the network of the final state (after the checkpoint, which keeps the state before the
      * rebuild the network may do), unless a snapshot's frame already shows it */
-    lub_h5_frames_written(network, &network_last_step);
-    if (network && network_last_step != S.step &&
+    int64_t network_last_step = -1;
+    lub_h5_frames_written(r->network, &network_last_step);
+    if (r->network && network_last_step != r->S.step &&
         (rc == LUB_EXIT_OK || rc == LUB_EXIT_INTERRUPTED)) {
-        const int nrc = rs_network_frame(ctx, &S, network, &net, gd, 1);
+        const int nrc = rs_network_frame(ctx, &r->S, r->network, &r->net, r->sc.gd, 1);
         if (nrc != LUB_EXIT_OK)
             rc = nrc;
     }
-    lub_pair_network_free(&net);
-    if (rc == LUB_EXIT_NUMERICAL && dt_adapts && step_unstable)
-        lub_diagnostic_adapted_dt_hint(ctx, dt, p.dt_safety, dt_crit, "dt_critical", lp.ctl.changes,
-                                       p.dt_stiffness_safety, lp.ctl.ratio_max);
-    else if (rc == LUB_EXIT_NUMERICAL && (step_unstable || p.dt > dt_crit))
-        lub_diagnostic_dt_hint(ctx, p.dt, p.dt_safety, dt_crit, "dt_critical");
+    lub_pair_network_free(&r->net);
+    return rc;
+}
 
-    /* ---- steady-state analysis (also for a partial run: whatever was averaged) ---- */
-    int steady = 0;
-    const size_t mser = lp.nh >= 10 ? lub_stats_mser(B.series_h, (size_t)lp.nh, 5, &steady) : 0;
-    int sem_batch_means = 1;
-    for (int i = 0; i < nb; ++i) {
-        B.ybin[i] = (i + 0.5) * dy;
-        for (int64_t j = 0; j < lp.navg; ++j)
-            B.scratch[j] = B.samples[j * nb + i];
-        B.phi[i] = lp.navg > 0 ? lub_stats_mean(B.scratch, (size_t)lp.navg) : NAN;
-        /* NaN below LUB_STATS_MIN_BATCHES samples: then the naive SEM */
-        double sem = lp.navg > 0 ? lub_stats_sem(B.scratch, (size_t)lp.navg, B.scratch2) : NAN;
-        if (!(sem >= 0.0) && lp.navg >= 2) {
-            sem = sqrt(lub_stats_var(B.scratch, (size_t)lp.navg) / (double)lp.navg);
-            sem_batch_means = 0;
-        }
-        B.phi_err[i] = sem;
-    }
-    double hs_mean = NAN, hs_sem = NAN, inv = NAN, pmax = 0.0;
-    int nkeep = 0;
-    double law_rms = NAN, bulk_rate = NAN;
-    if (lp.navg > 0) {
-        for (int i = 0; i < nb; ++i)
-            pmax = fmax(pmax, B.phi[i]);
-        hs_mean = lub_profile_height(B.phi, nb, 0.0, dy, 0.5 * pmax);
-        /* error of the height: stats.h standard error of the instantaneous heights */
-        size_t h0i = (size_t)(lp.nh - lp.navg);
-        lub_stats_result hr;
-        lub_stats_analyse(B.series_h + h0i, (size_t)lp.navg, 0, B.scratch2, &hr);
-        hs_sem = hr.sem;
-        if (!(hs_sem >= 0.0) && lp.navg >= LUB_STATS_MIN_BATCHES) {
-            /* too few samples after the MSER cut: batch means over the whole averaging
-             * window, as phi_err */
-            lub_stats_analyse_window(B.series_h + h0i, (size_t)lp.navg, 0, B.scratch2, &hr);
-            hs_sem = hr.sem;
-        } else if (!(hs_sem >= 0.0) && lp.navg >= 2) {
-            /* fewer than 32 averaged samples: the naive SEM, as phi_err (phi_err_method) */
-            hs_sem = sqrt(lub_stats_var(B.series_h + h0i, (size_t)lp.navg) / (double)lp.navg);
-        }
-        inv = lub_profile_inventory(B.phi, nb, dy);
-        lub_profile_normal_viscosity(B.phi, B.phi_err, nb, dy, p.Sh, B.eta, B.eta_err);
-        nkeep = lub_profile_select_bulk(B.phi, nb, 0.0, dy, p.interface_width, p.floor_skip,
-                                        p.phi_min, B.keep);
-        /* eta_ii(phi) pairs the exact eta_ii(y) with phi averaged over phi_window (layering) */
-        lub_profile_coarse_grain(B.phi, B.phi_err, nb, dy, p.phi_window, B.phi_cg, B.phi_cg_err);
-        double s2 = 0.0;
-        int nl = 0, q = 0;
-        for (int i = 0; i < nb; ++i) {
-            double lw = eta22_law(B.phi_cg[i], p.phi_m);
-            if (p.orientation == LUB_RS_VORTICITY)
-                lw *= lambda33_law(B.phi_cg[i]);
-            B.law[i] = isfinite(lw) ? lw : NAN;
-            B.keepd[i] = B.keep[i];
-            if (B.keep[i]) {
-                B.pairs_out[4 * q + 0] = B.phi_cg[i];
-                B.pairs_out[4 * q + 1] = B.phi_cg_err[i];
-                B.pairs_out[4 * q + 2] = B.eta[i];
-                B.pairs_out[4 * q + 3] = B.eta_err[i];
-                ++q;
-                if (isfinite(lw) && lw > 0.0 && B.eta[i] > 0.0) {
-                    double d = log(B.eta[i] / lw);
-                    s2 += d * d;
-                    ++nl;
-                }
-            }
-        }
-        law_rms = nl > 0 ? sqrt(s2 / nl) : NAN;
-        /* mean flow-direction velocity per bin and its least-squares slope over bulk bins */
-        double sw = 0, sy = 0, sv = 0, syy = 0, syv = 0;
-        for (int i = 0; i < nb; ++i) {
-            B.vx_inst[i] = B.vx_vol[i] > 0.0 ? B.vx_sum[i] / B.vx_vol[i] : NAN;
-            if (B.keep[i] && isfinite(B.vx_inst[i])) {
-                sw += 1.0;
-                sy += B.ybin[i];
-                sv += B.vx_inst[i];
-                syy += B.ybin[i] * B.ybin[i];
-                syv += B.ybin[i] * B.vx_inst[i];
-            }
-        }
-        if (sw >= 3.0)
-            bulk_rate = (sw * syv - sy * sv) / (sw * syy - sy * sy);
-        int wr = write_profiles(ctx->out, "y", nb, B.ybin, "a") ||
-                 write_profiles(ctx->out, "phi", nb, B.phi, "1") ||
-                 write_profiles(ctx->out, "phi_err", nb, B.phi_err, "1") ||
-                 write_profiles(ctx->out, "phi_coarse", nb, B.phi_cg, "1") ||
-                 write_profiles(ctx->out, "phi_coarse_err", nb, B.phi_cg_err, "1") ||
-                 write_profiles(ctx->out, "eta_normal", nb, B.eta, "1") ||
-                 write_profiles(ctx->out, "eta_normal_err", nb, B.eta_err, "1") ||
-                 write_profiles(ctx->out, "bulk_mask", nb, B.keepd, "1") ||
-                 write_profiles(ctx->out, "eta_normal_law", nb, B.law, "1") ||
-                 write_profiles(ctx->out, "velocity_x", nb, B.vx_inst, "a gd");
-        if (!wr && q > 0) {
-            int64_t dims[2] = {q, 4};
-            wr = lub_h5_write_array(ctx->out, "eta_vs_phi", 2, dims, B.pairs_out, "1");
-        }
-        if (wr && rc == LUB_EXIT_OK) {
-            snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
-            rc = LUB_EXIT_IO;
-        }
-    }
+/* After a numerical failure the time step may be to blame: what set it, and what to change. */
+static void rs_failure_advice(rs_run_state *r, int rc)
+{
+    const lub_rs_spec *p = &r->p;
+    if (rc == LUB_EXIT_NUMERICAL && r->dt_adapts && r->step_unstable)
+        lub_diagnostic_adapted_dt_hint(r->ctx, r->dt, p->dt_safety, r->dt_crit, "dt_critical",
+                                       r->lp.ctl.changes, p->dt_stiffness_safety,
+                                       r->lp.ctl.ratio_max);
+    else if (rc == LUB_EXIT_NUMERICAL && (r->step_unstable || p->dt > r->dt_crit))
+        lub_diagnostic_dt_hint(r->ctx, p->dt, p->dt_safety, r->dt_crit, "dt_critical");
+}
 
-    const double h0 = inv / p.phi_m;
-    const double A = lub_acrivos_number(eta, gd, drho, grav, h0 * a);
-    lub_summary_put(ctx, "shields", lub_shields_number(eta, gd, drho, grav, a), NAN, "1");
-    lub_summary_put(ctx, "acrivos", A, NAN, "1");
-    lub_summary_put(ctx, "inertial_number", gd * sqrt(a / grav), NAN, "1");
-    lub_summary_put(ctx, "stokes_number", St, NAN, "1");
-    lub_summary_put(ctx, "suspension_height", hs_mean, hs_sem, "a");
-    lub_summary_put(ctx, "settled_height", h0, NAN, "a");
-    lub_summary_put(ctx, "relative_height_increase", (hs_mean - h0) / h0, hs_sem / h0, "1");
-    lub_summary_put(ctx, "inventory", inv, NAN, "a");
-    lub_summary_put(ctx, "max_phi", pmax, NAN, "1");
-    lub_summary_put(ctx, "bulk_bins", nkeep, NAN, "1");
-    lub_summary_put(ctx, "bulk_velocity_slope", bulk_rate, NAN, "gd");
-    lub_summary_put(ctx, "eta_vs_law_log_rms", law_rms, NAN, "1");
-    lub_summary_put(ctx, "averaged_samples", (double)lp.navg, NAN, "1");
-    lub_summary_put(ctx, "min_clearance_above_floor", lp.min_lowest, NAN, "a");
-    lub_summary_put(ctx, "particles_below_floor", lp.below_floor_max, NAN, "1");
-    lub_summary_put(ctx, "lid_reflections", (double)S.lid_hits, NAN, "1");
-    const double crushed_fraction = lp.contacts_sum > 0 ? lp.crushed_sum / lp.contacts_sum : 0.0;
-    lub_summary_put(ctx, "crushed_contact_fraction", crushed_fraction, NAN, "1");
-    lub_summary_put(ctx, "max_kinetic_energy", lp.max_ke, NAN, "eta gd a^3");
-    lub_summary_put(ctx, "cell_width", L, NAN, "a");
-    lub_summary_put(ctx, "floor_radius", rf, NAN, "a");
-    lub_summary_put(ctx, "lid_height", y_lid - y_floor, NAN, "a");
-    lub_summary_put(ctx, "initial_height", h_init, NAN, "a");
-    lub_summary_put(ctx, "dt", dt, NAN, "1/gd");
-    lub_summary_put(ctx, "dt_min", lp.ctl.dt_min, NAN, "1/gd");
-    lub_summary_put(ctx, "dt_changes", (double)lp.ctl.changes, NAN, "1");
-    lub_summary_put(ctx, "dt_critical", dt_crit, NAN, "1/gd");
-    lub_summary_put(ctx, "rebuilds", (double)S.rebuilds, NAN, "1");
-    lub_summary_put(ctx, "dt_stiffness_ratio", lp.ctl.ratio_max, NAN, "1");
-    lub_summary_put(ctx, "solid_volume", vsum, NAN, "a^3");
-    lub_summary_put(ctx, "initial_phi", binfo.layer_phi, NAN, "1");
-
-    json_t *terms = json_array();
-    json_array_append_new(terms, json_string("gravity"));
-    lub_law_terms_append(terms, S.law.terms);
-    if (S.law.eps > 0.0)
-        json_array_append_new(terms, json_string("normal_contact"));
-    if (p.orientation == LUB_RS_GRADIENT && p.eta_shear > 0.0)
-        json_array_append_new(terms, json_string("shear_drag"));
-    if (p.eta_dilute > 0.0 && p.dilute_max >= 0)
-        json_array_append_new(terms, json_string("dilute_drag"));
-    json_array_append_new(terms, json_string("rough_floor"));
-    json_array_append_new(terms, json_string("reflecting_lid"));
-    json_object_set_new(ctx->summary_extra, "active_terms", terms);
-    json_object_set_new(ctx->summary_extra, "steps", json_integer(S.step));
-    json_object_set_new(ctx->summary_extra, "simulated_time", json_real(S.time));
-    json_object_set_new(ctx->summary_extra, "orientation",
-                        json_string(p.orientation == LUB_RS_VORTICITY ? "vorticity" : "gradient"));
-    json_object_set_new(ctx->summary_extra, "height_steady", json_boolean(steady));
-    json_object_set_new(ctx->summary_extra, "height_transient_end_strain",
-                        json_real((double)mser * p.sample_strain));
-    json_object_set_new(ctx->summary_extra, "phi_err_method",
-                        json_string(lp.navg < 2            ? "none (fewer than 2 samples)"
-                                    : sem_batch_means == 1 ? "batch_means_ar1"
-                                                           : "naive (fewer than 32 samples)"));
-    json_t *warn = json_array();
-    if (gd * sqrt(a / grav) > 5e-2)
-        json_array_append_new(warn, json_string("inertial number gd sqrt(a/g) above 5e-2: "
-                                                "inertia enhances resuspension (seed 000 §IV.C)"));
-    if (!steady) {
-        const char *why = stopped_at < 0 ? "suspension height not steady (MSER-5): increase "
-                                           "/strain"
-                          : lub_run_resumable(ctx)
-                              ? "suspension height not steady (MSER-5) when the run was "
-                                "stopped by a signal: " LUB_RESUME_ADVICE
-                              : "suspension height not steady (MSER-5) when the run was "
-                                "stopped by a signal, whose checkpoint could not be written: "
-                                "run it again";
-        json_array_append_new(warn, json_string(why));
+/* The steady-state statistics (also for a partial run: whatever was averaged), the profiles
+ * into result.h5 and the summary. Returns the exit code (LUB_EXIT_IO when the profiles cannot
+ * be written by a run that had none). */
+static int rs_report(rs_run_state *r, int rc)
+{
+    const lub_rs_spec *p = &r->p;
+    lub_run_ctx *ctx = r->ctx;
+    rs_buffers *B = &r->B;
+    const rs_loop *lp = &r->lp;
+    const lub_rs_stats_input in = {.nb = r->nb,
+                                   .dy = r->dy,
+                                   .samples = B->samples,
+                                   .navg = lp->navg,
+                                   .height = B->series_h,
+                                   .nh = lp->nh,
+                                   .vx_volume = B->vx_vol,
+                                   .vx_sum = B->vx_sum,
+                                   .shields = p->Sh,
+                                   .interface_width = p->interface_width,
+                                   .floor_skip = p->floor_skip,
+                                   .phi_min = p->phi_min,
+                                   .phi_m = p->phi_m,
+                                   .phi_window = p->phi_window,
+                                   .vorticity = p->orientation == LUB_RS_VORTICITY};
+    const lub_rs_stats_profiles pr = {.y = B->ybin,
+                                      .phi = B->phi,
+                                      .phi_err = B->phi_err,
+                                      .phi_coarse = B->phi_cg,
+                                      .phi_coarse_err = B->phi_cg_err,
+                                      .eta = B->eta,
+                                      .eta_err = B->eta_err,
+                                      .law = B->law,
+                                      .bulk = B->keep,
+                                      .bulk_mask = B->keepd,
+                                      .velocity_x = B->vx_inst,
+                                      .eta_vs_phi = B->pairs_out,
+                                      .scratch = B->scratch,
+                                      .scratch2 = B->scratch2};
+    lub_rs_stats st;
+    lub_rs_statistics(&in, &pr, &st);
+    if (lp->navg > 0 && lub_rs_write_profiles(ctx->out, r->nb, &pr, st.eta_vs_phi_rows) &&
+        rc == LUB_EXIT_OK) {
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
+        rc = LUB_EXIT_IO;
     }
-    if (p.orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) && fabs(bulk_rate - gd) > 0.2 * gd)
-        json_array_append_new(warn, json_string("the bed is not sheared homogeneously (bulk "
-                                                "dv_x/dy differs from gd by more than 20 %, see "
-                                                "results/bulk_velocity_slope): raise "
-                                                "/shear_drag_viscosity"));
-    if (S.lid_hits > 0)
-        json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
-    lub_warn_fixed_dt(warn, p.dt, dt_crit, "dt_critical");
-    lub_warn_fixed_dt_stiffness(warn, p.dt, dt_crit, lp.ctl.ratio_max, LUB_SHEAR_DT_STIFFNESS_MAX);
-    if (crushed_fraction > LUB_CRUSHED_CONTACT_FRACTION_MAX) /* the message's "1 %" */
-        json_array_append_new(warn,
-                              json_string("asperities crushed in more than 1 % of the contacts "
-                                          "(crushed_contact_fraction; u_n < -alpha eps a): "
-                                          "contact forces exceed alpha stiffness eps, the "
-                                          "results depend on /stiffness: raise it"));
-    lub_network_warn_skipped(network, warn);
-    json_object_set_new(ctx->summary_extra, "warnings", warn);
-    json_object_set_new(
-        ctx->summary_extra, "units",
-        json_pack("{s:s, s:s, s:s, s:s, s:s, s:s}", "length", "a (mean particle radius)",
-                  "viscosity", "eta (fluid viscosity)", "time", "1/gd (inverse shear rate)",
-                  "stress", "eta gd", "energy", "eta gd a^3", "note",
-                  "drho g = 1/Sh, g = 1/I^2, rho_p = density_ratio drho; y from the floor "
-                  "centre plane"));
-    lub_rs_free(&S);
-    rs_buffers_free(&B);
+    const lub_rs_outcome o = {.system = &r->S,
+                              .step_control = &lp->ctl,
+                              .network = r->network,
+                              .dt = r->dt,
+                              .dt_critical = r->dt_crit,
+                              .cell_width = r->L,
+                              .floor_radius = r->rf,
+                              .y_floor = r->y_floor,
+                              .y_lid = r->y_lid,
+                              .initial_height = r->h_init,
+                              .solid_volume = r->vsum,
+                              .initial_phi = r->binfo.layer_phi,
+                              .averaged_samples = lp->navg,
+                              .min_clearance = lp->min_lowest,
+                              .below_floor_max = lp->below_floor_max,
+                              .max_kinetic_energy = lp->max_ke,
+                              .contacts_sum = lp->contacts_sum,
+                              .crushed_sum = lp->crushed_sum,
+                              .stopped = r->stopped_at >= 0};
+    lub_rs_write_summary(ctx, p, &r->sc, &st, &o);
+    return rc;
+}
+
+static int rs_run(const json_t *resolved, lub_run_ctx *ctx)
+{
+    rs_run_state r;
+    memset(&r, 0, sizeof r);
+    r.ctx = ctx;
+    r.resolved = resolved;
+    r.stopped_at = -1;
+    /* set-up: each phase runs only when the ones before it succeeded */
+    int rc = rs_read_spec(&r);
+    if (rc == LUB_EXIT_OK)
+        rc = rs_build_bed(&r);
+    if (rc == LUB_EXIT_OK)
+        rc = rs_init_system(&r);
+    if (rc == LUB_EXIT_OK)
+        rc = rs_allocate_samples(&r);
+    if (rc == LUB_EXIT_OK)
+        rc = rs_define_outputs(&r);
+    if (rc == LUB_EXIT_OK && ctx->resume_path) /* the stopped run's state replaces the fresh one */
+        rc = rs_continue_stopped_run(&r);
+    if (rc != LUB_EXIT_OK) {
+        rs_run_state_free(&r);
+        return rc;
+    }
+    rc = rs_finish_loop(&r, rs_time_loop(&r));
+    rs_failure_advice(&r, rc);
+    rc = rs_report(&r, rc);
+    rs_run_state_free(&r);
     return rc;
 }
 

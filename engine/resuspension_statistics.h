@@ -1,0 +1,73 @@
+/* resuspension_statistics.h — the steady-state statistics of a resuspension run
+ * (scene_resuspension.c), also of a partial run (whatever was averaged): from the instantaneous
+ * phi(y) profiles and suspension heights the run sampled, the time-averaged phi(y) with the
+ * stats.h error bars, the suspension height (phi crosses half its maximum) and its error, the
+ * inventory, eta_ii(y) = (1/Sh) int_y^inf phi (eq. 6), the bulk bins (lub_profile_select_bulk),
+ * the bulk points eta_ii(phi) with phi averaged over phi_window (lub_profile_coarse_grain, so
+ * that the layering next to the floor does not bias them), the seed's laws at that phi (eq. 9;
+ * for the vorticity orientation eta_33 = lambda_33 eta_22 with eq. 8) with the log-rms distance
+ * of the bulk points from them, and the mean flow-direction velocity per bin with its
+ * least-squares slope over the bulk bins. Whether the height is steady: MSER-5 on the whole
+ * height series.
+ *
+ * Units: those of the scene (length a, time 1/gd, viscosity eta; velocities in a gd; phi and
+ * eta_ii/eta dimensionless); y is measured from the floor centre plane.
+ * Ownership: nothing is kept; every array is the caller's (the outputs nb long unless said
+ * otherwise). Pure function: no I/O, no allocation, no global state.
+ * Errors: none; a value the samples cannot give is NaN (no averaged sample; fewer than 2 for an
+ * error bar; a law at phi >= phi_m).
+ */
+#ifndef LUBDEM_RESUSPENSION_STATISTICS_H
+#define LUBDEM_RESUSPENSION_STATISTICS_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct {
+    int nb;                /* bins; bin i covers [i dy, (i + 1) dy) above the floor centre plane */
+    double dy;             /* bin width (a) */
+    const double *samples; /* navg profiles of nb instantaneous phi, one after the other */
+    int64_t navg;          /* averaged samples (from /average_from on) */
+    const double *height;  /* nh suspension-height samples (a), the last navg averaged */
+    int64_t nh;
+    const double *vx_volume; /* per bin, summed over the averaged samples: the spheres' volume */
+    const double *vx_sum;    /* ... and their volume-weighted v_x relative to the floor-plane
+                                mean flow */
+    double shields;          /* Sh of eta_ii = (1/Sh) int phi */
+    double interface_width, floor_skip, phi_min; /* the bulk selection */
+    double phi_m;                                /* the eta_22 law's jamming fraction */
+    double phi_window;                           /* coarse graining of phi in eta_ii(phi) (a) */
+    int vorticity; /* 1: the vorticity orientation (eta_33 = lambda_33 eta_22) */
+} lub_rs_stats_input;
+
+typedef struct {
+    double *y;                           /* bin centres (a) */
+    double *phi, *phi_err;               /* time-averaged phi and its standard error */
+    double *phi_coarse, *phi_coarse_err; /* phi averaged over phi_window */
+    double *eta, *eta_err;               /* eta_ii(y)/eta */
+    double *law;                         /* the seed's law at phi_coarse (NaN: none) */
+    int *bulk;                           /* 1: a bulk bin */
+    double *bulk_mask;                   /* the same as 1.0 or 0.0 (for the output) */
+    double *velocity_x;                  /* mean v_x (a gd; NaN where no sphere passed) */
+    double *eta_vs_phi;         /* 4 nb: the bulk bins' (phi_coarse, its error, eta, its error) */
+    double *scratch, *scratch2; /* max(nh, navg) + 1 each, overwritten */
+} lub_rs_stats_profiles;
+
+typedef struct {
+    int steady;                 /* 1: MSER-5 found the height series steady (needs 10 samples) */
+    size_t transient_end;       /* the samples MSER-5 cut as transient (0 without 10) */
+    int sem_batch_means;        /* 1: every phi_err is a batch-means one; 0: some bin's is the
+                                   naive SEM (fewer than LUB_STATS_MIN_BATCHES samples) */
+    double height, height_err;  /* suspension height of the averaged profile and its error (a) */
+    double inventory;           /* int phi dy (a) */
+    double max_phi;             /* of the averaged profile (0 without a sample) */
+    int bulk_bins;              /* bins selected as bulk */
+    int eta_vs_phi_rows;        /* rows of eta_vs_phi */
+    double law_log_rms;         /* rms of log(eta / law) over the bulk bins */
+    double bulk_velocity_slope; /* d<v_x>/dy over the bulk bins (gd; NaN below 3 bins) */
+} lub_rs_stats;
+
+void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
+                       lub_rs_stats *st);
+
+#endif

@@ -1,0 +1,169 @@
+/* resuspension_summary.c — the results of a resuspension run into result.h5 and the summary
+ * (resuspension_summary.h).
+ */
+#include "resuspension_summary.h"
+
+#include <math.h>
+
+#include "law_spec.h"
+#include "network_output.h"
+#include "resuspension_analysis.h"
+#include "shear_run_checks.h"
+
+static int write_profiles(lub_h5 *h5, const char *name, int n, const double *data, const char *unit)
+{
+    int64_t dims[1] = {n};
+    return lub_h5_write_array(h5, name, 1, dims, data, unit);
+}
+
+int lub_rs_write_profiles(lub_h5 *out, int nb, const lub_rs_stats_profiles *pr, int rows)
+{
+    int wr = write_profiles(out, "y", nb, pr->y, "a") ||
+             write_profiles(out, "phi", nb, pr->phi, "1") ||
+             write_profiles(out, "phi_err", nb, pr->phi_err, "1") ||
+             write_profiles(out, "phi_coarse", nb, pr->phi_coarse, "1") ||
+             write_profiles(out, "phi_coarse_err", nb, pr->phi_coarse_err, "1") ||
+             write_profiles(out, "eta_normal", nb, pr->eta, "1") ||
+             write_profiles(out, "eta_normal_err", nb, pr->eta_err, "1") ||
+             write_profiles(out, "bulk_mask", nb, pr->bulk_mask, "1") ||
+             write_profiles(out, "eta_normal_law", nb, pr->law, "1") ||
+             write_profiles(out, "velocity_x", nb, pr->velocity_x, "a gd");
+    if (!wr && rows > 0) {
+        int64_t dims[2] = {rows, 4};
+        wr = lub_h5_write_array(out, "eta_vs_phi", 2, dims, pr->eta_vs_phi, "1");
+    }
+    return wr ? -1 : 0;
+}
+
+/* The crushed share of the contacts over the averaged samples (0 without contacts). */
+static double rs_crushed_fraction(const lub_rs_outcome *o)
+{
+    return o->contacts_sum > 0 ? o->crushed_sum / o->contacts_sum : 0.0;
+}
+
+/* The headline numbers and what the run did (ctx->summary_results). */
+static void rs_put_results(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_scales *sc,
+                           const lub_rs_stats *st, const lub_rs_outcome *o)
+{
+    const double a = sc->a, eta = sc->eta, gd = sc->gd, grav = sc->gravity, drho = sc->drho;
+    const lub_rs_system *S = o->system;
+    const lub_step_control *ctl = o->step_control;
+    const double hs_mean = st->height, hs_sem = st->height_err;
+    const double h0 = st->inventory / p->phi_m;
+    const double A = lub_acrivos_number(eta, gd, drho, grav, h0 * a);
+    lub_summary_put(ctx, "shields", lub_shields_number(eta, gd, drho, grav, a), NAN, "1");
+    lub_summary_put(ctx, "acrivos", A, NAN, "1");
+    lub_summary_put(ctx, "inertial_number", gd * sqrt(a / grav), NAN, "1");
+    lub_summary_put(ctx, "stokes_number", sc->stokes, NAN, "1");
+    lub_summary_put(ctx, "suspension_height", hs_mean, hs_sem, "a");
+    lub_summary_put(ctx, "settled_height", h0, NAN, "a");
+    lub_summary_put(ctx, "relative_height_increase", (hs_mean - h0) / h0, hs_sem / h0, "1");
+    lub_summary_put(ctx, "inventory", st->inventory, NAN, "a");
+    lub_summary_put(ctx, "max_phi", st->max_phi, NAN, "1");
+    lub_summary_put(ctx, "bulk_bins", st->bulk_bins, NAN, "1");
+    lub_summary_put(ctx, "bulk_velocity_slope", st->bulk_velocity_slope, NAN, "gd");
+    lub_summary_put(ctx, "eta_vs_law_log_rms", st->law_log_rms, NAN, "1");
+    lub_summary_put(ctx, "averaged_samples", (double)o->averaged_samples, NAN, "1");
+    lub_summary_put(ctx, "min_clearance_above_floor", o->min_clearance, NAN, "a");
+    lub_summary_put(ctx, "particles_below_floor", o->below_floor_max, NAN, "1");
+    lub_summary_put(ctx, "lid_reflections", (double)S->lid_hits, NAN, "1");
+    lub_summary_put(ctx, "crushed_contact_fraction", rs_crushed_fraction(o), NAN, "1");
+    lub_summary_put(ctx, "max_kinetic_energy", o->max_kinetic_energy, NAN, "eta gd a^3");
+    lub_summary_put(ctx, "cell_width", o->cell_width, NAN, "a");
+    lub_summary_put(ctx, "floor_radius", o->floor_radius, NAN, "a");
+    lub_summary_put(ctx, "lid_height", o->y_lid - o->y_floor, NAN, "a");
+    lub_summary_put(ctx, "initial_height", o->initial_height, NAN, "a");
+    lub_summary_put(ctx, "dt", o->dt, NAN, "1/gd");
+    lub_summary_put(ctx, "dt_min", ctl->dt_min, NAN, "1/gd");
+    lub_summary_put(ctx, "dt_changes", (double)ctl->changes, NAN, "1");
+    lub_summary_put(ctx, "dt_critical", o->dt_critical, NAN, "1/gd");
+    lub_summary_put(ctx, "rebuilds", (double)S->rebuilds, NAN, "1");
+    lub_summary_put(ctx, "dt_stiffness_ratio", ctl->ratio_max, NAN, "1");
+    lub_summary_put(ctx, "solid_volume", o->solid_volume, NAN, "a^3");
+    lub_summary_put(ctx, "initial_phi", o->initial_phi, NAN, "1");
+}
+
+/* The force terms the run had: gravity, the law's, the drags that act, floor and lid. */
+static json_t *rs_active_terms(const lub_rs_spec *p, const lub_rs_system *S)
+{
+    json_t *terms = json_array();
+    json_array_append_new(terms, json_string("gravity"));
+    lub_law_terms_append(terms, S->law.terms);
+    if (S->law.eps > 0.0)
+        json_array_append_new(terms, json_string("normal_contact"));
+    if (p->orientation == LUB_RS_GRADIENT && p->eta_shear > 0.0)
+        json_array_append_new(terms, json_string("shear_drag"));
+    if (p->eta_dilute > 0.0 && p->dilute_max >= 0)
+        json_array_append_new(terms, json_string("dilute_drag"));
+    json_array_append_new(terms, json_string("rough_floor"));
+    json_array_append_new(terms, json_string("reflecting_lid"));
+    return terms;
+}
+
+/* The warnings: each says what makes the results doubtful and which member to change. */
+static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_scales *sc,
+                           const lub_rs_stats *st, const lub_rs_outcome *o)
+{
+    const double a = sc->a, gd = sc->gd, grav = sc->gravity;
+    const double bulk_rate = st->bulk_velocity_slope;
+    json_t *warn = json_array();
+    if (gd * sqrt(a / grav) > 5e-2)
+        json_array_append_new(warn, json_string("inertial number gd sqrt(a/g) above 5e-2: "
+                                                "inertia enhances resuspension (seed 000 §IV.C)"));
+    if (!st->steady) {
+        const char *why = !o->stopped ? "suspension height not steady (MSER-5): increase "
+                                        "/strain"
+                          : lub_run_resumable(ctx)
+                              ? "suspension height not steady (MSER-5) when the run was "
+                                "stopped by a signal: " LUB_RESUME_ADVICE
+                              : "suspension height not steady (MSER-5) when the run was "
+                                "stopped by a signal, whose checkpoint could not be written: "
+                                "run it again";
+        json_array_append_new(warn, json_string(why));
+    }
+    if (p->orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) && fabs(bulk_rate - gd) > 0.2 * gd)
+        json_array_append_new(warn, json_string("the bed is not sheared homogeneously (bulk "
+                                                "dv_x/dy differs from gd by more than 20 %, see "
+                                                "results/bulk_velocity_slope): raise "
+                                                "/shear_drag_viscosity"));
+    if (o->system->lid_hits > 0)
+        json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
+    lub_warn_fixed_dt(warn, p->dt, o->dt_critical, "dt_critical");
+    lub_warn_fixed_dt_stiffness(warn, p->dt, o->dt_critical, o->step_control->ratio_max,
+                                LUB_SHEAR_DT_STIFFNESS_MAX);
+    if (rs_crushed_fraction(o) > LUB_CRUSHED_CONTACT_FRACTION_MAX) /* the message's "1 %" */
+        json_array_append_new(warn,
+                              json_string("asperities crushed in more than 1 % of the contacts "
+                                          "(crushed_contact_fraction; u_n < -alpha eps a): "
+                                          "contact forces exceed alpha stiffness eps, the "
+                                          "results depend on /stiffness: raise it"));
+    lub_network_warn_skipped(o->network, warn);
+    return warn;
+}
+
+void lub_rs_write_summary(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_scales *sc,
+                          const lub_rs_stats *st, const lub_rs_outcome *o)
+{
+    rs_put_results(ctx, p, sc, st, o);
+    json_t *extra = ctx->summary_extra;
+    json_object_set_new(extra, "active_terms", rs_active_terms(p, o->system));
+    json_object_set_new(extra, "steps", json_integer(o->system->step));
+    json_object_set_new(extra, "simulated_time", json_real(o->system->time));
+    json_object_set_new(extra, "orientation",
+                        json_string(p->orientation == LUB_RS_VORTICITY ? "vorticity" : "gradient"));
+    json_object_set_new(extra, "height_steady", json_boolean(st->steady));
+    json_object_set_new(extra, "height_transient_end_strain",
+                        json_real((double)st->transient_end * p->sample_strain));
+    json_object_set_new(extra, "phi_err_method",
+                        json_string(o->averaged_samples < 2    ? "none (fewer than 2 samples)"
+                                    : st->sem_batch_means == 1 ? "batch_means_ar1"
+                                                               : "naive (fewer than 32 samples)"));
+    json_object_set_new(extra, "warnings", rs_warnings(ctx, p, sc, st, o));
+    json_object_set_new(
+        extra, "units",
+        json_pack("{s:s, s:s, s:s, s:s, s:s, s:s}", "length", "a (mean particle radius)",
+                  "viscosity", "eta (fluid viscosity)", "time", "1/gd (inverse shear rate)",
+                  "stress", "eta gd", "energy", "eta gd a^3", "note",
+                  "drho g = 1/Sh, g = 1/I^2, rho_p = density_ratio drho; y from the floor "
+                  "centre plane"));
+}
