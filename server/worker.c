@@ -377,296 +377,422 @@ static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
     return why;
 }
 
-/* Runs one claimed job to its end. */
-static void run_job(worker_ctx *w, lubd_claim *c)
-{
-    const lubd_config *cfg = w->cfg;
+/* What the phases of one job attempt (run_job) share. */
+typedef struct {
+    worker_ctx *w;
+    const lubd_claim *c;
     char job_dir[1200], attempt_dir[1300], out_dir[1400], spec_path[1400], log_path[1400],
         result_dir[1300];
-    snprintf(job_dir, sizeof job_dir, "%s/%s", cfg->jobs_dir, c->id);
-    snprintf(attempt_dir, sizeof attempt_dir, "%s/attempt-%d", job_dir, c->attempt);
-    snprintf(out_dir, sizeof out_dir, "%s/out", attempt_dir);
-    snprintf(spec_path, sizeof spec_path, "%s/spec.json", attempt_dir);
-    snprintf(log_path, sizeof log_path, "%s/log", attempt_dir);
-    snprintf(result_dir, sizeof result_dir, "%s/result", job_dir);
-
+    int resume;      /* out_dir holds the checkpoint the engine continues from (--resume) */
+    int resume_from; /* the kept out folder: -1 none, 0 this attempt's own, 1 the previous one's */
+    int from_other;  /* out_dir holds the files of the job this one continues ("continue_from") */
+    int log_fd;
+    lubd_engine_opts eo;
+    end_reason why;      /* how the engine's supervision ended */
+    int status;          /* the engine's wait status */
+    char st_text[200];   /* the status in words, as the log states it */
+    double cpu_used;     /* CPU time the engine used (user + system, s) */
+    double started_at;   /* wall clock when the engine started (wall_now) */
+    int killed_outside;  /* SIGKILL from outside this service (assess_kill_from_outside) */
+    int have_ckpt;       /* ... that left out/checkpoint.h5 */
+    char ckpt_note[300]; /* the checkpoint a next attempt or a continuation starts from */
     char msg[900];
-    /* A job that ran before continues from its engine's checkpoint (lubdem run --resume)
-     * instead of from the beginning: an attempt released when the service stopped runs again
-     * under the same number, and its engine left out/checkpoint.h5 when it stopped; a job
-     * requeued after its worker died runs as the next attempt, and the previous attempt's
-     * engine left the last of its periodic checkpoints (--checkpoint-s). That out folder is
-     * kept (moved aside, then into this attempt's folder); the rest of the attempt folder (the
-     * leftovers of a crash) is cleared as before. */
-    char keep_dir[1400], keep_log[1400], ckpt_path[1500], prev_out[1400];
-    snprintf(keep_dir, sizeof keep_dir, "%s/resume-out", job_dir);
-    snprintf(keep_log, sizeof keep_log, "%s/resume-log", job_dir);
-    snprintf(prev_out, sizeof prev_out, "%s/attempt-%d/out", job_dir, c->attempt - 1);
-    int resume = 0, resume_from = -1; /* 0: this attempt's own out folder, 1: the previous one's */
-    const char *sources[2] = {out_dir, c->attempt > 1 ? prev_out : NULL};
+} job_attempt;
+
+static void attempt_paths(job_attempt *a)
+{
+    const lubd_config *cfg = a->w->cfg;
+    snprintf(a->job_dir, sizeof a->job_dir, "%s/%s", cfg->jobs_dir, a->c->id);
+    snprintf(a->attempt_dir, sizeof a->attempt_dir, "%s/attempt-%d", a->job_dir, a->c->attempt);
+    snprintf(a->out_dir, sizeof a->out_dir, "%s/out", a->attempt_dir);
+    snprintf(a->spec_path, sizeof a->spec_path, "%s/spec.json", a->attempt_dir);
+    snprintf(a->log_path, sizeof a->log_path, "%s/log", a->attempt_dir);
+    snprintf(a->result_dir, sizeof a->result_dir, "%s/result", a->job_dir);
+}
+
+/* A job that ran before continues from its engine's checkpoint (lubdem run --resume)
+ * instead of from the beginning: an attempt released when the service stopped runs again
+ * under the same number, and its engine left out/checkpoint.h5 when it stopped; a job
+ * requeued after its worker died runs as the next attempt, and the previous attempt's
+ * engine left the last of its periodic checkpoints (--checkpoint-s). That out folder is
+ * kept (moved aside, then into this attempt's folder); the rest of the attempt folder (the
+ * leftovers of a crash) is cleared as before. */
+static void keep_checkpointed_out(job_attempt *a, const char *keep_dir)
+{
+    char ckpt_path[1500], prev_out[1400];
+    snprintf(prev_out, sizeof prev_out, "%s/attempt-%d/out", a->job_dir, a->c->attempt - 1);
+    /* 0: this attempt's own out folder, 1: the previous one's */
+    const char *sources[2] = {a->out_dir, a->c->attempt > 1 ? prev_out : NULL};
     if (lubd_rm_rf(keep_dir) == 0)
-        for (int k = 0; k < 2 && !resume && sources[k]; ++k) {
+        for (int k = 0; k < 2 && !a->resume && sources[k]; ++k) {
             snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", sources[k]);
-            resume = access(ckpt_path, F_OK) == 0 && rename(sources[k], keep_dir) == 0;
-            if (resume)
-                resume_from = k;
+            a->resume = access(ckpt_path, F_OK) == 0 && rename(sources[k], keep_dir) == 0;
+            if (a->resume)
+                a->resume_from = k;
         }
-    /* The log of an attempt that runs again under its number (released when the service
-     * stopped) is kept and appended to: what its first run printed (its progress, the stop,
-     * the engine's warnings) stays in attempt-<n>/log. */
+}
+
+/* The log of an attempt that runs again under its number (released when the service
+ * stopped) is kept and appended to: what its first run printed (its progress, the stop,
+ * the engine's warnings) stays in attempt-<n>/log. Returns 1 when it was moved to keep_log. */
+static int keep_attempt_log(const job_attempt *a, const char *keep_log)
+{
     int kept_log = 0;
     if (unlink(keep_log) == 0 || errno == ENOENT) {
         char old_log[1400];
-        snprintf(old_log, sizeof old_log, "%s/log", attempt_dir);
+        snprintf(old_log, sizeof old_log, "%s/log", a->attempt_dir);
         kept_log = rename(old_log, keep_log) == 0;
     }
-    if (lubd_rm_rf(attempt_dir) != 0 || lubd_mkdir_p(attempt_dir, 0750) != 0 ||
-        (resume && rename(keep_dir, out_dir) != 0) ||
-        (kept_log && rename(keep_log, log_path) != 0) ||
-        lubd_write_file_atomic(spec_path, c->spec_json, strlen(c->spec_json)) != 0) {
-        lubd_pathf(msg, sizeof msg, "system error: cannot prepare %s: %s", attempt_dir,
+    return kept_log;
+}
+
+/* Clears the attempt folder, putting back the kept out folder and log, and writes the spec
+ * into it. Returns 0, or -1 when the job has been failed. */
+static int prepare_attempt_folder(job_attempt *a)
+{
+    char keep_dir[1400], keep_log[1400];
+    snprintf(keep_dir, sizeof keep_dir, "%s/resume-out", a->job_dir);
+    snprintf(keep_log, sizeof keep_log, "%s/resume-log", a->job_dir);
+    keep_checkpointed_out(a, keep_dir);
+    const int kept_log = keep_attempt_log(a, keep_log);
+    if (lubd_rm_rf(a->attempt_dir) != 0 || lubd_mkdir_p(a->attempt_dir, 0750) != 0 ||
+        (a->resume && rename(keep_dir, a->out_dir) != 0) ||
+        (kept_log && rename(keep_log, a->log_path) != 0) ||
+        lubd_write_file_atomic(a->spec_path, a->c->spec_json, strlen(a->c->spec_json)) != 0) {
+        lubd_pathf(a->msg, sizeof a->msg, "system error: cannot prepare %s: %s", a->attempt_dir,
                    strerror(errno));
-        lubd_lease_fail(w->db, c, "system", msg);
-        return;
+        lubd_lease_fail(a->w->db, a->c, "system", a->msg);
+        return -1;
     }
-    int log_fd = open(log_path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0640);
-    if (log_fd < 0) {
-        snprintf(msg, sizeof msg, "system error: cannot open the log: %s", strerror(errno));
-        lubd_lease_fail(w->db, c, "system", msg);
-        return;
+    return 0;
+}
+
+/* Opens the attempt's log for appending (a kept log goes on). Returns 0, or -1 when the job
+ * has been failed. */
+static int open_log(job_attempt *a)
+{
+    a->log_fd = open(a->log_path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0640);
+    if (a->log_fd < 0) {
+        snprintf(a->msg, sizeof a->msg, "system error: cannot open the log: %s", strerror(errno));
+        lubd_lease_fail(a->w->db, a->c, "system", a->msg);
+        return -1;
     }
-    if (resume_from == 1) {
+    return 0;
+}
+
+/* The attempt's first line in the log: which job, attempt and worker, and which checkpoint
+ * it continues from. */
+static void write_log_header(const job_attempt *a)
+{
+    const lubd_claim *c = a->c;
+    if (a->resume_from == 1) {
         char ckpt_now[1500], step_note[64] = "";
-        lubd_pathf(ckpt_now, sizeof ckpt_now, "%s/checkpoint.h5", out_dir);
+        lubd_pathf(ckpt_now, sizeof ckpt_now, "%s/checkpoint.h5", a->out_dir);
         const long long step = lub_run_checkpoint_step(ckpt_now);
         if (step >= 0)
             snprintf(step_note, sizeof step_note, "step %lld, ", step);
-        dprintf(log_fd,
+        dprintf(a->log_fd,
                 "lubdemd: job %s attempt %d on worker %s, continuing from the checkpoint of "
                 "attempt %d (%sthe last one its engine left)\n",
-                c->id, c->attempt, w->name, c->attempt - 1, step_note);
+                c->id, c->attempt, a->w->name, c->attempt - 1, step_note);
     } else
-        dprintf(log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt, w->name,
-                resume ? ", continuing from the checkpoint of its stopped run" : "");
-    /* A job submitted with "continue_from" that has no checkpoint of its own yet starts from
-     * the earlier job's kept files. */
-    int from_other = !resume && c->continue_from[0];
-    if (from_other) {
-        const int taken = take_source_files(cfg, c, out_dir, msg, sizeof msg);
-        if (taken < 0) {
-            dprintf(log_fd, "lubdemd: %s\n", msg);
-            close(log_fd);
-            lubd_lease_fail(w->db, c, "executor", msg);
-            return;
-        }
-        dprintf(log_fd, "lubdemd: continuing the run of job %s from its checkpoint%s\n",
-                c->continue_from, taken ? HANDED_NOTE : "");
-        resume = 1;
+        dprintf(a->log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt,
+                a->w->name, a->resume ? ", continuing from the checkpoint of its stopped run" : "");
+}
+
+/* A job submitted with "continue_from" that has no checkpoint of its own yet starts from
+ * the earlier job's kept files. Returns 0, or -1 when the job has been failed (the log
+ * closed). */
+static int take_continued_files(job_attempt *a)
+{
+    a->from_other = !a->resume && a->c->continue_from[0];
+    if (!a->from_other)
+        return 0;
+    const int taken = take_source_files(a->w->cfg, a->c, a->out_dir, a->msg, sizeof a->msg);
+    if (taken < 0) {
+        dprintf(a->log_fd, "lubdemd: %s\n", a->msg);
+        close(a->log_fd);
+        lubd_lease_fail(a->w->db, a->c, "executor", a->msg);
+        return -1;
     }
-    const lub_scene *scene = lub_scene_find(c->process_id);
-    lubd_engine_opts eo = {.engine = cfg->engine,
-                           .spec = spec_path,
-                           .out_dir = out_dir,
-                           .log_fd = log_fd,
-                           .cpu_s = cfg->cpu_s,
-                           .mem_mb = cfg->mem_mb,
-                           .fsize_mb = cfg->fsize_mb,
-                           .threads = cfg->engine_threads,
-                           .resume = resume,
-                           .checkpoint_s = cfg->checkpoint_s,
-                           .keep_checkpoint =
-                               cfg->keep_checkpoints && scene && scene->resume_may_differ != NULL};
-    end_reason why;
-    int status = 0;
-    char st_text[200];
-    double cpu_used = 0.0, started_at = wall_now();
+    dprintf(a->log_fd, "lubdemd: continuing the run of job %s from its checkpoint%s\n",
+            a->c->continue_from, taken ? HANDED_NOTE : "");
+    a->resume = 1;
+    return 0;
+}
+
+static void set_engine_options(job_attempt *a)
+{
+    const lubd_config *cfg = a->w->cfg;
+    const lub_scene *scene = lub_scene_find(a->c->process_id);
+    a->eo = (lubd_engine_opts){.engine = cfg->engine,
+                               .spec = a->spec_path,
+                               .out_dir = a->out_dir,
+                               .log_fd = a->log_fd,
+                               .cpu_s = cfg->cpu_s,
+                               .mem_mb = cfg->mem_mb,
+                               .fsize_mb = cfg->fsize_mb,
+                               .threads = cfg->engine_threads,
+                               .resume = a->resume,
+                               .checkpoint_s = cfg->checkpoint_s,
+                               .keep_checkpoint = cfg->keep_checkpoints && scene &&
+                                                  scene->resume_may_differ != NULL};
+}
+
+/* The engine used up the hard CPU time limit of this service (lubdemd --cpu-s). */
+static int reached_cpu_limit(const job_attempt *a)
+{
+    return a->w->cfg->cpu_s > 0 && a->cpu_used >= (double)a->w->cfg->cpu_s;
+}
+
+/* Puts the engine's end in words into st_text and the log. */
+static void log_engine_end(job_attempt *a)
+{
+    lubd_describe_status(a->status, a->st_text, sizeof a->st_text);
+    if (a->why == END_EXITED && WIFSIGNALED(a->status) && WTERMSIG(a->status) == SIGKILL &&
+        reached_cpu_limit(a))
+        snprintf(a->st_text, sizeof a->st_text,
+                 "killed by signal 9 (SIGKILL) at the hard CPU time limit of this service "
+                 "(%.0f s of CPU; lubdemd --cpu-s %ld, then 5 s to stop after SIGXCPU)",
+                 a->cpu_used, a->w->cfg->cpu_s);
+    dprintf(a->log_fd, "lubdemd: engine finished: %s\n", a->st_text);
+}
+
+/* After the engine refused to continue from the checkpoint (exit 2): clears out_dir and
+ * puts there the files of the job this one continues, if any. Returns 0, or -1 when the job
+ * has been failed (the log closed). */
+static int start_again(job_attempt *a)
+{
+    const lubd_claim *c = a->c;
+    if (lubd_rm_rf(a->out_dir) != 0) {
+        lubd_pathf(a->msg, sizeof a->msg, "system error: cannot clear %s: %s", a->out_dir,
+                   strerror(errno));
+        close(a->log_fd);
+        lubd_lease_fail(a->w->db, c, "system", a->msg);
+        return -1;
+    }
+    a->from_other = c->continue_from[0] != '\0';
+    const int taken =
+        a->from_other ? take_source_files(a->w->cfg, c, a->out_dir, a->msg, sizeof a->msg) : 0;
+    if (taken < 0) {
+        dprintf(a->log_fd, "lubdemd: %s\n", a->msg);
+        close(a->log_fd);
+        lubd_lease_fail(a->w->db, c, "executor", a->msg);
+        return -1;
+    }
+    dprintf(a->log_fd,
+            "lubdemd: the engine cannot continue from the checkpoint (its reason above); "
+            "starting the job again from %s%s%s\n",
+            a->from_other ? "the checkpoint of job " : "the beginning",
+            a->from_other ? c->continue_from : "", taken ? HANDED_NOTE : "");
+    a->eo.resume = a->from_other;
+    return 0;
+}
+
+/* Starts the engine and supervises it to its end, leaving why, status, st_text, cpu_used
+ * and started_at. Returns 0, or -1 when the job has been failed (the log closed). */
+static int run_engine(job_attempt *a)
+{
     for (;;) {
         lubd_engine_proc ep;
-        if (lubd_engine_spawn(&eo, &ep) != 0) {
-            snprintf(msg, sizeof msg, "system error: cannot start the engine: %s", strerror(errno));
-            close(log_fd);
-            lubd_lease_fail(w->db, c, "system", msg);
-            return;
+        if (lubd_engine_spawn(&a->eo, &ep) != 0) {
+            snprintf(a->msg, sizeof a->msg, "system error: cannot start the engine: %s",
+                     strerror(errno));
+            close(a->log_fd);
+            lubd_lease_fail(a->w->db, a->c, "system", a->msg);
+            return -1;
         }
-        started_at = wall_now();
-        why = supervise_engine(w, c, &ep, log_fd, &status, &cpu_used);
-        lubd_describe_status(status, st_text, sizeof st_text);
-        if (why == END_EXITED && WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL &&
-            cfg->cpu_s > 0 && cpu_used >= (double)cfg->cpu_s)
-            snprintf(st_text, sizeof st_text,
-                     "killed by signal 9 (SIGKILL) at the hard CPU time limit of this service "
-                     "(%.0f s of CPU; lubdemd --cpu-s %ld, then 5 s to stop after SIGXCPU)",
-                     cpu_used, cfg->cpu_s);
-        dprintf(log_fd, "lubdemd: engine finished: %s\n", st_text);
+        a->started_at = wall_now();
+        a->why = supervise_engine(a->w, a->c, &ep, a->log_fd, &a->status, &a->cpu_used);
+        log_engine_end(a);
         /* Exit 2 of a continuation is the engine refusing the checkpoint (damaged, cut short,
          * its rows' file gone, or written for another spec by an older service): the job's
          * spec itself passed validation at submission. Rather than fail a job for the state
          * its own earlier run left, start it again, once: from the beginning, or, for a job
          * that continues another one, from that job's checkpoint. A refused checkpoint of
          * another job fails the job with the engine's reason. */
-        if (why != END_EXITED || !eo.resume || from_other || !WIFEXITED(status) ||
-            WEXITSTATUS(status) != 2)
-            break;
-        if (lubd_rm_rf(out_dir) != 0) {
-            lubd_pathf(msg, sizeof msg, "system error: cannot clear %s: %s", out_dir,
-                       strerror(errno));
-            close(log_fd);
-            lubd_lease_fail(w->db, c, "system", msg);
-            return;
-        }
-        from_other = c->continue_from[0] != '\0';
-        const int taken = from_other ? take_source_files(cfg, c, out_dir, msg, sizeof msg) : 0;
-        if (taken < 0) {
-            dprintf(log_fd, "lubdemd: %s\n", msg);
-            close(log_fd);
-            lubd_lease_fail(w->db, c, "executor", msg);
-            return;
-        }
-        dprintf(log_fd,
-                "lubdemd: the engine cannot continue from the checkpoint (its reason above); "
-                "starting the job again from %s%s%s\n",
-                from_other ? "the checkpoint of job " : "the beginning",
-                from_other ? c->continue_from : "", taken ? HANDED_NOTE : "");
-        eo.resume = from_other;
+        if (a->why != END_EXITED || !a->eo.resume || a->from_other || !WIFEXITED(a->status) ||
+            WEXITSTATUS(a->status) != 2)
+            return 0;
+        if (start_again(a) != 0)
+            return -1;
     }
-    if (why == END_SHUTDOWN) {
-        dprintf(log_fd,
-                "lubdemd: the service is stopping: the job goes back to the queue, and attempt %d "
-                "runs again when the service starts again\n",
-                c->attempt);
-        close(log_fd);
-        lubd_lease_release(w->db, c);
-        return;
-    }
-    if (why == END_LOST) {
-        lubd_job now;
-        if (lubd_queue_get(w->db, c->id, &now) == 1 && strcmp(now.state, "dismissed") == 0)
-            dprintf(log_fd,
-                    "lubdemd: the job was dismissed (DELETE) while it ran: the service stopped "
-                    "its engine and removes the files it wrote, so nothing of this run can be "
-                    "continued (whatever the engine said above)\n");
-        else
-            dprintf(log_fd, "lubdemd: this attempt lost its lease (its job was requeued or "
-                            "ended meanwhile): the engine was stopped\n");
-        close(log_fd);
-        lubd_lease_drop(w->db, c);
-        return;
-    }
-    /* An engine killed with SIGKILL by something other than this service (the kernel's OOM
-     * killer, an operator; not the hard CPU time limit, which the message above names, nor a
-     * DELETE or the service's stop, which end as END_LOST / END_SHUTDOWN) is what a worker's
-     * death is to the job: it runs again as its next attempt, from the checkpoint the engine
-     * left (its last periodic one), up to max_attempts. */
-    const int killed_outside = WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL &&
-                               !(cfg->cpu_s > 0 && cpu_used >= (double)cfg->cpu_s);
-    char ckpt_file[1500], ckpt_note[300] = "";
-    lubd_pathf(ckpt_file, sizeof ckpt_file, "%s/checkpoint.h5", out_dir);
-    const double ckpt_time = killed_outside ? mtime_of(ckpt_file) : -1.0;
-    const int have_ckpt = ckpt_time >= 0.0;
-    const long long ckpt_step = have_ckpt ? lub_run_checkpoint_step(ckpt_file) : -1;
+}
+
+/* The service stops: the attempt goes back to the queue under its number. */
+static void end_at_shutdown(const job_attempt *a)
+{
+    dprintf(a->log_fd,
+            "lubdemd: the service is stopping: the job goes back to the queue, and attempt %d "
+            "runs again when the service starts again\n",
+            a->c->attempt);
+    close(a->log_fd);
+    lubd_lease_release(a->w->db, a->c);
+}
+
+/* The lease was lost (the job requeued, ended or dismissed meanwhile): the engine was
+ * stopped and nothing is recorded. */
+static void end_with_lost_lease(const job_attempt *a)
+{
+    lubd_job now;
+    if (lubd_queue_get(a->w->db, a->c->id, &now) == 1 && strcmp(now.state, "dismissed") == 0)
+        dprintf(a->log_fd,
+                "lubdemd: the job was dismissed (DELETE) while it ran: the service stopped "
+                "its engine and removes the files it wrote, so nothing of this run can be "
+                "continued (whatever the engine said above)\n");
+    else
+        dprintf(a->log_fd, "lubdemd: this attempt lost its lease (its job was requeued or "
+                           "ended meanwhile): the engine was stopped\n");
+    close(a->log_fd);
+    lubd_lease_drop(a->w->db, a->c);
+}
+
+/* An engine killed with SIGKILL by something other than this service (the kernel's OOM
+ * killer, an operator; not the hard CPU time limit, which the message above names, nor a
+ * DELETE or the service's stop, which end as END_LOST / END_SHUTDOWN) is what a worker's
+ * death is to the job: it runs again as its next attempt, from the checkpoint the engine
+ * left (its last periodic one), up to max_attempts. Sets killed_outside, have_ckpt and
+ * ckpt_note, and drops the files such a checkpoint supersedes. */
+static void assess_kill_from_outside(job_attempt *a)
+{
+    a->killed_outside =
+        WIFSIGNALED(a->status) && WTERMSIG(a->status) == SIGKILL && !reached_cpu_limit(a);
+    char ckpt_file[1500];
+    lubd_pathf(ckpt_file, sizeof ckpt_file, "%s/checkpoint.h5", a->out_dir);
+    const double ckpt_time = a->killed_outside ? mtime_of(ckpt_file) : -1.0;
+    a->have_ckpt = ckpt_time >= 0.0;
+    const long long ckpt_step = a->have_ckpt ? lub_run_checkpoint_step(ckpt_file) : -1;
     char step_text[64] = "";
     if (ckpt_step >= 0)
         snprintf(step_text, sizeof step_text, " of step %lld", ckpt_step);
-    if (have_ckpt && ckpt_time >= started_at)
-        snprintf(ckpt_note, sizeof ckpt_note,
+    if (a->have_ckpt && ckpt_time >= a->started_at)
+        snprintf(a->ckpt_note, sizeof a->ckpt_note,
                  "the checkpoint%s (the last periodic one its engine wrote, %.0f s before the "
                  "kill)",
                  step_text, wall_now() - ckpt_time);
-    else if (have_ckpt)
-        snprintf(ckpt_note, sizeof ckpt_note,
+    else if (a->have_ckpt)
+        snprintf(a->ckpt_note, sizeof a->ckpt_note,
                  "the checkpoint%s its engine started from (it wrote no periodic one)", step_text);
-    if (killed_outside)
-        drop_superseded(out_dir, started_at);
-    if (killed_outside && c->attempt < c->max_attempts) {
-        snprintf(msg, sizeof msg,
-                 "requeued: the engine was killed by signal 9 (SIGKILL) on attempt %d of %d, not "
-                 "by this service (the kernel's OOM killer, or an operator); attempt %d %s%s",
-                 c->attempt, c->max_attempts, c->attempt + 1,
-                 have_ckpt ? "continues from "
-                           : "starts again from the beginning (the engine had left no "
-                             "checkpoint; simple_shear and resuspension write periodic ones "
-                             "under lubdemd --checkpoint-s)",
-                 ckpt_note);
-        dprintf(log_fd, "lubdemd: %s\n", msg);
-        close(log_fd);
-        const int rq = lubd_lease_requeue(w->db, c, msg);
-        if (rq == 0)
-            lubd_lease_drop(w->db, c);
-        else if (rq < 0) /* the lease lapses and the reaper requeues it */
-            fprintf(stderr, "lubdemd worker %s: could not requeue %s\n", w->name, c->id);
+    if (a->killed_outside)
+        drop_superseded(a->out_dir, a->started_at);
+}
+
+/* An engine killed from outside with attempts left: the job runs again as its next attempt. */
+static void requeue_killed(job_attempt *a)
+{
+    const lubd_claim *c = a->c;
+    snprintf(a->msg, sizeof a->msg,
+             "requeued: the engine was killed by signal 9 (SIGKILL) on attempt %d of %d, not "
+             "by this service (the kernel's OOM killer, or an operator); attempt %d %s%s",
+             c->attempt, c->max_attempts, c->attempt + 1,
+             a->have_ckpt ? "continues from "
+                          : "starts again from the beginning (the engine had left no "
+                            "checkpoint; simple_shear and resuspension write periodic ones "
+                            "under lubdemd --checkpoint-s)",
+             a->ckpt_note);
+    dprintf(a->log_fd, "lubdemd: %s\n", a->msg);
+    close(a->log_fd);
+    const int rq = lubd_lease_requeue(a->w->db, c, a->msg);
+    if (rq == 0)
+        lubd_lease_drop(a->w->db, c);
+    else if (rq < 0) /* the lease lapses and the reaper requeues it */
+        fprintf(stderr, "lubdemd worker %s: could not requeue %s\n", a->w->name, c->id);
+}
+
+/* A database that refuses the record (a full disk) is asked again every second for
+ * RECORD_TRIES s, under the lease: the files are back in out_dir after each refusal
+ * (lubd_lease_succeed), and a completed run is not thrown away for a moment's trouble.
+ * After that the lease lapses and the job runs again. Returns as lubd_lease_succeed. */
+static int record_success_retrying(const job_attempt *a, finishing_beat *beat,
+                                   const lubd_output_file *files, int n)
+{
+    worker_ctx *w = a->w;
+    int done = lubd_lease_succeed(w->db, a->c, a->out_dir, a->result_dir, files, n, "completed");
+    for (int tries = 1; done < 0 && tries <= RECORD_TRIES && !*w->stop &&
+                        access(a->out_dir, F_OK) == 0; /* files back in out_dir */
+         ++tries) {
+        if (tries == 1)
+            fprintf(stderr,
+                    "lubdemd worker %s: cannot record the success of %s; trying again for "
+                    "%d s\n",
+                    w->name, a->c->id, RECORD_TRIES);
+        sleep_ms(1000);
+        beat->next_beat = 0.0;
+        if (beat_while_finishing(beat)) {
+            done = 0;
+            break;
+        }
+        done = lubd_lease_succeed(w->db, a->c, a->out_dir, a->result_dir, files, n, "completed");
+    }
+    return done;
+}
+
+/* The engine exited with code 0: its outputs become the job's result. */
+static void record_success(const job_attempt *a)
+{
+    finishing_beat beat = {a->w, a->c, 0.0, 0};
+    lubd_output_file files[16];
+    char names[16][64];
+    int n = collect_outputs(a->out_dir, files, names, 16, &beat);
+    if (beat.lost) { /* requeued or dismissed meanwhile: the files are not ours to keep */
+        lubd_lease_drop(a->w->db, a->c);
         return;
     }
-    close(log_fd);
-    finishing_beat beat = {w, c, 0.0, 0};
-    if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-        lubd_output_file files[16];
-        char names[16][64];
-        int n = collect_outputs(out_dir, files, names, 16, &beat);
-        if (beat.lost) { /* requeued or dismissed meanwhile: the files are not ours to keep */
-            lubd_lease_drop(w->db, c);
-            return;
-        }
-        int have_summary = 0, have_h5 = 0;
-        for (int i = 0; i < n; ++i) {
-            have_summary |= strcmp(files[i].name, "summary.json") == 0;
-            have_h5 |= strcmp(files[i].name, "result.h5") == 0;
-        }
-        if (n < 0 || !have_summary || !have_h5) {
-            lubd_lease_fail(w->db, c, "executor",
-                            "the engine exited with code 0 but summary.json or result.h5 is "
-                            "missing");
-            return;
-        }
-        /* A database that refuses the record (a full disk) is asked again every second for
-         * RECORD_TRIES s, under the lease: the files are back in out_dir after each refusal
-         * (lubd_lease_succeed), and a completed run is not thrown away for a moment's trouble.
-         * After that the lease lapses and the job runs again. */
-        int done = lubd_lease_succeed(w->db, c, out_dir, result_dir, files, n, "completed");
-        for (int tries = 1; done < 0 && tries <= RECORD_TRIES && !*w->stop &&
-                            access(out_dir, F_OK) == 0; /* files back in out_dir */
-             ++tries) {
-            if (tries == 1)
-                fprintf(stderr,
-                        "lubdemd worker %s: cannot record the success of %s; trying again for "
-                        "%d s\n",
-                        w->name, c->id, RECORD_TRIES);
-            sleep_ms(1000);
-            beat.next_beat = 0.0;
-            if (beat_while_finishing(&beat)) {
-                done = 0;
-                break;
-            }
-            done = lubd_lease_succeed(w->db, c, out_dir, result_dir, files, n, "completed");
-        }
-        if (done < 0)
-            fprintf(stderr, "lubdemd worker %s: could not record success of %s\n", w->name, c->id);
-        else if (done == 0) /* dismissed (or lease lost) while finishing: keep nothing */
-            lubd_lease_drop(w->db, c);
+    int have_summary = 0, have_h5 = 0;
+    for (int i = 0; i < n; ++i) {
+        have_summary |= strcmp(files[i].name, "summary.json") == 0;
+        have_h5 |= strcmp(files[i].name, "result.h5") == 0;
+    }
+    if (n < 0 || !have_summary || !have_h5) {
+        lubd_lease_fail(a->w->db, a->c, "executor",
+                        "the engine exited with code 0 but summary.json or result.h5 is "
+                        "missing");
         return;
     }
-    char diag[600] = "";
-    summary_diagnostic(out_dir, diag, sizeof diag);
-    if (!diag[0] && !killed_outside) /* a killed engine's last line says nothing of the kill */
-        log_diagnostic(log_path, diag, sizeof diag);
-    /* 4 = cannot write output; 126/127 = the engine could not be executed: infrastructure. */
-    int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    const char *kind = (code == 4 || code == 126 || code == 127) ? "system" : "executor";
-    if (killed_outside && have_ckpt)
-        snprintf(msg, sizeof msg,
+    int done = record_success_retrying(a, &beat, files, n);
+    if (done < 0)
+        fprintf(stderr, "lubdemd worker %s: could not record success of %s\n", a->w->name,
+                a->c->id);
+    else if (done == 0) /* dismissed (or lease lost) while finishing: keep nothing */
+        lubd_lease_drop(a->w->db, a->c);
+}
+
+/* The failure message of the job into msg: the engine's end and diagnostic, or the kill from
+ * outside and the checkpoint it left. */
+static void failure_message(job_attempt *a, const char *diag)
+{
+    const lubd_claim *c = a->c;
+    if (a->killed_outside && a->have_ckpt)
+        snprintf(a->msg, sizeof a->msg,
                  "engine failed (killed by signal 9 (SIGKILL) on attempt %d, the last of %d, not "
                  "by this service: the kernel's OOM killer or an operator); %s is kept with the "
                  "job's files (checkpoint.h5): a job submitted with \"continue_from\": \"%s\" "
                  "continues the run (lubdem_client.py extend %s '{}')",
-                 c->attempt, c->max_attempts, ckpt_note, c->id, c->id);
-    else if (killed_outside)
-        snprintf(msg, sizeof msg,
+                 c->attempt, c->max_attempts, a->ckpt_note, c->id, c->id);
+    else if (a->killed_outside)
+        snprintf(a->msg, sizeof a->msg,
                  "engine failed (killed by signal 9 (SIGKILL) on attempt %d, the last of %d, not "
                  "by this service: the kernel's OOM killer or an operator); no checkpoint was "
                  "kept (the engine had left none; simple_shear and resuspension write periodic "
                  "ones under lubdemd --checkpoint-s)",
                  c->attempt, c->max_attempts);
     else
-        snprintf(msg, sizeof msg, "engine failed (%s)%s%s", st_text, diag[0] ? ": " : "", diag);
+        snprintf(a->msg, sizeof a->msg, "engine failed (%s)%s%s", a->st_text, diag[0] ? ": " : "",
+                 diag);
+}
+
+/* The engine failed: the job ends failed, with what the engine wrote. */
+static void record_failure(job_attempt *a)
+{
+    finishing_beat beat = {a->w, a->c, 0.0, 0};
+    char diag[600] = "";
+    summary_diagnostic(a->out_dir, diag, sizeof diag);
+    if (!diag[0] && !a->killed_outside) /* a killed engine's last line says nothing of the kill */
+        log_diagnostic(a->log_path, diag, sizeof diag);
+    /* 4 = cannot write output; 126/127 = the engine could not be executed: infrastructure. */
+    int code = WIFEXITED(a->status) ? WEXITSTATUS(a->status) : -1;
+    const char *kind = (code == 4 || code == 126 || code == 127) ? "system" : "executor";
+    failure_message(a, diag);
     /* What the engine wrote is kept and served with the failure: the summary, the partial
      * result.h5 of a run stopped at its CPU time limit (with the checkpoint it continues
      * from), the result.h5 of a run that failed numerically (status failed, its series up to
@@ -676,18 +802,52 @@ static void run_job(worker_ctx *w, lubd_claim *c)
     char names[16][64];
     /* exit 2: the engine wrote nothing (a refused continuation leaves the files it was
      * given, which are another job's) */
-    int n = code == 2 ? 0 : collect_outputs(out_dir, files, names, 16, &beat);
+    int n = code == 2 ? 0 : collect_outputs(a->out_dir, files, names, 16, &beat);
     if (beat.lost) {
-        lubd_lease_drop(w->db, c);
+        lubd_lease_drop(a->w->db, a->c);
         return;
     }
-    int done =
-        n > 0 ? lubd_lease_fail_with_outputs(w->db, c, kind, msg, out_dir, result_dir, files, n)
-              : lubd_lease_fail(w->db, c, kind, msg);
+    sqlite3 *db = a->w->db;
+    int done = n > 0 ? lubd_lease_fail_with_outputs(db, a->c, kind, a->msg, a->out_dir,
+                                                    a->result_dir, files, n)
+                     : lubd_lease_fail(db, a->c, kind, a->msg);
     if (done < 0 && n > 0) /* the files could not be moved: fail without them */
-        done = lubd_lease_fail(w->db, c, kind, msg);
+        done = lubd_lease_fail(db, a->c, kind, a->msg);
     if (done == 0)
-        lubd_lease_drop(w->db, c);
+        lubd_lease_drop(db, a->c);
+}
+
+/* Runs one claimed job to its end. */
+static void run_job(worker_ctx *w, lubd_claim *c)
+{
+    job_attempt a = {.w = w, .c = c, .resume_from = -1, .log_fd = -1};
+    attempt_paths(&a);
+    if (prepare_attempt_folder(&a) != 0 || open_log(&a) != 0)
+        return;
+    write_log_header(&a);
+    if (take_continued_files(&a) != 0)
+        return;
+    set_engine_options(&a);
+    if (run_engine(&a) != 0)
+        return;
+    if (a.why == END_SHUTDOWN) {
+        end_at_shutdown(&a);
+        return;
+    }
+    if (a.why == END_LOST) {
+        end_with_lost_lease(&a);
+        return;
+    }
+    assess_kill_from_outside(&a);
+    if (a.killed_outside && c->attempt < c->max_attempts) {
+        requeue_killed(&a);
+        return;
+    }
+    close(a.log_fd);
+    if (WIFEXITED(a.status) && WEXITSTATUS(a.status) == 0)
+        record_success(&a);
+    else
+        record_failure(&a);
 }
 
 /* A job that has ended (a requeued or released one has not) no longer needs what its engines
