@@ -71,8 +71,11 @@ static const char *media_type_of(const char *name)
 }
 
 /* The engine's last line in the log that is not a progress line (the last "error" line if
- * there is one), as the failure diagnostic; the worker's own "lubdemd: " lines are left out. */
-static void log_diagnostic(const char *log_path, char *out, size_t n)
+ * there is one), as the failure diagnostic; the worker's own "lubdemd: " lines are left out.
+ * Only what follows byte `from` is read: the lines of the engine that ran last (an attempt
+ * that runs again under its number appends to its first run's log, and until 2026-12-06 an
+ * engine that died without a word was given the first run's last error). */
+static void log_diagnostic(const char *log_path, off_t from, char *out, size_t n)
 {
     out[0] = '\0';
     int fd = open(log_path, O_RDONLY | O_CLOEXEC);
@@ -81,6 +84,8 @@ static void log_diagnostic(const char *log_path, char *out, size_t n)
     char buf[8192];
     off_t end = lseek(fd, 0, SEEK_END);
     off_t start = end > (off_t)sizeof buf - 1 ? end - (off_t)sizeof buf + 1 : 0;
+    if (start < from)
+        start = from;
     ssize_t got = pread(fd, buf, sizeof buf - 1, start);
     close(fd);
     if (got <= 0)
@@ -393,6 +398,7 @@ typedef struct {
     char st_text[200];   /* the status in words, as the log states it */
     double cpu_used;     /* CPU time the engine used (user + system, s) */
     double started_at;   /* wall clock when the engine started (wall_now) */
+    off_t log_from;      /* the log's size when the engine started: what it wrote follows */
     int killed_outside;  /* SIGKILL from outside this service (assess_kill_from_outside) */
     int have_ckpt;       /* ... that left out/checkpoint.h5 */
     char ckpt_note[300]; /* the checkpoint a next attempt or a continuation starts from */
@@ -567,6 +573,7 @@ static int start_again(job_attempt *a)
     if (lubd_rm_rf(a->out_dir) != 0) {
         lubd_pathf(a->msg, sizeof a->msg, "system error: cannot clear %s: %s", a->out_dir,
                    strerror(errno));
+        dprintf(a->log_fd, "lubdemd: %s\n", a->msg);
         close(a->log_fd);
         lubd_lease_fail(a->w->db, c, "system", a->msg);
         return -1;
@@ -595,6 +602,9 @@ static int run_engine(job_attempt *a)
 {
     for (;;) {
         lubd_engine_proc ep;
+        a->log_from = lseek(a->log_fd, 0, SEEK_END);
+        if (a->log_from < 0)
+            a->log_from = 0;
         if (lubd_engine_spawn(&a->eo, &ep) != 0) {
             snprintf(a->msg, sizeof a->msg, "system error: cannot start the engine: %s",
                      strerror(errno));
@@ -788,7 +798,7 @@ static void record_failure(job_attempt *a)
     char diag[600] = "";
     summary_diagnostic(a->out_dir, diag, sizeof diag);
     if (!diag[0] && !a->killed_outside) /* a killed engine's last line says nothing of the kill */
-        log_diagnostic(a->log_path, diag, sizeof diag);
+        log_diagnostic(a->log_path, a->log_from, diag, sizeof diag);
     /* 4 = cannot write output; 126/127 = the engine could not be executed: infrastructure. */
     int code = WIFEXITED(a->status) ? WEXITSTATUS(a->status) : -1;
     const char *kind = (code == 4 || code == 126 || code == 127) ? "system" : "executor";

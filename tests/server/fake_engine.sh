@@ -19,6 +19,8 @@
 #        (from that checkpoint) it completes (exit 0)
 #   6 -> as 8, but killed again on every run, --resume or not
 #   9 -> ignores SIGXCPU and spins until the hard CPU time limit's SIGKILL
+#   23 -> writes a checkpoint, prints an error line and runs until it is stopped (exit 5);
+#         run with --resume it crashes (SIGSEGV) without a word
 spec=$2 out=$4
 mkdir -p "$out"
 echo "progress fraction=0.5000 step=10 steps_per_s=1.0e+03 eta_s=1.0"
@@ -63,6 +65,14 @@ case $(tr -d ' \n' < "$spec") in
     printf 'half-written\n' > "$out/.result.h5.tmp"
     echo "fake engine: checkpoint written"
     kill -KILL $$ ;;
+  *'"duration":23'[,}]*)
+    case " $* " in
+      *" --resume "*) kill -SEGV $$ ;;
+    esac
+    printf 'state of the fake engine\n' > "$out/checkpoint.h5"
+    echo "error: the first run's last word" >&2
+    trap 'exit 5' TERM
+    while :; do sleep 0.1; done ;;
   *'"duration":9'[,}]*)
     trap '' XCPU
     while :; do :; done ;;

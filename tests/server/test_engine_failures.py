@@ -126,6 +126,37 @@ def run():
         rec.stop()
     restart_after_kill(a)
     killed_by_signal(a)
+    silent_crash_after_restart(a)
+
+
+def silent_crash_after_restart(a):
+    """An attempt that runs again under its number after a service stop appends to its first
+    run's log; an engine that then dies without a word must not be given the first run's last
+    error line as its diagnostic (it was until 2026-12-06)."""
+    srv = T.Server(a, "engine_failures_silent", workers=1, extra=["--lease-s", "60"]).fresh()
+    tok = srv.token("erin")
+    srv.start()
+    try:
+        job = submit(srv, tok, 23)
+        wait_running(srv, tok, job)
+        deadline = time.time() + 10
+        log = b""
+        while b"first run's last word" not in log and time.time() < deadline:
+            time.sleep(0.1)
+            st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        T.check(b"first run's last word" in log, "the first run's log: %s" % log)
+        srv.stop()
+        srv.start()
+        final = T.wait_final(srv, tok, job, timeout=30)
+        T.check(final["status"] == "failed" and "signal 11" in final["message"]
+                and "last word" not in final["message"] and final["attempt"] == 1,
+                "a silent crash after the restart: %s" % final)
+        st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        T.check(st == 200 and b"first run's last word" in log
+                and b"continuing from the checkpoint of its stopped run" in log,
+                "the log keeps the first run's lines: %s" % log)
+    finally:
+        srv.stop()
 
 
 def events_of(srv, job):
