@@ -341,9 +341,11 @@ static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
         } else {
             sleep_ms(50);
         }
-        if (!exited) {
-            pid_t r = wait4(ep.pid, &status, WNOHANG, &ru);
-            if (r == ep.pid)
+        if (!exited) { /* ended, but left unreaped (WNOWAIT) until its group is killed */
+            siginfo_t si;
+            memset(&si, 0, sizeof si);
+            if (waitid(P_PID, (id_t)ep.pid, &si, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+                si.si_pid == ep.pid)
                 exited = 1;
         }
         if (exited && pipe_open) {
@@ -375,7 +377,14 @@ static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
         }
     }
     close(ep.stdout_fd);
-    kill(-ep.pid, SIGKILL); /* anything the engine left behind in its group */
+    /* anything the engine left behind in its group; the engine is reaped only then, so that
+     * its process-group id cannot have been reused by an unrelated group when the signal goes
+     * (until 2026-12-06 it was reaped first) */
+    kill(-ep.pid, SIGKILL);
+    pid_t reaped;
+    do
+        reaped = wait4(ep.pid, &status, 0, &ru);
+    while (reaped < 0 && errno == EINTR);
     *status_out = status;
     *cpu_s_out = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec +
                  (double)ru.ru_stime.tv_sec + 1e-6 * (double)ru.ru_stime.tv_usec;
