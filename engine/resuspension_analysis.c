@@ -72,6 +72,25 @@ int lub_profile_select_bulk(const double *phi, int n, double y0, double dy, doub
     return kept;
 }
 
+double lub_profile_coarse_bin(const double *phi, int n, double dy, double width, int i)
+{
+    if (!(width > dy))
+        return phi[i];
+    const double half = 0.5 * width;
+    const int reach = (int)ceil(half / dy);
+    const double lo = (i + 0.5) * dy - half, hi = (i + 0.5) * dy + half;
+    double sw = 0.0, sp = 0.0;
+    const int j0 = i - reach < 0 ? 0 : i - reach, j1 = i + reach >= n ? n - 1 : i + reach;
+    for (int j = j0; j <= j1; ++j) {
+        const double a = fmax(lo, j * dy), b = fmin(hi, (j + 1) * dy);
+        if (b <= a)
+            continue;
+        sw += b - a;
+        sp += (b - a) * phi[j];
+    }
+    return sp / sw;
+}
+
 void lub_profile_coarse_grain(const double *phi, const double *phi_err, int n, double dy,
                               double width, double *phi_cg, double *phi_cg_err)
 {
@@ -86,21 +105,20 @@ void lub_profile_coarse_grain(const double *phi, const double *phi_err, int n, d
     const double half = 0.5 * width;
     const int reach = (int)ceil(half / dy);
     for (int i = 0; i < n; ++i) {
+        phi_cg[i] = lub_profile_coarse_bin(phi, n, dy, width, i);
+        if (!phi_cg_err)
+            continue;
         const double lo = (i + 0.5) * dy - half, hi = (i + 0.5) * dy + half;
-        double sw = 0.0, sp = 0.0, se = 0.0;
+        double sw = 0.0, se = 0.0;
         const int j0 = i - reach < 0 ? 0 : i - reach, j1 = i + reach >= n ? n - 1 : i + reach;
         for (int j = j0; j <= j1; ++j) {
             const double a = fmax(lo, j * dy), b = fmin(hi, (j + 1) * dy);
             if (b <= a)
                 continue;
-            const double w = b - a;
-            sw += w;
-            sp += w * phi[j];
+            sw += b - a;
             if (phi_err)
-                se += w * w * phi_err[j] * phi_err[j];
+                se += (b - a) * (b - a) * phi_err[j] * phi_err[j];
         }
-        phi_cg[i] = sp / sw;
-        if (phi_cg_err)
-            phi_cg_err[i] = phi_err ? sqrt(se) / sw : NAN;
+        phi_cg_err[i] = phi_err ? sqrt(se) / sw : NAN;
     }
 }

@@ -4,9 +4,13 @@
  * Dimensionless units: lengths in units of the mean radius a, viscosities in units of the
  * fluid viscosity eta. The profile is binned along the gravity direction: bin i covers
  * [y0 + i*dy, y0 + (i+1)*dy] and holds the cell-averaged volume fraction phi[i] with its
- * standard error phi_err[i] (NULL if unknown). Bins are assumed statistically independent
- * when errors are propagated (block-averaged time series make this a fair approximation;
- * the result is a lower bound if neighbouring bins are correlated).
+ * standard error phi_err[i] (NULL if unknown). The errors these functions propagate from
+ * phi_err hold only for statistically independent bins. The bins of a sampled suspension are
+ * not: a sphere spans several bins and the inventory is fixed, so the propagated error can be
+ * too large (next to the floor, where eta_ii is the fixed inventory, it is the largest while the
+ * true error is ~0) or too small (in the bulk, where neighbouring bins fluctuate together); it
+ * is neither a lower nor an upper bound. The scene does not use it: resuspension_statistics.c
+ * takes the standard error of each bin's series of per-sample eta_ii and coarse phi.
  *
  * All functions are pure: no allocation, no global state. Errors: a function that cannot
  * produce a value returns NAN (documented per function).
@@ -54,5 +58,8 @@ int lub_profile_select_bulk(const double *phi, int n, double y0, double dy, doub
  * peaks). The continuum quantity is phi averaged over at least one diameter (width 2 a). */
 void lub_profile_coarse_grain(const double *phi, const double *phi_err, int n, double dy,
                               double width, double *phi_cg, double *phi_cg_err);
+
+/* phi_cg[i] of lub_profile_coarse_grain alone (the same arithmetic). */
+double lub_profile_coarse_bin(const double *phi, int n, double dy, double width, int i);
 
 #endif

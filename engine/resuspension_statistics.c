@@ -22,6 +22,20 @@ static double lambda33_law(double phi)
     return pow(x, 7.5) / (1e-3 + pow(x, 6.0));
 }
 
+/* Standard error of the mean of x[0..n) by the stats.h rule (AR(1)-corrected batch means),
+ * the naive SEM below LUB_STATS_MIN_BATCHES samples (then *batch_means = 0); NaN below 2. */
+static double rs_series_sem(const double *x, int64_t n, double *scratch, int *batch_means)
+{
+    if (n <= 0)
+        return NAN;
+    double sem = lub_stats_sem(x, (size_t)n, scratch);
+    if (!(sem >= 0.0) && n >= 2) {
+        sem = sqrt(lub_stats_var(x, (size_t)n) / (double)n);
+        *batch_means = 0;
+    }
+    return sem;
+}
+
 /* The time-averaged phi of every bin and its standard error; 1 when every error is a
  * batch-means one. */
 static int rs_average_profile(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out)
@@ -34,15 +48,40 @@ static int rs_average_profile(const lub_rs_stats_input *in, const lub_rs_stats_p
         for (int64_t j = 0; j < navg; ++j)
             out->scratch[j] = in->samples[j * nb + i];
         out->phi[i] = navg > 0 ? lub_stats_mean(out->scratch, (size_t)navg) : NAN;
-        /* NaN below LUB_STATS_MIN_BATCHES samples: then the naive SEM */
-        double sem = navg > 0 ? lub_stats_sem(out->scratch, (size_t)navg, out->scratch2) : NAN;
-        if (!(sem >= 0.0) && navg >= 2) {
-            sem = sqrt(lub_stats_var(out->scratch, (size_t)navg) / (double)navg);
-            sem_batch_means = 0;
-        }
-        out->phi_err[i] = sem;
+        out->phi_err[i] = rs_series_sem(out->scratch, navg, out->scratch2, &sem_batch_means);
     }
     return sem_batch_means;
+}
+
+/* The standard errors of eta_ii(y) and of the coarse-grained phi: each sample's own eta_ii(y)
+ * (the cumulative sum of lub_profile_normal_viscosity, same order) and coarse phi
+ * (lub_profile_coarse_bin) form a series per bin, whose standard error is taken as phi_err's
+ * (rs_series_sem). Neighbouring bins are correlated (a sphere spans several bins, the
+ * inventory is fixed), so no propagation of phi_err can give these (navg > 0). */
+static int rs_derived_errors(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out)
+{
+    const int nb = in->nb;
+    const int64_t navg = in->navg;
+    const double dy = in->dy;
+    int batch_means = 1;
+    double *above = out->scratch3;
+    for (int64_t k = 0; k < navg; ++k)
+        above[k] = 0.0;
+    for (int i = nb - 1; i >= 0; --i) {
+        for (int64_t k = 0; k < navg; ++k) {
+            const double phik = in->samples[k * nb + i];
+            out->scratch[k] = (above[k] + 0.5 * phik * dy) / in->shields;
+            above[k] += phik * dy;
+        }
+        out->eta_err[i] = rs_series_sem(out->scratch, navg, out->scratch2, &batch_means);
+    }
+    for (int i = 0; i < nb; ++i) {
+        for (int64_t k = 0; k < navg; ++k)
+            out->scratch[k] =
+                lub_profile_coarse_bin(in->samples + k * nb, nb, dy, in->phi_window, i);
+        out->phi_coarse_err[i] = rs_series_sem(out->scratch, navg, out->scratch2, &batch_means);
+    }
+    return batch_means;
 }
 
 /* The standard error of the suspension height: stats.h standard error of the instantaneous
@@ -141,13 +180,13 @@ void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles
     st->height = lub_profile_height(out->phi, nb, 0.0, dy, 0.5 * st->max_phi);
     st->height_err = rs_height_error(in, out);
     st->inventory = lub_profile_inventory(out->phi, nb, dy);
-    lub_profile_normal_viscosity(out->phi, out->phi_err, nb, dy, in->shields, out->eta,
-                                 out->eta_err);
+    lub_profile_normal_viscosity(out->phi, NULL, nb, dy, in->shields, out->eta, NULL);
     st->bulk_bins = lub_profile_select_bulk(out->phi, nb, 0.0, dy, in->interface_width,
                                             in->floor_skip, in->phi_min, out->bulk);
     /* eta_ii(phi) pairs the exact eta_ii(y) with phi averaged over phi_window (layering) */
-    lub_profile_coarse_grain(out->phi, out->phi_err, nb, dy, in->phi_window, out->phi_coarse,
-                             out->phi_coarse_err);
+    lub_profile_coarse_grain(out->phi, NULL, nb, dy, in->phi_window, out->phi_coarse, NULL);
+    if (!rs_derived_errors(in, out))
+        st->sem_batch_means = 0;
     rs_compare_law(in, out, st);
     st->bulk_velocity_slope = rs_velocity_profile(in, out);
 }

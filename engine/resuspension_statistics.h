@@ -45,18 +45,20 @@ typedef struct {
     double *phi, *phi_err;               /* time-averaged phi and its standard error */
     double *phi_coarse, *phi_coarse_err; /* phi averaged over phi_window */
     double *eta, *eta_err;               /* eta_ii(y)/eta */
-    double *law;                         /* the seed's law at phi_coarse (NaN: none) */
-    int *bulk;                           /* 1: a bulk bin */
-    double *bulk_mask;                   /* the same as 1.0 or 0.0 (for the output) */
-    double *velocity_x;                  /* mean v_x (a gd; NaN where no sphere passed) */
-    double *eta_vs_phi;         /* 4 nb: the bulk bins' (phi_coarse, its error, eta, its error) */
-    double *scratch, *scratch2; /* max(nh, navg) + 1 each, overwritten */
+    /* every error: the standard error (stats.h rule, naive below LUB_STATS_MIN_BATCHES samples)
+     * of the bin's series of per-sample values (phi, coarse phi, eta_ii of that sample) */
+    double *law;        /* the seed's law at phi_coarse (NaN: none) */
+    int *bulk;          /* 1: a bulk bin */
+    double *bulk_mask;  /* the same as 1.0 or 0.0 (for the output) */
+    double *velocity_x; /* mean v_x (a gd; NaN where no sphere passed) */
+    double *eta_vs_phi; /* 4 nb: the bulk bins' (phi_coarse, its error, eta, its error) */
+    double *scratch, *scratch2, *scratch3; /* max(nh, navg) + 1 each, overwritten */
 } lub_rs_stats_profiles;
 
 typedef struct {
     int steady;                 /* 1: MSER-5 found the height series steady (needs 10 samples) */
     size_t transient_end;       /* the samples MSER-5 cut as transient (0 without 10) */
-    int sem_batch_means;        /* 1: every phi_err is a batch-means one; 0: some bin's is the
+    int sem_batch_means;        /* 1: every error bar is a batch-means one; 0: some bin's is the
                                    naive SEM (fewer than LUB_STATS_MIN_BATCHES samples) */
     double height, height_err;  /* suspension height of the averaged profile and its error (a) */
     double inventory;           /* int phi dy (a) */

@@ -64,8 +64,8 @@
 /* Everything allocated for a run (freed in one place). */
 typedef struct {
     double *radius, *floor_r, *samples, *scratch, *series_h, *phi_inst, *vol;
-    double *phi, *phi_err, *eta, *eta_err, *ybin, *keepd, *law, *pairs_out, *scratch2, *vx_vol,
-        *vx_sum, *vx_inst, *phi_cg, *phi_cg_err;
+    double *phi, *phi_err, *eta, *eta_err, *ybin, *keepd, *law, *pairs_out, *scratch2, *scratch3,
+        *vx_vol, *vx_sum, *vx_inst, *phi_cg, *phi_cg_err;
     vec3 *pos, *floor_pos;
     int *keep;
     double *snap_x, *snap_v, *snap_w;
@@ -73,10 +73,11 @@ typedef struct {
 
 static void rs_buffers_free(rs_buffers *b)
 {
-    double *d[] = {b->radius,  b->floor_r, b->samples,   b->scratch,  b->series_h, b->phi_inst,
-                   b->vol,     b->phi,     b->phi_err,   b->eta,      b->eta_err,  b->ybin,
-                   b->keepd,   b->law,     b->pairs_out, b->scratch2, b->vx_vol,   b->vx_sum,
-                   b->vx_inst, b->snap_x,  b->snap_v,    b->snap_w,   b->phi_cg,   b->phi_cg_err};
+    double *d[] = {b->radius,   b->floor_r, b->samples, b->scratch,    b->series_h,
+                   b->phi_inst, b->vol,     b->phi,     b->phi_err,    b->eta,
+                   b->eta_err,  b->ybin,    b->keepd,   b->law,        b->pairs_out,
+                   b->scratch2, b->vx_vol,  b->vx_sum,  b->vx_inst,    b->snap_x,
+                   b->snap_v,   b->snap_w,  b->phi_cg,  b->phi_cg_err, b->scratch3};
     for (size_t i = 0; i < sizeof d / sizeof d[0]; ++i)
         free(d[i]);
     free(b->pos);
@@ -114,6 +115,10 @@ static int rs_samples_reserve(rs_buffers *b, int nb, int64_t total, int64_t avg,
     if (!s2)
         return -1;
     b->scratch2 = s2;
+    double *s3 = realloc(b->scratch3, scratch * sizeof *s3);
+    if (!s3)
+        return -1;
+    b->scratch3 = s3;
     return 0;
 }
 
@@ -477,6 +482,7 @@ static int rs_allocate_samples(rs_run_state *r)
     B->samples = calloc((size_t)(nsamp_avg * nb), sizeof *B->samples);
     B->scratch = calloc(scratch, sizeof *B->scratch);
     B->scratch2 = calloc(scratch, sizeof *B->scratch2);
+    B->scratch3 = calloc(scratch, sizeof *B->scratch3);
     B->series_h = calloc((size_t)nsamp_total, sizeof *B->series_h);
     B->phi_inst = calloc((size_t)nb, sizeof *B->phi_inst);
     B->vx_vol = calloc((size_t)nb, sizeof *B->vx_vol);
@@ -497,9 +503,9 @@ static int rs_allocate_samples(rs_run_state *r)
     B->snap_x = calloc((size_t)N * 3, sizeof *B->snap_x);
     B->snap_v = calloc((size_t)N * 3, sizeof *B->snap_v);
     B->snap_w = calloc((size_t)N * 3, sizeof *B->snap_w);
-    if (!B->samples || !B->scratch || !B->scratch2 || !B->vx_vol || !B->vx_sum || !B->vx_inst ||
-        !B->series_h || !B->phi_inst || !B->vol || !B->phi || !B->phi_err || !B->eta ||
-        !B->eta_err || !B->ybin || !B->keepd || !B->law || !B->pairs_out || !B->keep ||
+    if (!B->samples || !B->scratch || !B->scratch2 || !B->scratch3 || !B->vx_vol || !B->vx_sum ||
+        !B->vx_inst || !B->series_h || !B->phi_inst || !B->vol || !B->phi || !B->phi_err ||
+        !B->eta || !B->eta_err || !B->ybin || !B->keepd || !B->law || !B->pairs_out || !B->keep ||
         !B->snap_x || !B->snap_v || !B->snap_w || !B->phi_cg || !B->phi_cg_err) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "out of memory for the profiles (%d bins x %lld samples): raise /bin_width or "
@@ -943,7 +949,8 @@ static int rs_report(rs_run_state *r, int rc)
                                       .velocity_x = B->vx_inst,
                                       .eta_vs_phi = B->pairs_out,
                                       .scratch = B->scratch,
-                                      .scratch2 = B->scratch2};
+                                      .scratch2 = B->scratch2,
+                                      .scratch3 = B->scratch3};
     lub_rs_stats st;
     lub_rs_statistics(&in, &pr, &st);
     if (lp->navg > 0 && lub_rs_write_profiles(ctx->out, r->nb, &pr, st.eta_vs_phi_rows) &&

@@ -162,7 +162,8 @@ def half_max_crossings(y, phi):
 
 def coarse_grain(phi, err, dy, width):
     """phi averaged over a centred window of total width `width` (a), bins weighted by their
-    overlap with it, the window cut at the ends; error of that mean for independent bins. The
+    overlap with it, the window cut at the ends; error of that mean for independent bins (an
+    approximation used only when the run's file has no phi_coarse_err of this window). The
     engine's lub_profile_coarse_grain (resuspension_analysis.h) does the same: runs made before
     the engine wrote /profiles/phi_coarse are analysed here from their raw bins, and runs that
     have it are checked against it (main)."""
@@ -196,6 +197,9 @@ def bulk_pairs(f, width, w_engine=2.0):
         if abs(w_engine - width) < 1e-12 and not np.allclose(engine, cg, rtol=1e-12,
                                                               atol=1e-14):
             raise RuntimeError("coarse_grain differs from the engine's /profiles/phi_coarse")
+        if abs(w_engine - width) < 1e-12 and "profiles/phi_coarse_err" in f:
+            # the engine's error: the SEM of the per-sample coarse phi (bins are correlated)
+            rows[:, 1] = f["profiles/phi_coarse_err"][:][m]
     return rows
 
 

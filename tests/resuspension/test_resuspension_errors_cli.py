@@ -1,0 +1,120 @@
+#!/usr/bin/env python3
+"""The error bars of /profiles/eta_normal_err and /profiles/phi_coarse_err recomputed from the
+particle snapshots of short runs (a snapshot at every averaged sample): each snapshot's phi(y)
+(exact sphere-slab volumes), its eta_ii(y) = (1/Sh) int_y phi and its phi averaged over
+/analysis/phi_window give one series per bin; the engine's error must be the standard error of
+that series' mean (AR(1)-corrected batch means, re-implemented here from the stats.h text, from
+32 samples on; the naive SEM below, phi_err_method "naive"). Tolerance 1e-6 relative + 1e-9
+absolute (the snapshots' positions are the engine's, the arithmetic differs). The bottom bin's
+eta_err must be ~0 (every sample holds the same inventory); the error model that assumed
+independent bins gave it the largest error of the profile.
+Usage: test_resuspension_errors_cli.py LUBDEM WORKDIR"""
+import json
+import os
+import subprocess
+import sys
+
+import h5py
+import numpy as np
+
+
+def sem_ar1(x):
+    s = np.asarray(x, float)
+    if len(s) < 32:
+        return np.sqrt(s.var(ddof=1) / len(s))
+    while len(s) // 2 >= 32:
+        h = len(s) // 2
+        s = 0.5 * (s[0 : 2 * h : 2] + s[1 : 2 * h : 2])
+    d = s - s.mean()
+    den = (d * d).sum()
+    r = (d[:-1] * d[1:]).sum() / den if den > 0 else 0.0
+    r = min(max(r, 0.0), 0.95)
+    return np.sqrt(s.var(ddof=1) / len(s)) * np.sqrt((1 + r) / (1 - r))
+
+
+def cap(h, r):
+    h = np.clip(h, 0, 2 * r)
+    return np.pi * h * h * (3 * r - h) / 3
+
+
+def check(lubdem, work, name, spec):
+    d = os.path.join(work, name)
+    path = os.path.join(work, name + ".json")
+    json.dump(spec, open(path, "w"))
+    subprocess.run([lubdem, "run", path, "--out", d, "--threads", "1", "--quiet"], check=True)
+    S = json.load(open(d + "/summary.json"))
+    sp, R = S["spec"], S["results"]
+    fails = []
+    with h5py.File(d + "/result.h5", "r") as f:
+        P = {k: f["profiles"][k][()] for k in f["profiles"]}
+        y_floor = f["profiles"].attrs["y_floor"] if "y_floor" in f["profiles"].attrs else (
+            R["floor_radius"]["value"] * (1 + sp["floor"]["jitter"]) + 1.0)
+        rad = f["particles/all/radius"][()]
+        X = f["particles/all/position/value"][()]
+        H = np.array(f["particles/all/box/edges/value"][0]).T
+        t = f["particles/all/position/time"][()]
+    area = abs(np.linalg.det(H)) / H[1, 1]
+    dy, Sh, nb = sp["bin_width"], sp["shields"], len(P["y"])
+    lo = np.arange(nb) * dy
+    hi = lo + dy
+    rows = [k for k in range(len(t)) if t[k] >= sp["average_from"] - 1e-9]
+    navg = int(R["averaged_samples"]["value"])
+    if len(rows) != navg:
+        return [f"{name}: {len(rows)} snapshots in the averaging window, {navg} samples"]
+    A = []
+    for k in rows:
+        b = (X[k][:, 1] - y_floor - rad)[:, None]
+        r = rad[:, None]
+        A.append((cap(hi[None] - b, r) - cap(lo[None] - b, r)).sum(0) / (area * dy))
+    A = np.array(A)
+    if not np.allclose(A.mean(0), P["phi"], rtol=1e-6, atol=1e-9):
+        fails.append(f"{name}: phi(y) from the snapshots differs from /profiles/phi")
+    above = np.concatenate([np.cumsum(A[:, ::-1], 1)[:, ::-1][:, 1:], np.zeros((len(A), 1))], 1)
+    E = (above + 0.5 * A) * dy / Sh
+    w = sp["analysis"]["phi_window"]
+    C = np.empty_like(A)
+    for i in range(nb):
+        ov = np.clip(np.minimum(P["y"][i] + w / 2, hi) - np.maximum(P["y"][i] - w / 2, lo), 0, None)
+        C[:, i] = (A * ov).sum(1) / ov.sum()
+    es = np.array([sem_ar1(E[:, i]) for i in range(nb)])
+    cs = np.array([sem_ar1(C[:, i]) for i in range(nb)])
+    for what, got, want in (("eta_normal_err", P["eta_normal_err"], es),
+                            ("phi_coarse_err", P["phi_coarse_err"], cs)):
+        bad = np.abs(got - want) > 1e-6 * np.abs(want) + 1e-9
+        if bad.any():
+            i = int(np.argmax(bad))
+            fails.append(f"{name}: {what} differs from the SEM of the per-sample series in "
+                         f"{bad.sum()} of {nb} bins, e.g. y = {P['y'][i]}: {got[i]:.6g} vs {want[i]:.6g}")
+    if not P["eta_normal_err"][0] <= 1e-9 * P["eta_normal"][0]:
+        fails.append(f"{name}: eta_normal_err of the bottom bin {P['eta_normal_err'][0]:.3g}, "
+                     f"expected ~0 (eta {P['eta_normal'][0]:.4g})")
+    m = P["bulk_mask"] > 0
+    ev = P["eta_vs_phi"]
+    if not (np.array_equal(ev[:, 1], P["phi_coarse_err"][m])
+            and np.array_equal(ev[:, 3], P["eta_normal_err"][m])):
+        fails.append(f"{name}: eta_vs_phi error columns are not the bulk bins' errors")
+    method = R.get("phi_err_method")
+    want_method = "batch_means" if navg >= 32 else "naive"
+    if isinstance(method, str) and method != want_method:
+        fails.append(f"{name}: phi_err_method {method}, expected {want_method}")
+    print(f"{name}: {navg} samples, bottom eta_err {P['eta_normal_err'][0]:.3g}, "
+          f"bulk eta_err / series SEM {np.median(P['eta_normal_err'][m] / es[m]):.3f}")
+    return fails
+
+
+def main():
+    lubdem, work = sys.argv[1], sys.argv[2]
+    os.makedirs(work, exist_ok=True)
+    base = {"scene": "resuspension", "n": 150, "width": 12, "inertial_number": 0.05,
+            "density_ratio": 10, "shear_drag_viscosity": 3}
+    fails = check(lubdem, work, "batch", dict(base, strain=0.5, average_from=0.1,
+                                              sample_strain=0.01, snapshots=51))
+    fails += check(lubdem, work, "naive", dict(base, strain=0.5, average_from=0.3,
+                                               sample_strain=0.01, snapshots=51))
+    for x in fails:
+        print("FAIL:", x, file=sys.stderr)
+    return 1 if fails else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
