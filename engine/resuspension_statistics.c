@@ -168,13 +168,14 @@ void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles
     st->height = NAN;
     st->height_err = NAN;
     st->inventory = NAN;
-    st->max_phi = 0.0;
-    st->bulk_bins = 0;
+    st->max_phi = NAN;
+    st->bulk_bins = -1;
     st->eta_vs_phi_rows = 0;
     st->law_log_rms = NAN;
     st->bulk_velocity_slope = NAN;
     if (in->navg <= 0)
         return;
+    st->max_phi = 0.0;
     for (int i = 0; i < nb; ++i)
         st->max_phi = fmax(st->max_phi, out->phi[i]);
     st->height = lub_profile_height(out->phi, nb, 0.0, dy, 0.5 * st->max_phi);

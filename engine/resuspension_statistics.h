@@ -62,8 +62,8 @@ typedef struct {
                                    naive SEM (fewer than LUB_STATS_MIN_BATCHES samples) */
     double height, height_err;  /* suspension height of the averaged profile and its error (a) */
     double inventory;           /* int phi dy (a) */
-    double max_phi;             /* of the averaged profile (0 without a sample) */
-    int bulk_bins;              /* bins selected as bulk */
+    double max_phi;             /* of the averaged profile (NaN without a sample) */
+    int bulk_bins;              /* bins selected as bulk (-1 without a sample) */
     int eta_vs_phi_rows;        /* rows of eta_vs_phi */
     double law_log_rms;         /* rms of log(eta / law) over the bulk bins */
     double bulk_velocity_slope; /* d<v_x>/dy over the bulk bins (gd; NaN below 3 bins) */

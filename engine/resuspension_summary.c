@@ -35,9 +35,12 @@ int lub_rs_write_profiles(lub_h5 *out, int nb, const lub_rs_stats_profiles *pr, 
     return wr ? -1 : 0;
 }
 
-/* The crushed share of the contacts over the averaged samples (0 without contacts). */
+/* The crushed share of the contacts over the averaged samples (0 without contacts; NaN, not
+ * measured, without an averaged sample: a run stopped before /average_from). */
 static double rs_crushed_fraction(const lub_rs_outcome *o)
 {
+    if (o->averaged_samples <= 0)
+        return NAN;
     return o->contacts_sum > 0 ? o->crushed_sum / o->contacts_sum : 0.0;
 }
 
@@ -60,7 +63,7 @@ static void rs_put_results(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_
     lub_summary_put(ctx, "relative_height_increase", (hs_mean - h0) / h0, hs_sem / h0, "1");
     lub_summary_put(ctx, "inventory", st->inventory, NAN, "a");
     lub_summary_put(ctx, "max_phi", st->max_phi, NAN, "1");
-    lub_summary_put(ctx, "bulk_bins", st->bulk_bins, NAN, "1");
+    lub_summary_put(ctx, "bulk_bins", st->bulk_bins >= 0 ? st->bulk_bins : NAN, NAN, "1");
     lub_summary_put(ctx, "bulk_velocity_slope", st->bulk_velocity_slope, NAN, "gd");
     lub_summary_put(ctx, "eta_vs_law_log_rms", st->law_log_rms, NAN, "1");
     lub_summary_put(ctx, "averaged_samples", (double)o->averaged_samples, NAN, "1");
@@ -137,6 +140,13 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
                                           "(crushed_contact_fraction; u_n < -alpha eps a): "
                                           "contact forces exceed alpha stiffness eps, the "
                                           "results depend on /stiffness: raise it"));
+    if (o->averaged_samples <= 0)
+        json_array_append_new(warn,
+                              json_string("no profile was averaged (the run ended before "
+                                          "/average_from): the profiles and what the averaging "
+                                          "window measures (suspension_height, max_phi, "
+                                          "crushed_contact_fraction, bulk_bins, inventory) are "
+                                          "null, and whether asperities are crushed is unknown"));
     lub_network_warn_skipped(o->network, warn);
     return warn;
 }

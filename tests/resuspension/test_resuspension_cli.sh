@@ -76,6 +76,34 @@ import h5py, numpy as np
 f = h5py.File('$work/run2/result.h5', 'r')
 assert np.all(np.isfinite(f['profiles/phi'][:]))" && ok || bad "partial profiles"
 
+# stopped before /average_from (no profile averaged): what the averaging window measures is null,
+# not 0 (until 2026-12-06 max_phi, bulk_bins and crushed_contact_fraction were 0, the last hiding
+# the crushed-asperity warning of a heavy bed), and a warning says so
+cat > "$work/early.json" <<'JEOF'
+{"scene": "resuspension", "n": 150, "width": 12, "strain": 500, "average_from": 400,
+ "sample_strain": 0.05, "inertial_number": 0.05, "density_ratio": 10}
+JEOF
+"$LUBDEM" run "$work/early.json" --out "$work/run2e" --threads 1 > /dev/null 2> "$work/run2e.err" &
+pid=$!
+sleep 2
+kill -TERM $pid
+wait $pid
+rc=$?
+[ $rc -eq 5 ] && ok || bad "early SIGTERM exit code $rc (expected 5): $(cat "$work/run2e.err")"
+$PY - "$work/run2e" "$SCHEMA_DIR/summary.schema.json" <<'PYEOF' && ok || bad "stopped before averaging: nulls/warning"
+import json, sys
+import jsonschema
+s = json.load(open(sys.argv[1] + "/summary.json"))
+jsonschema.validate(s, json.load(open(sys.argv[2])))
+r = s["results"]
+assert s["status"] == "partial" and r["averaged_samples"]["value"] == 0, r["averaged_samples"]
+for k in ("max_phi", "crushed_contact_fraction", "bulk_bins", "suspension_height", "inventory",
+          "settled_height", "relative_height_increase", "acrivos", "eta_vs_law_log_rms",
+          "bulk_velocity_slope"):
+    assert r[k]["value"] is None, (k, r[k])
+assert any("no profile was averaged" in w and "crushed" in w for w in s["warnings"]), s["warnings"]
+PYEOF
+
 # a time step fixed far above the elastic bound: numerical failure (exit 3, status failed) whose
 # diagnostic names the particle flung across the cell in one step, says that /dt caused it and
 # how to fix it
