@@ -84,25 +84,58 @@ static int rs_derived_errors(const lub_rs_stats_input *in, const lub_rs_stats_pr
     return batch_means;
 }
 
-/* The standard error of the suspension height: stats.h standard error of the instantaneous
- * heights of the averaging window (navg > 0). */
-static double rs_height_error(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out)
+/* The standard error of the suspension height, the half-maximum crossing h(phi) of the averaged
+ * profile: its first-order change with every sample's deviation from that profile (delta method,
+ * as lub_stats_ratio) forms a series whose standard error is taken as phi_err's (rs_series_sem).
+ * h = y_i + dy (phi_i - L)/(phi_i - phi_{i+1}) with L = phi_m/2 (m the bin of the maximum)
+ * depends on phi_i, phi_{i+1} and phi_m only. So the value and its error describe the same
+ * quantity over the same samples (the whole averaging window). NaN when the crossing is not
+ * interpolated (no crossing, or the top bin still above half the maximum). */
+static double rs_height_error(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
+                              double max_phi)
 {
-    const int64_t navg = in->navg;
-    size_t h0i = (size_t)(in->nh - navg);
-    lub_stats_result hr;
-    lub_stats_analyse(in->height + h0i, (size_t)navg, 0, out->scratch2, &hr);
-    double hs_sem = hr.sem;
-    if (!(hs_sem >= 0.0) && navg >= LUB_STATS_MIN_BATCHES) {
-        /* too few samples after the MSER cut: batch means over the whole averaging
-         * window, as phi_err */
-        lub_stats_analyse_window(in->height + h0i, (size_t)navg, 0, out->scratch2, &hr);
-        hs_sem = hr.sem;
-    } else if (!(hs_sem >= 0.0) && navg >= 2) {
-        /* fewer than 32 averaged samples: the naive SEM, as phi_err (phi_err_method) */
-        hs_sem = sqrt(lub_stats_var(in->height + h0i, (size_t)navg) / (double)navg);
+    const int nb = in->nb;
+    const double dy = in->dy, level = 0.5 * max_phi;
+    int m = 0, i = -1;
+    for (int j = 0; j < nb; ++j)
+        if (out->phi[j] > out->phi[m])
+            m = j;
+    for (int j = nb - 1; j >= 0; --j)
+        if (out->phi[j] >= level) {
+            i = j;
+            break;
+        }
+    if (i < 0 || i == nb - 1 || !(max_phi > 0.0))
+        return NAN;
+    const double d = out->phi[i] - out->phi[i + 1];
+    const double gi = dy * (level - out->phi[i + 1]) / (d * d);
+    const double gi1 = dy * (out->phi[i] - level) / (d * d);
+    const double gm = -0.5 * dy / d;
+    for (int64_t k = 0; k < in->navg; ++k) {
+        const double *s = in->samples + k * nb;
+        out->scratch[k] = gi * (s[i] - out->phi[i]) + gi1 * (s[i + 1] - out->phi[i + 1]) +
+                          gm * (s[m] - out->phi[m]);
     }
-    return hs_sem;
+    int batch_means = 1;
+    return rs_series_sem(out->scratch, in->navg, out->scratch2, &batch_means);
+}
+
+/* Whether the suspension height is steady over the averaging window (the last navg of the nh
+ * height samples): MSER-5 on the window does not cut in its search limit (which needs 10
+ * samples) and the drift test of the samples after its cut passes (|z| <= 3; skipped when fewer
+ * than 2 x 32 samples follow the cut, as it needs 32 per half). */
+static int rs_height_steady(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
+                            size_t *cut)
+{
+    const size_t n = (size_t)in->navg;
+    const double *h = in->height + (in->nh - in->navg);
+    int mser_steady = 0;
+    *cut = 0;
+    if (n < 10)
+        return 0;
+    *cut = lub_stats_mser(h, n, 5, &mser_steady);
+    const double z = lub_stats_drift_z(h + *cut, n - *cut, out->scratch2);
+    return mser_steady && !(fabs(z) > 3.0);
 }
 
 /* The seed's law at every bin's coarse-grained phi, the bulk bins' eta_ii(phi) rows and the
@@ -162,8 +195,16 @@ void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles
     const int nb = in->nb;
     const double dy = in->dy;
     st->steady = 0;
+    st->window_cut = 0;
+    int whole_steady = 0;
     st->transient_end =
-        in->nh >= 10 ? lub_stats_mser(in->height, (size_t)in->nh, 5, &st->steady) : 0;
+        in->nh >= 10 ? lub_stats_mser(in->height, (size_t)in->nh, 5, &whole_steady) : 0;
+    /* the height's transient (whole series) outlasting the start of the averaging window, or
+     * reaching it with MSER-5 stopped by its search limit (the transient may go on) */
+    const int64_t start = in->nh - in->navg;
+    st->transient_in_window =
+        in->navg > 0 && ((int64_t)st->transient_end > start ||
+                         (!whole_steady && (int64_t)st->transient_end >= start));
     st->sem_batch_means = rs_average_profile(in, out);
     st->height = NAN;
     st->height_err = NAN;
@@ -178,8 +219,9 @@ void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles
     st->max_phi = 0.0;
     for (int i = 0; i < nb; ++i)
         st->max_phi = fmax(st->max_phi, out->phi[i]);
+    st->steady = rs_height_steady(in, out, &st->window_cut);
     st->height = lub_profile_height(out->phi, nb, 0.0, dy, 0.5 * st->max_phi);
-    st->height_err = rs_height_error(in, out);
+    st->height_err = rs_height_error(in, out, st->max_phi);
     st->inventory = lub_profile_inventory(out->phi, nb, dy);
     lub_profile_normal_viscosity(out->phi, NULL, nb, dy, in->shields, out->eta, NULL);
     st->bulk_bins = lub_profile_select_bulk(out->phi, nb, 0.0, dy, in->interface_width,

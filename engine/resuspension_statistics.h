@@ -7,8 +7,10 @@
  * that the layering next to the floor does not bias them), the seed's laws at that phi (eq. 9;
  * for the vorticity orientation eta_33 = lambda_33 eta_22 with eq. 8) with the log-rms distance
  * of the bulk points from them, and the mean flow-direction velocity per bin with its
- * least-squares slope over the bulk bins. Whether the height is steady: MSER-5 on the whole
- * height series.
+ * least-squares slope over the bulk bins. Whether the height is steady: MSER-5 and the drift
+ * test over the averaging window; the end of its transient: MSER-5 on the whole height series.
+ * The height is the half-maximum crossing of the averaged profile and its error the SEM of its
+ * first-order change with each sample's profile (delta method), both over the whole window.
  *
  * Units: those of the scene (length a, time 1/gd, viscosity eta; velocities in a gd; phi and
  * eta_ii/eta dimensionless); y is measured from the floor centre plane.
@@ -56,11 +58,18 @@ typedef struct {
 } lub_rs_stats_profiles;
 
 typedef struct {
-    int steady;                 /* 1: MSER-5 found the height series steady (needs 10 samples) */
-    size_t transient_end;       /* the samples MSER-5 cut as transient (0 without 10) */
+    int steady;                 /* 1: the height is steady over the averaging window: MSER-5 on
+                                   its samples does not cut in the search limit (needs 10) and
+                                   the drift test after the cut passes (when >= 64 follow it) */
+    size_t window_cut;          /* the window's samples MSER-5 cut there (0 below 10) */
+    size_t transient_end;       /* the samples MSER-5 cuts from the whole height series (0
+                                   without 10): the end of the height's transient */
+    int transient_in_window;    /* 1: transient_end falls after the averaging window's start,
+                                   or at it with MSER-5 stopped by its search limit */
     int sem_batch_means;        /* 1: every error bar is a batch-means one; 0: some bin's is the
                                    naive SEM (fewer than LUB_STATS_MIN_BATCHES samples) */
-    double height, height_err;  /* suspension height of the averaged profile and its error (a) */
+    double height, height_err;  /* suspension height of the averaged profile and its error (a;
+                                   error NaN when the crossing is not interpolated) */
     double inventory;           /* int phi dy (a) */
     double max_phi;             /* of the averaged profile (NaN without a sample) */
     int bulk_bins;              /* bins selected as bulk (-1 without a sample) */

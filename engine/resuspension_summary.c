@@ -4,6 +4,7 @@
 #include "resuspension_summary.h"
 
 #include <math.h>
+#include <stdio.h>
 
 #include "law_spec.h"
 #include "network_output.h"
@@ -114,8 +115,8 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
         json_array_append_new(warn, json_string("inertial number gd sqrt(a/g) above 5e-2: "
                                                 "inertia enhances resuspension (seed 000 §IV.C)"));
     if (!st->steady) {
-        const char *why = !o->stopped ? "suspension height not steady (MSER-5): increase "
-                                        "/strain"
+        const char *why = !o->stopped ? "suspension height not steady over the averaging "
+                                        "window (MSER-5, drift test): increase /strain"
                           : lub_run_resumable(ctx)
                               ? "suspension height not steady (MSER-5) when the run was "
                                 "stopped by a signal: " LUB_RESUME_ADVICE
@@ -123,6 +124,15 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
                                 "stopped by a signal, whose checkpoint could not be written: "
                                 "run it again";
         json_array_append_new(warn, json_string(why));
+    }
+    if (st->transient_in_window) {
+        char msg[320];
+        snprintf(msg, sizeof msg,
+                 "the suspension height's transient (MSER-5 on its whole series) ends at strain "
+                 "%.4g, after /average_from (%.4g): the averages include part of it; raise "
+                 "/average_from (see height_transient_end_strain)",
+                 (double)st->transient_end * p->sample_strain, p->average_from);
+        json_array_append_new(warn, json_string(msg));
     }
     if (p->orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) && fabs(bulk_rate - gd) > 0.2 * gd)
         json_array_append_new(warn, json_string("the bed is not sheared homogeneously (bulk "

@@ -11,13 +11,19 @@
  *     means): eta_err and phi_coarse_err are lub_stats_sem of the per-sample series summed here
  *     directly (to 1e-9), and near the analytic s dy/Sh sqrt(m + 1/4)/sqrt(n) and
  *     s sqrt(sum w^2)/sum w/sqrt(n) within the scatter of that estimator (a factor 1.6: its
- *     lag-1 correlation from 32 batch means scatters by ~0.18, clipped at 0). */
+ *     lag-1 correlation from 32 batch means scatters by ~0.18, clipped at 0);
+ *  4. the suspension height's error (delta method on the per-sample profiles): with a small
+ *     noise it is the naive SEM of the per-sample half-maximum heights to 1 %;
+ *  5. height_steady judges the averaging window: a transient before it does not matter, a drift
+ *     inside it does, and a transient of the whole series that outlasts the window's start is
+ *     flagged (transient_in_window). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "resuspension_statistics.h"
+#include "resuspension_analysis.h"
 #include "stats.h"
 
 static int failures = 0;
@@ -55,14 +61,17 @@ typedef struct {
     lub_rs_stats st;
 } result;
 
-static void run(const double *samples, int64_t navg, result *r)
+/* heights: nh samples, the last navg averaged (NULL: noise around 8 a, nh = navg) */
+static void run_h(const double *samples, int64_t navg, const double *heights, int64_t nh, result *r)
 {
     r->s1 = calloc((size_t)navg + 1, sizeof(double));
     r->s2 = calloc((size_t)navg + 1, sizeof(double));
     r->s3 = calloc((size_t)navg + 1, sizeof(double));
-    r->height = calloc((size_t)navg, sizeof(double));
-    for (int64_t k = 0; k < navg; ++k)
-        r->height[k] = 8.0 + 0.1 * gauss();
+    if (!heights)
+        nh = navg;
+    r->height = calloc((size_t)nh, sizeof(double));
+    for (int64_t k = 0; k < nh; ++k)
+        r->height[k] = heights ? heights[k] : 8.0 + 0.1 * gauss();
     for (int i = 0; i < NB; ++i)
         r->vol[i] = r->vsum[i] = 0.0;
     const lub_rs_stats_input in = {.nb = NB,
@@ -70,7 +79,7 @@ static void run(const double *samples, int64_t navg, result *r)
                                    .samples = samples,
                                    .navg = navg,
                                    .height = r->height,
-                                   .nh = navg,
+                                   .nh = nh,
                                    .vx_volume = r->vol,
                                    .vx_sum = r->vsum,
                                    .shields = SH,
@@ -95,6 +104,11 @@ static void run(const double *samples, int64_t navg, result *r)
                                        .scratch2 = r->s2,
                                        .scratch3 = r->s3};
     lub_rs_statistics(&in, &out, &r->st);
+}
+
+static void run(const double *samples, int64_t navg, result *r)
+{
+    run_h(samples, navg, NULL, 0, r);
 }
 
 static void release(result *r)
@@ -209,6 +223,70 @@ int main(void)
                   "independent bins: phi_coarse_err[%d] %.4g, expected %.4g", i, r.cg_err[i],
                   want_cg);
         }
+        release(&r);
+    }
+    /* 4. height error: a peak at bin 3, a linear fall from bin 12 to 20, small noise */
+    {
+        enum { N = 24 };
+        static double s[N * NB], hk[N];
+        double hm = 0.0, hv = 0.0;
+        for (int k = 0; k < N; ++k) {
+            for (int i = 0; i < NB; ++i) {
+                double b = i == 3 ? 0.6 : i < 12 ? 0.5 : i < 20 ? 0.5 - 0.0625 * (i - 11) : 0.0;
+                s[k * NB + i] = b + (b > 0 ? 1e-4 * gauss() : 0.0);
+            }
+            double mx = 0.0;
+            for (int i = 0; i < NB; ++i)
+                mx = fmax(mx, s[k * NB + i]);
+            hk[k] = lub_profile_height(s + k * NB, NB, 0.0, DY, 0.5 * mx);
+            hm += hk[k] / N;
+        }
+        for (int k = 0; k < N; ++k)
+            hv += (hk[k] - hm) * (hk[k] - hm) / (N - 1);
+        const double want = sqrt(hv / N);
+        result r;
+        run(s, N, &r);
+        CHECK(fabs(r.st.height - hm) < 1e-3, "height %.6g, mean of the samples' %.6g", r.st.height,
+              hm);
+        CHECK(fabs(r.st.height_err / want - 1.0) < 0.01,
+              "height_err %.6g, SEM of the samples' %.6g", r.st.height_err, want);
+        release(&r);
+    }
+    /* 5. height_steady over the averaging window (the last 200 of 400 samples) */
+    {
+        enum { N = 250, NH = 400 };
+        static double s[N * NB], h[NH];
+        for (int k = 0; k < N; ++k)
+            for (int i = 0; i < NB; ++i)
+                s[k * NB + i] = base(i);
+        /* transient over the first 150 samples, then noise */
+        for (int k = 0; k < NH; ++k)
+            h[k] = 8.0 + (k < 150 ? 3.0 * (1.0 - k / 150.0) : 0.0) + 0.05 * gauss();
+        result r;
+        run_h(s, 200, h, NH, &r);
+        CHECK(r.st.steady == 1 && r.st.transient_in_window == 0,
+              "transient before the window: steady %d, transient_in_window %d (end %zu)",
+              r.st.steady, r.st.transient_in_window, r.st.transient_end);
+        release(&r);
+        /* the same transient over the first 250 samples: into the window */
+        for (int k = 0; k < NH; ++k)
+            h[k] = 8.0 + (k < 250 ? 3.0 * (1.0 - k / 250.0) : 0.0) + 0.05 * gauss();
+        run_h(s, 200, h, NH, &r);
+        CHECK(r.st.transient_in_window == 1,
+              "transient into the window (search limit) not flagged (end %zu)", r.st.transient_end);
+        release(&r);
+        /* a transient over the first 180 samples, the window from sample 150 */
+        for (int k = 0; k < NH; ++k)
+            h[k] = 8.0 + (k < 180 ? 3.0 * (1.0 - k / 180.0) : 0.0) + 0.05 * gauss();
+        run_h(s, 250, h, NH, &r);
+        CHECK(r.st.transient_in_window == 1, "transient into the window not flagged (end %zu)",
+              r.st.transient_end);
+        release(&r);
+        /* a steady first part, then a drift through the whole window */
+        for (int k = 0; k < NH; ++k)
+            h[k] = 8.0 + (k >= 200 ? 0.004 * (k - 200) : 0.0) + 0.05 * gauss();
+        run_h(s, 200, h, NH, &r);
+        CHECK(r.st.steady == 0, "a drift through the averaging window judged steady");
         release(&r);
     }
     if (failures)
