@@ -11,6 +11,12 @@
 #include "resuspension_analysis.h"
 #include "shear_run_checks.h"
 
+/* The share of the weight the shear drag may carry before eta_normal is flagged (README,
+ * resuspension Caveat): 2 %, ten times the agreement of eq. 6 with the pair network's sigma_yy
+ * where no drag acts (0.06-0.2 %, vorticity runs of the 2026-12-06 audit), and a third of the
+ * 6.5 % of a 20-strain gradient run flagged steady (audit gL). */
+#define RS_DRAG_SHARE_MAX 0.02
+
 static int write_profiles(lub_h5 *h5, const char *name, int n, const double *data, const char *unit)
 {
     int64_t dims[1] = {n};
@@ -45,6 +51,14 @@ static double rs_crushed_fraction(const lub_rs_outcome *o)
     return o->contacts_sum > 0 ? o->crushed_sum / o->contacts_sum : 0.0;
 }
 
+/* Gradient orientation: the mean share of the buoyant weight the shear drag carries over the
+ * averaged samples (NaN without one, or from an older checkpoint). eta_ii(y) = (1/Sh) int phi
+ * takes the whole weight as pair stress, so it overstates that stress by this share. */
+static double rs_drag_share(const lub_rs_outcome *o)
+{
+    return o->averaged_samples > 0 ? o->drag_share_sum / (double)o->averaged_samples : NAN;
+}
+
 /* The headline numbers and what the run did (ctx->summary_results). */
 static void rs_put_results(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_scales *sc,
                            const lub_rs_stats *st, const lub_rs_outcome *o)
@@ -72,6 +86,8 @@ static void rs_put_results(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_
     lub_summary_put(ctx, "particles_below_floor", o->below_floor_max, NAN, "1");
     lub_summary_put(ctx, "lid_reflections", (double)S->lid_hits, NAN, "1");
     lub_summary_put(ctx, "crushed_contact_fraction", rs_crushed_fraction(o), NAN, "1");
+    if (p->orientation == LUB_RS_GRADIENT)
+        lub_summary_put(ctx, "shear_drag_weight_share", rs_drag_share(o), NAN, "1");
     lub_summary_put(ctx, "max_kinetic_energy", o->max_kinetic_energy, NAN, "eta gd a^3");
     lub_summary_put(ctx, "cell_width", o->cell_width, NAN, "a");
     lub_summary_put(ctx, "floor_radius", o->floor_radius, NAN, "a");
@@ -139,6 +155,16 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
                                                 "dv_x/dy differs from gd by more than 20 %, see "
                                                 "results/bulk_velocity_slope): raise "
                                                 "/shear_drag_viscosity"));
+    if (p->orientation == LUB_RS_GRADIENT && fabs(rs_drag_share(o)) > RS_DRAG_SHARE_MAX) {
+        char msg[400];
+        snprintf(msg, sizeof msg,
+                 "the shear drag carries %.3g %% of the buoyant weight over the averaging window "
+                 "(shear_drag_weight_share; the bed %s): eta_normal = (1/Sh) int phi takes the "
+                 "whole weight as pair stress and is off by that share; raise /average_from or "
+                 "/strain so that the bed is at rest on average",
+                 100.0 * rs_drag_share(o), rs_drag_share(o) > 0 ? "sinks" : "rises");
+        json_array_append_new(warn, json_string(msg));
+    }
     if (o->system->lid_hits > 0)
         json_array_append_new(warn, json_string("particles reached the lid: raise /lid_height"));
     lub_warn_fixed_dt(warn, p->dt, o->dt_critical, "dt_critical");

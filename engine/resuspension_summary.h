@@ -43,6 +43,8 @@ typedef struct {
     double max_kinetic_energy;        /* largest fluctuating kinetic energy sampled (eta gd a^3) */
     double contacts_sum, crushed_sum; /* contacts and crushed ones summed over the averaged
                                          samples */
+    double drag_share_sum;            /* gradient: the shear drag's vertical force over the
+                                         buoyant weight, summed over the averaged samples */
     int stopped;                      /* 1: a stop request ended the time loop */
 } lub_rs_outcome;
 

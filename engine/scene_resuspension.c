@@ -131,6 +131,8 @@ typedef struct {
     int64_t below_floor_max, frames_in_file;
     int64_t network_frames_in_file; /* /pair_network frames in the output file */
     double max_ke, min_lowest, contacts_sum, crushed_sum;
+    double drag_share_sum; /* gradient: the shear drag's vertical force over the buoyant weight,
+                              summed over the averaged samples (NaN: an older checkpoint) */
     double y_floor, y_lid; /* the geometry the bed gave (checked on resuming) */
     lub_step_control ctl;
     lub_schedule sched;
@@ -153,6 +155,7 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
         lub_ckpt_put(c, "run/ints", LUB_CKPT_I64, 6, ints) ||
         lub_ckpt_put(c, "run/reals", LUB_CKPT_F64, 6, reals) ||
         lub_ckpt_put_i64(c, "run/network_frames_in_file", lp->network_frames_in_file) ||
+        lub_ckpt_put(c, "run/drag_share_sum", LUB_CKPT_F64, 1, &lp->drag_share_sum) ||
         lub_step_control_save(c, "run/step_control", &lp->ctl) ||
         lub_schedule_save(c, "run/schedule", &lp->sched) ||
         lub_ckpt_put(c, "series/height", LUB_CKPT_F64, (size_t)lp->nh, b->series_h) ||
@@ -189,6 +192,13 @@ static int rs_checkpoint_read_loop(lub_ckpt *c, rs_loop *lp, char *why, size_t l
     lp->crushed_sum = reals[3];
     lp->y_floor = reals[4];
     lp->y_lid = reals[5];
+    /* unknown in a checkpoint older than the drag's share */
+    lp->drag_share_sum = NAN;
+    if (lub_ckpt_has(c, "run/drag_share_sum") &&
+        lub_ckpt_get(c, "run/drag_share_sum", LUB_CKPT_F64, 1, &lp->drag_share_sum)) {
+        snprintf(why, len, "%s", lub_ckpt_error(c));
+        return -1;
+    }
     /* none in a checkpoint older than the frames */
     if (lub_ckpt_get_i64_or(c, "run/network_frames_in_file", 0, &lp->network_frames_in_file)) {
         snprintf(why, len, "%s", lub_ckpt_error(c));
@@ -675,6 +685,15 @@ static int rs_sample(rs_run_state *r, int64_t step, double t)
         msum += S->m[i];
         dilute += step > 0 && S->nint[i] <= (int)p->dilute_max;
     }
+    if (in_avg && p->orientation == LUB_RS_GRADIENT) {
+        /* the shear drag's vertical force (u has no y component) against the buoyant weight */
+        double fy = 0.0, w = 0.0;
+        for (int i = 0; i < r->N; ++i) {
+            fy -= 6.0 * RS_PI * p->eta_shear * S->r[i] * S->v[i].y;
+            w += S->weight[i];
+        }
+        lp->drag_share_sum += w > 0.0 ? fy / w : 0.0;
+    }
     if (in_avg) {
         lp->contacts_sum += (double)S->n_contacts;
         lp->crushed_sum += (double)S->n_crushed;
@@ -976,6 +995,7 @@ static int rs_report(rs_run_state *r, int rc)
                               .max_kinetic_energy = lp->max_ke,
                               .contacts_sum = lp->contacts_sum,
                               .crushed_sum = lp->crushed_sum,
+                              .drag_share_sum = lp->drag_share_sum,
                               .stopped = r->stopped_at >= 0};
     lub_rs_write_summary(ctx, p, &r->sc, &st, &o);
     return rc;

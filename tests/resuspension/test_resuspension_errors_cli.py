@@ -7,7 +7,9 @@ that series' mean (AR(1)-corrected batch means, re-implemented here from the sta
 32 samples on; the naive SEM below, phi_err_method "naive"). Tolerance 1e-6 relative + 1e-9
 absolute (the snapshots' positions are the engine's, the arithmetic differs). The bottom bin's
 eta_err must be ~0 (every sample holds the same inventory); the error model that assumed
-independent bins gave it the largest error of the profile.
+independent bins gave it the largest error of the profile. Gradient orientation: the summary's
+shear_drag_weight_share (the shear drag's vertical force over the buoyant weight, averaged over
+the samples) from the snapshots' velocities, and its warning above 2 %.
 Usage: test_resuspension_errors_cli.py LUBDEM WORKDIR"""
 import json
 import os
@@ -51,6 +53,7 @@ def check(lubdem, work, name, spec):
             R["floor_radius"]["value"] * (1 + sp["floor"]["jitter"]) + 1.0)
         rad = f["particles/all/radius"][()]
         X = f["particles/all/position/value"][()]
+        V = f["particles/all/velocity/value"][()]
         H = np.array(f["particles/all/box/edges/value"][0]).T
         t = f["particles/all/position/time"][()]
     area = abs(np.linalg.det(H)) / H[1, 1]
@@ -97,6 +100,21 @@ def check(lubdem, work, name, spec):
     want_method = "batch_means" if navg >= 32 else "naive"
     if isinstance(method, str) and method != want_method:
         fails.append(f"{name}: phi_err_method {method}, expected {want_method}")
+    # gradient orientation: the share of the buoyant weight the shear drag carries over the
+    # averaged samples, from the snapshots' velocities, and its warning above 2 %
+    if sp["orientation"] == "gradient":
+        W = (4 / 3 * np.pi * rad**3).sum() / Sh
+        share = np.mean([-(6 * np.pi * sp["shear_drag_viscosity"] * rad * V[k][:, 1]).sum() / W
+                         for k in rows])
+        got = R["shear_drag_weight_share"]["value"]
+        if not abs(got - share) <= 1e-9 + 1e-6 * abs(share):
+            fails.append(f"{name}: shear_drag_weight_share {got} vs {share} from the snapshots")
+        warned = any("shear drag carries" in w for w in S["warnings"])
+        if warned != (abs(share) > 0.02):
+            fails.append(f"{name}: drag share {share:.4f}, warning {warned}")
+        print(f"{name}: shear drag carries {100 * share:.2f} % of the weight, warning {warned}")
+    elif "shear_drag_weight_share" in R:
+        fails.append(f"{name}: shear_drag_weight_share in the vorticity orientation")
     print(f"{name}: {navg} samples, bottom eta_err {P['eta_normal_err'][0]:.3g}, "
           f"bulk eta_err / series SEM {np.median(P['eta_normal_err'][m] / es[m]):.3f}")
     return fails
@@ -111,6 +129,9 @@ def main():
                                               sample_strain=0.01, snapshots=51))
     fails += check(lubdem, work, "naive", dict(base, strain=0.5, average_from=0.3,
                                                sample_strain=0.01, snapshots=51))
+    fails += check(lubdem, work, "vorticity", dict(base, orientation="vorticity", strain=0.5,
+                                                   average_from=0.1, sample_strain=0.01,
+                                                   snapshots=51, shear_drag_viscosity=0))
     for x in fails:
         print("FAIL:", x, file=sys.stderr)
     return 1 if fails else 0
