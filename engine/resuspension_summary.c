@@ -211,5 +211,5 @@ void lub_rs_write_summary(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_s
                   "viscosity", "eta (fluid viscosity)", "time", "1/gd (inverse shear rate)",
                   "stress", "eta gd", "energy", "eta gd a^3", "note",
                   "drho g = 1/Sh, g = 1/I^2, rho_p = density_ratio drho; y from the floor "
-                  "centre plane"));
+                  "centre plane (in the snapshots' coordinates at result.h5 /profiles/y_floor)"));
 }

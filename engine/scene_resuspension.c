@@ -972,7 +972,12 @@ static int rs_report(rs_run_state *r, int rc)
                                       .scratch3 = B->scratch3};
     lub_rs_stats st;
     lub_rs_statistics(&in, &pr, &st);
-    if (lp->navg > 0 && lub_rs_write_profiles(ctx->out, r->nb, &pr, st.eta_vs_phi_rows) &&
+    /* the floor centre plane in the cell's coordinates (those of the particle snapshots), from
+     * which every y of the profiles and the summary is measured */
+    const int64_t one = 1;
+    const int floor_failed = lub_h5_write_array(ctx->out, "y_floor", 1, &one, &r->y_floor, "a");
+    if ((floor_failed ||
+         (lp->navg > 0 && lub_rs_write_profiles(ctx->out, r->nb, &pr, st.eta_vs_phi_rows))) &&
         rc == LUB_EXIT_OK) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         rc = LUB_EXIT_IO;

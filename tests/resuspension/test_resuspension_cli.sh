@@ -102,6 +102,9 @@ for k in ("max_phi", "crushed_contact_fraction", "bulk_bins", "suspension_height
           "bulk_velocity_slope"):
     assert r[k]["value"] is None, (k, r[k])
 assert any("no profile was averaged" in w and "crushed" in w for w in s["warnings"]), s["warnings"]
+import h5py
+with h5py.File(sys.argv[1] + "/result.h5", "r") as f:   # the floor plane even without profiles
+    assert f["profiles/y_floor"].attrs["unit"] in (b"a", "a") and f["profiles/y_floor"][0] > 1
 PYEOF
 
 # a time step fixed far above the elastic bound: numerical failure (exit 3, status failed) whose
@@ -375,6 +378,16 @@ assert late == any("transient" in x and "/average_from" in x for x in w), (late,
 assert late, s["height_transient_end_strain"]
 assert s["height_steady"] or any("not steady over the averaging window" in x for x in w), w
 PYEOF
+
+# snapshots 1: the initial and the final state (as simple_shear's snapshots 1; README), which
+# the schema now says (it read "first and last included when >= 2")
+echo '{"scene":"resuspension","n":40,"strain":0.2,"average_from":0.1,"snapshots":1}' \
+  | "$LUBDEM" run - --out "$work/snap1" --threads 1 --quiet 2>/dev/null
+$PY -c "
+import h5py; f = h5py.File('$work/snap1/result.h5', 'r')
+st = f['particles/all/position/step'][:]
+assert len(st) == 2 and st[0] == 0 and st[1] == f['observables/suspension_height/step'][-1], st" \
+  && ok || bad "snapshots 1: not the initial and the final state"
 
 echo "resuspension_cli_checks=$((pass + fail))"
 echo "$pass passed, $fail failed"

@@ -49,8 +49,12 @@ def check(lubdem, work, name, spec):
     fails = []
     with h5py.File(d + "/result.h5", "r") as f:
         P = {k: f["profiles"][k][()] for k in f["profiles"]}
-        y_floor = f["profiles"].attrs["y_floor"] if "y_floor" in f["profiles"].attrs else (
-            R["floor_radius"]["value"] * (1 + sp["floor"]["jitter"]) + 1.0)
+        y_floor = float(f["profiles/y_floor"][0])
+        assert f["profiles/y_floor"].attrs["unit"] in (b"a", "a")
+        # written since 2026-12-06: r_f (1 + jitter) + 1 (resuspension_bed.c)
+        y_expect = R["floor_radius"]["value"] * (1 + sp["floor"]["jitter"]) + 1.0
+        if not abs(y_floor - y_expect) < 1e-8:
+            fails.append(f"{name}: /profiles/y_floor {y_floor} vs {y_expect}")
         rad = f["particles/all/radius"][()]
         X = f["particles/all/position/value"][()]
         V = f["particles/all/velocity/value"][()]
