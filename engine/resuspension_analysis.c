@@ -72,53 +72,52 @@ int lub_profile_select_bulk(const double *phi, int n, double y0, double dy, doub
     return kept;
 }
 
-double lub_profile_coarse_bin(const double *phi, int n, double dy, double width, int i)
+/* The window of width `width` centred on bin i (bins of dy, n of them): the sum over the bins
+ * it overlaps of w v[j] (squared = 0) or w^2 v[j]^2 (squared = 1), w the overlap, with the sum
+ * of the overlaps in *overlap (width > dy). */
+static double window_sum(const double *v, int n, double dy, double width, int i, int squared,
+                         double *overlap)
 {
-    if (!(width > dy))
-        return phi[i];
     const double half = 0.5 * width;
     const int reach = (int)ceil(half / dy);
     const double lo = (i + 0.5) * dy - half, hi = (i + 0.5) * dy + half;
-    double sw = 0.0, sp = 0.0;
+    double sw = 0.0, sum = 0.0;
     const int j0 = i - reach < 0 ? 0 : i - reach, j1 = i + reach >= n ? n - 1 : i + reach;
     for (int j = j0; j <= j1; ++j) {
         const double a = fmax(lo, j * dy), b = fmin(hi, (j + 1) * dy);
         if (b <= a)
             continue;
         sw += b - a;
-        sp += (b - a) * phi[j];
+        sum += squared ? (b - a) * (b - a) * v[j] * v[j] : (b - a) * v[j];
     }
+    *overlap = sw;
+    return sum;
+}
+
+double lub_profile_coarse_bin(const double *phi, int n, double dy, double width, int i)
+{
+    if (!(width > dy))
+        return phi[i];
+    double sw;
+    const double sp = window_sum(phi, n, dy, width, i, 0, &sw);
     return sp / sw;
 }
 
 void lub_profile_coarse_grain(const double *phi, const double *phi_err, int n, double dy,
                               double width, double *phi_cg, double *phi_cg_err)
 {
-    if (!(width > dy)) {
-        for (int i = 0; i < n; ++i) {
-            phi_cg[i] = phi[i];
-            if (phi_cg_err)
-                phi_cg_err[i] = phi_err ? phi_err[i] : NAN;
-        }
-        return;
-    }
-    const double half = 0.5 * width;
-    const int reach = (int)ceil(half / dy);
     for (int i = 0; i < n; ++i) {
         phi_cg[i] = lub_profile_coarse_bin(phi, n, dy, width, i);
         if (!phi_cg_err)
             continue;
-        const double lo = (i + 0.5) * dy - half, hi = (i + 0.5) * dy + half;
-        double sw = 0.0, se = 0.0;
-        const int j0 = i - reach < 0 ? 0 : i - reach, j1 = i + reach >= n ? n - 1 : i + reach;
-        for (int j = j0; j <= j1; ++j) {
-            const double a = fmax(lo, j * dy), b = fmin(hi, (j + 1) * dy);
-            if (b <= a)
-                continue;
-            sw += b - a;
-            if (phi_err)
-                se += (b - a) * (b - a) * phi_err[j] * phi_err[j];
+        if (!phi_err) {
+            phi_cg_err[i] = NAN;
+        } else if (!(width > dy)) {
+            phi_cg_err[i] = phi_err[i];
+        } else {
+            double sw;
+            const double se = window_sum(phi_err, n, dy, width, i, 1, &sw);
+            phi_cg_err[i] = sqrt(se) / sw;
         }
-        phi_cg_err[i] = phi_err ? sqrt(se) / sw : NAN;
     }
 }
