@@ -646,13 +646,8 @@ static int ss_follow_step_control(ss_run_state *r, int64_t step)
     r->sys.dt = r->dt;
     lub_schedule_set_dt(&lp->sched, step + 1, r->sys.time, r->dt);
     if ((double)lp->sched.nsteps > LUB_MAX_STEPS) { /* step-count rule (step_count.h) */
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
-                 "the automatic step fell to %.3g at strain %.4f (the pairs' summed "
-                 "stiffness, /dt_stiffness_safety %g; %ld changes), which would take the "
-                 "run to %.3g steps, more than the %.0e a run may take (README, CLI "
-                 "contract, \"Step count\"); lower /strain or /stiffness",
-                 r->dt, lp->strain, p->dt_stiffness_safety, lp->ctl.changes,
-                 (double)lp->sched.nsteps, LUB_MAX_STEPS);
+        lub_step_count_fell(ctx->diagnostic, sizeof ctx->diagnostic, r->dt, lp->strain,
+                            p->dt_stiffness_safety, lp->ctl.changes, (double)lp->sched.nsteps);
         return LUB_EXIT_NUMERICAL;
     }
     if (r->sys.topology_interval > 0)

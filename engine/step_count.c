@@ -2,6 +2,7 @@
 #include "step_count.h"
 
 #include <math.h>
+#include <stdio.h>
 
 double lub_step_count(double duration, double dt) { return duration / dt; }
 
@@ -57,4 +58,15 @@ int lub_step_count_fail(lub_error *err, const char *pointer, double count, const
                     "and a run takes at least one whole step (README, CLI contract, \"Step "
                     "count\"); shorten the step or lengthen %s",
                     qualifier, count, dt, step_origin, duration_text, duration_member);
+}
+
+void lub_step_count_fell(char *out, size_t len, double dt, double strain, double safety,
+                         long changes, double count)
+{
+    snprintf(out, len,
+             "the automatic step fell to %.3g at strain %.4f (the pairs' summed stiffness, "
+             "/dt_stiffness_safety %g; %ld changes), which would take the run to %.3g steps, "
+             "more than the %.0e a run may take (README, CLI contract, \"Step count\"); lower "
+             "/strain or /stiffness",
+             dt, strain, safety, changes, count, LUB_MAX_STEPS);
 }

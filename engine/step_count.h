@@ -63,4 +63,10 @@ int lub_step_count_fail(lub_error *err, const char *pointer, double count, const
                         const char *duration_member, const char *duration_text, double dt,
                         const char *step_origin);
 
+/* The diagnostic of a run whose automatic step (step_stiffness.h) fell, at `strain`, to dt, so
+ * far that the run would take `count` steps, beyond LUB_MAX_STEPS: into out[len]. safety: the
+ * spec's /dt_stiffness_safety; changes: the step's changes so far. */
+void lub_step_count_fell(char *out, size_t len, double dt, double strain, double safety,
+                         long changes, double count);
+
 #endif

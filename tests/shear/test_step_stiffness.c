@@ -32,6 +32,7 @@
 #include "rng.h"
 #include "shear_fixture.h"
 #include "shear_test.h"
+#include "step_count.h"
 
 /* the fixture's law (g = 1e4, k_t = g/2, eps 0.02, mu 0.5) with the given terms */
 static lub_law_params law_with(unsigned terms)
@@ -313,8 +314,22 @@ static void check_system(void)
     lub_shear_free(&s);
 }
 
+/* the diagnostic of a step that fell so far that the run would pass the step-count limit
+ * (step_count.h; both many-particle scenes give it) */
+static void check_fell_message(void)
+{
+    char text[600];
+    lub_step_count_fell(text, sizeof text, 2.5e-9, 3.25, 0.9, 4, 2e12);
+    ST_CHECK(strstr(text, "the automatic step fell to 2.5e-09 at strain 3.2500") &&
+                 strstr(text, "/dt_stiffness_safety 0.9; 4 changes") &&
+                 strstr(text, "take the run to 2e+12 steps, more than the 1e+12") &&
+                 strstr(text, "; lower /strain or /stiffness"),
+             "%s", text);
+}
+
 int main(void)
 {
+    check_fell_message();
     check_normal_against_law();
     check_limits();
     check_gershgorin();
