@@ -5,22 +5,9 @@
 
 #include <math.h>
 
+#include "continuum_normal_laws.h"
 #include "resuspension_analysis.h"
 #include "stats.h"
-
-/* Seed's laws (resuspension article eq. 8–9). */
-static double eta22_law(double phi, double phi_m)
-{
-    const double x = phi / phi_m;
-    if (!(x < 1.0))
-        return INFINITY;
-    return pow(x, 9.0) / ((1.0 - x) * (1.0 - x)) + 150.0 * pow(x, 10.0);
-}
-static double lambda33_law(double phi)
-{
-    const double x = phi / 0.64;
-    return pow(x, 7.5) / (1e-3 + pow(x, 6.0));
-}
 
 /* Standard error of the mean of x[0..n) by the stats.h rule (AR(1)-corrected batch means),
  * the naive SEM below LUB_STATS_MIN_BATCHES samples (then *batch_means = 0); NaN below 2. */
@@ -146,9 +133,12 @@ static void rs_compare_law(const lub_rs_stats_input *in, const lub_rs_stats_prof
     double s2 = 0.0;
     int nl = 0, q = 0;
     for (int i = 0; i < in->nb; ++i) {
-        double lw = eta22_law(out->phi_coarse[i], in->phi_m);
+        /* the seed's laws (resuspension article eq. 9, and eq. 8 for the vorticity
+         * orientation), none at and above phi_m */
+        const double psi = out->phi_coarse[i] / in->phi_m;
+        double lw = psi < 1.0 ? lub_dem_eta22(psi) : INFINITY;
         if (in->vorticity)
-            lw *= lambda33_law(out->phi_coarse[i]);
+            lw *= lub_dem_lambda33(out->phi_coarse[i], 0.64);
         out->law[i] = isfinite(lw) ? lw : NAN;
         out->bulk_mask[i] = out->bulk[i];
         if (out->bulk[i]) {
