@@ -481,14 +481,21 @@ static int rs_allocate_samples(rs_run_state *r)
     lp->y_floor = r->y_floor;
     lp->y_lid = r->y_lid;
     const int64_t nsamp_avg = r->nsamp_avg, nsamp_total = r->nsamp_total;
-    char profiles_what[128];
-    snprintf(profiles_what, sizeof profiles_what,
-             "the profiles of %d bins over %lld samples from /average_from on", nb,
-             (long long)nsamp_avg);
-    if (!lub_memory_fits(ctx, (double)nsamp_avg * nb * sizeof *B->samples, profiles_what,
-                         "/strain - /average_from (or raise /bin_width or /sample_strain)"))
-        return LUB_EXIT_INTERNAL;
     const size_t scratch = (size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1;
+    /* what grows with the run's length: the profiles, the height series and the statistics'
+     * three scratch arrays (the per-bin arrays and the snapshots are small beside them) */
+    const double profile_bytes = (double)nsamp_avg * nb * sizeof *B->samples;
+    const double series_bytes = ((double)nsamp_total + 3.0 * (double)scratch) * sizeof(double);
+    char samples_what[160];
+    snprintf(samples_what, sizeof samples_what,
+             "the profiles of %d bins over %lld samples from /average_from on and the height "
+             "series of %lld samples",
+             nb, (long long)nsamp_avg, (long long)nsamp_total);
+    if (!lub_memory_fits(ctx, profile_bytes + series_bytes, samples_what,
+                         profile_bytes >= series_bytes
+                             ? "/strain - /average_from (or raise /bin_width or /sample_strain)"
+                             : "/strain (or raise /sample_strain)"))
+        return LUB_EXIT_INTERNAL;
     B->samples = calloc((size_t)(nsamp_avg * nb), sizeof *B->samples);
     B->scratch = calloc(scratch, sizeof *B->scratch);
     B->scratch2 = calloc(scratch, sizeof *B->scratch2);
@@ -518,9 +525,9 @@ static int rs_allocate_samples(rs_run_state *r)
         !B->eta || !B->eta_err || !B->ybin || !B->keepd || !B->law || !B->pairs_out || !B->keep ||
         !B->snap_x || !B->snap_v || !B->snap_w || !B->phi_cg || !B->phi_cg_err) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
-                 "out of memory for the profiles (%d bins x %lld samples): raise /bin_width or "
-                 "/sample_strain, or lower /strain - /average_from",
-                 nb, (long long)nsamp_avg);
+                 "out of memory for the profiles (%d bins x %lld samples) and the height series "
+                 "(%lld samples): raise /bin_width or /sample_strain, or lower /strain",
+                 nb, (long long)nsamp_avg, (long long)nsamp_total);
         return LUB_EXIT_INTERNAL;
     }
     return LUB_EXIT_OK;
