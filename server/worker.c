@@ -402,14 +402,16 @@ typedef struct {
     int from_other;  /* out_dir holds the files of the job this one continues ("continue_from") */
     int log_fd;
     lubd_engine_opts eo;
-    end_reason why;      /* how the engine's supervision ended */
-    int status;          /* the engine's wait status */
-    char st_text[200];   /* the status in words, as the log states it */
-    double cpu_used;     /* CPU time the engine used (user + system, s) */
-    double started_at;   /* wall clock when the engine started (wall_now) */
-    off_t log_from;      /* the log's size when the engine started: what it wrote follows */
-    int killed_outside;  /* SIGKILL from outside this service (assess_kill_from_outside) */
-    int have_ckpt;       /* ... that left out/checkpoint.h5 */
+    end_reason why;     /* how the engine's supervision ended */
+    int status;         /* the engine's wait status */
+    char st_text[200];  /* the status in words, as the log states it */
+    double cpu_used;    /* CPU time the engine used (user + system, s) */
+    double started_at;  /* wall clock when the engine started (wall_now) */
+    off_t log_from;     /* the log's size when the engine started: what it wrote follows */
+    int killed_outside; /* SIGKILL from outside this service (assess_kill_from_outside) */
+    int have_ckpt;      /* ... that left out/checkpoint.h5 */
+    /* why a checkpoint of an earlier run could not be kept, or "" */
+    char keep_failure[700];
     char ckpt_note[300]; /* the checkpoint a next attempt or a continuation starts from */
     char msg[900];
 } job_attempt;
@@ -438,13 +440,23 @@ static void keep_checkpointed_out(job_attempt *a, const char *keep_dir)
     snprintf(prev_out, sizeof prev_out, "%s/attempt-%d/out", a->job_dir, a->c->attempt - 1);
     /* 0: this attempt's own out folder, 1: the previous one's */
     const char *sources[2] = {a->out_dir, a->c->attempt > 1 ? prev_out : NULL};
-    if (lubd_rm_rf(keep_dir) == 0)
-        for (int k = 0; k < 2 && !a->resume && sources[k]; ++k) {
-            snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", sources[k]);
-            a->resume = access(ckpt_path, F_OK) == 0 && rename(sources[k], keep_dir) == 0;
-            if (a->resume)
-                a->resume_from = k;
-        }
+    const int cleared = lubd_rm_rf(keep_dir) == 0;
+    const int clear_errno = errno;
+    for (int k = 0; k < 2 && !a->resume && sources[k]; ++k) {
+        snprintf(ckpt_path, sizeof ckpt_path, "%s/checkpoint.h5", sources[k]);
+        if (access(ckpt_path, F_OK) != 0)
+            continue;
+        a->resume = cleared && rename(sources[k], keep_dir) == 0;
+        if (a->resume)
+            a->resume_from = k;
+        else if (!a->keep_failure[0]) /* until 2026-12-06 this went without a word */
+            lubd_pathf(a->keep_failure, sizeof a->keep_failure,
+                       "the checkpoint %s could not be kept (cannot %s %s: %s)", ckpt_path,
+                       cleared ? "move its folder to" : "clear", keep_dir,
+                       strerror(cleared ? errno : clear_errno));
+    }
+    if (a->keep_failure[0])
+        fprintf(stderr, "lubdemd worker: job %s: %s\n", a->c->id, a->keep_failure);
 }
 
 /* The log of an attempt that runs again under its number (released when the service
@@ -513,6 +525,10 @@ static void write_log_header(const job_attempt *a)
     } else
         dprintf(a->log_fd, "lubdemd: job %s attempt %d on worker %s%s\n", c->id, c->attempt,
                 a->w->name, a->resume ? ", continuing from the checkpoint of its stopped run" : "");
+    if (a->keep_failure[0])
+        dprintf(a->log_fd, "lubdemd: %s; %s\n", a->keep_failure,
+                a->resume ? "continuing from the previous attempt's instead"
+                          : "this attempt starts from the beginning");
 }
 
 /* A job submitted with "continue_from" that has no checkpoint of its own yet starts from

@@ -127,6 +127,54 @@ def run():
     restart_after_kill(a)
     killed_by_signal(a)
     silent_crash_after_restart(a)
+    unkeepable_checkpoint(a)
+
+
+def plant_unremovable(path, depth=24):
+    """A folder that the service's recursive removal cannot clear: its deepest entry's path is
+    longer than PATH_MAX (made one level at a time, relative to the folder above)."""
+    os.mkdir(path)
+    fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY)
+    for _ in range(depth):
+        os.mkdir("d" * 200, dir_fd=fd)
+        down = os.open("d" * 200, os.O_RDONLY | os.O_DIRECTORY, dir_fd=fd)
+        os.close(fd)
+        fd = down
+    os.close(fd)
+
+
+def unkeepable_checkpoint(a):
+    """An attempt that runs again after a service stop keeps its stopped run's checkpoint by
+    moving its out folder aside (jobs/<id>/resume-out) while the attempt folder is cleared.
+    When that cannot be done, the attempt starts from the beginning, and its log says which
+    checkpoint was not kept and why (until 2026-12-06 the checkpoint went without a word)."""
+    srv = T.Server(a, "engine_failures_unkept", workers=1, extra=["--lease-s", "60"]).fresh()
+    tok = srv.token("erin")
+    srv.start()
+    try:
+        job = submit(srv, tok, 23)
+        wait_running(srv, tok, job)
+        ckpt = os.path.join(srv.run, "jobs", job, "attempt-1", "out", "checkpoint.h5")
+        deadline = time.time() + 10
+        while not os.path.exists(ckpt) and time.time() < deadline:
+            time.sleep(0.1)
+        T.check(os.path.exists(ckpt), "the first run's checkpoint: %s" % ckpt)
+        srv.stop()
+        plant_unremovable(os.path.join(srv.run, "jobs", job, "resume-out"))
+        srv.start()
+        deadline = time.time() + 30
+        log = b""
+        while b"starts from the beginning" not in log and time.time() < deadline:
+            time.sleep(0.2)
+            st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        T.check(b"could not be kept (cannot clear " in log and b"resume-out: File name too long)"
+                b"; this attempt starts from the beginning" in log
+                and b"continuing from the checkpoint" not in log,
+                "the log of a run whose checkpoint could not be kept: %s" % log)
+        st, _, doc = srv.request("GET", "/jobs/" + job, tok)
+        T.check(doc["status"] == "running" and doc["attempt"] == 1, "the job: %s" % doc)
+    finally:
+        srv.stop()
 
 
 def silent_crash_after_restart(a):
