@@ -18,7 +18,10 @@ recorded on its first attempt once the database takes it. Last, on a 60 s lease:
 run directory is refused while the first runs, and a job left running by a service killed with
 SIGKILL runs again at once when the service restarts, not a lease later. Last, engines killed
 with SIGKILL (killed_by_signal): from outside, retried from their checkpoint; at the hard CPU
-time limit, not retried."""
+time limit, not retried. A run stopped with the service whose checkpoint cannot be kept
+(unkeepable_checkpoint) starts again, and its log says why; an attempt that runs again after a
+stop and crashes silently is not given its first run's last error line
+(silent_crash_after_restart)."""
 import hashlib
 import os
 import resource
