@@ -172,6 +172,16 @@ static int finish_row(sqlite3 *db, const lubd_claim *c, const char *state, const
     return add_claim_event(db, c, state);
 }
 
+/* The answer of a finish whose lease is no longer this worker's: 0. A job dismissed while it
+ * ran still carries this worker's token (queue.c keeps it for the fenced heartbeat); it is
+ * dropped here, so that an ended job shows no lease (until 2026-12-06 a failure reported to
+ * a dismissed job left it set). */
+static int lease_lost(sqlite3 *db, const lubd_claim *c)
+{
+    lubd_lease_drop(db, c);
+    return 0;
+}
+
 /* Moves out_dir to result_dir, registers its files and finishes the row in `state`, in one
  * transaction under the lease. */
 static int finish_with_outputs(sqlite3 *db, const lubd_claim *c, const char *state,
@@ -183,7 +193,7 @@ static int finish_with_outputs(sqlite3 *db, const lubd_claim *c, const char *sta
     int ours = still_ours(db, c);
     if (ours <= 0) {
         lubd_db_rollback(db);
-        return ours;
+        return ours < 0 ? ours : lease_lost(db, c);
     }
     /* A result_dir can only be a leftover of an attempt that crashed between its rename and
      * its COMMIT (never served: the job had not finished). Replace it. */
@@ -259,7 +269,7 @@ int lubd_lease_fail(sqlite3 *db, const lubd_claim *c, const char *kind, const ch
     int ours = still_ours(db, c);
     if (ours <= 0) {
         lubd_db_rollback(db);
-        return ours;
+        return ours < 0 ? ours : lease_lost(db, c);
     }
     if (finish_row(db, c, "failed", kind, message) != 0 || lubd_db_commit(db) != 0) {
         lubd_db_rollback(db);

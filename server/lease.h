@@ -40,12 +40,13 @@ typedef struct {
 
 /* Success: inside one transaction, checks the lease, moves out_dir to result_dir (replacing
  * a leftover from a crashed earlier attempt), registers the files and marks the job
- * successful. 1 done, 0 lease lost (nothing moved), -1 error (the transaction rolled back and
+ * successful. 1 done, 0 lease lost (nothing moved; as lubd_lease_fail), -1 error (rolled back and
  * the files moved back to out_dir, e.g. a full disk at COMMIT). */
 int lubd_lease_succeed(sqlite3 *db, const lubd_claim *c, const char *out_dir,
                        const char *result_dir, const lubd_output_file *files, int n,
                        const char *message);
-/* Failure (not retried). kind: "executor" or "system". 1 done, 0 lease lost, -1 error. */
+/* Failure (not retried). kind: "executor" or "system". 1 done, 0 lease lost (a job dismissed
+ * meanwhile: the lease fields the dismissal kept are dropped), -1 error. */
 int lubd_lease_fail(sqlite3 *db, const lubd_claim *c, const char *kind, const char *message);
 /* Failure that keeps what the engine wrote (its summary, a partial or failed result.h5, the
  * checkpoint of a stopped run): as lubd_lease_succeed, but the job ends failed; the files

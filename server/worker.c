@@ -847,9 +847,7 @@ static void record_failure(job_attempt *a)
                                                     a->result_dir, files, n)
                      : lubd_lease_fail(db, a->c, kind, a->msg);
     if (done < 0 && n > 0) /* the files could not be moved: fail without them */
-        done = lubd_lease_fail(db, a->c, kind, a->msg);
-    if (done == 0)
-        lubd_lease_drop(db, a->c);
+        lubd_lease_fail(db, a->c, kind, a->msg);
 }
 
 /* Runs one claimed job to its end. */

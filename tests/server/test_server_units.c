@@ -395,6 +395,22 @@ static void test_queue(const char *dir)
     CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 0 && !purge &&
           strcmp(after.state, "dismissed") == 0);
     CHECK(lubd_lease_heartbeat(db, &c1, 60, 30, NULL, 0) == 0);
+    /* ... and the failure its holder then reports is not recorded, but drops the lease the
+     * dismissal kept (it stayed set until 2026-12-06) */
+    CHECK(lubd_lease_fail(db, &c1, "executor", "late") == 0);
+    {
+        sqlite3_stmt *st = NULL;
+        CHECK(sqlite3_prepare_v2(db,
+                                 "SELECT state, lease_token IS NULL, lease_until IS NULL, "
+                                 "failure_kind FROM jobs WHERE id = ?1",
+                                 -1, &st, NULL) == SQLITE_OK);
+        sqlite3_bind_text(st, 1, ids[1], -1, SQLITE_STATIC);
+        CHECK(sqlite3_step(st) == SQLITE_ROW &&
+              strcmp((const char *)sqlite3_column_text(st, 0), "dismissed") == 0 &&
+              sqlite3_column_int(st, 1) == 1 && sqlite3_column_int(st, 2) == 1 &&
+              strcmp((const char *)sqlite3_column_text(st, 3), "cancelled") == 0);
+        sqlite3_finalize(st);
+    }
     CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 0 && purge && after.purged);
     CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 1);
     lubd_lease_clear(&c1);
