@@ -151,25 +151,13 @@ def unkeepable_checkpoint(a):
     moving its out folder aside (jobs/<id>/resume-out) while the attempt folder is cleared.
     When that cannot be done, the attempt starts from the beginning, and its log says which
     checkpoint was not kept and why (until 2026-12-06 the checkpoint went without a word)."""
-    srv = T.Server(a, "engine_failures_unkept", workers=1, extra=["--lease-s", "60"]).fresh()
-    tok = srv.token("erin")
-    srv.start()
+    srv, tok, job = stopped_after_first_run(a, "engine_failures_unkept")
     try:
-        job = submit(srv, tok, 23)
-        wait_running(srv, tok, job)
-        ckpt = os.path.join(srv.run, "jobs", job, "attempt-1", "out", "checkpoint.h5")
-        deadline = time.time() + 10
-        while not os.path.exists(ckpt) and time.time() < deadline:
-            time.sleep(0.1)
-        T.check(os.path.exists(ckpt), "the first run's checkpoint: %s" % ckpt)
-        srv.stop()
+        T.check(os.path.exists(os.path.join(srv.run, "jobs", job, "attempt-1", "out",
+                                            "checkpoint.h5")), "the first run's checkpoint")
         plant_unremovable(os.path.join(srv.run, "jobs", job, "resume-out"))
         srv.start()
-        deadline = time.time() + 30
-        log = b""
-        while b"starts from the beginning" not in log and time.time() < deadline:
-            time.sleep(0.2)
-            st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        log = wait_log(srv, tok, job, b"starts from the beginning", 30)
         T.check(b"could not be kept (cannot clear " in log and b"resume-out: File name too long)"
                 b"; this attempt starts from the beginning" in log
                 and b"continuing from the checkpoint" not in log,
@@ -180,23 +168,38 @@ def unkeepable_checkpoint(a):
         srv.stop()
 
 
-def silent_crash_after_restart(a):
-    """An attempt that runs again under its number after a service stop appends to its first
-    run's log; an engine that then dies without a word must not be given the first run's last
-    error line as its diagnostic (it was until 2026-12-06)."""
-    srv = T.Server(a, "engine_failures_silent", workers=1, extra=["--lease-s", "60"]).fresh()
+def wait_log(srv, tok, job, text, timeout):
+    """The job's log once it holds text, or as it is after timeout seconds."""
+    deadline = time.time() + timeout
+    log = b""
+    while text not in log and time.time() < deadline:
+        time.sleep(0.1)
+        st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+    return log
+
+
+def stopped_after_first_run(a, name):
+    """A service (stopped) whose one job (fake engine duration 23) wrote its checkpoint and its
+    error line, and was stopped with the service: (srv, tok, job)."""
+    srv = T.Server(a, name, workers=1, extra=["--lease-s", "60"]).fresh()
     tok = srv.token("erin")
     srv.start()
     try:
         job = submit(srv, tok, 23)
         wait_running(srv, tok, job)
-        deadline = time.time() + 10
-        log = b""
-        while b"first run's last word" not in log and time.time() < deadline:
-            time.sleep(0.1)
-            st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        log = wait_log(srv, tok, job, b"first run's last word", 10)
         T.check(b"first run's last word" in log, "the first run's log: %s" % log)
+    finally:
         srv.stop()
+    return srv, tok, job
+
+
+def silent_crash_after_restart(a):
+    """An attempt that runs again under its number after a service stop appends to its first
+    run's log; an engine that then dies without a word must not be given the first run's last
+    error line as its diagnostic (it was until 2026-12-06)."""
+    srv, tok, job = stopped_after_first_run(a, "engine_failures_silent")
+    try:
         srv.start()
         final = T.wait_final(srv, tok, job, timeout=30)
         T.check(final["status"] == "failed" and "signal 11" in final["message"]
