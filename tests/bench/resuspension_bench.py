@@ -127,7 +127,8 @@ def write_table(args, rows):
     with open(os.path.join(args.table, "resuspension_error.md"), "w") as fh:
         fh.write(f"resuspension, {args.orientation} orientation, N = {args.n}, Sh = 0.5, "
                  f"averaging from strain {args.average_from:g}, 1 thread; errors: standard error (engine/stats.h) "
-                 f"of the bins (phi), SEM of the height series, local fit for {comp}\n\n")
+                 f"of the bins (phi), the summary's error of the half-maximum height (delta method over the "
+                 f"averaging window), local fit for {comp}\n\n")
         fh.write(f"| strain | averaged strain | CPU s | mean SEM(phi) bulk bins | height (a) | "
                  f"{comp}({e1:g}) | {comp}({e2:g}) |\n|---|---|---|---|---|---|---|\n")
         for r in rows:
