@@ -411,7 +411,7 @@ typedef struct {
     int killed_outside; /* SIGKILL from outside this service (assess_kill_from_outside) */
     int have_ckpt;      /* ... that left out/checkpoint.h5 */
     /* why a checkpoint of an earlier run could not be kept, or "" */
-    char keep_failure[700];
+    char keep_failure[3200];
     char ckpt_note[300]; /* the checkpoint a next attempt or a continuation starts from */
     char msg[900];
 } job_attempt;
@@ -527,8 +527,10 @@ static void write_log_header(const job_attempt *a)
                 a->w->name, a->resume ? ", continuing from the checkpoint of its stopped run" : "");
     if (a->keep_failure[0])
         dprintf(a->log_fd, "lubdemd: %s; %s\n", a->keep_failure,
-                a->resume ? "continuing from the previous attempt's instead"
-                          : "this attempt starts from the beginning");
+                a->resume                ? "continuing from the previous attempt's instead"
+                : a->c->continue_from[0] ? "this attempt starts again from the files of the job "
+                                           "it continues"
+                                         : "this attempt starts from the beginning");
 }
 
 /* A job submitted with "continue_from" that has no checkpoint of its own yet starts from

@@ -329,7 +329,7 @@ if (ulimit -v 60000; "$LUBDEM" version >/dev/null 2>&1); then
     echo '{"scene":"resuspension","n":20,"strain":100000,"sample_strain":0.1,"average_from":99990}' >"$work/series.json"
     (ulimit -v 40000; timeout 120 "$LUBDEM" run "$work/series.json" --out "$work/series" --quiet) 2>"$work/series.err"
     rc=$?
-    [ $rc -eq 1 ] && grep -q '^error: not enough memory: the profiles of [0-9]* bins over [0-9]* samples from /average_from on and the height series of 99997[0-9] samples need at least 3[0-9.]* MiB, but this process may use .*RLIMIT_AS.*; lower /strain (or raise /sample_strain) (nothing was run)$' \
+    [ $rc -eq 1 ] && grep -q '^error: not enough memory: the profiles of [0-9]* bins over [0-9]* samples from /average_from on and the height series of [0-9]* samples need at least 3[0-9.]* MiB, but this process may use .*RLIMIT_AS.*; lower /strain (or raise /sample_strain) (nothing was run)$' \
       "$work/series.err" && ok || bad "height series beyond the address-space limit: exit $rc: $(cat "$work/series.err")"
   else
     echo "height series under 40 000 KiB: skipped (this binary does not start under the limit)"
