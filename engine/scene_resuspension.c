@@ -496,34 +496,36 @@ static int rs_allocate_samples(rs_run_state *r)
                              ? "/strain - /average_from (or raise /bin_width or /sample_strain)"
                              : "/strain (or raise /sample_strain)"))
         return LUB_EXIT_INTERNAL;
-    B->samples = calloc((size_t)(nsamp_avg * nb), sizeof *B->samples);
-    B->scratch = calloc(scratch, sizeof *B->scratch);
-    B->scratch2 = calloc(scratch, sizeof *B->scratch2);
-    B->scratch3 = calloc(scratch, sizeof *B->scratch3);
-    B->series_h = calloc((size_t)nsamp_total, sizeof *B->series_h);
-    B->phi_inst = calloc((size_t)nb, sizeof *B->phi_inst);
-    B->vx_vol = calloc((size_t)nb, sizeof *B->vx_vol);
-    B->vx_sum = calloc((size_t)nb, sizeof *B->vx_sum);
-    B->vx_inst = calloc((size_t)nb, sizeof *B->vx_inst);
-    B->vol = calloc((size_t)nb, sizeof *B->vol);
-    B->phi = calloc((size_t)nb, sizeof *B->phi);
-    B->phi_err = calloc((size_t)nb, sizeof *B->phi_err);
-    B->eta = calloc((size_t)nb, sizeof *B->eta);
-    B->eta_err = calloc((size_t)nb, sizeof *B->eta_err);
-    B->ybin = calloc((size_t)nb, sizeof *B->ybin);
-    B->keepd = calloc((size_t)nb, sizeof *B->keepd);
-    B->law = calloc((size_t)nb, sizeof *B->law);
-    B->pairs_out = calloc((size_t)nb * 4, sizeof *B->pairs_out);
-    B->phi_cg = calloc((size_t)nb, sizeof *B->phi_cg);
-    B->phi_cg_err = calloc((size_t)nb, sizeof *B->phi_cg_err);
-    B->keep = calloc((size_t)nb, sizeof *B->keep);
-    B->snap_x = calloc((size_t)N * 3, sizeof *B->snap_x);
-    B->snap_v = calloc((size_t)N * 3, sizeof *B->snap_v);
-    B->snap_w = calloc((size_t)N * 3, sizeof *B->snap_w);
-    if (!B->samples || !B->scratch || !B->scratch2 || !B->scratch3 || !B->vx_vol || !B->vx_sum ||
-        !B->vx_inst || !B->series_h || !B->phi_inst || !B->vol || !B->phi || !B->phi_err ||
-        !B->eta || !B->eta_err || !B->ybin || !B->keepd || !B->law || !B->pairs_out || !B->keep ||
-        !B->snap_x || !B->snap_v || !B->snap_w || !B->phi_cg || !B->phi_cg_err) {
+    const struct {
+        double **buf;
+        size_t n;
+    } want[] = {{&B->samples, (size_t)(nsamp_avg * nb)},
+                {&B->scratch, scratch},
+                {&B->scratch2, scratch},
+                {&B->scratch3, scratch},
+                {&B->series_h, (size_t)nsamp_total},
+                {&B->phi_inst, (size_t)nb},
+                {&B->vx_vol, (size_t)nb},
+                {&B->vx_sum, (size_t)nb},
+                {&B->vx_inst, (size_t)nb},
+                {&B->vol, (size_t)nb},
+                {&B->phi, (size_t)nb},
+                {&B->phi_err, (size_t)nb},
+                {&B->eta, (size_t)nb},
+                {&B->eta_err, (size_t)nb},
+                {&B->ybin, (size_t)nb},
+                {&B->keepd, (size_t)nb},
+                {&B->law, (size_t)nb},
+                {&B->pairs_out, (size_t)nb * 4},
+                {&B->phi_cg, (size_t)nb},
+                {&B->phi_cg_err, (size_t)nb},
+                {&B->snap_x, (size_t)N * 3},
+                {&B->snap_v, (size_t)N * 3},
+                {&B->snap_w, (size_t)N * 3}};
+    int allocated = (B->keep = calloc((size_t)nb, sizeof *B->keep)) != NULL;
+    for (size_t k = 0; k < sizeof want / sizeof want[0]; ++k)
+        allocated &= (*want[k].buf = calloc(want[k].n, sizeof(double))) != NULL;
+    if (!allocated) { /* what was allocated is freed with the rest (rs_buffers_free) */
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                  "out of memory for the profiles (%d bins x %lld samples) and the height series "
                  "(%lld samples): raise /bin_width or /sample_strain, or lower /strain",
