@@ -106,8 +106,8 @@ size_t lub_ss_steady_start(const lub_ss_series *ser, int pressure, double transi
  * mean(sigma_xy/P) exceeded <sigma_xy>/<P> by up to 4.4 % and mean(gd/P) exceeded gd/<P> by
  * up to 18 % (README "Steady state and error bars"), and where P nears zero the mean of the
  * ratios means nothing. */
-static void ss_ratio_stat(lub_ss_series *ser, int num, int den, size_t min_start,
-                          lub_stats_result *r)
+static size_t ss_ratio_stat(lub_ss_series *ser, int num, int den, size_t min_start,
+                            lub_stats_result *r)
 {
     lub_stats_result rx, ry;
     lub_stats_analyse(ser->v[num], ser->n, min_start, ser->scratch, &rx);
@@ -115,21 +115,47 @@ static void ss_ratio_stat(lub_ss_series *ser, int num, int den, size_t min_start
     const size_t d = rx.start > ry.start ? rx.start : ry.start;
     lub_stats_ratio(ser->v[num] + d, ser->v[den] + d, ser->n - d, ser->ratio_z, ser->scratch,
                     &r->mean, &r->sem);
+    return d;
+}
+
+/* The summary's verdict on the window from start: no drift beyond 3 standard errors in any
+ * watched series (watch[] as lub_ss_steady_start writes it); the largest |z| into *worst_z. */
+static int ss_window_steady(lub_ss_series *ser, size_t start, const int watch[3], double *worst_z)
+{
+    int steady = 1;
+    *worst_z = 0.0;
+    for (int w = 0; w < 3 && watch[w] >= 0; ++w) {
+        const double z = lub_stats_drift_z(ser->v[watch[w]] + start, ser->n - start, ser->scratch);
+        if (!isfinite(z) || fabs(z) > 3.0)
+            steady = 0;
+        if (isfinite(z) && fabs(z) > *worst_z)
+            *worst_z = fabs(z);
+    }
+    return steady;
 }
 
 int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_mean)
 {
-    const int headline = p->pressure ? SS_OBS_MU : SS_OBS_ETA;
-    const size_t start = lub_ss_steady_start(ser, p->pressure, p->transient_strain, NULL);
+    int watch[3];
+    const size_t start = lub_ss_steady_start(ser, p->pressure, p->transient_strain, watch);
+    /* the summary's verdict, over every watched series: a stationary mu with a phi still
+     * drifting stopped "converged" with steady_state_detected false until 2026-12-07 */
+    double worst_z;
+    const int steady = ss_window_steady(ser, start, watch, &worst_z);
+    /* the headline as the summary reports it, and the window it is averaged over: mu from
+     * the later of its numerator's and denominator's starts (until 2026-12-07 the minimum
+     * window below was measured from the common start, which can be earlier) */
     lub_stats_result sr;
-    lub_stats_analyse(ser->v[headline], ser->n, start, ser->scratch, &sr);
-    if (headline == SS_OBS_MU)
-        ss_ratio_stat(ser, SS_OBS_SXY, SS_OBS_P, start, &sr);
+    size_t from = start;
+    if (p->pressure)
+        from = ss_ratio_stat(ser, SS_OBS_SXY, SS_OBS_P, start, &sr);
+    else
+        lub_stats_analyse_window(ser->v[SS_OBS_ETA], ser->n, start, ser->scratch, &sr);
     /* shorter windows hold too few correlation times of phi, and a stop chosen by a low error
      * of mu then also picks a low error of phi (tests/shear/README.md, "Run until mu is
      * known") */
-    const double averaged = start < ser->n ? ser->strain[ser->n - 1] - ser->strain[start] : 0.0;
-    const int checked = sr.steady && averaged >= p->target_min_strain;
+    const double averaged = from < ser->n ? ser->strain[ser->n - 1] - ser->strain[from] : 0.0;
+    const int checked = steady && averaged >= p->target_min_strain;
     *zero_mean = checked && sr.mean == 0.0;
     return checked && isfinite(sr.sem) && sr.mean != 0.0 &&
            sr.sem <= p->target_rel_error * fabs(sr.mean);
@@ -142,15 +168,7 @@ void lub_ss_series_statistics(const lub_ss_params *p, double gd, double s0, lub_
     const size_t start = lub_ss_steady_start(ser, p->pressure, p->transient_strain, watch);
     st->start = start;
     /* verdict: no significant drift of the watched series after the common start */
-    st->steady = 1;
-    st->worst_drift_z = 0.0;
-    for (int w = 0; w < 3 && watch[w] >= 0; ++w) {
-        double z = lub_stats_drift_z(ser->v[watch[w]] + start, ser->n - start, ser->scratch);
-        if (!isfinite(z) || fabs(z) > 3.0)
-            st->steady = 0;
-        if (isfinite(z) && fabs(z) > st->worst_drift_z)
-            st->worst_drift_z = fabs(z);
-    }
+    st->steady = ss_window_steady(ser, start, watch, &st->worst_drift_z);
     for (int k = 0; k < SS_OBS_COUNT; ++k) {
         /* only mean and sem are reported; ratio observables are ratios of time averages
          * (ss_ratio_stat), the others the mean of their series from the common start

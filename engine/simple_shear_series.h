@@ -77,9 +77,10 @@ int lub_ss_series_append(lub_ss_series *ser, double strain, const double values[
 size_t lub_ss_steady_start(const lub_ss_series *ser, int pressure, double transient_strain,
                            int watch[3]);
 
-/* The /target_rel_error check: 1 when the headline's (mu at imposed pressure, eta_r at imposed
- * volume) standard error, as the summary written now would report it, is at most
- * /target_rel_error of its mean over at least /target_min_strain of steady window; *zero_mean
+/* The /target_rel_error check: 1 when the summary written now would call the run steady (no
+ * drift of any watched series) and report the headline (mu at imposed pressure, eta_r at
+ * imposed volume) with a standard error of at most /target_rel_error of its mean, averaged over
+ * at least /target_min_strain (mu: from the later of sigma_xy's and P's own starts); *zero_mean
  * is set when that window is steady with a mean of 0, which has no relative error. */
 int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_mean);
 

@@ -3,8 +3,9 @@
  * ratios of time averages (an exact proportion gives the ratio with no error), the stress parts
  * are averaged over their total's window (they add up to it), Iv is gd/<P> in the stress unit,
  * an imposed phi has no error while a free one has, a drifting headline is not steady, the
- * /target_rel_error check stops on a small error and never on a zero mean, and the room of the
- * series grows without losing samples. */
+ * /target_rel_error check stops on a small error and never on a zero mean, never on a window
+ * the summary calls not steady or on a headline averaged over less than /target_min_strain,
+ * and the room of the series grows without losing samples. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -148,6 +149,36 @@ int main(void)
     lub_ss_series_statistics(&p, 0.01, 1.0, &ser, &st);
     ST_CHECK(!st.steady, "a drifting mu is not steady (drift z %g)", st.worst_drift_z);
     lub_ss_series_free(&ser);
+
+    /* the stop takes the summary's verdict: a stationary mu (known exactly) with phi still
+     * drifting is not steady, so it does not stop (it did until 2026-12-07) */
+    p.target_rel_error = 0.5;
+    p.target_min_strain = 5.0;
+    fill(&ser, 0.6, 0.55, 0.01, 0.0);
+    for (size_t i = 0; i < ser.n; ++i)
+        ser.v[SS_OBS_PHI][i] += 0.02 * (double)i / SAMPLES;
+    lub_ss_series_statistics(&p, 0.01, 1.0, &ser, &st);
+    ST_CHECK(!st.steady, "a drifting phi is not steady (drift z %g)", st.worst_drift_z);
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0,
+             "no stop while phi drifts, though mu's error is 0");
+    lub_ss_series_free(&ser);
+
+    /* /target_min_strain bounds the window mu is averaged over: P (and sigma_xy = mu P) settle
+     * only at strain 3.5, later than the common start (strain 1), while the sampled mu and phi
+     * are stationary from the first sample; mu = <sigma_xy>/<P> is averaged from about 3.5, so
+     * 8.5 strain, not the 11 of the common start */
+    fill(&ser, 0.6, 0.55, 0.01, 0.0);
+    for (size_t i = 0; ser.strain[i] < 3.5; ++i) {
+        ser.v[SS_OBS_P][i] *= 0.25;
+        ser.v[SS_OBS_SXY][i] *= 0.25;
+    }
+    p.target_min_strain = 9.0;
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0,
+             "no stop: mu's window is shorter than /target_min_strain");
+    p.target_min_strain = 8.0;
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 1, "a stop once the window is long enough");
+    lub_ss_series_free(&ser);
+    p.target_min_strain = 5.0;
 
     /* a headline of exactly 0 has no relative error: no stop, and it is said */
     fill(&ser, 0.0, 0.55, 0.0, 0.0);
