@@ -88,7 +88,7 @@ static void rs_buffers_free(rs_buffers *b)
 
 /* Grows the sample buffers so that the series holds `total` height samples and the average
  * `avg` profiles (the statistics' scratch max(total, avg) + 1); 0 or -1 (no memory: the buffers
- * keep their contents). Called when the step changes. */
+ * keep their contents). Called when a continuation extends the run (before the time loop). */
 static int rs_samples_reserve(rs_buffers *b, int nb, int64_t total, int64_t avg,
                               int64_t *nsamp_total, int64_t *nsamp_avg)
 {
@@ -474,9 +474,14 @@ static int rs_allocate_samples(rs_run_state *r)
     lub_schedule_init(&lp->sched, dt, p->strain / gd);
     const int64_t sample_every = lub_schedule_period(p->sample_strain / gd, dt);
     r->ev_sample = lub_schedule_add(&lp->sched, sample_every, 0, p->sample_strain / gd);
-    r->nsamp_total = lp->sched.nsteps / sample_every + 2;
+    /* room for the most samples any step the control may choose gives (the loop never grows
+     * it; until 2026-12-07 a change of the step reallocated the buffers, outside the memory
+     * check) */
+    const double dt_max = lp->ctl.dt_base;
+    r->nsamp_total = lub_schedule_most_occurrences(&lp->sched, r->ev_sample, 0.0, dt_max);
     lp->avg_start_step = (int64_t)ceil(p->average_from / (gd * dt) - 1e-9);
-    r->nsamp_avg = (lp->sched.nsteps - lp->avg_start_step) / sample_every + 2;
+    r->nsamp_avg = lub_schedule_most_occurrences(&lp->sched, r->ev_sample,
+                                                 fmax(0.0, p->average_from / gd - dt_max), dt_max);
     lp->min_lowest = INFINITY;
     lp->y_floor = r->y_floor;
     lp->y_lid = r->y_lid;
@@ -605,8 +610,8 @@ static int rs_continue_stopped_run(rs_run_state *r)
              * last sample, which only the run's end forces) */
             if (saved.sched.t_end != p->strain / gd)
                 lub_schedule_set_end(&saved.sched, p->strain / gd);
-            const int64_t left =
-                (saved.sched.nsteps - saved.step) / saved.sched.ev[r->ev_sample].every + 2;
+            const int64_t left = lub_schedule_most_occurrences(&saved.sched, r->ev_sample, S->time,
+                                                               saved.ctl.dt_base);
             if ((double)saved.sched.nsteps > LUB_MAX_STEPS) /* at the stopped run's step */
                 snprintf(why, sizeof why,
                          "/strain: %g would take the run to %.3g steps at its step of %.3g, "
@@ -725,9 +730,16 @@ static int rs_sample(rs_run_state *r, int64_t step, double t)
                  lub_h5_last_error(r->ctx->out));
         return LUB_EXIT_IO;
     }
-    if (lp->nh < r->nsamp_total)
-        B->series_h[lp->nh++] = hs;
-    if (step >= lp->avg_start_step && lp->navg < r->nsamp_avg) {
+    if (lp->nh >= r->nsamp_total ||
+        (step >= lp->avg_start_step && lp->navg >= r->nsamp_avg)) { /* never: their room */
+        snprintf(r->ctx->diagnostic, sizeof r->ctx->diagnostic,
+                 "internal error: the sample buffers are full (%lld height samples, %lld "
+                 "profiles) at strain %.6g",
+                 (long long)r->nsamp_total, (long long)r->nsamp_avg, t * r->sc.gd);
+        return LUB_EXIT_INTERNAL;
+    }
+    B->series_h[lp->nh++] = hs;
+    if (step >= lp->avg_start_step) {
         memcpy(&B->samples[lp->navg * nb], B->phi_inst, (size_t)nb * sizeof *B->phi_inst);
         lp->navg++;
     }
@@ -806,9 +818,9 @@ static int rs_step_failed(rs_run_state *r, int e)
     return rc;
 }
 
-/* The step control lowered the step after loop index `step`: the schedule, the averaging start
- * and the sample buffers follow. LUB_EXIT_OK, or the exit code with the diagnostic set (the
- * step-count rule; no memory for the samples). */
+/* The step control lowered the step after loop index `step`: the schedule and the averaging
+ * start follow (the sample buffers already cover any step). LUB_EXIT_OK, or the exit code with
+ * the diagnostic set (the step-count rule). */
 static int rs_step_changed(rs_run_state *r, int64_t step)
 {
     const lub_rs_spec *p = &r->p;
@@ -826,13 +838,7 @@ static int rs_step_changed(rs_run_state *r, int64_t step)
     if (lp->avg_start_step > step + 1)
         lp->avg_start_step =
             step + 1 + (int64_t)ceil((p->average_from / gd - r->S.time) / dt - 1e-9);
-    const int64_t left = (lp->sched.nsteps - step) / lp->sched.ev[r->ev_sample].every + 2;
-    if (rs_samples_reserve(&r->B, r->nb, lp->nh + left, lp->navg + left, &r->nsamp_total,
-                           &r->nsamp_avg)) {
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (samples)");
-        return LUB_EXIT_INTERNAL;
-    }
-    return LUB_EXIT_OK;
+    return LUB_EXIT_OK; /* the sample buffers cover any step (rs_allocate_samples) */
 }
 
 /* The time loop from r->first_step to the end of the schedule: samples, snapshots, network

@@ -476,9 +476,12 @@ static int ss_setup_series(ss_run_state *r)
 {
     lub_run_ctx *ctx = r->ctx;
     const ss_loop *lp = &r->lp;
-    const size_t samples_cap =
-        (size_t)r->resume_rows +
-        (size_t)((lp->sched.nsteps - lp->step) / lp->sched.ev[r->ev_sample].every) + 4;
+    /* room for the most samples any step the control may choose gives (the loop never grows
+     * it; until 2026-12-07 a change of the step reallocated every series, outside the memory
+     * check) */
+    const size_t samples_cap = (size_t)r->resume_rows +
+                               (size_t)lub_schedule_most_occurrences(&lp->sched, r->ev_sample,
+                                                                     r->sys.time, lp->ctl.dt_base);
     char series_what[96];
     snprintf(series_what, sizeof series_what, "the %zu samples of the time series", samples_cap);
     if (!lub_memory_fits(ctx, (double)samples_cap * LUB_SS_SAMPLE_BYTES, series_what,
@@ -634,7 +637,7 @@ static int ss_step_failed(ss_run_state *r, int rc, int64_t step, double strain_h
 }
 
 /* After step `step`: the step the pairs' summed stiffness asks for (when it changed, the
- * schedule, the Delaunay update period and the series' room follow it). */
+ * schedule and the Delaunay update period follow it; the series' room already covers it). */
 static int ss_follow_step_control(ss_run_state *r, int64_t step)
 {
     lub_run_ctx *ctx = r->ctx;
@@ -653,12 +656,7 @@ static int ss_follow_step_control(ss_run_state *r, int64_t step)
     if (r->sys.topology_interval > 0)
         r->sys.topology_interval =
             (int)fmin(1e6, (double)lub_schedule_period(p->delaunay_strain / r->gd, r->dt));
-    const size_t more = (size_t)((lp->sched.nsteps - step) / lp->sched.ev[r->ev_sample].every) + 4;
-    if (lub_ss_series_reserve(&r->ser, r->ser.n + more)) {
-        snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "out of memory (series)");
-        return LUB_EXIT_INTERNAL;
-    }
-    return LUB_EXIT_OK;
+    return LUB_EXIT_OK; /* the series' room covers any step (ss_setup_series) */
 }
 
 /* The sampled state of a step (taken by lub_shear_step with LUB_SAMPLE_STRESS) into the series
@@ -707,7 +705,12 @@ static int ss_record_sample(ss_run_state *r, int64_t step, const lub_shear_sampl
         smp->n_contacts ? (double)smp->n_crushed / (double)smp->n_contacts : 0.0,
         smp->n_contacts ? (double)smp->n_sliding / (double)smp->n_contacts : 0.0,
         q6_here};
-    lub_ss_series_append(&r->ser, strain_here, vals);
+    if (lub_ss_series_append(&r->ser, strain_here, vals)) { /* never: ss_setup_series */
+        snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                 "internal error: the time series is full (%zu samples) at strain %.6g", r->ser.cap,
+                 strain_here);
+        return LUB_EXIT_INTERNAL;
+    }
     double row[10 + 6 * 9 + 1];
     _Static_assert(sizeof row == LUB_SS_ROW_BYTES, "LUB_SS_ROW_BYTES: one row of the time series");
     row[0] = strain_here;

@@ -45,8 +45,15 @@ void lub_schedule_set_dt(lub_schedule *s, int64_t done, double time, double dt_n
     const double scale = s->dt / dt_new;
     for (int k = 0; k < s->n_events; ++k) {
         lub_schedule_event *e = &s->ev[k];
-        const int64_t left = e->next > done ? e->next - done : 0;
-        e->next = done + (int64_t)llround((double)left * scale);
+        if (e->next < done) { /* due at a step already taken and not yet asked for: it stays
+                               * due (until 2026-12-07 it moved to `done`, one step late) */
+            e->every = lub_schedule_period(e->spacing, dt_new);
+            continue;
+        }
+        const int64_t left = e->next - done;
+        /* rounded up: a change never brings an occurrence earlier, so no interval becomes
+         * shorter than the shortest period any step gives (lub_schedule_most_occurrences) */
+        e->next = done + (int64_t)ceil((double)left * scale - 1e-9);
         e->every = lub_schedule_period(e->spacing, dt_new);
     }
     s->nsteps = done + steps_for(s->t_end - time, dt_new);
@@ -59,4 +66,22 @@ void lub_schedule_set_end(lub_schedule *s, double t_end)
 {
     s->t_end = t_end;
     s->nsteps = s->anchor_step + steps_for(t_end - s->anchor_time, s->dt);
+}
+
+int64_t lub_schedule_most_occurrences(const lub_schedule *s, int id, double from_time,
+                                      double dt_max)
+{
+    const lub_schedule_event *e = &s->ev[id];
+    const double T = e->spacing;
+    /* every step dt' <= dt_max: a period of max(1, round(T/dt')) steps lasts dt' >= 2T/3 when
+     * it is one step (T/dt' < 3/2), else at least T - dt'/2 >= 2T/3; and at least T - dt_max/2 */
+    double shortest = fmax(2.0 * T / 3.0, T - 0.5 * dt_max);
+    shortest = fmin(shortest, (double)e->every * s->dt); /* a step above dt_max in force now */
+    const double span = s->t_end - from_time;
+    if (!(span > 0.0))
+        return 2;
+    if (!(shortest > 0.0))
+        return (int64_t)4e18;
+    const double k = floor(span / shortest + 1e-9) + 2.0;
+    return k < 4.0e18 ? (int64_t)k : (int64_t)4e18;
 }

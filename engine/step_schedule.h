@@ -8,8 +8,10 @@
  * the step changes to dt' after `done` steps at time t:
  *   - nsteps becomes done + ceil((t_end - t)/dt' - 1e-9): the run still ends at t_end;
  *   - each event keeps its spacing in time: every = max(1, floor(spacing/dt' + 1/2)), and its
- *     next occurrence stays at the same time to within half a step: the steps left before it,
- *     next - done, are scaled by dt/dt'.
+ *     next occurrence stays at the same time or moves up to one step later: the steps left
+ *     before it, next - done, are scaled by dt/dt' and rounded up (until 2026-12-07 to the
+ *     nearest, which could shorten an interval and so add occurrences beyond any bound fixed
+ *     in advance).
  * With a constant step the schedule is exactly the modulo form above.
  *
  * The scenes keep t_end/dt within 1..LUB_MAX_STEPS (step_count.h) before they start and when
@@ -65,6 +67,13 @@ static inline int lub_schedule_due(lub_schedule *s, int id, int64_t step)
 /* The step becomes dt_new > 0 after `done` steps, at time `time`: nsteps and every event are
  * rescheduled as described above. */
 void lub_schedule_set_dt(lub_schedule *s, int64_t done, double time, double dt_new);
+/* The most occurrences event `id` can have from time from_time to the end of the run, whatever
+ * steps up to dt_max the run takes meanwhile (and the step in force now): no interval is shorter
+ * than max(2/3 spacing, spacing - dt_max/2), so it is floor((t_end - from_time)/that) + 2. The
+ * scenes reserve their sample buffers with it before the time loop, so a change of the step
+ * never grows them. */
+int64_t lub_schedule_most_occurrences(const lub_schedule *s, int id, double from_time,
+                                      double dt_max);
 /* The run's duration becomes t_end (a run extended, or shortened before it got there): nsteps
  * is what it would have been had the run been started with t_end (from the same anchor), so
  * an extended run takes the steps of one that was asked for t_end from the start. */

@@ -8,11 +8,19 @@
  *     (within one step of the step in force) across both changes;
  *  3. a run's end moved (lub_schedule_set_end, a continuation asked for a longer /strain) gives
  *     the step count of a schedule built for the new end from the start, with and without a
- *     change of the step before it, for ends where floating sums of the step would miss by one.
+ *     change of the step before it, for ends where floating sums of the step would miss by one;
+ *  4. lub_schedule_most_occurrences bounds the occurrences of an event whatever steps up to
+ *     dt_max the run takes: a step that changes at random (0.05-1 dt_max, at a fifth of the
+ *     steps) never makes an interval shorter than max(2/3 spacing, spacing - dt_max/2), and
+ *     the count from the start and from mid-run stays within the bound (with the rounding to
+ *     the nearest step that lub_schedule_set_dt used until 2026-12-07 intervals shrank to
+ *     0.52 of that shortest one, and a count could overrun a bound fixed in advance);
+ *  5. a change of the step leaves an occurrence that is due at a step already taken due.
  */
 #include "step_schedule.h"
 
 #include <math.h>
+#include <stdint.h>
 
 #include "shear_test.h"
 
@@ -89,8 +97,67 @@ static void check_end(double dt0, double t_short, double t_long, int change)
              (long long)a.nsteps, (long long)short_steps);
 }
 
+static uint64_t lcg(uint64_t *state)
+{
+    *state = *state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return *state >> 11;
+}
+
+static void check_bound(double spacing_steps, uint64_t seed)
+{
+    const double dt_max = 1.0, spacing = spacing_steps * dt_max, t_end = 400.0 * spacing;
+    lub_schedule s;
+    double dt = dt_max, t = 0.0;
+    lub_schedule_init(&s, dt, t_end);
+    const int64_t every = lub_schedule_period(spacing, dt);
+    const int ev = lub_schedule_add(&s, every, every - 1, spacing);
+    const int64_t bound = lub_schedule_most_occurrences(&s, ev, 0.0, dt_max);
+    const double shortest = fmax(2.0 * spacing / 3.0, spacing - 0.5 * dt_max);
+    int64_t n = 0, n_late = 0, bound_late = -1;
+    double last = -1.0, min_gap = INFINITY;
+    for (int64_t k = 0; k < s.nsteps; ++k) {
+        if (bound_late < 0 && t >= 0.5 * t_end) /* the bound from mid-run (a continuation's) */
+            bound_late = lub_schedule_most_occurrences(&s, ev, t, dt_max);
+        if (lub_schedule_due(&s, ev, k)) {
+            if (last >= 0.0)
+                min_gap = fmin(min_gap, t - last);
+            last = t;
+            ++n;
+            n_late += bound_late >= 0;
+        }
+        t += dt;
+        if (lcg(&seed) % 5 == 0) {
+            dt = dt_max * (0.05 + 0.95 * (double)(lcg(&seed) % 1000) / 999.0);
+            lub_schedule_set_dt(&s, k + 1, t, dt);
+        }
+    }
+    ST_CHECK(min_gap >= shortest * (1.0 - 1e-9),
+             "spacing %g steps: an interval of %.6g, below the bound's %.6g", spacing_steps,
+             min_gap, shortest);
+    ST_CHECK(n <= bound && n_late <= bound_late,
+             "spacing %g steps: %lld occurrences (bound %lld), %lld from mid-run (bound %lld)",
+             spacing_steps, (long long)n, (long long)bound, (long long)n_late,
+             (long long)bound_late);
+}
+
+static void check_overdue(void)
+{
+    lub_schedule s;
+    lub_schedule_init(&s, 1.0, 100.0);
+    const int ev = lub_schedule_add(&s, 10, 9, 10.0);
+    /* the step changes after step 9 is taken, before the event is asked for at step 9 */
+    lub_schedule_set_dt(&s, 10, 10.0, 0.5);
+    ST_CHECK(lub_schedule_due(&s, ev, 9) == 1 && s.ev[ev].next == 29,
+             "an occurrence due at step 9 stays due there (next %lld)", (long long)s.ev[ev].next);
+}
+
 int main(void)
 {
+    const double spacings[] = {0.6, 0.7, 1.0, 1.2, 1.4, 1.6, 2.5, 3.3, 25.5};
+    for (size_t i = 0; i < sizeof spacings / sizeof *spacings; ++i)
+        for (uint64_t seed = 1; seed <= 4; ++seed)
+            check_bound(spacings[i], seed * 7919);
+    check_overdue();
     check_constant();
     check_changes();
     for (int change = 0; change < 2; ++change) {
