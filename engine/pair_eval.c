@@ -98,6 +98,7 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
      * written through ps and by the kernel) */
     const int32_t *restrict pi = ps->i, *restrict pj = ps->j;
     const unsigned char *restrict img = ps->img, *restrict allow = ps->allow;
+    const double guard = ps->allow_guard;
     const unsigned char *active = ps->active, *near = ps->near;
     lub_pair_state *state = ps->state;
     const vec3 *restrict X = b->x, *restrict V = b->v, *restrict W = b->w;
@@ -132,7 +133,9 @@ long lub_pair_eval_range(lub_pairs *ps, long k0, long k1, const lub_cell *cell,
          * kept only if inside, so that no branch depends on this unpredictable test; only
          * the rare crossings of the cut-off (state created or dropped) branch. */
         const double reach = ri + rj + cutoff * 0.5 * (ri + rj);
-        const int inside = (v3_norm2(d) <= reach * reach) & allow[k];
+        const double guarded = ri + rj + guard * 0.5 * (ri + rj); /* the filter's guard */
+        const double d2 = v3_norm2(d);
+        const int inside = (d2 <= reach * reach) & (allow[k] | (d2 < guarded * guarded));
         if (inside != active[k]) {
             if (inside)
                 lub_pairs_enter(ps, k);

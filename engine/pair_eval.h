@@ -41,7 +41,8 @@ enum { LUB_PAIR_OUT = -1, LUB_PAIR_OK = 0, LUB_PAIR_NONFINITE = 1 };
 
 /* The law's input for pair k (branch x2 + Hc - x1, the image velocity L H c, the inertia
  * shares) into *in, the centre gap into *un: LUB_PAIR_OK, or LUB_PAIR_OUT when the pair is
- * beyond cutoff*a or not allowed by the store's filter (*in then holds only the branch). */
+ * beyond cutoff*a or not allowed by the store's filter and not closer than its guard (*in then
+ * holds only the branch). */
 static inline int lub_pair_input_of(const lub_pairs *ps, size_t k, const lub_cell *cell,
                                     const lub_pair_bodies *b, double cutoff, double dt,
                                     lub_pair_input *in, double *un)
@@ -53,7 +54,7 @@ static inline int lub_pair_input_of(const lub_pairs *ps, size_t k, const lub_cel
     in->branch = d;
     *un = v3_norm(d) - ri - rj;
     const double a = 0.5 * (ri + rj);
-    if (*un > cutoff * a || !ps->allow[k])
+    if (*un > cutoff * a || (!ps->allow[k] && !(*un < ps->allow_guard * a)))
         return LUB_PAIR_OUT;
     in->v1 = b->v[i];
     in->v2 = v3_add(b->v[j], lub_mat_vec(cell->L, shift));

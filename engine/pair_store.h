@@ -12,7 +12,9 @@
  * lub_pairs_adopt() replaces the candidate list by a new neighbour list and CARRIES the state
  * and active flag of every pair (i, j) present in both (sorted-key merge, O(old + new)).
  * A pair whose `allow` flag is 0 is treated as outside the cut-off (an interaction-set filter
- * such as the Delaunay neighbours of pair_topology.h; adopt resets every flag to 1).
+ * such as the Delaunay neighbours of pair_topology.h; adopt resets every flag to 1), unless its
+ * gap is below allow_guard * a: a pair refused while its gap was wider, which closes before
+ * the filter's next update, still meets its lubrication and contact forces.
  *
  * Forces and torques are not stored per pair: the pair loops add them to per-particle sums
  * (pair_accum.h).
@@ -45,6 +47,9 @@ typedef struct {
     unsigned char *near;   /* [n] 1 if the last evaluation had u < a (spin torques on) */
     unsigned char *allow;  /* [n] 0: the pair may not interact even inside the cut-off (an
                               interaction-set filter, pair_topology.h); lub_pairs_adopt sets 1 */
+    double allow_guard;    /* a pair with u_n < allow_guard * a interacts whatever its allow
+                              flag: the filter's contacts guard (pair_topology.h), also between
+                              its updates; 0 (init) when there is no filter */
     size_t fcap;           /* capacity of c, near and allow */
     /* double buffer for the merge */
     int32_t *oi, *oj;

@@ -8,7 +8,10 @@
  *              updates; a touching pair is a power neighbour anyway unless a third sphere
  *              overlaps the contact point);
  *   allow = 0  otherwise: the pair loop treats the pair as outside the cut-off (no force, its
- *              state dropped), so it re-enters with a fresh state when allowed again.
+ *              state dropped), so it re-enters with a fresh state when allowed again, or
+ *              when its gap falls below the guard before the next update (the pair store's
+ *              allow_guard, which the owner sets to the same guard: until 2026-12-07 such a
+ *              pair could close into contact without a force until the next update).
  * The faces are computed from the candidate list itself. A Verlet list built with listing
  * distance (r_i + r_j)(1 + range/2) + skin still holds every pair closer than that distance
  * minus the skin consumed since the build (`margin` = skin - consumed, the owner's skin

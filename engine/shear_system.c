@@ -349,6 +349,7 @@ void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
     s->topology_interval = interval < 1 ? 1 : interval;
     s->topology_step = -1;
     lub_topology_init(&s->topo, s->cutoff, guard, s->r, s->n, s->threads);
+    s->pairs.allow_guard = guard; /* between updates too (pair_eval) */
     s->need_rebuild = 1;
 }
 
