@@ -291,7 +291,8 @@ typedef struct {
     int exit_code;
     int64_t step;           /* steps done when the loop ended */
     int stopped_early;      /* stopped on /target_rel_error */
-    int target_zero_mean;   /* the last /target_rel_error check found the headline 0 +- 0 */
+    int target_zero_mean;   /* the /target_rel_error check found the headline 0 +- 0 (the
+                             * last one, then the run's end: ss_put_warnings) */
     int stopped_by_request; /* a stop request ended the loop between two steps */
     int step_unstable;      /* the failure is one the time step causes (non-finite, runaway) */
     int servo_squeezed;     /* the failure is a cell the servo squeezed (its diagnostic says so) */
@@ -989,6 +990,11 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
     const int steady_detected = st->steady && start < r->ser.n;
     /* SS_OBS_P is the pressure in units of s0 */
     const double *mean_of = st->mean, *sem_of = st->sem;
+    /* the target's zero-mean verdict on the series the summary reports, not only as the last
+     * check in this process saw it: a continuation that makes no check of its own said nothing
+     * where the run it continues would have warned (until 2026-12-07) */
+    if (p->target_rel_error > 0.0 && !r->stopped_early)
+        (void)lub_ss_target_reached(p, &r->ser, &r->target_zero_mean);
     const lub_shear_run_state checks = {
         .elastic_number = p->stiffness / mean_of[SS_OBS_P],
         .kinetic_share = fabs(mean_of[SS_OBS_XY_KIN]) / fabs(mean_of[SS_OBS_SXY]),
@@ -1002,6 +1008,7 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
         .steady_samples = (double)(r->ser.n - start),
         .strain_reached = lp->strain,
         .stopped = r->stopped_by_request,
+        .failed = r->exit_code != LUB_EXIT_OK && !r->stopped_by_request,
         .strain_target = p->strain,
         .checkpoint_kept = lub_run_resumable(ctx),
         .transient_strain = p->transient_strain,

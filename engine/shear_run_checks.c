@@ -179,9 +179,11 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "no steady state detected (the transient lasts into the "
                     "second half of the run, or the watched series drift after it): the means "
                     "are not steady-state values; raise /strain");
-    /* a target error the run did not reach before /strain (a stopped run's advice is above) */
+    /* a target error the run did not reach before /strain (a stopped run's advice is above; a
+     * failed run did not end at /strain, and its diagnostic says why: until 2026-12-07 it was
+     * told to raise /strain) */
     const double rel = fabs(st->headline_sem / st->headline);
-    if (st->target_rel_error > 0.0 && !st->stopped_on_target && !st->stopped &&
+    if (st->target_rel_error > 0.0 && !st->stopped_on_target && !st->stopped && !st->failed &&
         !st->target_zero_mean && isfinite(rel))
         add_warning(out, &n,
                     "the run ended at /strain %g without stopping on /target_rel_error %g: the "

@@ -30,6 +30,8 @@ typedef struct {
     double strain_reached;         /* strain at the end of the run */
     int stopped;                   /* 1: a signal stopped the run before /strain (its steady-state
                                       advice is then --resume, not a longer /strain) */
+    int failed;                    /* 1: the run failed (a numerical or internal error) before
+                                      /strain: raising /strain is not the advice */
     double strain_target;          /* the spec's /strain (for the stopped run's message) */
     int checkpoint_kept;           /* a stopped run has a checkpoint to go on from (its own, the
                                       one it continued from, or a periodic one) */

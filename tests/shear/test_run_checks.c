@@ -316,6 +316,9 @@ int main(void)
     st.stopped_on_target = 1;
     none("stopped on the target", &st);
     st.stopped_on_target = 0;
+    st.failed = 1; /* a numerical failure: its diagnostic says why (it was told to raise /strain) */
+    none("target error of a failed run", &st);
+    st.failed = 0;
     st.target_zero_mean = 1; /* the scene's own warning says why */
     none("target error of a zero mean", &st);
     st.target_zero_mean = 0;
