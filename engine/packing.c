@@ -323,8 +323,12 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
                     lub_cell_wrap(cell, &pos[i], NULL, NULL);
                 int b = lub_nlist_build(&nl, cell, pos, radius, n);
                 if (b == LUB_NLIST_CELL_TOO_SMALL) {
-                    /* tiny systems: fall back to a thinner listing distance */
+                    /* tiny systems: fall back to a thinner listing distance, the inflated
+                     * contact distance itself (no skin: rebuilt every sweep). Until 2026-12-07
+                     * it was the true contact distance, and overlaps of the inflated radii
+                     * went unseen: gaps of 0.03 of the promised margin/2 (r_i + r_j) */
                     nl.skin = 0.0;
+                    nl.range = 2.0 * p->margin;
                     b = lub_nlist_build(&nl, cell, pos, radius, n);
                 }
                 if (b != LUB_NLIST_OK) {

@@ -2,6 +2,7 @@
  * request ends it with -3; renumbering before the compression gives the same packing to
  * round-off. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -76,6 +77,37 @@ int main(void)
         p.stop = &stop;
         rc = lub_packing_generate(&p, r2, x2, &c, NULL);
         ST_CHECK(rc == -3, "stop requested: rc %d (expected -3)", rc);
+    }
+    /* every gap is at least margin/2 of its pair's radius sum (the relaxation's promise,
+     * packing.h), also in cells too small for the listing distance with the skin, where the
+     * neighbour list falls back to a thinner one (until 2026-12-07 it listed only touching
+     * pairs there, so the inflated overlaps were not seen and gaps near 0 passed) */
+    {
+        const int ns[3] = {12, 20, 40};
+        for (int t = 0; t < 3; ++t)
+            for (uint64_t seed = 1; seed <= 3; ++seed) {
+                lub_packing_params p = packing(ns[t], 0.5, 0.05, seed);
+                lub_cell c;
+                lub_packing_info info;
+                const int rc = lub_packing_generate(&p, r1, x1, &c, &info);
+                double worst = INFINITY; /* smallest gap over margin/2 (r_i + r_j), all images */
+                for (int i = 0; i < ns[t]; ++i)
+                    for (int j = i; j < ns[t]; ++j)
+                        for (int a = -1; a <= 1; ++a)
+                            for (int b = -1; b <= 1; ++b)
+                                for (int e = -1; e <= 1; ++e) {
+                                    const int sh[3] = {a, b, e};
+                                    if (i == j && !a && !b && !e)
+                                        continue;
+                                    const vec3 d =
+                                        v3_sub(v3_add(x1[j], lub_cell_shift(&c, sh)), x1[i]);
+                                    const double u = v3_norm(d) - r1[i] - r1[j];
+                                    worst = fmin(worst, u / (0.5 * p.margin * (r1[i] + r1[j])));
+                                }
+                ST_CHECK(rc == 0 && worst >= 1.0 - 1e-6,
+                         "n=%d seed %d: rc %d, smallest gap %.3g of margin/2 (r_i + r_j)", ns[t],
+                         (int)seed, rc, worst);
+            }
     }
     free(r1);
     free(r2);
