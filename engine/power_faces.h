@@ -11,11 +11,12 @@
  * r_0^2 - r_k^2. lub_power_face_area clips a polygon in the radical plane by those half-planes.
  *
  * Bounding ball: the polygon starts as the regular octagon inscribed in the disc where the
- * plane meets the ball |x| <= R, so the result is exact when the face lies within R (a face
- * beyond R is clipped to the octagon). A caller that only knows the spheres within a distance
- * D of sphere 0 gets exact answers for R <= R_cert with R_cert + sqrt(R_cert^2 + r_max^2 -
- * r_0^2) <= D: any sphere that cuts a point of the ball is then among the known ones
- * (lub_power_certified_radius).
+ * plane meets the ball |x| <= R, so the result is exact when the face lies within that octagon
+ * (a face beyond it is clipped to it; one that meets the disc only outside the octagon, within
+ * 1 - cos(22.5 deg) = 7.6 % of the disc's radius from its rim, has area 0 like a face beyond R). A
+ * caller that only knows the spheres within a distance D of sphere 0 gets exact answers for R <=
+ * R_cert with R_cert + sqrt(R_cert^2 + r_max^2 - r_0^2) <= D: any sphere that cuts a point of the
+ * ball is then among the known ones (lub_power_certified_radius).
  *
  * Units: any length unit; all positions are relative to the centre of sphere 0. Pure
  * functions, no allocation, no error paths (degenerate input gives area 0).
