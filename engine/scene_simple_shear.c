@@ -993,7 +993,7 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
     /* the target's zero-mean verdict on the series the summary reports, not only as the last
      * check in this process saw it: a continuation that makes no check of its own said nothing
      * where the run it continues would have warned (until 2026-12-07) */
-    if (p->target_rel_error > 0.0 && !r->stopped_early)
+    if (p->target_rel_error > 0.0 && !r->stopped_early && r->ser.n > 0)
         (void)lub_ss_target_reached(p, &r->ser, &r->target_zero_mean);
     const lub_shear_run_state checks = {
         .elastic_number = p->stiffness / mean_of[SS_OBS_P],
