@@ -68,7 +68,8 @@ static inline int lub_pair_input_of(const lub_pairs *ps, size_t k, const lub_cel
     return LUB_PAIR_OK;
 }
 
-/* Evaluates pair k: beyond cutoff*a (or not allowed by the store's filter) it leaves the cut-off
+/* Evaluates pair k: beyond cutoff*a (or not allowed by the store's filter and not closer than its
+ * guard) it leaves the cut-off
  * (state dropped, nothing added) and LUB_PAIR_OUT is returned; otherwise it enters (fresh state if
  * new), the law is stepped with the image velocity L H c and the inertia share, the near flag is
  * stored and the force and torques are added to *acc. Returns LUB_PAIR_NONFINITE (nothing added) if

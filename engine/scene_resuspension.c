@@ -88,7 +88,8 @@ static void rs_buffers_free(rs_buffers *b)
 
 /* Grows the sample buffers so that the series holds `total` height samples and the average
  * `avg` profiles (the statistics' scratch max(total, avg) + 1); 0 or -1 (no memory: the buffers
- * keep their contents). Called when a continuation extends the run (before the time loop). */
+ * keep their contents). Called by every continuation, before the time loop (its room from the
+ * stopped run's samples on). */
 static int rs_samples_reserve(rs_buffers *b, int nb, int64_t total, int64_t avg,
                               int64_t *nsamp_total, int64_t *nsamp_avg)
 {

@@ -995,6 +995,8 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
      * where the run it continues would have warned (until 2026-12-07) */
     if (p->target_rel_error > 0.0 && !r->stopped_early && r->ser.n > 0)
         (void)lub_ss_target_reached(p, &r->ser, &r->target_zero_mean);
+    if (r->exit_code != LUB_EXIT_OK && !r->stopped_by_request)
+        r->target_zero_mean = 0; /* a failed run's diagnostic is its message */
     const lub_shear_run_state checks = {
         .elastic_number = p->stiffness / mean_of[SS_OBS_P],
         .kinetic_share = fabs(mean_of[SS_OBS_XY_KIN]) / fabs(mean_of[SS_OBS_SXY]),
@@ -1197,8 +1199,8 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
 /* The system after its first rebuild, or its second when the run certainly shears far enough
  * (lub_shear_min_bytes, lub_shear_rebuild_strain): /strain, or with /target_rel_error at
  * least /transient_strain + /target_min_strain, before which it cannot stop early. The time
- * series (LUB_SS_SAMPLE_BYTES per sample, up to 232 MB) is left out: its sample count depends on
- * the time step, which may exceed /sample_strain. */
+ * series (LUB_SS_SAMPLE_BYTES per sample, up to 348 MB: 1.5e6 samples, ss_setup_series) is
+ * left out: its sample count depends on the time step, which may exceed /sample_strain. */
 static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *need)
 {
     lub_ss_params p;

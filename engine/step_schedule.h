@@ -71,7 +71,11 @@ void lub_schedule_set_dt(lub_schedule *s, int64_t done, double time, double dt_n
  * steps up to dt_max the run takes meanwhile (and the step in force now): no interval is shorter
  * than max(2/3 spacing, spacing - dt_max/2), so it is floor((t_end - from_time)/that) + 2. The
  * scenes reserve their sample buffers with it before the time loop, so a change of the step
- * never grows them. */
+ * never grows them. The bound assumes that the event is asked for (lub_schedule_due) at a step
+ * before any lub_schedule_set_dt after that step, so that it is never overdue at a change: an
+ * overdue event stays due at its old step and its next interval is the new period, which a step
+ * that rises can make shorter (the scenes' sample events are asked for first; only
+ * simple_shear's snapshots, which fill no buffer, can be overdue). */
 int64_t lub_schedule_most_occurrences(const lub_schedule *s, int id, double from_time,
                                       double dt_max);
 /* The run's duration becomes t_end (a run extended, or shortened before it got there): nsteps

@@ -12,8 +12,9 @@
  *     pairs inside 2a;
  *  3. a 2-thread update gives the same flags as a 1-thread update;
  *  4. a pair closer than the guard interacts whatever its flag: one refused at an update while
- *     its gap was wider, which closes before the next update, is evaluated (until 2026-12-07
- *     the pair loop dropped it and it could reach contact without a force).
+ *     its gap was wider, which closes before the next update, is evaluated, in a plain step and
+ *     in a stress-sample step (until 2026-12-07 the pair loop dropped it and it could reach
+ *     contact without a force).
  */
 #include <math.h>
 #include <stdlib.h>
@@ -155,14 +156,17 @@ static void check_density(double phi, double max_missed)
     const double a4 = k4 < ps->n ? 0.5 * (s.r[ps->i[k4]] + s.r[ps->j[k4]]) : 1.0;
     ST_CHECK(k4 < ps->n && un4 < 0.05 * a4, "phi %.2f: a pair closer than the guard (u_n/a %g)",
              phi, un4 / a4);
-    if (k4 < ps->n) {
+    /* a plain step (the batched pair loop), then a stress-sample step (the scalar one) */
+    for (int pass = 0; pass < 2 && k4 < ps->n; ++pass) {
         ps->allow[k4] = 0;
         const long rebuilds = s.rebuilds, updates = s.topo.updates;
-        rc = lub_shear_step(&s, 0, NULL);
+        lub_shear_sample smp;
+        rc = lub_shear_step(&s, pass ? LUB_SAMPLE_STRESS : 0u, pass ? &smp : NULL);
         ST_CHECK(rc == 0 && s.rebuilds == rebuilds && s.topo.updates == updates,
                  "phi %.2f: the step rebuilt or updated (the case would not test the guard)", phi);
         ST_CHECK(ps->active[k4] == 1,
-                 "phi %.2f: a pair at u_n/a %g, refused by its flag, was dropped", phi, un4 / a4);
+                 "phi %.2f, %s step: a pair at u_n/a %g, refused by its flag, was dropped", phi,
+                 pass ? "sampled" : "plain", un4 / a4);
     }
     lub_shear_free(&s);
 }
