@@ -291,8 +291,6 @@ typedef struct {
     int exit_code;
     int64_t step;           /* steps done when the loop ended */
     int stopped_early;      /* stopped on /target_rel_error */
-    int target_zero_mean;   /* the /target_rel_error check found the headline 0 +- 0 (the
-                             * last one, then the run's end: ss_put_warnings) */
     int stopped_by_request; /* a stop request ended the loop between two steps */
     int step_unstable;      /* the failure is one the time step causes (non-finite, runaway) */
     int servo_squeezed;     /* the failure is a cell the servo squeezed (its diagnostic says so) */
@@ -781,7 +779,7 @@ static void ss_time_loop(ss_run_state *r)
      * and a longer /strain stops there, with no step more (until 2026-12-06 it went on to the
      * next check, one strain later). */
     if (ctx->resume_path && p->target_rel_error > 0 && lp->next_check == lp->strain + 1.0 &&
-        lub_ss_target_reached(p, &r->ser, &r->target_zero_mean))
+        lub_ss_target_reached(p, &r->ser, NULL))
         r->stopped_early = 1;
     int64_t step;
     for (step = lp->step; step < lp->sched.nsteps && !r->stopped_early; ++step) {
@@ -824,7 +822,7 @@ static void ss_time_loop(ss_run_state *r)
             /* "run until the headline is known to target_rel_error" */
             if (p->target_rel_error > 0 && lp->strain >= lp->next_check) {
                 lp->next_check = lp->strain + 1.0;
-                if (lub_ss_target_reached(p, &r->ser, &r->target_zero_mean)) {
+                if (lub_ss_target_reached(p, &r->ser, NULL)) {
                     r->stopped_early = 1;
                     ++step;
                     break;
@@ -993,10 +991,10 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
     /* the target's zero-mean verdict on the series the summary reports, not only as the last
      * check in this process saw it: a continuation that makes no check of its own said nothing
      * where the run it continues would have warned (until 2026-12-07) */
-    if (p->target_rel_error > 0.0 && !r->stopped_early && r->ser.n > 0)
-        (void)lub_ss_target_reached(p, &r->ser, &r->target_zero_mean);
-    if (r->exit_code != LUB_EXIT_OK && !r->stopped_by_request)
-        r->target_zero_mean = 0; /* a failed run's diagnostic is its message */
+    const int failed = r->exit_code != LUB_EXIT_OK && !r->stopped_by_request;
+    int target_zero_mean = 0; /* a failed run's diagnostic is its message */
+    if (p->target_rel_error > 0.0 && !r->stopped_early && !failed && r->ser.n > 0)
+        (void)lub_ss_target_reached(p, &r->ser, &target_zero_mean);
     const lub_shear_run_state checks = {
         .elastic_number = p->stiffness / mean_of[SS_OBS_P],
         .kinetic_share = fabs(mean_of[SS_OBS_XY_KIN]) / fabs(mean_of[SS_OBS_SXY]),
@@ -1010,7 +1008,7 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
         .steady_samples = (double)(r->ser.n - start),
         .strain_reached = lp->strain,
         .stopped = r->stopped_by_request,
-        .failed = r->exit_code != LUB_EXIT_OK && !r->stopped_by_request,
+        .failed = failed,
         .strain_target = p->strain,
         .checkpoint_kept = lub_run_resumable(ctx),
         .transient_strain = p->transient_strain,
@@ -1031,7 +1029,7 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
         .headline_sem = p->pressure ? sem_of[SS_OBS_MU] : sem_of[SS_OBS_ETA],
         .target_rel_error = p->target_rel_error,
         .stopped_on_target = r->stopped_early,
-        .target_zero_mean = r->target_zero_mean,
+        .target_zero_mean = target_zero_mean,
     };
     char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
     const int n_warnings = lub_shear_run_warnings(&checks, warning_text);
@@ -1055,7 +1053,7 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
                      p->pdf_start, lp->strain, p->pdf_interval);
         json_array_append_new(warnings, json_string(text));
     }
-    if (r->target_zero_mean) {
+    if (target_zero_mean) {
         char text[400];
         snprintf(text, sizeof text,
                  "%s averaged exactly 0 over the steady window, whose relative error is "

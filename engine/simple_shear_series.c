@@ -156,7 +156,8 @@ int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_
      * known") */
     const double averaged = from < ser->n ? ser->strain[ser->n - 1] - ser->strain[from] : 0.0;
     const int checked = steady && averaged >= p->target_min_strain;
-    *zero_mean = checked && sr.mean == 0.0;
+    if (zero_mean)
+        *zero_mean = checked && sr.mean == 0.0;
     return checked && isfinite(sr.sem) && sr.mean != 0.0 &&
            sr.sem <= p->target_rel_error * fabs(sr.mean);
 }

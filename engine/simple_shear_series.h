@@ -81,7 +81,8 @@ size_t lub_ss_steady_start(const lub_ss_series *ser, int pressure, double transi
  * drift of any watched series) and report the headline (mu at imposed pressure, eta_r at
  * imposed volume) with a standard error of at most /target_rel_error of its mean, averaged over
  * at least /target_min_strain (mu: from the later of sigma_xy's and P's own starts); *zero_mean
- * is set when that window is steady with a mean of 0, which has no relative error. */
+ * (unless NULL) is set when that window is steady with a mean of 0, which has no relative
+ * error. */
 int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_mean);
 
 /* The steady-state statistics of every observable over one window (the summary's). */
