@@ -87,12 +87,28 @@ static void rs_buffers_free(rs_buffers *b)
 }
 
 /* Grows the sample buffers so that the series holds `total` height samples and the average
- * `avg` profiles (the statistics' scratch max(total, avg) + 1); 0 or -1 (no memory: the buffers
- * keep their contents). Called by every continuation, before the time loop (its room from the
- * stopped run's samples on). */
-static int rs_samples_reserve(rs_buffers *b, int nb, int64_t total, int64_t avg,
+ * `avg` profiles (the statistics' scratch max(total, avg) + 1); 0, 1 (the growth does not fit
+ * in the memory the process may use: ctx->diagnostic says so, nothing grown) or -1 (no memory:
+ * the buffers keep their contents). Called by every continuation, before the time loop (its
+ * room from the stopped run's samples on). rs_allocate_samples has already checked and
+ * allocated the room of a fresh run of the same /strain; the growth beyond it is a few samples
+ * (the stopped run's steps against the bound's), checked here all the same. */
+static int rs_samples_reserve(lub_run_ctx *ctx, rs_buffers *b, int nb, int64_t total, int64_t avg,
                               int64_t *nsamp_total, int64_t *nsamp_avg)
 {
+    const int64_t old_scratch = (*nsamp_avg > *nsamp_total ? *nsamp_avg : *nsamp_total) + 1;
+    const int64_t new_total = total > *nsamp_total ? total : *nsamp_total;
+    const int64_t new_avg = avg > *nsamp_avg ? avg : *nsamp_avg;
+    const int64_t new_scratch = (new_avg > new_total ? new_avg : new_total) + 1;
+    const double growth = (double)sizeof(double) * ((double)(new_total - *nsamp_total) +
+                                                    (double)(new_avg - *nsamp_avg) * nb +
+                                                    3.0 * (double)(new_scratch - old_scratch));
+    char what[160];
+    snprintf(what, sizeof what,
+             "the continuation's %lld more height samples and %lld more profiles of %d bins",
+             (long long)(new_total - *nsamp_total), (long long)(new_avg - *nsamp_avg), nb);
+    if (growth > 0.0 && !lub_memory_fits(ctx, growth, what, "/strain"))
+        return 1;
     if (total > *nsamp_total) {
         double *h = realloc(b->series_h, (size_t)total * sizeof *h);
         if (!h)
@@ -589,6 +605,7 @@ static int rs_continue_stopped_run(rs_run_state *r)
     char why[600] = "";
     rs_loop saved;
     memset(&saved, 0, sizeof saved);
+    int no_room = 0; /* rs_samples_reserve: 1 = beyond the memory the process may use, -1 = none */
     lub_ckpt *ck = lub_ckpt_open(ctx->resume_path, why, sizeof why);
     if (ck && rs_checkpoint_read_loop(ck, &saved, why, sizeof why) == 0) {
         if (saved.y_floor != r->y_floor || saved.y_lid != r->y_lid ||
@@ -619,11 +636,13 @@ static int rs_continue_stopped_run(rs_run_state *r)
                          "more than the %.0e a run may take (README, CLI contract, \"Step "
                          "count\")",
                          p->strain, (double)saved.sched.nsteps, saved.ctl.dt, LUB_MAX_STEPS);
-            else if (rs_samples_reserve(&r->B, r->nb, saved.nh + left, saved.navg + left,
-                                        &r->nsamp_total, &r->nsamp_avg) ||
+            else if ((no_room =
+                          rs_samples_reserve(ctx, &r->B, r->nb, saved.nh + left, saved.navg + left,
+                                             &r->nsamp_total, &r->nsamp_avg)) != 0 ||
                      rs_checkpoint_read_samples(ck, &saved, &r->B, r->nb)) {
-                snprintf(why, sizeof why, "%s",
-                         lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "out of memory (samples)");
+                if (!no_room) /* a memory refusal is not a refused continuation: below */
+                    snprintf(why, sizeof why, "%s",
+                             lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "unreadable samples");
             } else if (lub_h5_continue_output(ctx->resume_result, r->tab, RS_NSERIES,
                                               rs_series_names, rs_series_ncomp, saved.nh, ctx->out,
                                               r->N, p->snapshots > 0 ? saved.frames_in_file : 0,
@@ -637,6 +656,15 @@ static int rs_continue_stopped_run(rs_run_state *r)
     }
     if (ck)
         lub_ckpt_close(ck, NULL, 0);
+    if (no_room) { /* as a fresh run without the memory for its samples (rs_allocate_samples) */
+        if (no_room < 0)
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                     "out of memory for the samples of the continuation from %s (%d bins x %lld "
+                     "profiles, %lld height samples): raise /bin_width or /sample_strain, or lower "
+                     "/strain",
+                     ctx->resume_path, r->nb, (long long)(saved.navg), (long long)saved.nh);
+        return LUB_EXIT_INTERNAL;
+    }
     if (!ck || why[0]) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "cannot continue from %s: %s",
                  ctx->resume_path, why[0] ? why : "unreadable");
