@@ -142,7 +142,10 @@ static int rs_samples_reserve(lub_run_ctx *ctx, rs_buffers *b, int nb, int64_t t
 /* The time loop's state besides the system and the sample buffers: what a checkpoint holds
  * with them, so that a stopped run continues as if it had not stopped. */
 typedef struct {
-    int64_t step;           /* loop index to continue at (its sample is taken) */
+    int64_t step;           /* loop index to continue at */
+    int64_t step_taken;     /* 1: the samples, snapshot and network frame of `step` are taken
+                               (a stop, a periodic checkpoint), 0: not yet (the checkpoint of a
+                               completed run, before the samples its end forces) */
     int64_t avg_start_step; /* first step averaged into the profiles */
     int64_t nh, navg;       /* height samples (= time-series rows) and averaged profiles */
     int64_t below_floor_max, frames_in_file;
@@ -172,6 +175,7 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
         lub_ckpt_put(c, "run/ints", LUB_CKPT_I64, 6, ints) ||
         lub_ckpt_put(c, "run/reals", LUB_CKPT_F64, 6, reals) ||
         lub_ckpt_put_i64(c, "run/network_frames_in_file", lp->network_frames_in_file) ||
+        lub_ckpt_put_i64(c, "run/step_taken", lp->step_taken) ||
         lub_ckpt_put(c, "run/drag_share_sum", LUB_CKPT_F64, 1, &lp->drag_share_sum) ||
         lub_step_control_save(c, "run/step_control", &lp->ctl) ||
         lub_schedule_save(c, "run/schedule", &lp->sched) ||
@@ -218,6 +222,12 @@ static int rs_checkpoint_read_loop(lub_ckpt *c, rs_loop *lp, char *why, size_t l
     }
     /* none in a checkpoint older than the frames */
     if (lub_ckpt_get_i64_or(c, "run/network_frames_in_file", 0, &lp->network_frames_in_file)) {
+        snprintf(why, len, "%s", lub_ckpt_error(c));
+        return -1;
+    }
+    /* a checkpoint older than the flag: the end checkpoint was its only one taken before the
+     * samples of its step, at the end of its schedule */
+    if (lub_ckpt_get_i64_or(c, "run/step_taken", lp->step < lp->sched.nsteps, &lp->step_taken)) {
         snprintf(why, len, "%s", lub_ckpt_error(c));
         return -1;
     }
@@ -315,6 +325,7 @@ typedef struct {
     lub_pair_network net;   /* its arrays, kept from frame to frame */
     /* the loop */
     int64_t first_step, frames; /* loop start; snapshots asked for */
+    int first_step_taken;       /* the stopped run took the samples of first_step (rs_loop) */
     int64_t stopped_at;         /* the loop index a stop request ended the loop at (-1: none) */
     int end_checkpoint;         /* --keep-checkpoint: written at the last step, before its sample */
 } rs_run_state;
@@ -674,6 +685,7 @@ static int rs_continue_stopped_run(rs_run_state *r)
     r->lp = saved;
     r->dt = r->lp.ctl.dt;
     r->first_step = saved.step;
+    r->first_step_taken = (int)saved.step_taken;
     r->frames = saved.frames_in_file;
     ctx->resumed_from_step = S->step;
     ctx->resume_begun = 1;
@@ -682,9 +694,10 @@ static int rs_continue_stopped_run(rs_run_state *r)
 
 /* The loop state a checkpoint at loop index `step` holds with the system and the samples: the
  * snapshots and network frames in the output file so far. */
-static void rs_mark_loop_state(rs_run_state *r, int64_t step)
+static void rs_mark_loop_state(rs_run_state *r, int64_t step, int taken)
 {
     r->lp.step = step;
+    r->lp.step_taken = taken;
     r->lp.frames_in_file = r->frames - lub_h5_snapshots_skipped(r->ctx->out, NULL, NULL, 0);
     r->lp.network_frames_in_file = lub_h5_frames_written(r->network, NULL);
 }
@@ -807,7 +820,7 @@ static int rs_snapshot(rs_run_state *r, double t)
 static void rs_periodic_checkpoint(rs_run_state *r, int64_t step)
 {
     lub_run_ctx *ctx = r->ctx;
-    rs_mark_loop_state(r, step);
+    rs_mark_loop_state(r, step, 1);
     char why[400] = "";
     if (lub_periodic_copy_output(ctx->periodic, ctx->out) == 0) {
         if (rs_checkpoint_write(ctx->periodic->ckpt_tmp, r->resolved, &r->lp, &r->B, r->nb, &r->S,
@@ -881,20 +894,23 @@ static int rs_time_loop(rs_run_state *r)
     r->stopped_at = -1;
     for (int64_t step = r->first_step; step <= lp->sched.nsteps; ++step) {
         const double t = r->S.time;
+        /* the samples of the step a continuation starts at were taken by the stopped run (but
+         * for a completed run's, its checkpoint taken before them): the end does not force them
+         * again (a continuation asked for the strain already done) */
+        const int taken = step == r->first_step && r->first_step_taken;
+        const int end = step == lp->sched.nsteps && !taken;
         if (step == lp->sched.nsteps && ctx->checkpoint_always && ctx->checkpoint_path) {
             /* A completed run keeps its state before the samples of its last step, which the
              * end forces (a sample, a snapshot) and a longer run would not take: its extension
              * (a larger /strain) then takes the steps and samples of the longer run. */
-            rs_mark_loop_state(r, step);
+            rs_mark_loop_state(r, step, taken);
             r->end_checkpoint =
                 rs_checkpoint_write(ctx->checkpoint_path, r->resolved, lp, &r->B, r->nb, &r->S,
                                     "result.h5", ctx->checkpoint_failure,
                                     sizeof ctx->checkpoint_failure) == 0;
         }
-        const int sample =
-            lub_schedule_due(&lp->sched, r->ev_sample, step) || step == lp->sched.nsteps;
-        const int snap = r->ev_snap >= 0 && (lub_schedule_due(&lp->sched, r->ev_snap, step) ||
-                                             step == lp->sched.nsteps);
+        const int sample = lub_schedule_due(&lp->sched, r->ev_sample, step) || end;
+        const int snap = r->ev_snap >= 0 && (lub_schedule_due(&lp->sched, r->ev_snap, step) || end);
         if (sample || snap)
             rs_track_floor_clearance(r);
         if (sample && (rc = rs_sample(r, step, t)) != LUB_EXIT_OK)
@@ -938,7 +954,7 @@ static int rs_finish_loop(rs_run_state *r, int rc)
     ctx->checkpoint_written = r->end_checkpoint && rc == LUB_EXIT_OK;
     /* a stop between the sample of a step and the step: that state into the checkpoint */
     if (r->stopped_at >= 0 && ctx->checkpoint_path) {
-        rs_mark_loop_state(r, r->stopped_at);
+        rs_mark_loop_state(r, r->stopped_at, 1);
         ctx->checkpoint_written =
             rs_checkpoint_write(ctx->checkpoint_path, r->resolved, &r->lp, &r->B, r->nb, &r->S,
                                 "result.h5", ctx->checkpoint_failure,

@@ -12,6 +12,8 @@
     series (the network changes nothing in the run);
  3. "final": one frame, equal bit for bit to the last frame of 1;
  4. 1 stopped by SIGTERM and continued with --resume: the same frames as 1, bit for bit;
+    4b. a run stopped and continued with /strain equal to the strain done: the series and
+    results of a run made straight to it, no sample, snapshot or frame taken twice;
  5. the vorticity orientation (a sheared cell), "final": branch vectors as in 1;
  6. the clients: client_examples/pair_network.py gives the coordination of the free particles,
     a pair with a floor sphere counted once (Z_contact and the --series lines; they used to
@@ -135,6 +137,41 @@ def main():
           "resumed: the continuation's frames equal the uninterrupted run's bit for bit (exit %s, "
           "steps %s against %s)" % (p.returncode, rnet["step"].tolist() if rnet else None,
                                     net["step"].tolist()))
+
+    # 4b. stopped and continued with /strain equal to the strain done (a sample every step, so
+    # that the stop's step has one): the samples of that step are not taken again, and the
+    # series and results are those of a run made straight to that strain (until 2026-12-07 the
+    # end forced them a second time: one row and one averaged profile too many)
+    every = dict(base, sample_strain=1e-5, snapshots=3,
+                 pair_network="snapshots")
+    outb, code = stop_midway(lubdem, work, "resumed_at_done",
+                             dict(every, scene="resuspension"), 0.3, 0.9, "--threads", "1")
+    done = float(observables(outb)["center_of_mass_height/time"][-1]) if code == 5 else None
+    check(code == 5, "resumed at the strain done: stopped (exit %s)" % code)
+    if done is not None:
+        with open(os.path.join(work, "resumed_at_done.json"), "w") as f:
+            json.dump(dict(every, scene="resuspension", strain=done), f)
+        p = subprocess.run([lubdem, "run", os.path.join(work, "resumed_at_done.json"), "--out",
+                            outb, "--quiet", "--threads", "1", "--resume"],
+                           capture_output=True, text=True, timeout=600)
+        straight = run(lubdem, work, "straight_to_done", dict(every, strain=done))
+        ob, os_ = observables(outb), observables(straight)
+        sb = json.load(open(os.path.join(outb, "summary.json")))
+        ss = json.load(open(os.path.join(straight, "summary.json")))
+        bnet, bsnap = load(outb)
+        rows, rows_straight = len(ob["center_of_mass_height/step"]), len(os_["center_of_mass_height/step"])
+        check(p.returncode == 0 and sb["steps"] == ss["steps"] and rows == rows_straight and
+              sorted(ob) == sorted(os_) and all(np.array_equal(ob[k], os_[k]) for k in ob) and
+              sb["results"] == ss["results"],
+              "resumed at the strain done: the series and results of the run made straight "
+              "(exit %s, steps %s / %s, rows %d / %d, averaged samples %s / %s)"
+              % (p.returncode, sb.get("steps"), ss.get("steps"), rows, rows_straight,
+                 sb["results"].get("averaged_samples"), ss["results"].get("averaged_samples")))
+        check(bnet is not None and np.all(np.diff(bnet["step"]) > 0) and
+              np.all(np.diff(bsnap["position/step"]) > 0),
+              "resumed at the strain done: no snapshot or network frame taken twice (frames %s, "
+              "snapshots %s)" % (bnet["step"].tolist() if bnet else None,
+                                 bsnap["position/step"].tolist() if bsnap else None))
 
     # 5. vorticity orientation: a sheared cell
     out5 = run(lubdem, work, "vorticity", dict(base, orientation="vorticity",
