@@ -147,7 +147,7 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
                  "the suspension height's transient (MSER-5 on its whole series) ends at strain "
                  "%.4g, after /average_from (%.4g): the averages include part of it; raise "
                  "/average_from (see height_transient_end_strain)",
-                 (double)st->transient_end * p->sample_strain, p->average_from);
+                 o->transient_end_strain, p->average_from);
         json_array_append_new(warn, json_string(msg));
     }
     if (p->orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) && fabs(bulk_rate - gd) > 0.2 * gd)
@@ -198,8 +198,7 @@ void lub_rs_write_summary(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_s
     json_object_set_new(extra, "orientation",
                         json_string(p->orientation == LUB_RS_VORTICITY ? "vorticity" : "gradient"));
     json_object_set_new(extra, "height_steady", json_boolean(st->steady));
-    json_object_set_new(extra, "height_transient_end_strain",
-                        json_real((double)st->transient_end * p->sample_strain));
+    json_object_set_new(extra, "height_transient_end_strain", json_real(o->transient_end_strain));
     json_object_set_new(extra, "phi_err_method",
                         json_string(o->averaged_samples < 2    ? "none (fewer than 2 samples)"
                                     : st->sem_batch_means == 1 ? "batch_means_ar1"

@@ -38,6 +38,8 @@ typedef struct {
     double solid_volume;                  /* of the free spheres (a^3) */
     double initial_phi;                   /* the packed layer's solid fraction */
     int64_t averaged_samples;             /* profiles averaged */
+    double transient_end_strain;      /* strain of the height sample where MSER-5 ends the height's
+                                         transient (lub_rs_stats.transient_end; NaN without samples) */
     double min_clearance;             /* smallest gap of a free sphere above the floor plane (a) */
     int64_t below_floor_max;          /* most free sphere centres below the floor plane at once */
     double max_kinetic_energy;        /* largest fluctuating kinetic energy sampled (eta gd a^3) */

@@ -64,6 +64,7 @@
 /* Everything allocated for a run (freed in one place). */
 typedef struct {
     double *radius, *floor_r, *samples, *scratch, *series_h, *phi_inst, *vol;
+    double *series_t; /* the time of each height sample (1/gd) */
     double *phi, *phi_err, *eta, *eta_err, *ybin, *keepd, *law, *pairs_out, *scratch2, *scratch3,
         *vx_vol, *vx_sum, *vx_inst, *phi_cg, *phi_cg_err;
     vec3 *pos, *floor_pos;
@@ -73,11 +74,11 @@ typedef struct {
 
 static void rs_buffers_free(rs_buffers *b)
 {
-    double *d[] = {b->radius,   b->floor_r, b->samples, b->scratch,    b->series_h,
-                   b->phi_inst, b->vol,     b->phi,     b->phi_err,    b->eta,
-                   b->eta_err,  b->ybin,    b->keepd,   b->law,        b->pairs_out,
-                   b->scratch2, b->vx_vol,  b->vx_sum,  b->vx_inst,    b->snap_x,
-                   b->snap_v,   b->snap_w,  b->phi_cg,  b->phi_cg_err, b->scratch3};
+    double *d[] = {b->radius,   b->floor_r, b->samples,   b->scratch,  b->series_h, b->phi_inst,
+                   b->vol,      b->phi,     b->phi_err,   b->eta,      b->eta_err,  b->ybin,
+                   b->keepd,    b->law,     b->pairs_out, b->scratch2, b->vx_vol,   b->vx_sum,
+                   b->vx_inst,  b->snap_x,  b->snap_v,    b->snap_w,   b->phi_cg,   b->phi_cg_err,
+                   b->scratch3, b->series_t};
     for (size_t i = 0; i < sizeof d / sizeof d[0]; ++i)
         free(d[i]);
     free(b->pos);
@@ -100,7 +101,7 @@ static int rs_samples_reserve(lub_run_ctx *ctx, rs_buffers *b, int nb, int64_t t
     const int64_t new_total = total > *nsamp_total ? total : *nsamp_total;
     const int64_t new_avg = avg > *nsamp_avg ? avg : *nsamp_avg;
     const int64_t new_scratch = (new_avg > new_total ? new_avg : new_total) + 1;
-    const double growth = (double)sizeof(double) * ((double)(new_total - *nsamp_total) +
+    const double growth = (double)sizeof(double) * (2.0 * (double)(new_total - *nsamp_total) +
                                                     (double)(new_avg - *nsamp_avg) * nb +
                                                     3.0 * (double)(new_scratch - old_scratch));
     char what[160];
@@ -114,6 +115,10 @@ static int rs_samples_reserve(lub_run_ctx *ctx, rs_buffers *b, int nb, int64_t t
         if (!h)
             return -1;
         b->series_h = h;
+        double *ts = realloc(b->series_t, (size_t)total * sizeof *ts);
+        if (!ts)
+            return -1;
+        b->series_t = ts;
         *nsamp_total = total;
     }
     if (avg > *nsamp_avg) {
@@ -180,6 +185,7 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
         lub_step_control_save(c, "run/step_control", &lp->ctl) ||
         lub_schedule_save(c, "run/schedule", &lp->sched) ||
         lub_ckpt_put(c, "series/height", LUB_CKPT_F64, (size_t)lp->nh, b->series_h) ||
+        lub_ckpt_put(c, "series/time", LUB_CKPT_F64, (size_t)lp->nh, b->series_t) ||
         lub_ckpt_put(c, "profiles/samples", LUB_CKPT_F64, (size_t)(lp->navg * nb), b->samples) ||
         lub_ckpt_put(c, "profiles/vx_volume", LUB_CKPT_F64, (size_t)nb, b->vx_vol) ||
         lub_ckpt_put(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum) ||
@@ -234,9 +240,16 @@ static int rs_checkpoint_read_loop(lub_ckpt *c, rs_loop *lp, char *why, size_t l
     return 0;
 }
 
-/* The samples of checkpoint c into b (room reserved). 0 or -1. */
-static int rs_checkpoint_read_samples(lub_ckpt *c, const rs_loop *lp, rs_buffers *b, int nb)
+/* The samples of checkpoint c into b (room reserved). 0 or -1. A checkpoint older than the
+ * samples' times (2026-12-07) gets the nominal ones, index x /sample_strain / gd. */
+static int rs_checkpoint_read_samples(lub_ckpt *c, const rs_loop *lp, rs_buffers *b, int nb,
+                                      double nominal_spacing)
 {
+    if (!lub_ckpt_has(c, "series/time"))
+        for (int64_t i = 0; i < lp->nh; ++i)
+            b->series_t[i] = (double)i * nominal_spacing;
+    else if (lub_ckpt_get(c, "series/time", LUB_CKPT_F64, (size_t)lp->nh, b->series_t))
+        return -1;
     return lub_ckpt_get(c, "series/height", LUB_CKPT_F64, (size_t)lp->nh, b->series_h) ||
                    lub_ckpt_get(c, "profiles/samples", LUB_CKPT_F64, (size_t)(lp->navg * nb),
                                 b->samples) ||
@@ -518,7 +531,8 @@ static int rs_allocate_samples(rs_run_state *r)
     /* what grows with the run's length: the profiles, the height series and the statistics'
      * three scratch arrays (the per-bin arrays and the snapshots are small beside them) */
     const double profile_bytes = (double)nsamp_avg * nb * sizeof *B->samples;
-    const double series_bytes = ((double)nsamp_total + 3.0 * (double)scratch) * sizeof(double);
+    const double series_bytes =
+        (2.0 * (double)nsamp_total + 3.0 * (double)scratch) * sizeof(double);
     char samples_what[160];
     snprintf(samples_what, sizeof samples_what,
              "the profiles of %d bins over %lld samples from /average_from on and the height "
@@ -537,6 +551,7 @@ static int rs_allocate_samples(rs_run_state *r)
                 {&B->scratch2, scratch},
                 {&B->scratch3, scratch},
                 {&B->series_h, (size_t)nsamp_total},
+                {&B->series_t, (size_t)nsamp_total},
                 {&B->phi_inst, (size_t)nb},
                 {&B->vx_vol, (size_t)nb},
                 {&B->vx_sum, (size_t)nb},
@@ -650,7 +665,7 @@ static int rs_continue_stopped_run(rs_run_state *r)
             else if ((no_room =
                           rs_samples_reserve(ctx, &r->B, r->nb, saved.nh + left, saved.navg + left,
                                              &r->nsamp_total, &r->nsamp_avg)) != 0 ||
-                     rs_checkpoint_read_samples(ck, &saved, &r->B, r->nb)) {
+                     rs_checkpoint_read_samples(ck, &saved, &r->B, r->nb, p->sample_strain / gd)) {
                 if (!no_room) /* a memory refusal is not a refused continuation: below */
                     snprintf(why, sizeof why, "%s",
                              lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "unreadable samples");
@@ -780,6 +795,7 @@ static int rs_sample(rs_run_state *r, int64_t step, double t)
                  (long long)r->nsamp_total, (long long)r->nsamp_avg, t * r->sc.gd);
         return LUB_EXIT_INTERNAL;
     }
+    B->series_t[lp->nh] = t;
     B->series_h[lp->nh++] = hs;
     if (step >= lp->avg_start_step) {
         memcpy(&B->samples[lp->navg * nb], B->phi_inst, (size_t)nb * sizeof *B->phi_inst);
@@ -1050,6 +1066,9 @@ static int rs_report(rs_run_state *r, int rc)
                               .solid_volume = r->vsum,
                               .initial_phi = r->binfo.layer_phi,
                               .averaged_samples = lp->navg,
+                              .transient_end_strain = st.transient_end < (size_t)lp->nh
+                                                          ? B->series_t[st.transient_end] * r->sc.gd
+                                                          : NAN,
                               .min_clearance = lp->min_lowest,
                               .below_floor_max = lp->below_floor_max,
                               .max_kinetic_energy = lp->max_ke,

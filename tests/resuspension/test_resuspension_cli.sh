@@ -397,6 +397,25 @@ assert late, s["height_transient_end_strain"]
 assert s["height_steady"] or any("not steady over the averaging window" in x for x in w), w
 PYEOF
 
+# the transient's end is the strain of a height sample, also where /sample_strain is below the
+# step (a sample every step of 1.94e-5 here; until 2026-12-07 the sample's index times
+# /sample_strain: 0.154 where that sample was at strain 0.300)
+echo '{"scene":"resuspension","n":40,"strain":0.6,"average_from":0.1,"sample_strain":1e-5,"snapshots":0}' \
+  | "$LUBDEM" run - --out "$work/dense" --threads 1 --quiet 2>/dev/null
+rc=$?
+[ $rc -eq 0 ] && $PY - "$work/dense" <<'PYEOF' && ok || bad "transient end at a sample's strain: exit $rc"
+import json, sys
+import h5py
+import numpy as np
+s = json.load(open(sys.argv[1] + "/summary.json"))
+with h5py.File(sys.argv[1] + "/result.h5", "r") as f:
+    strains = f["observables/center_of_mass_height/time"][()]
+end = s["height_transient_end_strain"]
+assert np.min(np.abs(strains - end)) < 1e-8 and end > 0.01, (end, strains[:3])  # 10 digits
+late = [x for x in s["warnings"] if "transient" in x and "/average_from" in x]
+assert not late or ("ends at strain %.4g," % end) in late[0], (end, late)
+PYEOF
+
 # snapshots 1: the initial and the final state (as simple_shear's snapshots 1; README), which
 # the schema now says (it read "first and last included when >= 2")
 echo '{"scene":"resuspension","n":40,"strain":0.2,"average_from":0.1,"snapshots":1}' \
