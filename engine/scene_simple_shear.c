@@ -150,13 +150,17 @@ static int ss_network_frame(lub_run_ctx *ctx, lub_shear_system *s, lub_h5_frames
 /* The time loop's state besides the system (shear_system.h): what a checkpoint holds with the
  * system and the series, so that a stopped run continues as if it had not stopped. */
 typedef struct {
-    int64_t step;          /* steps done */
-    double strain;         /* shear strain done */
-    double p_f;            /* the servo's filtered pressure (servo_step) */
-    double next_check;     /* strain of the next /target_rel_error check */
-    double bonds_sum;      /* Q6 bonds over all samples, for the noise floor of the Q6 check */
-    int64_t bonds_samples; /* samples in bonds_sum */
-    int64_t frames;        /* particle snapshots asked for so far */
+    int64_t step;               /* steps done */
+    double strain;              /* shear strain done */
+    double p_f;                 /* the servo's filtered pressure (servo_step) */
+    double next_check;          /* strain of the next /target_rel_error check */
+    double bonds_sum;           /* Q6 bonds over all samples, for the noise floor of the Q6 check */
+    int64_t bonds_samples;      /* samples in bonds_sum */
+    int64_t frames;             /* particle snapshots asked for so far */
+    int64_t last_snapshot_step; /* system step of the last snapshot written, -1 none */
+    int64_t snap_owed_step;     /* system step of a state whose snapshot event fell within half a
+                                   spacing of the end and was left to the end's snapshot (which a
+                                   longer run, extending this one, takes at once), -1 none */
     double packing_min_gap;
     lub_step_control ctl;
     lub_schedule sched;
@@ -182,6 +186,8 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
                    lub_ckpt_put_i64(c, "run/frames_in_file", frames_in_file) ||
                    lub_ckpt_put_i64(c, "run/network_frames_in_file", network_frames_in_file) ||
                    lub_ckpt_put_f64(c, "run/packing_min_gap", lp->packing_min_gap) ||
+                   lub_ckpt_put_i64(c, "run/last_snapshot_step", lp->last_snapshot_step) ||
+                   lub_ckpt_put_i64(c, "run/snapshot_owed_step", lp->snap_owed_step) ||
                    lub_step_control_save(c, "run/step_control", &lp->ctl) ||
                    lub_schedule_save(c, "run/schedule", &lp->sched) || lub_ss_series_save(c, ser) ||
                    lub_shear_save(c, sys);
@@ -215,7 +221,10 @@ static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int6
                  (long long)lp->sched.nsteps);
         return -1;
     }
-    if (lub_ckpt_get_i64_or(c, "run/network_frames_in_file", 0, network_frames_in_file)) {
+    /* none in a checkpoint older than the frames, or than the snapshot steps (2026-12-07) */
+    if (lub_ckpt_get_i64_or(c, "run/network_frames_in_file", 0, network_frames_in_file) ||
+        lub_ckpt_get_i64_or(c, "run/last_snapshot_step", -1, &lp->last_snapshot_step) ||
+        lub_ckpt_get_i64_or(c, "run/snapshot_owed_step", -1, &lp->snap_owed_step)) {
         snprintf(why, len, "%s", lub_ckpt_error(c));
         return -1;
     }
@@ -282,7 +291,6 @@ typedef struct {
     lub_h5_table *tab;
     lub_h5_frames *network; /* /pair_network, when asked for */
     lub_pair_network net;   /* its arrays, kept from frame to frame */
-    int64_t last_snapshot_step;
     /* a continuation: the checkpoint it starts from (closed once read), and what its output
      * file holds */
     lub_ckpt *resume;
@@ -381,6 +389,7 @@ static int ss_schedule(ss_run_state *r)
                                                    (double)snap_every * dt)
                                 : -1;
     lp->next_check = fmax(p->transient_strain + 1.0, 1.0);
+    lp->last_snapshot_step = lp->snap_owed_step = -1;
     return LUB_EXIT_OK;
 }
 
@@ -583,7 +592,7 @@ static int ss_open_outputs(ss_run_state *r)
             return LUB_EXIT_IO;
         }
         r->lp.frames = 1;
-        r->last_snapshot_step = r->sys.step;
+        r->lp.last_snapshot_step = r->sys.step;
     }
     return LUB_EXIT_OK;
 }
@@ -741,16 +750,9 @@ static int ss_record_sample(ss_run_state *r, int64_t step, const lub_shear_sampl
     return LUB_EXIT_OK;
 }
 
-/* A snapshot (and the network frame that goes with it) when one is due after step `step`:
- * not within half a spacing of the end, whose snapshot follows the loop (an adapted step
- * moves the events: the last could fall a step before the end). */
-static int ss_snapshot_if_due(ss_run_state *r, int64_t step)
+/* A snapshot of the current state, and the network frame that goes with it. */
+static int ss_snapshot_now(ss_run_state *r)
 {
-    ss_loop *lp = &r->lp;
-    if (!(r->ev_snap >= 0 && lub_schedule_due(&lp->sched, r->ev_snap, step) &&
-          step + 1 < lp->sched.nsteps &&
-          lp->sched.t_end - r->sys.time > 0.5 * lp->sched.ev[r->ev_snap].spacing))
-        return LUB_EXIT_OK;
     /* the network first: its list completion may move positions by cell vectors
      * (pair_network.h), which the snapshot then shows */
     int rc;
@@ -760,8 +762,25 @@ static int ss_snapshot_if_due(ss_run_state *r, int64_t step)
     if (ss_snapshot(r->ctx, &r->sys))
         return LUB_EXIT_IO;
     r->lp.frames++;
-    r->last_snapshot_step = r->sys.step;
+    r->lp.last_snapshot_step = r->sys.step;
+    r->lp.snap_owed_step = -1;
     return LUB_EXIT_OK;
+}
+
+/* A snapshot (and the network frame that goes with it) when one is due after step `step`:
+ * not within half a spacing of the end, whose snapshot follows the loop (an adapted step
+ * moves the events: the last could fall a step before the end). */
+static int ss_snapshot_if_due(ss_run_state *r, int64_t step)
+{
+    ss_loop *lp = &r->lp;
+    if (!(r->ev_snap >= 0 && lub_schedule_due(&lp->sched, r->ev_snap, step)))
+        return LUB_EXIT_OK;
+    if (!(step + 1 < lp->sched.nsteps &&
+          lp->sched.t_end - r->sys.time > 0.5 * lp->sched.ev[r->ev_snap].spacing)) {
+        lp->snap_owed_step = r->sys.step;
+        return LUB_EXIT_OK;
+    }
+    return ss_snapshot_now(r);
 }
 
 /* The time loop, from the loop state's step to the end, a stop request, a failure or the
@@ -781,6 +800,17 @@ static void ss_time_loop(ss_run_state *r)
     if (ctx->resume_path && p->target_rel_error > 0 && lp->next_check == lp->strain + 1.0 &&
         lub_ss_target_reached(p, &r->ser, NULL))
         r->stopped_early = 1;
+    /* An extension of a completed run whose last snapshot event fell near its end, and was
+     * left to the end's snapshot (written after its checkpoint, so not copied): a run asked
+     * for the longer /strain from the start takes that event's snapshot (until 2026-12-07 the
+     * extension had none there). */
+    if (ctx->resume_path && lp->snap_owed_step == sys->step && r->ev_snap >= 0 &&
+        lp->step < lp->sched.nsteps &&
+        lp->sched.t_end - sys->time > 0.5 * lp->sched.ev[r->ev_snap].spacing &&
+        (r->exit_code = ss_snapshot_now(r)) != LUB_EXIT_OK) {
+        r->step = lp->step;
+        return;
+    }
     int64_t step;
     for (step = lp->step; step < lp->sched.nsteps && !r->stopped_early; ++step) {
         if (ctx->periodic && lub_periodic_due(ctx->periodic, step))
@@ -819,14 +849,14 @@ static void ss_time_loop(ss_run_state *r)
                                             sys->time - dt_of_step);
             if (r->exit_code != LUB_EXIT_OK)
                 break;
-            /* "run until the headline is known to target_rel_error" */
-            if (p->target_rel_error > 0 && lp->strain >= lp->next_check) {
+            /* "run until the headline is known to target_rel_error": a check every strain,
+             * whose strains a run without a target keeps too (its extension with a target
+             * then checks where the run asked for it from the start does); the stop comes
+             * after the step's snapshot (the loop's condition) */
+            if (lp->strain >= lp->next_check) {
                 lp->next_check = lp->strain + 1.0;
-                if (lub_ss_target_reached(p, &r->ser, NULL)) {
+                if (p->target_rel_error > 0 && lub_ss_target_reached(p, &r->ser, NULL))
                     r->stopped_early = 1;
-                    ++step;
-                    break;
-                }
             }
         }
         if ((r->exit_code = ss_snapshot_if_due(r, step)) != LUB_EXIT_OK)
@@ -896,7 +926,8 @@ static void ss_final_frames(ss_run_state *r)
         if (rc != LUB_EXIT_OK)
             r->exit_code = rc;
     }
-    if (r->p.snapshots > 0 && r->exit_code != LUB_EXIT_IO && r->last_snapshot_step != r->sys.step)
+    if (r->p.snapshots > 0 && r->exit_code != LUB_EXIT_IO &&
+        r->lp.last_snapshot_step != r->sys.step)
         ss_snapshot(r->ctx, &r->sys);
 }
 
@@ -1157,7 +1188,6 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
     }
     r->resolved = resolved;
     r->ctx = ctx;
-    r->last_snapshot_step = -1;
     lub_error err;
     memset(&err, 0, sizeof err);
     if (lub_ss_read_resolved(resolved, &r->p, &err)) {

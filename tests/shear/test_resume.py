@@ -51,6 +51,11 @@ SPEC --out DIR --resume` continues it. Checked:
  11. extension of a run that stopped on its /target_rel_error: with the same target and a
     longer /strain it stops where it did (no step more), with a smaller one it goes on; both
     equal, bit for bit, a run asked for the new spec from the start.
+ 12. snapshots, network frames and target checks across a continuation (a fixed step): a run
+    stopped on its target and continued with a smaller one, a run made without a target and
+    extended with one, a continuation that takes no step (its stop on a snapshot step), and the
+    extension of a completed run: each with the snapshot and frame steps and the results of
+    the run asked for the second spec from the start (a-c: result.h5 bit for bit).
 The stop is sent once the progress lines pass a fraction, so that it lands mid-run on any
 machine. The sanitizer build (~5 times slower) runs every case on a shorter strain (the
 equalities do not depend on it). Usage: test_resume.py LUBDEM WORKDIR [--sanitized]
@@ -488,6 +493,62 @@ for label, target in (("same target", 0.2), ("smaller target", 0.1)):
     bad = differing_items(ia, ib)
     check(not bad, f"11 ({label}): result.h5 equal bit for bit ({len(ia)} datasets)"
           + (f"; differ: {bad[:5]}" if bad else ""))
+
+# ---- 12. snapshots and target checks across a continuation ----
+# The tiny cell of 11 with a fixed step (2^-11, so that strains are exact): until 2026-12-07
+#  a. a run stopped on its target and continued with a smaller one wrote the snapshot and
+#     network frame due at the stop one step late (steps 0 2048 4097 ... against 4096);
+#  b. a run made without a target and extended with one checked at its first sample and every
+#     strain from there (stopped at 1.516 against 2.0);
+#  c. a continuation that took no step (the same target: the repeated check stops at once)
+#     wrote its last snapshot, taken at the stop, a second time;
+#  d. the extension of a completed run had no snapshot at the old end (0 1024 2048 3072 5120
+#     against ... 3072 4096 5120).
+base12 = {"scene": "simple_shear", "n_particles": 40, "cutoff": 0.1, "skin": 0.05, "phi": 0.45,
+          "stiffness": 1e4, "dt": 2**-11, "sample_strain": 2**-6, "transient_strain": 0,
+          "target_min_strain": 0.5, "strain": 4, "snapshots": 4, "pair_network": "snapshots"}
+
+
+def steps_of(out):
+    with h5py.File(os.path.join(out, "result.h5"), "r") as f:
+        return (f["particles/all/position/step"][()].tolist() if "particles" in f else [],
+                f["pair_network/step"][()].tolist() if "pair_network" in f else [])
+
+
+def continued_equals_straight(label, first, then, straight=None, whole=True):
+    ext, ref = os.path.join(WORK, "ext12"), os.path.join(WORK, "ref12")
+    for d in (ext, ref):
+        shutil.rmtree(d, ignore_errors=True)
+    rc1, _, err1 = run(write_spec("first12", first), ext, "--keep-checkpoint")
+    rc2, _, err2 = run(write_spec("then12", then), ext, "--resume")
+    rc3, _, err3 = run(write_spec("straight12", straight or then), ref)
+    s, r = summary(ext), summary(ref)
+    check(rc1 == 0 and rc2 == 0 and rc3 == 0 and s["steps"] == r["steps"] and
+          s["results"] == r["results"],
+          f"12{label}: continued {s.get('steps')} steps (strain "
+          f"{s['results']['strain_reached']['value']:.4f}), straight {r.get('steps')} (strain "
+          f"{r['results']['strain_reached']['value']:.4f}); results equal "
+          f"{s['results'] == r['results']} (exit {rc1} {rc2} {rc3}) {(err1 + err2 + err3)[-200:]}")
+    got, want = steps_of(ext), steps_of(ref)
+    check(got == want, f"12{label}: snapshot and network steps {str(got)[-90:]} against the "
+          f"straight run's {str(want)[-90:]}")
+    if whole:
+        bad = differing_items(h5_items(os.path.join(ref, "result.h5")),
+                              h5_items(os.path.join(ext, "result.h5")))
+        check(not bad, f"12{label}: result.h5 equal bit for bit" +
+              (f"; differ: {bad[:5]}" if bad else ""))
+
+
+continued_equals_straight("a", dict(base12, target_rel_error=0.5),
+                          dict(base12, target_rel_error=0.01))
+continued_equals_straight("b", dict(base12, strain=1.5, snapshots=0),
+                          dict(base12, target_rel_error=0.5, snapshots=0))
+# c: the stop on the target at strain 2 (step 4096) falls on a snapshot step (every 2048)
+continued_equals_straight("c", dict(base12, target_rel_error=0.5),
+                          dict(base12, target_rel_error=0.5))
+# d: the extension keeps the first run's spacing, that of 8 snapshots over the longer strain
+continued_equals_straight("d", dict(base12, strain=2), base12, dict(base12, snapshots=8),
+                          whole=False)
 
 print(f"resume_failures={len(failures)}")
 sys.exit(1 if failures else 0)
