@@ -87,12 +87,18 @@ enum MHD_Result lubd_api_result_file(lubd_request *r, const char *id, const char
     lubd_job j;
     if (lubd_load_visible_job(r, id, &j, &f, 0) != 0)
         return lubd_reply_fault(r, &f);
+    if (strcmp(j.state, "dismissed") == 0) { /* as /results: its files are gone for good */
+        lubd_fail(&f, 410, LUBD_PT_BASE "job-dismissed", "Job dismissed", NULL,
+                  "job %s was dismissed: %s", id, j.message);
+        return lubd_reply_fault(r, &f);
+    }
     /* A failed job's files are those its engine wrote and the worker kept (its summary, a
      * partial or failed result.h5, a checkpoint); they are moved and recorded like a
      * successful job's, so nothing half-written is served either. */
     if (strcmp(j.state, "successful") != 0 && strcmp(j.state, "failed") != 0) {
         lubd_fail(&f, 404, LUBD_OGC_EXC "result-not-ready", "Result not ready", NULL,
                   "job %s is %s: its files are served once it has finished", id, j.state);
+        f.retry_after = 2;
         return lubd_reply_fault(r, &f);
     }
     lubd_result_file *files;

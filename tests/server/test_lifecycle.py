@@ -220,6 +220,9 @@ def run():
         T.check(doc["message"].startswith("running"), "progress message: %s" % doc["message"])
         st, _, res = srv.request("GET", "/jobs/%s/results" % long_id, alice)
         T.check(st == 404 and res["type"].endswith("result-not-ready"), "result-not-ready")
+        st, h, res = srv.request("GET", "/jobs/%s/results/result.h5" % long_id, alice)
+        T.check(st == 404 and res["type"].endswith("result-not-ready") and
+                h.get("retry-after") == "2", "file of a running job -> %s %s %s" % (st, h, res))
         st, _, doc = srv.request("DELETE", "/jobs/" + long_id, alice)
         T.check(st == 200 and doc["status"] == "dismissed", "dismiss running")
         deadline = time.time() + 20
@@ -228,6 +231,10 @@ def run():
         T.check(not T.engine_processes(srv.run), "engine still running after dismiss")
         st, _, res = srv.request("GET", "/jobs/%s/results" % long_id, alice)
         T.check(st == 410, "results of a dismissed job -> %s" % st)
+        # Its files are gone as well: 410 job-dismissed, not a 404 to be polled forever.
+        st, _, res = srv.request("GET", "/jobs/%s/results/result.h5" % long_id, alice)
+        T.check(st == 410 and res["type"].endswith("job-dismissed"),
+                "file of a dismissed job -> %s %s" % (st, res))
         # Purge a finished job: tombstone, files gone.
         jid = jobs["falling_sphere"]
         st, _, doc = srv.request("DELETE", "/jobs/" + jid, alice)
