@@ -526,7 +526,7 @@ int lubd_queue_results(sqlite3 *db, const char *id, lubd_result_file **files, in
         return -1;
     sqlite3_bind_text(st, 1, id, -1, SQLITE_STATIC);
     lubd_result_file *arr = calloc(64, sizeof *arr);
-    int rc, count = 0;
+    int rc = SQLITE_DONE, count = 0;
     while (arr && (rc = sqlite3_step(st)) == SQLITE_ROW) {
         copy_text(arr[count].name, sizeof arr[count].name, st, 0);
         copy_text(arr[count].media_type, sizeof arr[count].media_type, st, 1);
@@ -535,8 +535,10 @@ int lubd_queue_results(sqlite3 *db, const char *id, lubd_result_file **files, in
         ++count;
     }
     sqlite3_finalize(st);
-    if (!arr)
+    if (!arr || rc != SQLITE_DONE) { /* a failed step: the list may be partial */
+        free(arr);
         return -1;
+    }
     *files = arr;
     *n = count;
     return 0;

@@ -3,7 +3,8 @@
  * validation, the memory check of submissions, claim order/fencing/reaping, hard link or
  * copy of a continuation's files, their hand-over when the job they continue is deleted, and
  * the freeing of what deletions left on disk (a service stopped between their steps, a
- * hand-over that failed), and the serialisation of two frees of one job.
+ * hand-over that failed), the serialisation of two frees of one job, and a results list
+ * whose reading fails part-way.
  * Usage:
  * test_server_units SCRATCH_DIR */
 #include <fcntl.h>
@@ -751,6 +752,35 @@ typedef struct {
     char why[1400];
 } free_call;
 
+/* lubd_queue_results reports a step that fails after the first rows as an error, not as a
+ * shorter list (until 2026-12-07 it answered 0 with the rows read so far). A temporary view
+ * named results shadows the table and fails at the second row (an integer overflow). */
+static void test_results_step_error(const char *dir)
+{
+    char path[1024], jobs[1024];
+    lubd_user u;
+    sqlite3 *db = scratch_queue(dir, "resstep", path, jobs, &u);
+    if (!db)
+        return;
+    CHECK(sqlite3_exec(db,
+                       "INSERT INTO results VALUES "
+                       "('j', 'a.json', 'application/json', 1, 'x'), "
+                       "('j', 'b.json', 'application/json', 2, 'y')",
+                       NULL, NULL, NULL) == SQLITE_OK);
+    lubd_result_file *files;
+    int n;
+    CHECK(lubd_queue_results(db, "j", &files, &n) == 0 && n == 2);
+    free(files);
+    CHECK(sqlite3_exec(db,
+                       "CREATE TEMP VIEW results AS SELECT job_id, name, media_type, "
+                       "CASE WHEN name = 'b.json' THEN abs(-9223372036854775807 - 1) ELSE size "
+                       "END AS size, sha256 FROM main.results",
+                       NULL, NULL, NULL) == SQLITE_OK);
+    CHECK(lubd_queue_results(db, "j", &files, &n) == -1 && files == NULL && n == 0);
+    lubd_db_close(db);
+    unlink(path);
+}
+
 static void *free_in_thread(void *arg)
 {
     free_call *c = arg;
@@ -822,6 +852,7 @@ int main(int argc, char **argv)
     test_hand_over(argc > 1 ? argv[1] : ".");
     test_deletion_sweep(argc > 1 ? argv[1] : ".");
     test_deletion_free_serialised(argc > 1 ? argv[1] : ".");
+    test_results_step_error(argc > 1 ? argv[1] : ".");
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else
