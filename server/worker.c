@@ -218,6 +218,19 @@ static double mtime_of(const char *path)
     return (double)st.st_mtim.tv_sec + 1e-9 * (double)st.st_mtim.tv_nsec;
 }
 
+/* 1 when the checkpoint at path is a periodic one: it names checkpoint-result.h5 as the file
+ * holding its rows (periodic_checkpoint.h), not result.h5; 0 otherwise or unreadable. */
+static int names_periodic_rows(const char *path)
+{
+    char err[300];
+    lub_ckpt *ck = lub_ckpt_open(path, err, sizeof err);
+    char *rows = ck ? lub_ckpt_get_text(ck, "output_file") : NULL;
+    const int periodic = rows && strcmp(rows, LUB_PERIODIC_OUTPUT) == 0;
+    free(rows);
+    lub_ckpt_close(ck, NULL, 0);
+    return periodic;
+}
+
 /* After an engine killed mid-run that had written a periodic checkpoint of its own (a
  * checkpoint.h5 newer than `started` that names checkpoint-result.h5 as the file holding its
  * rows, periodic_checkpoint.h): the summary.json and result.h5 in out_dir older than the engine
@@ -226,19 +239,33 @@ static double mtime_of(const char *path)
  * A checkpoint that names result.h5 (the stopped run's own) keeps them. */
 static void drop_superseded(const char *out_dir, double started)
 {
-    char path[1400], err[300];
+    char path[1400];
     lubd_pathf(path, sizeof path, "%s/checkpoint.h5", out_dir);
-    if (mtime_of(path) < started)
-        return;
-    lub_ckpt *ck = lub_ckpt_open(path, err, sizeof err);
-    char *rows = ck ? lub_ckpt_get_text(ck, "output_file") : NULL;
-    const int periodic = rows && strcmp(rows, LUB_PERIODIC_OUTPUT) == 0;
-    free(rows);
-    lub_ckpt_close(ck, NULL, 0);
-    if (!periodic)
+    if (mtime_of(path) < started || !names_periodic_rows(path))
         return;
     static const char *const old[2] = {"summary.json", "result.h5"};
     for (int k = 0; k < 2; ++k) {
+        lubd_pathf(path, sizeof path, "%s/%s", out_dir, old[k]);
+        const double t = mtime_of(path);
+        if (t >= 0.0 && t < started && unlink(path) != 0)
+            fprintf(stderr, "lubdemd worker: cannot remove %s: %s\n", path, strerror(errno));
+    }
+}
+
+/* After an engine run with --resume that died by a signal (a crash, the hard CPU time limit,
+ * a SIGKILL from outside): it wrote no summary.json, so one older than its start is the
+ * earlier run's (a stop's "interrupted", which says --resume continues it) and goes, so that
+ * it is served neither as this attempt's summary nor as its diagnostic. A result.h5 older
+ * than the engine goes too unless the checkpoint kept with it may need it as its rows' file
+ * (one that does not name checkpoint-result.h5): the checkpoint stays, and with it what a
+ * continuation needs. */
+static void drop_stale(const char *out_dir, double started)
+{
+    char path[1400];
+    lubd_pathf(path, sizeof path, "%s/checkpoint.h5", out_dir);
+    const int rows_needed = access(path, F_OK) == 0 && !names_periodic_rows(path);
+    static const char *const old[2] = {"summary.json", "result.h5"};
+    for (int k = 0; k < (rows_needed ? 1 : 2); ++k) {
         lubd_pathf(path, sizeof path, "%s/%s", out_dir, old[k]);
         const double t = mtime_of(path);
         if (t >= 0.0 && t < started && unlink(path) != 0)
@@ -402,14 +429,15 @@ typedef struct {
     int from_other;  /* out_dir holds the files of the job this one continues ("continue_from") */
     int log_fd;
     lubd_engine_opts eo;
-    end_reason why;     /* how the engine's supervision ended */
-    int status;         /* the engine's wait status */
-    char st_text[200];  /* the status in words, as the log states it */
-    double cpu_used;    /* CPU time the engine used (user + system, s) */
-    double started_at;  /* wall clock when the engine started (wall_now) */
-    off_t log_from;     /* the log's size when the engine started: what it wrote follows */
-    int killed_outside; /* SIGKILL from outside this service (assess_kill_from_outside) */
-    int have_ckpt;      /* ... that left out/checkpoint.h5 */
+    end_reason why;      /* how the engine's supervision ended */
+    int status;          /* the engine's wait status */
+    char st_text[200];   /* the status in words, as the log states it */
+    double cpu_used;     /* CPU time the engine used (user + system, s) */
+    double started_at;   /* wall clock when the engine started (wall_now) */
+    off_t log_from;      /* the log's size when the engine started: what it wrote follows */
+    int killed_outside;  /* SIGKILL from outside this service (assess_kill_from_outside) */
+    int have_ckpt;       /* ... that left out/checkpoint.h5 */
+    int crashed_resumed; /* an engine run with --resume died by a signal, its checkpoint kept */
     /* why a checkpoint of an earlier run could not be kept, or "" */
     char keep_failure[3200];
     char ckpt_note[300]; /* the checkpoint a next attempt or a continuation starts from */
@@ -813,6 +841,12 @@ static void failure_message(job_attempt *a, const char *diag)
                  "kept (the engine had left none; simple_shear and resuspension write periodic "
                  "ones under lubdemd --checkpoint-s)",
                  c->attempt, c->max_attempts);
+    else if (a->crashed_resumed)
+        snprintf(a->msg, sizeof a->msg,
+                 "engine failed (%s)%s%s; the run's checkpoint is kept with the job's files "
+                 "(checkpoint.h5): a job submitted with \"continue_from\": \"%s\" continues "
+                 "the run",
+                 a->st_text, diag[0] ? ": " : "", diag, c->id);
     else
         snprintf(a->msg, sizeof a->msg, "engine failed (%s)%s%s", a->st_text, diag[0] ? ": " : "",
                  diag);
@@ -874,6 +908,12 @@ static void run_job(worker_ctx *w, lubd_claim *c)
         return;
     }
     assess_kill_from_outside(&a);
+    if (a.eo.resume && WIFSIGNALED(a.status)) {
+        drop_stale(a.out_dir, a.started_at);
+        char ckpt[1500];
+        lubd_pathf(ckpt, sizeof ckpt, "%s/checkpoint.h5", a.out_dir);
+        a.crashed_resumed = !a.killed_outside && access(ckpt, F_OK) == 0;
+    }
     if (a.killed_outside && c->attempt < c->max_attempts) {
         requeue_killed(&a);
         return;

@@ -21,6 +21,9 @@
 #   9 -> ignores SIGXCPU and spins until the hard CPU time limit's SIGKILL
 #   23 -> writes a checkpoint, prints an error line and runs until it is stopped (exit 5);
 #         run with --resume it crashes (SIGSEGV) without a word
+#   24 -> as 23, but writes a result.h5 too, and on SIGTERM a summary.json (status
+#         "interrupted", its diagnostic saying --resume continues the run) as lubdem does;
+#         run with --resume it crashes (SIGSEGV) without a word
 spec=$2 out=$4
 mkdir -p "$out"
 echo "progress fraction=0.5000 step=10 steps_per_s=1.0e+03 eta_s=1.0"
@@ -72,6 +75,15 @@ case $(tr -d ' \n' < "$spec") in
     printf 'state of the fake engine\n' > "$out/checkpoint.h5"
     echo "error: the first run's last word" >&2
     trap 'exit 5' TERM
+    while :; do sleep 0.1; done ;;
+  *'"duration":24'[,}]*)
+    case " $* " in
+      *" --resume "*) kill -SEGV $$ ;;
+    esac
+    printf 'state of the fake engine\n' > "$out/checkpoint.h5"
+    printf 'rows of the first run\n' > "$out/result.h5"
+    echo "fake engine: the first run's files are written"
+    trap 'printf "{\"scene\": \"falling_sphere\", \"status\": \"interrupted\", \"exit_code\": 5, \"diagnostic\": \"stopped by a signal (SIGTERM): lubdem run --resume continues the run\"}\n" > "$out/summary.json"; exit 5' TERM
     while :; do sleep 0.1; done ;;
   *'"duration":9'[,}]*)
     trap '' XCPU

@@ -21,7 +21,7 @@ with SIGKILL (killed_by_signal): from outside, retried from their checkpoint; at
 time limit, not retried. A run stopped with the service whose checkpoint cannot be kept
 (unkeepable_checkpoint) starts again, and its log says why; an attempt that runs again after a
 stop and crashes silently is not given its first run's last error line
-(silent_crash_after_restart)."""
+(silent_crash_after_restart), nor served its first run's summary (stale_summary_after_restart)."""
 import hashlib
 import os
 import resource
@@ -130,6 +130,7 @@ def run():
     restart_after_kill(a)
     killed_by_signal(a)
     silent_crash_after_restart(a)
+    stale_summary_after_restart(a)
     unkeepable_checkpoint(a)
 
 
@@ -178,17 +179,17 @@ def wait_log(srv, tok, job, text, timeout):
     return log
 
 
-def stopped_after_first_run(a, name):
-    """A service (stopped) whose one job (fake engine duration 23) wrote its checkpoint and its
-    error line, and was stopped with the service: (srv, tok, job)."""
+def stopped_after_first_run(a, name, duration=23, text=b"first run's last word"):
+    """A service (stopped) whose one job (fake engine duration 23, or 24) wrote its checkpoint
+    and its line `text`, and was stopped with the service: (srv, tok, job)."""
     srv = T.Server(a, name, workers=1, extra=["--lease-s", "60"]).fresh()
     tok = srv.token("erin")
     srv.start()
     try:
-        job = submit(srv, tok, 23)
+        job = submit(srv, tok, duration)
         wait_running(srv, tok, job)
-        log = wait_log(srv, tok, job, b"first run's last word", 10)
-        T.check(b"first run's last word" in log, "the first run's log: %s" % log)
+        log = wait_log(srv, tok, job, text, 10)
+        T.check(text in log, "the first run's log: %s" % log)
     finally:
         srv.stop()
     return srv, tok, job
@@ -209,6 +210,35 @@ def silent_crash_after_restart(a):
         T.check(st == 200 and b"first run's last word" in log
                 and b"continuing from the checkpoint of its stopped run" in log,
                 "the log keeps the first run's lines: %s" % log)
+    finally:
+        srv.stop()
+
+
+def stale_summary_after_restart(a):
+    """A run stopped with the service leaves the engine's summary.json ("interrupted", its
+    diagnostic saying --resume continues it) with its checkpoint and result.h5; the engine that
+    continues it after the restart crashes (SIGSEGV) without writing its own. The job fails
+    with the crash, not that summary's diagnostic, and is served no summary (until 2026-12-07
+    it was served the stopped run's as its own); the checkpoint and the result.h5 holding its
+    rows are kept, and the client sees a run it can continue (a fake falling_sphere run cannot
+    be continued by the service itself)."""
+    srv, tok, job = stopped_after_first_run(a, "engine_failures_stale", 24,
+                                            b"first run's files are written")
+    try:
+        srv.start()
+        final = T.wait_final(srv, tok, job, timeout=30)
+        T.check(final["status"] == "failed" and "signal 11" in final["message"] and
+                "SIGTERM" not in final["message"] and
+                '"continue_from": "%s"' % job in final["message"] and final["attempt"] == 1,
+                "a crash of the resumed engine: %s" % final)
+        st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+        T.check(st == 422 and res.get("summary") is None and
+                sorted(res.get("outputs") or {}) == ["checkpoint.h5", "result.h5"],
+                "results of the crashed resumed run: %s %s" % (st, res))
+        st, _, doc = srv.request("GET", "/jobs/%s/results/summary.json" % job, tok)
+        T.check(st == 404, "the stopped run's summary.json is not served: %s %s" % (st, doc))
+        client = lubdem_client.Client("http://127.0.0.1:%d" % srv.port, tok)
+        T.check(client.stopped_with_checkpoint(job), "the client sees a run it can continue")
     finally:
         srv.stop()
 
