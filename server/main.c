@@ -207,6 +207,13 @@ static int cmd_serve(lubd_config *cfg)
     }
     have_file = cfg->init_defaults && access(token_file, R_OK) == 0;
     int requeued = 0, failed = 0;
+    /* jobs on their last attempt that kept a checkpoint fail with it, the reaper takes the rest */
+    const int kept = lubd_worker_keep_orphan_checkpoints(cfg, db);
+    if (kept > 0 && !cfg->quiet)
+        fprintf(stderr,
+                "lubdemd: %d job(s) left running on their last attempt by a service that died "
+                "failed with the checkpoint their engine left\n",
+                kept);
     if (lubd_queue_reap_orphans(db, &requeued, &failed) != 0)
         fprintf(stderr, "lubdemd: cannot requeue the jobs the last service left running\n");
     else if (!cfg->quiet && (requeued || failed))

@@ -404,9 +404,10 @@ int lubd_queue_reap(sqlite3 *db, int *requeued, int *failed)
 }
 
 /* The reaper's pass: every running lease that ends before `expired_before` is requeued (its
- * message `why`) or, after its last attempt, failed; `now` stamps the changes. */
+ * message `why`) or, after its last attempt, failed (its message `fail_why`, a printf format
+ * given the attempt and max_attempts); `now` stamps the changes. */
 static int reap_leases(sqlite3 *db, double now, double expired_before, const char *why,
-                       int *requeued, int *failed)
+                       const char *fail_why, int *requeued, int *failed)
 {
     *requeued = *failed = 0;
     if (lubd_db_begin(db) != 0)
@@ -434,16 +435,14 @@ static int reap_leases(sqlite3 *db, double now, double expired_before, const cha
         "NULL, engine_pid = NULL, progress = 0, message = ?3, updated = ?1 WHERE state = "
         "'running' AND lease_until < ?2 AND attempt < max_attempts",
         "UPDATE jobs SET state = 'failed', failure_kind = 'system', worker = NULL, lease_token = "
-        "NULL, lease_until = NULL, message = 'failed: the worker died on every attempt (lease "
-        "expired after the last attempt)', finished = ?1, updated = ?1 WHERE state = 'running' "
-        "AND lease_until < ?2"};
+        "NULL, lease_until = NULL, message = printf(?3, attempt, max_attempts), finished = ?1, "
+        "updated = ?1 WHERE state = 'running' AND lease_until < ?2"};
     for (int k = 0; k < 2; ++k) {
         if (lubd_db_prepare(db, update[k], &st) != 0)
             goto fail;
         sqlite3_bind_double(st, 1, now);
         sqlite3_bind_double(st, 2, expired_before);
-        if (k == 0)
-            sqlite3_bind_text(st, 3, why, -1, SQLITE_STATIC);
+        sqlite3_bind_text(st, 3, k == 0 ? why : fail_why, -1, SQLITE_STATIC);
         const int rc = sqlite3_step(st);
         sqlite3_finalize(st);
         if (rc != SQLITE_DONE)
@@ -464,6 +463,8 @@ fail:
 int lubd_queue_reap_at(sqlite3 *db, double now, int *requeued, int *failed)
 {
     return reap_leases(db, now, now, "requeued: the worker stopped heartbeating (lease expired)",
+                       "failed: its worker stopped heartbeating during attempt %d, the last of "
+                       "%d (lease expired)",
                        requeued, failed);
 }
 
@@ -476,6 +477,8 @@ int lubd_queue_reap_orphans(sqlite3 *db, int *requeued, int *failed)
     return reap_leases(db, now, 1e300, /* every lease */
                        "requeued: the service stopped without releasing it (crash or kill -9) "
                        "and was started again",
+                       "failed: the service stopped without releasing it (crash or kill -9) "
+                       "during attempt %d, the last of %d",
                        requeued, failed);
 }
 

@@ -948,6 +948,95 @@ static void job_ended(worker_ctx *w, const lubd_claim *c)
         fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
 }
 
+/* One job left running on its last attempt by a service that died (its lease_token still
+ * set, as the reaper finds it): when its engine left a checkpoint, what a continuation needs
+ * is kept and the job fails with it, as after an engine killed from outside on its last
+ * attempt. The files older than the attempt's claim are an earlier run's, treated as after an
+ * engine run with --resume that died by a signal (drop_superseded, drop_stale). Returns 1 when
+ * the job was failed with its checkpoint, 0 when it is left to the reaper, -1 on an error. */
+static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_at)
+{
+    job_attempt a = {.w = w, .c = c, .resume_from = -1, .log_fd = -1};
+    attempt_paths(&a);
+    char ckpt[1500];
+    lubd_pathf(ckpt, sizeof ckpt, "%s/checkpoint.h5", a.out_dir);
+    if (access(ckpt, F_OK) != 0)
+        return 0;
+    drop_superseded(a.out_dir, claimed_at);
+    drop_stale(a.out_dir, claimed_at);
+    const double ckpt_time = mtime_of(ckpt);
+    const long long step = lub_run_checkpoint_step(ckpt);
+    char step_text[64] = "";
+    if (step >= 0)
+        snprintf(step_text, sizeof step_text, " of step %lld", step);
+    snprintf(a.msg, sizeof a.msg,
+             "failed: the service stopped without releasing it (crash or kill -9) during "
+             "attempt %d, the last of %d; the checkpoint%s (%s) is kept with the job's files "
+             "(checkpoint.h5): a job submitted with \"continue_from\": \"%s\" continues the "
+             "run (lubdem_client.py extend %s '{}')",
+             c->attempt, c->max_attempts, step_text,
+             ckpt_time >= claimed_at ? "the last periodic one its engine wrote"
+                                     : "the one its engine started from",
+             c->id, c->id);
+    finishing_beat beat = {w, c, 0.0, 0};
+    lubd_output_file files[16];
+    char names[16][64];
+    const int n = collect_outputs(a.out_dir, files, names, 16, &beat);
+    if (n <= 0)
+        return n < 0 ? -1 : 0;
+    const int done =
+        lubd_lease_fail_with_outputs(w->db, c, "system", a.msg, a.out_dir, a.result_dir, files, n);
+    if (done == 1) {
+        int fd = open(a.log_path, O_WRONLY | O_APPEND | O_CLOEXEC);
+        if (fd >= 0) {
+            dprintf(fd, "lubdemd: %s\n", a.msg);
+            close(fd);
+        }
+    }
+    return done;
+}
+
+int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db)
+{
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db,
+                        "SELECT j.id, j.lease_token, coalesce(j.worker, ''), j.attempt, "
+                        "j.max_attempts, (SELECT max(e.at) FROM job_events e WHERE e.job_id = "
+                        "j.id AND e.token = j.lease_token AND e.event = 'claimed') FROM jobs j "
+                        "WHERE j.state = 'running' AND j.attempt >= j.max_attempts AND "
+                        "j.lease_token IS NOT NULL",
+                        &st) != 0)
+        return -1;
+    enum { MAX_ORPHANS = 256 };
+    lubd_claim *claims = calloc(MAX_ORPHANS, sizeof *claims);
+    double *claimed_at = calloc(MAX_ORPHANS, sizeof *claimed_at);
+    int n = 0, rc;
+    while (claims && claimed_at && n < MAX_ORPHANS && (rc = sqlite3_step(st)) == SQLITE_ROW) {
+        lubd_claim *c = &claims[n];
+        snprintf(c->id, sizeof c->id, "%s", (const char *)sqlite3_column_text(st, 0));
+        snprintf(c->token, sizeof c->token, "%s", (const char *)sqlite3_column_text(st, 1));
+        snprintf(c->worker, sizeof c->worker, "%s", (const char *)sqlite3_column_text(st, 2));
+        c->attempt = sqlite3_column_int(st, 3);
+        c->max_attempts = sqlite3_column_int(st, 4);
+        claimed_at[n++] = sqlite3_column_type(st, 5) == SQLITE_NULL
+                              ? 0.0 /* no claim recorded: nothing counts as earlier */
+                              : sqlite3_column_double(st, 5);
+    }
+    sqlite3_finalize(st);
+    int kept = 0;
+    worker_ctx w = {cfg, db, "lubdemd", &worker_stop_flag};
+    for (int i = 0; i < n; ++i) {
+        const int done = keep_orphan_checkpoint(&w, &claims[i], claimed_at[i]);
+        if (done < 0)
+            fprintf(stderr, "lubdemd: job %s: cannot keep the checkpoint its engine left\n",
+                    claims[i].id);
+        kept += done > 0;
+    }
+    free(claims);
+    free(claimed_at);
+    return kept;
+}
+
 int lubd_worker_main(const lubd_config *cfg, const char *name)
 {
     prctl(PR_SET_PDEATHSIG, SIGKILL); /* the service died: so do we (and our engine) */

@@ -10,8 +10,17 @@
 #ifndef LUBD_WORKER_H
 #define LUBD_WORKER_H
 
+#include <sqlite3.h>
+
 #include "config.h"
 
 int lubd_worker_main(const lubd_config *cfg, const char *name);
+
+/* At the service's start, before the reaper (lubd_queue_reap_orphans): each job a service that
+ * died left running on its last attempt whose engine had written a checkpoint fails with that
+ * checkpoint kept as its files (checkpoint.h5, and the file holding its rows), so that it can
+ * be continued ("continue_from"), as after an engine killed from outside on its last attempt.
+ * The reaper fails the others. Returns how many were failed so, or -1 on a database error. */
+int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db);
 
 #endif

@@ -21,6 +21,8 @@
 #   9 -> ignores SIGXCPU and spins until the hard CPU time limit's SIGKILL
 #   23 -> writes a checkpoint, prints an error line and runs until it is stopped (exit 5);
 #         run with --resume it crashes (SIGSEGV) without a word
+#   25 -> writes a periodic checkpoint (checkpoint.h5, checkpoint-result.h5) and a temporary
+#         .result.h5.tmp, then runs until it is stopped (a service killed meanwhile)
 #   24 -> as 23, but writes a result.h5 too, and on SIGTERM a summary.json (status
 #         "interrupted", its diagnostic saying --resume continues the run) as lubdem does;
 #         run with --resume it crashes (SIGSEGV) without a word
@@ -84,6 +86,12 @@ case $(tr -d ' \n' < "$spec") in
     printf 'rows of the first run\n' > "$out/result.h5"
     echo "fake engine: the first run's files are written"
     trap 'printf "{\"scene\": \"falling_sphere\", \"status\": \"interrupted\", \"exit_code\": 5, \"diagnostic\": \"stopped by a signal (SIGTERM): lubdem run --resume continues the run\"}\n" > "$out/summary.json"; exit 5' TERM
+    while :; do sleep 0.1; done ;;
+  *'"duration":25'[,}]*)
+    printf 'state of the fake engine\n' > "$out/checkpoint.h5"
+    printf 'rows up to the checkpoint\n' > "$out/checkpoint-result.h5"
+    printf 'half-written\n' > "$out/.result.h5.tmp"
+    echo "fake engine: checkpoint written"
     while :; do sleep 0.1; done ;;
   *'"duration":9'[,}]*)
     trap '' XCPU

@@ -21,7 +21,9 @@ with SIGKILL (killed_by_signal): from outside, retried from their checkpoint; at
 time limit, not retried. A run stopped with the service whose checkpoint cannot be kept
 (unkeepable_checkpoint) starts again, and its log says why; an attempt that runs again after a
 stop and crashes silently is not given its first run's last error line
-(silent_crash_after_restart), nor served its first run's summary (stale_summary_after_restart)."""
+(silent_crash_after_restart), nor served its first run's summary (stale_summary_after_restart);
+a job whose service was killed on its last attempt keeps its engine's checkpoint
+(service_killed_on_last_attempt)."""
 import hashlib
 import os
 import resource
@@ -131,6 +133,7 @@ def run():
     killed_by_signal(a)
     silent_crash_after_restart(a)
     stale_summary_after_restart(a)
+    service_killed_on_last_attempt(a)
     unkeepable_checkpoint(a)
 
 
@@ -475,6 +478,59 @@ def restart_after_kill(a):
         st, _, doc = srv.request("DELETE", "/jobs/" + job, tok)
         T.check(st == 200, "DELETE -> %s" % st)
         T.wait_final(srv, tok, job, timeout=30)
+    finally:
+        srv.stop()
+
+
+def service_killed_on_last_attempt(a):
+    """A service killed (SIGKILL) during a job's last attempt (--max-attempts 1), after its
+    engine wrote a periodic checkpoint: at the restart the job fails with that checkpoint kept
+    as its files (not the temporary file), its message saying that the service died and how to
+    continue it, so that the client sees a run it can continue. Until 2026-12-07 it failed with
+    "the worker died on every attempt" and no files, and could not be continued. A job on its
+    last attempt without a checkpoint fails as before, its message naming the attempt."""
+    srv = T.Server(a, "engine_failures_reaped", workers=2,
+                   extra=["--lease-s", "60", "--max-attempts", "1"]).fresh()
+    tok = srv.token("gina")
+    srv.start()
+    try:
+        job, bare = submit(srv, tok, 25), submit(srv, tok, 20)
+        wait_running(srv, tok, job)
+        wait_running(srv, tok, bare)
+        log = wait_log(srv, tok, job, b"checkpoint written", 10)
+        T.check(b"checkpoint written" in log, "the engine's log: %s" % log)
+        srv.proc.send_signal(signal.SIGKILL)
+        srv.proc.wait(10)
+        srv.proc = None
+        deadline = time.time() + 10
+        while T.engine_processes(srv.run) and time.time() < deadline:
+            time.sleep(0.05)
+        T.check(not T.engine_processes(srv.run), "the engines outlived the killed service")
+        srv.start()
+        final = T.wait_final(srv, tok, job, timeout=30)
+        T.check(final["status"] == "failed" and final["attempt"] == 1 and
+                "the service stopped without releasing it (crash or kill -9) during attempt 1, "
+                "the last of 1" in final["message"] and
+                '"continue_from": "%s"' % job in final["message"] and
+                "every attempt" not in final["message"],
+                "job reaped on its last attempt: %s" % final)
+        st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+        on_disk = sorted(os.listdir(os.path.join(srv.run, "jobs", job, "result")))
+        T.check(st == 500 and sorted(res.get("outputs") or {}) ==
+                ["checkpoint-result.h5", "checkpoint.h5"] and res.get("summary") is None and
+                on_disk == ["checkpoint-result.h5", "checkpoint.h5"],
+                "results of the reaped job: %s %s, on disk %s" % (st, res, on_disk))
+        st, _, body = srv.request("GET", "/jobs/%s/results/checkpoint.h5" % job, tok, raw=True)
+        T.check(st == 200 and body == b"state of the fake engine\n",
+                "checkpoint.h5 of the reaped job: %s %s" % (st, body))
+        client = lubdem_client.Client("http://127.0.0.1:%d" % srv.port, tok)
+        T.check(client.stopped_with_checkpoint(job), "the client sees a run it can continue")
+        T.check(events_of(srv, job) == ["submitted", "claimed", "failed"],
+                "events of the reaped job: %s" % events_of(srv, job))
+        final = T.wait_final(srv, tok, bare, timeout=30)
+        T.check(final["status"] == "failed" and "during attempt 1, the last of 1" in
+                final["message"] and "continue_from" not in final["message"],
+                "job without a checkpoint reaped on its last attempt: %s" % final)
     finally:
         srv.stop()
 
