@@ -764,30 +764,51 @@ static void requeue_killed(job_attempt *a)
         fprintf(stderr, "lubdemd worker %s: could not requeue %s\n", a->w->name, c->id);
 }
 
-/* A database that refuses the record (a full disk) is asked again every second for
- * RECORD_TRIES s, under the lease: the files are back in out_dir after each refusal
- * (lubd_lease_succeed), and a completed run is not thrown away for a moment's trouble.
- * After that the lease lapses and the job runs again. Returns as lubd_lease_succeed. */
-static int record_success_retrying(const job_attempt *a, finishing_beat *beat,
-                                   const lubd_output_file *files, int n)
+/* One try at recording the attempt's end: a success (kind NULL) with its n files, or a
+ * failure of `kind` with its files while they are in out_dir (a failure is recorded without
+ * them once they are not: a rename back after a refusal that failed). Returns as
+ * lubd_lease_succeed, -1 for a success whose files are gone. */
+static int record_end_once(const job_attempt *a, const char *kind, const char *message,
+                           const lubd_output_file *files, int n)
+{
+    sqlite3 *db = a->w->db;
+    const int files_there = n > 0 && access(a->out_dir, F_OK) == 0;
+    if (!kind)
+        return files_there
+                   ? lubd_lease_succeed(db, a->c, a->out_dir, a->result_dir, files, n, message)
+                   : -1;
+    return files_there ? lubd_lease_fail_with_outputs(db, a->c, kind, message, a->out_dir,
+                                                      a->result_dir, files, n)
+                       : lubd_lease_fail(db, a->c, kind, message);
+}
+
+/* Records the attempt's end (record_end_once). A database that refuses the record (a full
+ * disk, a lock held too long) is asked again every second for RECORD_TRIES s, under the
+ * lease: the files are back in out_dir after each refusal (finish_with_outputs), and neither
+ * a completed run nor a failure's diagnostic is thrown away for a moment's trouble (until
+ * 2026-12-07 a refused failure was not asked again: the lease lapsed, the failing run was
+ * done again and the job ended as "the worker died"). A failure's last try records it without
+ * its files. After that the lease lapses and the job runs again. Returns as lubd_lease_succeed. */
+static int record_end_retrying(const job_attempt *a, finishing_beat *beat, const char *kind,
+                               const char *message, const lubd_output_file *files, int n)
 {
     worker_ctx *w = a->w;
-    int done = lubd_lease_succeed(w->db, a->c, a->out_dir, a->result_dir, files, n, "completed");
+    int done = record_end_once(a, kind, message, files, n);
     for (int tries = 1; done < 0 && tries <= RECORD_TRIES && !*w->stop &&
-                        access(a->out_dir, F_OK) == 0; /* files back in out_dir */
+                        (kind || access(a->out_dir, F_OK) == 0); /* a success's files are back */
          ++tries) {
         if (tries == 1)
             fprintf(stderr,
-                    "lubdemd worker %s: cannot record the success of %s; trying again for "
-                    "%d s\n",
-                    w->name, a->c->id, RECORD_TRIES);
+                    "lubdemd worker %s: cannot record the %s of %s; trying again for %d s\n",
+                    w->name, kind ? "failure" : "success", a->c->id, RECORD_TRIES);
         sleep_ms(1000);
         beat->next_beat = 0.0;
         if (beat_while_finishing(beat)) {
             done = 0;
             break;
         }
-        done = lubd_lease_succeed(w->db, a->c, a->out_dir, a->result_dir, files, n, "completed");
+        /* a failure's last try goes without its files, should they be what is refused */
+        done = record_end_once(a, kind, message, files, kind && tries == RECORD_TRIES ? 0 : n);
     }
     return done;
 }
@@ -814,7 +835,7 @@ static void record_success(const job_attempt *a)
                         "missing");
         return;
     }
-    int done = record_success_retrying(a, &beat, files, n);
+    int done = record_end_retrying(a, &beat, NULL, "completed", files, n);
     if (done < 0)
         fprintf(stderr, "lubdemd worker %s: could not record success of %s\n", a->w->name,
                 a->c->id);
@@ -878,12 +899,12 @@ static void record_failure(job_attempt *a)
         lubd_lease_drop(a->w->db, a->c);
         return;
     }
-    sqlite3 *db = a->w->db;
-    int done = n > 0 ? lubd_lease_fail_with_outputs(db, a->c, kind, a->msg, a->out_dir,
-                                                    a->result_dir, files, n)
-                     : lubd_lease_fail(db, a->c, kind, a->msg);
-    if (done < 0 && n > 0) /* the files could not be moved: fail without them */
-        lubd_lease_fail(db, a->c, kind, a->msg);
+    const int done = record_end_retrying(a, &beat, kind, a->msg, files, n > 0 ? n : 0);
+    if (done < 0)
+        fprintf(stderr, "lubdemd worker %s: could not record the failure of %s\n", a->w->name,
+                a->c->id);
+    else if (done == 0) /* dismissed (or lease lost) while finishing: keep nothing */
+        lubd_lease_drop(a->w->db, a->c);
 }
 
 /* Runs one claimed job to its end. */

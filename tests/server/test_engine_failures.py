@@ -14,7 +14,8 @@ used to be requeued and the finished run thrown away); a running job that is dis
 its log but not the files its engine wrote, and one deleted again while its engine (ignoring
 SIGTERM) is being stopped leaves no folder once the engine is gone; a completed run that the
 database refuses to record for longer than a lease (a trigger standing in for a full disk) is
-recorded on its first attempt once the database takes it. Last, on a 60 s lease: a second service on the same
+recorded on its first attempt once the database takes it, and so is a failed run
+(failure_record_refused). Last, on a 60 s lease: a second service on the same
 run directory is refused while the first runs, and a job left running by a service killed with
 SIGKILL runs again at once when the service restarts, not a lease later. Last, engines killed
 with SIGKILL (killed_by_signal): from outside, retried from their checkpoint; at the hard CPU
@@ -127,6 +128,7 @@ def run():
     rec.start()
     try:
         record_refused(rec, tok)
+        failure_record_refused(rec, tok)
     finally:
         rec.stop()
     restart_after_kill(a)
@@ -439,6 +441,44 @@ def record_refused(srv, tok):
             "requeued" not in events and st == 200 and
             sorted(res.get("outputs", {})) == ["result.h5", "summary.json"],
             "recorded once the database takes it: %s, events %s, outputs %s"
+            % (final, events, res.get("outputs")))
+
+
+def failure_record_refused(srv, tok):
+    """The database refuses to record a failed run (a trigger on the job's state standing in
+    for a full disk) for longer than a lease: the worker keeps its lease and asks again, and the
+    job ends failed on attempt 1 with the engine's diagnostic and summary once the trigger is
+    gone (until 2026-12-07 the refusal was ignored: the lease lapsed, the failing run was done
+    again and the job ended as "the worker died")."""
+    db = sqlite3.connect(os.path.join(srv.run, "queue.db"), timeout=30)
+    db.execute("CREATE TRIGGER refuse_failed BEFORE UPDATE OF state ON jobs "
+               "WHEN NEW.state = 'failed' "
+               "BEGIN SELECT RAISE(ABORT, 'database or disk is full'); END")
+    db.commit()
+    try:
+        job = submit(srv, tok, 3)
+        deadline = time.time() + 30
+        log = b""
+        while b"engine finished" not in log and time.time() < deadline:
+            time.sleep(0.1)
+            st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        time.sleep(8)  # more than a lease
+        st, _, doc = srv.request("GET", "/jobs/" + job, tok)
+        T.check(b"engine finished" in log and doc["status"] == "running" and
+                doc["attempt"] == 1, "a failure the database refuses to record: %s" % doc)
+    finally:
+        db.execute("DROP TRIGGER refuse_failed")
+        db.commit()
+    final = T.wait_final(srv, tok, job, timeout=30)
+    events = [e for (e,) in db.execute(
+        "SELECT event FROM job_events WHERE job_id = ? ORDER BY rowid", (job,))]
+    db.close()
+    st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+    T.check(final["status"] == "failed" and final["attempt"] == 1 and
+            final["failure_kind"] == "executor" and "NaN in the gap" in final["message"] and
+            "requeued" not in events and st == 422 and
+            sorted(res.get("outputs", {})) == ["summary.json"],
+            "failure recorded once the database takes it: %s, events %s, outputs %s"
             % (final, events, res.get("outputs")))
 
 
