@@ -146,9 +146,17 @@ enum MHD_Result lubd_api_log(lubd_request *r, const char *id)
     lubd_job j;
     if (lubd_load_visible_job(r, id, &j, &f, 0) != 0)
         return lubd_reply_fault(r, &f);
+    /* The latest attempt's log: the highest attempt-N folder that holds one. Not simply that
+     * of j.attempt: a job released at a service stop has its attempt count taken back (it
+     * runs again under the same number), and until 2026-12-07 such a job was served an
+     * empty log, for good once it was dismissed before it ran again. */
     char path[1400];
-    snprintf(path, sizeof path, "%s/%s/attempt-%d/log", r->srv->cfg->jobs_dir, id, j.attempt);
-    int fd = j.attempt > 0 ? open(path, O_RDONLY | O_CLOEXEC) : -1;
+    int fd = -1;
+    const int top = j.max_attempts > j.attempt ? j.max_attempts : j.attempt;
+    for (int k = top; k > 0 && fd < 0; --k) {
+        snprintf(path, sizeof path, "%s/%s/attempt-%d/log", r->srv->cfg->jobs_dir, id, k);
+        fd = open(path, O_RDONLY | O_CLOEXEC);
+    }
     struct stat st;
     if (fd < 0 || fstat(fd, &st) != 0) {
         if (fd >= 0)

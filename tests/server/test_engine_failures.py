@@ -20,7 +20,8 @@ run directory is refused while the first runs, and a job left running by a servi
 SIGKILL runs again at once when the service restarts, not a lease later. Last, engines killed
 with SIGKILL (killed_by_signal): from outside, retried from their checkpoint; at the hard CPU
 time limit, not retried. A run stopped with the service whose checkpoint cannot be kept
-(unkeepable_checkpoint) starts again, and its log says why; an attempt that runs again after a
+(unkeepable_checkpoint) starts again, and its log says why; a job stopped with the service is
+served its stopped run's log until it runs again, dismissed or not (log_after_release); an attempt that runs again after a
 stop and crashes silently is not given its first run's last error line
 (silent_crash_after_restart), nor served its first run's summary (stale_summary_after_restart);
 a job whose service was killed on its last attempt keeps its engine's checkpoint
@@ -133,6 +134,7 @@ def run():
         rec.stop()
     restart_after_kill(a)
     killed_by_signal(a)
+    log_after_release(a)
     silent_crash_after_restart(a)
     stale_summary_after_restart(a)
     service_killed_on_last_attempt(a)
@@ -198,6 +200,29 @@ def stopped_after_first_run(a, name, duration=23, text=b"first run's last word")
     finally:
         srv.stop()
     return srv, tok, job
+
+
+def log_after_release(a):
+    """A job stopped with the service goes back to the queue with its attempt count taken back
+    (0 here); until it runs again, and after it is dismissed before that, its log is the stopped
+    run's attempt-1/log (until 2026-12-07 the service looked for attempt-0 and served an empty
+    log, for good once the job was dismissed)."""
+    srv, tok, job = stopped_after_first_run(a, "engine_failures_log_release")
+    srv.workers = 0  # nothing runs the job again
+    srv.start()
+    try:
+        st, _, doc = srv.request("GET", "/jobs/" + job, tok)
+        T.check(doc["status"] == "accepted" and doc["attempt"] == 0, "released: %s" % doc)
+        st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        T.check(st == 200 and b"first run's last word" in log,
+                "log of a released job: %s %s" % (st, log))
+        st, _, _ = srv.request("DELETE", "/jobs/" + job, tok)
+        T.check(st == 200, "dismiss -> %s" % st)
+        st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
+        T.check(st == 200 and b"first run's last word" in log,
+                "log of a released job dismissed: %s %s" % (st, log))
+    finally:
+        srv.stop()
 
 
 def silent_crash_after_restart(a):
