@@ -151,20 +151,31 @@ static int beat_while_finishing(void *ctx)
     return b->lost;
 }
 
+/* the most output files a job lists (the engine writes 4 at most) */
+#define MAX_OUTPUTS 16
+
 /* Enumerates the output files and checksums them, heartbeating through *beat. The engine's
  * temporary files (".name" or "name.tmp": half-written, e.g. the .result.h5.tmp of an engine
  * killed mid-run) are removed, so that they do not go into result/ unlisted with the rest.
- * Called once the engine has exited. Returns the count, or -1 (the folder cannot be read, or
- * beat->lost). */
+ * Called once the engine has exited. Returns the count, or -1: beat->lost, or why (also on
+ * stderr) says what cannot be listed: the folder cannot be read, a file cannot be read (its
+ * name and errno), a name too long or more than `max` files. Such a file is never skipped:
+ * it would go into result/ unlisted (until 2026-12-07 an unreadable result.h5 failed a
+ * completed run as missing, an unreadable checkpoint.h5 left a job that could not be
+ * continued, and files beyond the 16th were dropped without a word). */
 static int collect_outputs(const char *out_dir, lubd_output_file *files, char names[][64], int max,
-                           finishing_beat *beat)
+                           finishing_beat *beat, char *why, size_t why_len)
 {
+    why[0] = '\0';
     DIR *d = opendir(out_dir);
-    if (!d)
+    if (!d) {
+        lubd_pathf(why, why_len, "cannot read the engine's output folder: %s", strerror(errno));
+        fprintf(stderr, "lubdemd worker: %s: %s\n", out_dir, why);
         return -1;
+    }
     int n = 0;
     struct dirent *e;
-    while ((e = readdir(d)) && n < max) {
+    while (!why[0] && (e = readdir(d))) {
         if (strcmp(e->d_name, ".") == 0 || strcmp(e->d_name, "..") == 0)
             continue;
         const size_t len = strlen(e->d_name);
@@ -178,18 +189,26 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
                         strerror(errno));
             continue;
         }
-        if (len >= 64)
-            continue;
         struct stat st;
         if (lstat(path, &st) != 0 || !S_ISREG(st.st_mode))
             continue;
+        if (len >= 64) {
+            lubd_pathf(why, why_len, "the engine's output %.64s... has a name too long to list",
+                       e->d_name);
+            break;
+        }
+        if (n == max) {
+            lubd_pathf(why, why_len, "the engine left more than %d files", max);
+            break;
+        }
         uint64_t size;
         lubd_pathf(names[n], 64, "%s", e->d_name);
         if (beat_while_finishing(beat) != 0 ||
             lubd_file_sha256(path, files[n].sha256, &size, beat_while_finishing, beat) != 0) {
-            if (beat->lost)
-                break;
-            continue;
+            if (!beat->lost)
+                lubd_pathf(why, why_len, "cannot read the engine's output %s: %s", e->d_name,
+                           strerror(errno));
+            break;
         }
         files[n].name = names[n];
         files[n].media_type = media_type_of(names[n]);
@@ -197,7 +216,13 @@ static int collect_outputs(const char *out_dir, lubd_output_file *files, char na
         ++n;
     }
     closedir(d);
-    return beat->lost ? -1 : n;
+    if (beat->lost)
+        return -1;
+    if (why[0]) {
+        fprintf(stderr, "lubdemd worker: %s: %s\n", out_dir, why);
+        return -1;
+    }
+    return n;
 }
 
 /* The wall clock that stamps files (Linux: the coarse real-time clock, one tick behind the
@@ -813,15 +838,35 @@ static int record_end_retrying(const job_attempt *a, finishing_beat *beat, const
     return done;
 }
 
+/* Records the attempt's end (record_end_retrying) and says on stderr when it could not be;
+ * a job dismissed (or a lease lost) meanwhile keeps nothing. */
+static void record_end(const job_attempt *a, finishing_beat *beat, const char *kind,
+                       const char *message, const lubd_output_file *files, int n)
+{
+    const int done = record_end_retrying(a, beat, kind, message, files, n);
+    if (done < 0)
+        fprintf(stderr, "lubdemd worker %s: could not record the %s of %s\n", a->w->name,
+                kind ? "failure" : "success", a->c->id);
+    else if (done == 0)
+        lubd_lease_drop(a->w->db, a->c);
+}
+
 /* The engine exited with code 0: its outputs become the job's result. */
 static void record_success(const job_attempt *a)
 {
     finishing_beat beat = {a->w, a->c, 0.0, 0};
-    lubd_output_file files[16];
-    char names[16][64];
-    int n = collect_outputs(a->out_dir, files, names, 16, &beat);
+    lubd_output_file files[MAX_OUTPUTS];
+    char names[MAX_OUTPUTS][64], why[400];
+    int n = collect_outputs(a->out_dir, files, names, MAX_OUTPUTS, &beat, why, sizeof why);
     if (beat.lost) { /* requeued or dismissed meanwhile: the files are not ours to keep */
         lubd_lease_drop(a->w->db, a->c);
+        return;
+    }
+    if (n < 0) { /* the service cannot keep what the engine wrote: its failure, not the run's */
+        char msg[600];
+        lubd_pathf(msg, sizeof msg,
+                   "the engine exited with code 0 but its outputs cannot be kept: %s", why);
+        record_end(a, &beat, "system", msg, files, 0);
         return;
     }
     int have_summary = 0, have_h5 = 0;
@@ -829,18 +874,13 @@ static void record_success(const job_attempt *a)
         have_summary |= strcmp(files[i].name, "summary.json") == 0;
         have_h5 |= strcmp(files[i].name, "result.h5") == 0;
     }
-    if (n < 0 || !have_summary || !have_h5) {
-        lubd_lease_fail(a->w->db, a->c, "executor",
-                        "the engine exited with code 0 but summary.json or result.h5 is "
-                        "missing");
+    if (!have_summary || !have_h5) {
+        record_end(a, &beat, "executor",
+                   "the engine exited with code 0 but summary.json or result.h5 is missing", files,
+                   0);
         return;
     }
-    int done = record_end_retrying(a, &beat, NULL, "completed", files, n);
-    if (done < 0)
-        fprintf(stderr, "lubdemd worker %s: could not record success of %s\n", a->w->name,
-                a->c->id);
-    else if (done == 0) /* dismissed (or lease lost) while finishing: keep nothing */
-        lubd_lease_drop(a->w->db, a->c);
+    record_end(a, &beat, NULL, "completed", files, n);
 }
 
 /* The failure message of the job into msg: the engine's end and diagnostic, or the kill from
@@ -890,21 +930,23 @@ static void record_failure(job_attempt *a)
      * from), the result.h5 of a run that failed numerically (status failed, its series up to
      * the failure). A half-written file is never there: the engine writes under temporary
      * names, which collect_outputs skips. */
-    lubd_output_file files[16];
-    char names[16][64];
+    lubd_output_file files[MAX_OUTPUTS];
+    char names[MAX_OUTPUTS][64], why[400];
     /* exit 2: the engine wrote nothing (a refused continuation leaves the files it was
      * given, which are another job's) */
-    int n = code == 2 ? 0 : collect_outputs(a->out_dir, files, names, 16, &beat);
+    int n = code == 2
+                ? 0
+                : collect_outputs(a->out_dir, files, names, MAX_OUTPUTS, &beat, why, sizeof why);
     if (beat.lost) {
         lubd_lease_drop(a->w->db, a->c);
         return;
     }
-    const int done = record_end_retrying(a, &beat, kind, a->msg, files, n > 0 ? n : 0);
-    if (done < 0)
-        fprintf(stderr, "lubdemd worker %s: could not record the failure of %s\n", a->w->name,
-                a->c->id);
-    else if (done == 0) /* dismissed (or lease lost) while finishing: keep nothing */
-        lubd_lease_drop(a->w->db, a->c);
+    if (n < 0) { /* the engine's failure stands; the message says why its files are not kept */
+        const size_t used = strlen(a->msg);
+        lubd_pathf(a->msg + used, sizeof a->msg - used, "; its files are not kept: %s", why);
+        n = 0;
+    }
+    record_end(a, &beat, kind, a->msg, files, n);
 }
 
 /* Runs one claimed job to its end. */
@@ -1000,9 +1042,9 @@ static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_a
                                      : "the one its engine started from",
              c->id, c->id);
     finishing_beat beat = {w, c, 0.0, 0};
-    lubd_output_file files[16];
-    char names[16][64];
-    const int n = collect_outputs(a.out_dir, files, names, 16, &beat);
+    lubd_output_file files[MAX_OUTPUTS];
+    char names[MAX_OUTPUTS][64], why[400];
+    const int n = collect_outputs(a.out_dir, files, names, MAX_OUTPUTS, &beat, why, sizeof why);
     if (n <= 0)
         return n < 0 ? -1 : 0;
     const int done =

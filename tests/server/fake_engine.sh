@@ -26,6 +26,10 @@
 #   24 -> as 23, but writes a result.h5 too, and on SIGTERM a summary.json (status
 #         "interrupted", its diagnostic saying --resume continues the run) as lubdem does;
 #         run with --resume it crashes (SIGSEGV) without a word
+#   26 -> completes (exit 0) with summary.json, result.h5 and 20 more files: more than the
+#         service lists (16)
+#   27 -> completes (exit 0) with summary.json and a result.h5 of mode 000 (unreadable unless
+#         the service runs as root)
 spec=$2 out=$4
 mkdir -p "$out"
 echo "progress fraction=0.5000 step=10 steps_per_s=1.0e+03 eta_s=1.0"
@@ -49,6 +53,16 @@ case $(tr -d ' \n' < "$spec") in
   *'"duration":22'[,}]*)
     printf '{"scene": "falling_sphere", "status": "complete"}\n' > "$out/summary.json"
     printf 'rows of a short run\n' > "$out/result.h5"; exit 0 ;;
+  *'"duration":26'[,}]*)
+    printf '{"scene": "falling_sphere", "status": "complete"}\n' > "$out/summary.json"
+    printf 'rows of a short run\n' > "$out/result.h5"
+    for k in 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20; do
+      echo "extra $k" > "$out/extra-$k.txt"
+    done; exit 0 ;;
+  *'"duration":27'[,}]*)
+    printf '{"scene": "falling_sphere", "status": "complete"}\n' > "$out/summary.json"
+    printf 'rows of a short run\n' > "$out/result.h5"
+    chmod 000 "$out/result.h5"; exit 0 ;;
   *'"duration":21'[,}]*)
     trap 'echo "fake engine: SIGTERM ignored"' TERM
     while :; do mkdir -p "$out"; echo row >> "$out/result.h5"; sleep 0.1; done ;;
