@@ -457,18 +457,16 @@ def deleted_while_stopping(srv, tok):
     T.check(h["queue"]["running"] == 0, "health %s" % h)
 
 
-def record_refused(srv, tok):
-    """The database refuses the rows of a completed run's files (a trigger in queue.db standing
-    in for a full disk) for longer than a lease: the worker keeps its lease and asks again, and
-    the job ends successful on attempt 1 with its files once the trigger is gone (until
-    2026-12-06 the files stayed in a result/ folder the database did not list, the lease
-    lapsed and the run was done again)."""
+def refused_then_taken(srv, tok, trigger, duration, what):
+    """Submits a job of the fake engine's `duration` while `trigger` (a CREATE TRIGGER named
+    refuse_record, standing in for a full disk) makes the database refuse its end, for longer
+    than a lease; checks that the worker keeps its lease meanwhile (running, attempt 1), drops
+    the trigger and returns (final job document, its events, the /results status and body)."""
     db = sqlite3.connect(os.path.join(srv.run, "queue.db"), timeout=30)
-    db.execute("CREATE TRIGGER refuse_results BEFORE INSERT ON results "
-               "BEGIN SELECT RAISE(ABORT, 'database or disk is full'); END")
+    db.execute(trigger)
     db.commit()
     try:
-        job = submit(srv, tok, 22)
+        job = submit(srv, tok, duration)
         deadline = time.time() + 30
         log = b""
         while b"engine finished" not in log and time.time() < deadline:
@@ -477,15 +475,26 @@ def record_refused(srv, tok):
         time.sleep(8)  # more than a lease
         st, _, doc = srv.request("GET", "/jobs/" + job, tok)
         T.check(b"engine finished" in log and doc["status"] == "running" and
-                doc["attempt"] == 1, "a run the database refuses to record: %s" % doc)
+                doc["attempt"] == 1, "%s the database refuses to record: %s" % (what, doc))
     finally:
-        db.execute("DROP TRIGGER refuse_results")
+        db.execute("DROP TRIGGER refuse_record")
         db.commit()
     final = T.wait_final(srv, tok, job, timeout=30)
     events = [e for (e,) in db.execute(
         "SELECT event FROM job_events WHERE job_id = ? ORDER BY rowid", (job,))]
     db.close()
     st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+    return final, events, st, res
+
+
+def record_refused(srv, tok):
+    """The database refuses the rows of a completed run's files for longer than a lease: the
+    worker keeps its lease and asks again, and the job ends successful on attempt 1 with its
+    files once the trigger is gone (until 2026-12-06 the files stayed in a result/ folder the
+    database did not list, the lease lapsed and the run was done again)."""
+    final, events, st, res = refused_then_taken(
+        srv, tok, "CREATE TRIGGER refuse_record BEFORE INSERT ON results "
+        "BEGIN SELECT RAISE(ABORT, 'database or disk is full'); END", 22, "a run")
     T.check(final["status"] == "successful" and final["attempt"] == 1 and
             "requeued" not in events and st == 200 and
             sorted(res.get("outputs", {})) == ["result.h5", "summary.json"],
@@ -494,41 +503,32 @@ def record_refused(srv, tok):
 
 
 def failure_record_refused(srv, tok):
-    """The database refuses to record a failed run (a trigger on the job's state standing in
-    for a full disk) for longer than a lease: the worker keeps its lease and asks again, and the
-    job ends failed on attempt 1 with the engine's diagnostic and summary once the trigger is
-    gone (until 2026-12-07 the refusal was ignored: the lease lapsed, the failing run was done
-    again and the job ended as "the worker died")."""
-    db = sqlite3.connect(os.path.join(srv.run, "queue.db"), timeout=30)
-    db.execute("CREATE TRIGGER refuse_failed BEFORE UPDATE OF state ON jobs "
-               "WHEN NEW.state = 'failed' "
-               "BEGIN SELECT RAISE(ABORT, 'database or disk is full'); END")
-    db.commit()
-    try:
-        job = submit(srv, tok, 3)
-        deadline = time.time() + 30
-        log = b""
-        while b"engine finished" not in log and time.time() < deadline:
-            time.sleep(0.1)
-            st, _, log = srv.request("GET", "/jobs/%s/log" % job, tok, raw=True)
-        time.sleep(8)  # more than a lease
-        st, _, doc = srv.request("GET", "/jobs/" + job, tok)
-        T.check(b"engine finished" in log and doc["status"] == "running" and
-                doc["attempt"] == 1, "a failure the database refuses to record: %s" % doc)
-    finally:
-        db.execute("DROP TRIGGER refuse_failed")
-        db.commit()
-    final = T.wait_final(srv, tok, job, timeout=30)
-    events = [e for (e,) in db.execute(
-        "SELECT event FROM job_events WHERE job_id = ? ORDER BY rowid", (job,))]
-    db.close()
-    st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+    """The database refuses to record a failed run (the job's failed state) for longer than a
+    lease: the worker keeps its lease and asks again, and the job ends failed on attempt 1
+    with the engine's diagnostic and summary once the trigger is gone (until 2026-12-07 the
+    refusal was ignored: the lease lapsed, the failing run was done again and the job ended
+    as "the worker died")."""
+    final, events, st, res = refused_then_taken(
+        srv, tok, "CREATE TRIGGER refuse_record BEFORE UPDATE OF state ON jobs "
+        "WHEN NEW.state = 'failed' BEGIN SELECT RAISE(ABORT, 'database or disk is full'); END",
+        3, "a failure")
     T.check(final["status"] == "failed" and final["attempt"] == 1 and
             final["failure_kind"] == "executor" and "NaN in the gap" in final["message"] and
             "requeued" not in events and st == 422 and
             sorted(res.get("outputs", {})) == ["summary.json"],
             "failure recorded once the database takes it: %s, events %s, outputs %s"
             % (final, events, res.get("outputs")))
+
+
+def kill_service(srv):
+    """kill -9 of the service; checks that its engines die with it (within 10 s)."""
+    srv.proc.send_signal(signal.SIGKILL)
+    srv.proc.wait(10)
+    srv.proc = None
+    deadline = time.time() + 10
+    while T.engine_processes(srv.run) and time.time() < deadline:
+        time.sleep(0.05)
+    T.check(not T.engine_processes(srv.run), "the engines outlived the killed service")
 
 
 def restart_after_kill(a):
@@ -547,13 +547,7 @@ def restart_after_kill(a):
         except T.Fail as e:
             T.check("another lubdemd (pid %d) is serving the queue" % srv.proc.pid in str(e),
                     "second service: %s" % e)
-        srv.proc.send_signal(signal.SIGKILL)
-        srv.proc.wait(10)
-        srv.proc = None
-        deadline = time.time() + 10
-        while T.engine_processes(srv.run) and time.time() < deadline:
-            time.sleep(0.05)
-        T.check(not T.engine_processes(srv.run), "the engine outlived the killed service")
+        kill_service(srv)
         srv.start()
         t0 = time.time()
         doc = wait_running(srv, tok, job, timeout=20)
@@ -588,13 +582,7 @@ def service_killed_on_last_attempt(a):
         wait_running(srv, tok, bare)
         log = wait_log(srv, tok, job, b"checkpoint written", 10)
         T.check(b"checkpoint written" in log, "the engine's log: %s" % log)
-        srv.proc.send_signal(signal.SIGKILL)
-        srv.proc.wait(10)
-        srv.proc = None
-        deadline = time.time() + 10
-        while T.engine_processes(srv.run) and time.time() < deadline:
-            time.sleep(0.05)
-        T.check(not T.engine_processes(srv.run), "the engines outlived the killed service")
+        kill_service(srv)
         srv.start()
         final = T.wait_final(srv, tok, job, timeout=30)
         T.check(final["status"] == "failed" and final["attempt"] == 1 and
