@@ -4,9 +4,17 @@
 #
 #   ci_submit.sh PROCESS INPUTS_JSON [TIMEOUT_S] [OUT_FILE]
 #   LUBDEM_URL, LUBDEM_TOKEN as in walkthrough.sh.
-#   LUBDEM_IDEMPOTENCY_KEY  defaults to ci-$CI_JOB_ID-PROCESS (or a random key): a retried CI
+#   LUBDEM_IDEMPOTENCY_KEY  defaults to a key of the CI step and the request: the step as a
+#                           retry keeps it (GitLab: $CI_PIPELINE_ID and $CI_JOB_NAME; GitHub
+#                           Actions: $GITHUB_RUN_ID and $GITHUB_JOB), the request as a hash of
+#                           PROCESS and INPUTS (so that one step may submit several), e.g.
+#                           ci-gitlab-812-shear_sweep-simple_shear-3f0c1a9e5b7d2c44. Elsewhere
+#                           the key is random, with a warning. A retried CI
 #                           step gets the same job back instead of a duplicate, and waits for
-#                           it. A job this script timed out on is left running for that reason
+#                           it (until 2026-12-07 the default used $CI_JOB_ID, which a GitLab
+#                           retry changes, so a retry submitted a second job; and it left the
+#                           inputs out, so a second submission of the step was refused, 409).
+#                           A job this script timed out on is left running for that reason
 #                           (exit 3 says how to dismiss it). Should the key's job have been
 #                           dismissed (DELETE), the step submits anew under KEY-after-JOBID, a
 #                           key that a further retry finds again.
@@ -27,7 +35,20 @@ TIMEOUT=${3:-600}
 OUT_FILE=${4:-result-$PROCESS.h5}
 URL=${LUBDEM_URL:-http://127.0.0.1:8080}
 TOKEN=${LUBDEM_TOKEN:?set LUBDEM_TOKEN}
-KEY=${LUBDEM_IDEMPOTENCY_KEY:-ci-${CI_JOB_ID:-$(od -An -N8 -tx1 /dev/urandom | tr -d ' \n')}-$PROCESS}
+# the CI step, as its retries see it (a job name may hold any character: kept to [A-Za-z0-9._-])
+if [ -n "${CI_PIPELINE_ID:-}" ] && [ -n "${CI_JOB_NAME:-}" ]; then
+  STEP="gitlab-$CI_PIPELINE_ID-$CI_JOB_NAME"
+elif [ -n "${GITHUB_RUN_ID:-}" ] && [ -n "${GITHUB_JOB:-}" ]; then
+  STEP="github-$GITHUB_RUN_ID-$GITHUB_JOB"
+else
+  STEP="random-$(od -An -N8 -tx1 /dev/urandom | tr -d ' \n')"
+  [ -n "${LUBDEM_IDEMPOTENCY_KEY:-}" ] || echo "warning: neither LUBDEM_IDEMPOTENCY_KEY nor a CI" \
+    "step (CI_PIPELINE_ID and CI_JOB_NAME, or GITHUB_RUN_ID and GITHUB_JOB) is set: a retry of" \
+    "this step submits a second job" >&2
+fi
+STEP=$(printf '%s' "$STEP" | tr -c 'A-Za-z0-9._-' '_' | cut -c1-150)
+REQUEST=$(printf '%s\n%s' "$PROCESS" "$INPUTS" | sha256sum | cut -c1-16)
+KEY=${LUBDEM_IDEMPOTENCY_KEY:-ci-$STEP-$PROCESS-$REQUEST}
 AUTH="Authorization: Bearer $TOKEN"
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT

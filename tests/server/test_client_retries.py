@@ -4,7 +4,9 @@
   step with the same Idempotency-Key then got the dismissed job back for a day and could
   never succeed): the retried step finds the same job and succeeds; with
   LUBDEM_DISMISS_ON_TIMEOUT=1 the job is dismissed, and the retried step submits a new one
-  under KEY-after-JOBID;
+  under KEY-after-JOBID; the default key is the CI step's (GitLab's pipeline and job name,
+  GitHub's run and job) with a hash of the request: a retry with a new CI_JOB_ID gets the same
+  job, other inputs a new one, and without a CI step a random key comes with a warning;
 * lubdem_client.py extend of a running job says it has not ended (it said HTTP 404);
 * read_result.py prints the build provenance (the attributes of /parameters/build; it printed
   the group's repr);
@@ -98,6 +100,36 @@ def run():
         rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "300", h5, extra_env=key)
         T.check(rc == 0 and ("job %s submitted" % again.group(1)) in out,
                 "a second retry finds the resubmitted job:\n" + out)
+        # the default Idempotency-Key: a retry of the same CI step (GitLab: a new CI_JOB_ID,
+        # the same pipeline and job name; GitHub: the same run and job) gets the same job; the
+        # same step with other inputs a new one (until 2026-12-07 the key was ci-$CI_JOB_ID-
+        # PROCESS: a GitLab retry submitted a second job, and other inputs were refused, 409)
+        no_ci = {"LUBDEM_IDEMPOTENCY_KEY": "", "CI_JOB_ID": "", "CI_PIPELINE_ID": "",
+                 "CI_JOB_NAME": "", "GITHUB_RUN_ID": "", "GITHUB_JOB": ""}
+        small = '{"duration": 2.0}'
+
+        def ci_job(inputs, **env):
+            rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "300", h5,
+                         extra_env=dict(no_ci, **env))
+            job = re.search(r"job ([0-9a-f]{32}) submitted \(Idempotency-Key ([^)]*)\)", out)
+            T.check(rc == 0 and job, "ci_submit.sh with %s:\n%s" % (env, out))
+            return job.group(1) if job else None, job.group(2) if job else None, out
+        gitlab = {"CI_PIPELINE_ID": "812", "CI_JOB_NAME": "shear sweep 1/2"}
+        first, key1, _ = ci_job(small, CI_JOB_ID="5001", **gitlab)
+        retry, _, _ = ci_job(small, CI_JOB_ID="5002", **gitlab)
+        other, key2, _ = ci_job('{"duration": 3.0}', CI_JOB_ID="5002", **gitlab)
+        T.check(first and first == retry and other != first and key1 != key2 and
+                key1.startswith("ci-gitlab-812-shear_sweep_1_2-two_spheres_shear-"),
+                "GitLab retry: jobs %s %s, other inputs %s (keys %s, %s)"
+                % (first, retry, other, key1, key2))
+        github = {"GITHUB_RUN_ID": "77", "GITHUB_JOB": "sweep"}
+        first, _, _ = ci_job(small, **github)
+        retry, _, _ = ci_job(small, **github)
+        T.check(first and first == retry, "GitHub retry: jobs %s %s" % (first, retry))
+        _, key, out = ci_job(small)
+        T.check(key and key.startswith("ci-random-") and
+                "warning: neither LUBDEM_IDEMPOTENCY_KEY nor a CI" in out,
+                "no CI step: a random key and a warning (%s):\n%s" % (key, out))
         # read_result.py: the build provenance from the group's attributes
         try:
             import h5py  # noqa: F401
