@@ -198,7 +198,9 @@ void lub_rs_write_summary(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_s
     json_object_set_new(extra, "orientation",
                         json_string(p->orientation == LUB_RS_VORTICITY ? "vorticity" : "gradient"));
     json_object_set_new(extra, "height_steady", json_boolean(st->steady));
-    json_object_set_new(extra, "height_transient_end_strain", json_real(o->transient_end_strain));
+    json_object_set_new(extra, "height_transient_end_strain",
+                        isfinite(o->transient_end_strain) ? json_real(o->transient_end_strain)
+                                                          : json_null());
     json_object_set_new(extra, "phi_err_method",
                         json_string(o->averaged_samples < 2    ? "none (fewer than 2 samples)"
                                     : st->sem_batch_means == 1 ? "batch_means_ar1"
