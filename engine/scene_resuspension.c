@@ -104,12 +104,14 @@ static int rs_samples_reserve(lub_run_ctx *ctx, rs_buffers *b, int nb, int64_t t
     const double growth = (double)sizeof(double) * (2.0 * (double)(new_total - *nsamp_total) +
                                                     (double)(new_avg - *nsamp_avg) * nb +
                                                     3.0 * (double)(new_scratch - old_scratch));
-    char what[160];
-    snprintf(what, sizeof what,
-             "the continuation's %lld more height samples and %lld more profiles of %d bins",
-             (long long)(new_total - *nsamp_total), (long long)(new_avg - *nsamp_avg), nb);
-    if (growth > 0.0 && !lub_memory_fits(ctx, growth, what, "/strain"))
-        return 1;
+    if (growth > 0.0) {
+        char what[160];
+        snprintf(what, sizeof what,
+                 "the continuation's %lld more height samples and %lld more profiles of %d bins",
+                 (long long)(new_total - *nsamp_total), (long long)(new_avg - *nsamp_avg), nb);
+        if (!lub_memory_fits(ctx, growth, what, "/strain"))
+            return 1;
+    }
     if (total > *nsamp_total) {
         double *h = realloc(b->series_h, (size_t)total * sizeof *h);
         if (!h)
@@ -338,7 +340,6 @@ typedef struct {
     lub_pair_network net;   /* its arrays, kept from frame to frame */
     /* the loop */
     int64_t first_step, frames; /* loop start; snapshots asked for */
-    int first_step_taken;       /* the stopped run took the samples of first_step (rs_loop) */
     int64_t stopped_at;         /* the loop index a stop request ended the loop at (-1: none) */
     int end_checkpoint;         /* --keep-checkpoint: written at the last step, before its sample */
 } rs_run_state;
@@ -700,7 +701,6 @@ static int rs_continue_stopped_run(rs_run_state *r)
     r->lp = saved;
     r->dt = r->lp.ctl.dt;
     r->first_step = saved.step;
-    r->first_step_taken = (int)saved.step_taken;
     r->frames = saved.frames_in_file;
     ctx->resumed_from_step = S->step;
     ctx->resume_begun = 1;
@@ -913,7 +913,7 @@ static int rs_time_loop(rs_run_state *r)
         /* the samples of the step a continuation starts at were taken by the stopped run (but
          * for a completed run's, its checkpoint taken before them): the end does not force them
          * again (a continuation asked for the strain already done) */
-        const int taken = step == r->first_step && r->first_step_taken;
+        const int taken = step == r->first_step && lp->step_taken; /* the checkpoint's */
         const int end = step == lp->sched.nsteps && !taken;
         if (step == lp->sched.nsteps && ctx->checkpoint_always && ctx->checkpoint_path) {
             /* A completed run keeps its state before the samples of its last step, which the

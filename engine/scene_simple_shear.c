@@ -767,6 +767,14 @@ static int ss_snapshot_now(ss_run_state *r)
     return LUB_EXIT_OK;
 }
 
+/* 1 when a snapshot event met after `done` steps is taken there: not within half a spacing of
+ * the end (nor at the end), whose snapshot follows the loop. */
+static int ss_snapshot_before_end(const ss_run_state *r, int64_t done)
+{
+    const lub_schedule *sched = &r->lp.sched;
+    return done < sched->nsteps && sched->t_end - r->sys.time > 0.5 * sched->ev[r->ev_snap].spacing;
+}
+
 /* A snapshot (and the network frame that goes with it) when one is due after step `step`:
  * not within half a spacing of the end, whose snapshot follows the loop (an adapted step
  * moves the events: the last could fall a step before the end). */
@@ -775,8 +783,7 @@ static int ss_snapshot_if_due(ss_run_state *r, int64_t step)
     ss_loop *lp = &r->lp;
     if (!(r->ev_snap >= 0 && lub_schedule_due(&lp->sched, r->ev_snap, step)))
         return LUB_EXIT_OK;
-    if (!(step + 1 < lp->sched.nsteps &&
-          lp->sched.t_end - r->sys.time > 0.5 * lp->sched.ev[r->ev_snap].spacing)) {
+    if (!ss_snapshot_before_end(r, step + 1)) {
         lp->snap_owed_step = r->sys.step;
         return LUB_EXIT_OK;
     }
@@ -805,9 +812,7 @@ static void ss_time_loop(ss_run_state *r)
      * for the longer /strain from the start takes that event's snapshot (until 2026-12-07 the
      * extension had none there). */
     if (ctx->resume_path && lp->snap_owed_step == sys->step && r->ev_snap >= 0 &&
-        lp->step < lp->sched.nsteps &&
-        lp->sched.t_end - sys->time > 0.5 * lp->sched.ev[r->ev_snap].spacing &&
-        (r->exit_code = ss_snapshot_now(r)) != LUB_EXIT_OK) {
+        ss_snapshot_before_end(r, lp->step) && (r->exit_code = ss_snapshot_now(r)) != LUB_EXIT_OK) {
         r->step = lp->step;
         return;
     }

@@ -256,6 +256,20 @@ static int names_periodic_rows(const char *path)
     return periodic;
 }
 
+/* Removes the first `count` of summary.json and result.h5 from out_dir where they are older
+ * than `started` (an earlier run's). */
+static void drop_older(const char *out_dir, double started, int count)
+{
+    static const char *const old[2] = {"summary.json", "result.h5"};
+    for (int k = 0; k < count; ++k) {
+        char path[1400];
+        lubd_pathf(path, sizeof path, "%s/%s", out_dir, old[k]);
+        const double t = mtime_of(path);
+        if (t >= 0.0 && t < started && unlink(path) != 0)
+            fprintf(stderr, "lubdemd worker: cannot remove %s: %s\n", path, strerror(errno));
+    }
+}
+
 /* After an engine killed mid-run that had written a periodic checkpoint of its own (a
  * checkpoint.h5 newer than `started` that names checkpoint-result.h5 as the file holding its
  * rows, periodic_checkpoint.h): the summary.json and result.h5 in out_dir older than the engine
@@ -266,15 +280,8 @@ static void drop_superseded(const char *out_dir, double started)
 {
     char path[1400];
     lubd_pathf(path, sizeof path, "%s/checkpoint.h5", out_dir);
-    if (mtime_of(path) < started || !names_periodic_rows(path))
-        return;
-    static const char *const old[2] = {"summary.json", "result.h5"};
-    for (int k = 0; k < 2; ++k) {
-        lubd_pathf(path, sizeof path, "%s/%s", out_dir, old[k]);
-        const double t = mtime_of(path);
-        if (t >= 0.0 && t < started && unlink(path) != 0)
-            fprintf(stderr, "lubdemd worker: cannot remove %s: %s\n", path, strerror(errno));
-    }
+    if (mtime_of(path) >= started && names_periodic_rows(path))
+        drop_older(out_dir, started, 2);
 }
 
 /* After an engine run with --resume that died by a signal (a crash, the hard CPU time limit,
@@ -289,13 +296,7 @@ static void drop_stale(const char *out_dir, double started)
     char path[1400];
     lubd_pathf(path, sizeof path, "%s/checkpoint.h5", out_dir);
     const int rows_needed = access(path, F_OK) == 0 && !names_periodic_rows(path);
-    static const char *const old[2] = {"summary.json", "result.h5"};
-    for (int k = 0; k < (rows_needed ? 1 : 2); ++k) {
-        lubd_pathf(path, sizeof path, "%s/%s", out_dir, old[k]);
-        const double t = mtime_of(path);
-        if (t >= 0.0 && t < started && unlink(path) != 0)
-            fprintf(stderr, "lubdemd worker: cannot remove %s: %s\n", path, strerror(errno));
-    }
+    drop_older(out_dir, started, rows_needed ? 1 : 2);
 }
 
 /* what the job log adds when a continuation starts from files handed over to it */
@@ -1015,7 +1016,7 @@ static void job_ended(worker_ctx *w, const lubd_claim *c)
  * set, as the reaper finds it): when its engine left a checkpoint, what a continuation needs
  * is kept and the job fails with it, as after an engine killed from outside on its last
  * attempt. The files older than the attempt's claim are an earlier run's, treated as after an
- * engine run with --resume that died by a signal (drop_superseded, drop_stale). Returns 1 when
+ * engine run with --resume that died by a signal (drop_stale). Returns 1 when
  * the job was failed with its checkpoint, 0 when it is left to the reaper, -1 on an error. */
 static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_at)
 {
@@ -1025,8 +1026,7 @@ static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_a
     lubd_pathf(ckpt, sizeof ckpt, "%s/checkpoint.h5", a.out_dir);
     if (access(ckpt, F_OK) != 0)
         return 0;
-    drop_superseded(a.out_dir, claimed_at);
-    drop_stale(a.out_dir, claimed_at);
+    drop_stale(a.out_dir, claimed_at); /* what drop_superseded would remove, and more */
     const double ckpt_time = mtime_of(ckpt);
     const long long step = lub_run_checkpoint_step(ckpt);
     char step_text[64] = "";
