@@ -51,6 +51,7 @@ void lubd_config_defaults(lubd_config *c, const char *argv0)
     c->mem_mb = 8192;
     c->fsize_mb = 16384;
     c->grace_s = 10;
+    c->wall_s = 2 * 86400;
     c->checkpoint_s = 600;
     c->keep_checkpoints = 1;
 }
@@ -89,6 +90,9 @@ void lubd_config_usage(void)
             "  --max-body-kb N    request body limit [1024]\n"
             "  --cpu-s N --mem-mb N --fsize-mb N   engine limits [86400, 8192, 16384]; 0=off\n"
             "  --grace-s N        SIGTERM->SIGKILL delay on cancel [10]\n"
+            "  --wall-s N         wall-clock limit of each engine run: SIGTERM, then\n"
+            "                     SIGKILL after --grace-s; the job fails with its\n"
+            "                     checkpoint [172800]; 0=off\n"
             "  --engine-threads N threads per engine run [engine default]\n"
             "  --checkpoint-s N   engine checkpoint every N s; a job requeued after its\n"
             "                     worker died continues from it [600]; 0=off\n"
@@ -148,6 +152,7 @@ int lubd_config_parse(lubd_config *c, int argc, char **argv, int first)
         INT_OPT("--mem-mb", c->mem_mb, 0, 1L << 30)
         INT_OPT("--fsize-mb", c->fsize_mb, 0, 1L << 30)
         INT_OPT("--grace-s", c->grace_s, 0, 3600)
+        INT_OPT("--wall-s", c->wall_s, 0, 100L * 86400)
         INT_OPT("--engine-threads", c->engine_threads, 0, 1024)
         INT_OPT("--checkpoint-s", c->checkpoint_s, 0, 10000000)
         INT_OPT("--keep-checkpoints", c->keep_checkpoints, 0, 1)

@@ -24,6 +24,9 @@ typedef struct {
     long max_body;                /* request body cap in bytes */
     long cpu_s, mem_mb, fsize_mb; /* engine rlimits (0 = unlimited) */
     int grace_s;                  /* SIGTERM -> SIGKILL delay when cancelling */
+    long wall_s;                  /* wall-clock limit of one engine run (s, 0 = none): SIGTERM,
+                                     then SIGKILL grace_s later; the job fails, its checkpoint
+                                     kept (a hung engine does not hold its worker for ever) */
     int engine_threads;           /* --threads for the engine (0 = engine default) */
     int checkpoint_s;             /* --checkpoint-every for the engine: a checkpoint every so many
                                      seconds of a simple_shear or resuspension run, from which a

@@ -333,12 +333,14 @@ static int take_source_files(const lubd_config *cfg, const lubd_claim *c, const 
     return -1;
 }
 
-typedef enum { END_EXITED, END_LOST, END_SHUTDOWN } end_reason;
+/* END_WALL_LIMIT: this service stopped the engine at its wall-clock limit (lubdemd --wall-s) */
+typedef enum { END_EXITED, END_LOST, END_SHUTDOWN, END_WALL_LIMIT } end_reason;
 
 /* Watches a started engine to its end: copies its output into the log, turns its progress
  * lines into heartbeats, and stops it (SIGTERM, then SIGKILL after the grace time) when the
- * service stops or the lease is lost. Leaves the engine's wait status in *status_out and the
- * CPU time it used (user + system, s) in *cpu_s_out. */
+ * service stops, the lease is lost or the engine has run for the service's wall-clock limit. Leaves
+ * the engine's wait status in *status_out and the CPU time it used (user + system, s) in
+ * *cpu_s_out. */
 static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
                                    const lubd_engine_proc *ep_in, int log_fd, int *status_out,
                                    double *cpu_s_out)
@@ -351,6 +353,7 @@ static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
     if (hb_every > 1.0)
         hb_every = 1.0;
     double next_hb = 0, kill_at = -1;
+    const double wall_end = cfg->wall_s > 0 ? now_s() + (double)cfg->wall_s : -1.0;
     int progress = 0, progress_dirty = 1, pipe_open = 1, exited = 0, status = 0;
     char message[200] = "running";
     end_reason why = END_EXITED;
@@ -410,6 +413,11 @@ static end_reason supervise_engine(worker_ctx *w, const lubd_claim *c,
         double t = now_s();
         if (*w->stop && kill_at < 0 && !exited) { /* an engine that has ended is finished */
             why = END_SHUTDOWN;
+            kill(-ep.pid, SIGTERM);
+            kill_at = t + cfg->grace_s;
+        }
+        if (wall_end >= 0 && t >= wall_end && kill_at < 0 && !exited) {
+            why = END_WALL_LIMIT;
             kill(-ep.pid, SIGTERM);
             kill_at = t + cfg->grace_s;
         }
@@ -642,6 +650,17 @@ static void log_engine_end(job_attempt *a)
                  "killed by signal 9 (SIGKILL) at the hard CPU time limit of this service "
                  "(%.0f s of CPU; lubdemd --cpu-s %ld, then 5 s to stop after SIGXCPU)",
                  a->cpu_used, a->w->cfg->cpu_s);
+    if (a->why == END_WALL_LIMIT && WIFSIGNALED(a->status) && WTERMSIG(a->status) == SIGKILL)
+        snprintf(a->st_text, sizeof a->st_text,
+                 "killed by signal 9 (SIGKILL) by this service at its wall-clock limit (%ld s; "
+                 "lubdemd --wall-s): it did not stop within %d s of SIGTERM (lubdemd --grace-s)",
+                 a->w->cfg->wall_s, a->w->cfg->grace_s);
+    else if (a->why == END_WALL_LIMIT) {
+        const size_t used = strlen(a->st_text);
+        snprintf(a->st_text + used, sizeof a->st_text - used,
+                 ", stopped by this service at its wall-clock limit (%ld s; lubdemd --wall-s)",
+                 a->w->cfg->wall_s);
+    }
     dprintf(a->log_fd, "lubdemd: engine finished: %s\n", a->st_text);
 }
 
@@ -746,11 +765,14 @@ static void end_with_lost_lease(const job_attempt *a)
  * ckpt_note, and drops the files such a checkpoint supersedes. */
 static void assess_kill_from_outside(job_attempt *a)
 {
-    a->killed_outside =
+    /* an engine killed at the wall-clock limit (it did not stop within the grace time after
+     * SIGTERM) is not retried, but its files are treated as those of one killed from outside */
+    const int killed =
         WIFSIGNALED(a->status) && WTERMSIG(a->status) == SIGKILL && !reached_cpu_limit(a);
+    a->killed_outside = killed && a->why != END_WALL_LIMIT;
     char ckpt_file[1500];
     lubd_pathf(ckpt_file, sizeof ckpt_file, "%s/checkpoint.h5", a->out_dir);
-    const double ckpt_time = a->killed_outside ? mtime_of(ckpt_file) : -1.0;
+    const double ckpt_time = killed ? mtime_of(ckpt_file) : -1.0;
     a->have_ckpt = ckpt_time >= 0.0;
     const long long ckpt_step = a->have_ckpt ? lub_run_checkpoint_step(ckpt_file) : -1;
     char step_text[64] = "";
@@ -764,7 +786,7 @@ static void assess_kill_from_outside(job_attempt *a)
     else if (a->have_ckpt)
         snprintf(a->ckpt_note, sizeof a->ckpt_note,
                  "the checkpoint%s its engine started from (it wrote no periodic one)", step_text);
-    if (a->killed_outside)
+    if (killed)
         drop_superseded(a->out_dir, a->started_at);
 }
 
@@ -885,11 +907,23 @@ static void record_success(const job_attempt *a)
 }
 
 /* The failure message of the job into msg: the engine's end and diagnostic, or the kill from
- * outside and the checkpoint it left. */
+ * outside and the checkpoint it left, or the wall-clock limit and the checkpoint it left. */
 static void failure_message(job_attempt *a, const char *diag)
 {
     const lubd_claim *c = a->c;
-    if (a->killed_outside && a->have_ckpt)
+    char ckpt[1500];
+    lubd_pathf(ckpt, sizeof ckpt, "%s/checkpoint.h5", a->out_dir);
+    if (a->why == END_WALL_LIMIT && access(ckpt, F_OK) == 0)
+        snprintf(a->msg, sizeof a->msg,
+                 "engine failed (%s)%s%s; the run's checkpoint is kept with the job's files "
+                 "(checkpoint.h5): a job submitted with \"continue_from\": \"%s\" continues "
+                 "the run (lubdem_client.py extend %s '{}')",
+                 a->st_text, diag[0] ? ": " : "", diag, c->id, c->id);
+    else if (a->why == END_WALL_LIMIT)
+        snprintf(a->msg, sizeof a->msg,
+                 "engine failed (%s)%s%s; no checkpoint was kept (the engine had left none)",
+                 a->st_text, diag[0] ? ": " : "", diag);
+    else if (a->killed_outside && a->have_ckpt)
         snprintf(a->msg, sizeof a->msg,
                  "engine failed (killed by signal 9 (SIGKILL) on attempt %d, the last of %d, not "
                  "by this service: the kernel's OOM killer or an operator); %s is kept with the "
@@ -920,7 +954,9 @@ static void record_failure(job_attempt *a)
     finishing_beat beat = {a->w, a->c, 0.0, 0};
     char diag[600] = "";
     summary_diagnostic(a->out_dir, diag, sizeof diag);
-    if (!diag[0] && !a->killed_outside) /* a killed engine's last line says nothing of the kill */
+    const int killed = WIFSIGNALED(a->status) && WTERMSIG(a->status) == SIGKILL;
+    if (!diag[0] && !a->killed_outside && !(killed && a->why == END_WALL_LIMIT))
+        /* a killed engine's last line says nothing of the kill */
         log_diagnostic(a->log_path, a->log_from, diag, sizeof diag);
     /* 4 = cannot write output; 126/127 = the engine could not be executed: infrastructure. */
     int code = WIFEXITED(a->status) ? WEXITSTATUS(a->status) : -1;

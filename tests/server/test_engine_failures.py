@@ -20,7 +20,8 @@ recorded on its first attempt once the database takes it, and so is a failed run
 run directory is refused while the first runs, and a job left running by a service killed with
 SIGKILL runs again at once when the service restarts, not a lease later. Last, engines killed
 with SIGKILL (killed_by_signal): from outside, retried from their checkpoint; at the hard CPU
-time limit, not retried. A run stopped with the service whose checkpoint cannot be kept
+time limit, not retried. Engines stopped at the wall-clock limit (wall_limit) fail at once with
+their files. A run stopped with the service whose checkpoint cannot be kept
 (unkeepable_checkpoint) starts again, and its log says why; a job stopped with the service is
 served its stopped run's log until it runs again, dismissed or not (log_after_release); an attempt that runs again after a
 stop and crashes silently is not given its first run's last error line
@@ -136,6 +137,7 @@ def run():
         rec.stop()
     restart_after_kill(a)
     killed_by_signal(a)
+    wall_limit(a)
     log_after_release(a)
     silent_crash_after_restart(a)
     stale_summary_after_restart(a)
@@ -340,6 +342,48 @@ def killed_by_signal(a):
                 doc["message"].startswith("deleted: its results, files and log are removed (it "
                                           "had ended successful: completed)"),
                 "DELETE of a finished job: %s %s" % (st, doc))
+    finally:
+        srv.stop()
+
+
+def wall_limit(a):
+    """Engines stopped at the service's wall-clock limit (--wall-s; until 2026-12-07 there was
+    none, and an engine that hung without using CPU held its worker until the job was
+    dismissed). One that stops on SIGTERM (exit 5, its summary and checkpoint written) fails
+    with its files and says how to continue; one that ignores SIGTERM is killed after the grace
+    time and fails too, not retried as an engine killed from outside would be; one that
+    completes within the limit is not touched."""
+    srv = T.Server(a, "engine_failures_wall", workers=1,
+                   extra=["--wall-s", "2", "--grace-s", "1", "--max-attempts", "3"]).fresh()
+    tok = srv.token("grace")
+    srv.start()
+    try:
+        stops, hangs, quick = submit(srv, tok, 24), submit(srv, tok, 21), submit(srv, tok, 22)
+        final = T.wait_final(srv, tok, stops, timeout=60)
+        T.check(final["status"] == "failed" and final["attempt"] == 1 and
+                final["message"].startswith("engine failed (exit code 5, stopped by this service "
+                                            "at its wall-clock limit (2 s; lubdemd --wall-s)): "
+                                            "stopped by a signal (SIGTERM)") and
+                '"continue_from": "%s"' % stops in final["message"],
+                "engine stopped at the wall-clock limit: %s" % final)
+        st, _, res = srv.request("GET", "/jobs/%s/results" % stops, tok)
+        T.check(st == 422 and sorted(res.get("outputs") or {}) ==
+                ["checkpoint.h5", "result.h5", "summary.json"] and
+                res["summary"]["status"] == "interrupted",
+                "results of the job stopped at the wall-clock limit: %s %s" % (st, res))
+        final = T.wait_final(srv, tok, hangs, timeout=60)
+        T.check(final["status"] == "failed" and final["attempt"] == 1 and
+                final["message"].startswith(
+                    "engine failed (killed by signal 9 (SIGKILL) by this service at its "
+                    "wall-clock limit (2 s; lubdemd --wall-s): it did not stop within 1 s of "
+                    "SIGTERM (lubdemd --grace-s)); no checkpoint was kept") and
+                "SIGTERM ignored" not in final["message"],
+                "engine killed at the wall-clock limit: %s" % final)
+        final = T.wait_final(srv, tok, quick, timeout=60)
+        T.check(final["status"] == "successful", "quick job under the limit: %s" % final)
+        time.sleep(2.5)  # nothing is retried
+        for job in (stops, hangs):
+            T.check("requeued" not in events_of(srv, job), "retried: %s" % events_of(srv, job))
     finally:
         srv.stop()
 
