@@ -11,12 +11,17 @@ void lub_pair_step_stiffness(const lub_law_params *p, double a, double delta, do
     const double eta = p->eta > 0.0 ? p->eta : 0.0;
     const double e = p->eps > 0.0 ? p->eps : 0.0;
     const double x = exp(delta); /* 0 for a deeply compressed film: k_n -> g */
-    const int contact = x < e;
-    const double alpha_c = contact ? p->alpha : 0.0;
     const int normal_lub = (p->terms & LUB_TERM_NORMAL_LUB) && eta > 0.0;
+    /* without normal lubrication a pair held at the static floor is in the hard core: the law
+     * reports the whole g a (s - x) as a contact force (smooth spheres too) */
+    const int hard_core = !normal_lub && delta <= LUB_DELTA_STATIC_FLOOR;
+    const int contact = x < e || hard_core;
+    const double alpha_c = contact ? p->alpha : 0.0;
     if (normal_lub) {
         const double hx = dt * g / (1.5 * LUB_PI * eta * a) * x;
         *k_normal = g * (1.0 + alpha_c * hx) / (1.0 + (1.0 + alpha_c) * hx);
+    } else if (hard_core) {
+        *k_normal = g; /* until 2026-12-07 g alpha/(1 + alpha) here, and 0 for eps = 0 */
     } else {
         *k_normal = g * alpha_c / (1.0 + alpha_c); /* quasi-static: springs in series */
     }

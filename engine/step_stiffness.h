@@ -9,7 +9,9 @@
  * nu_n = 3/2 pi eta a^2, alpha_c = alpha in contact (x < eps), 0 outside):
  *   normal      k_n = g (1 + alpha_c h x) / (1 + (1 + alpha_c) h x)
  *               (g in series with the film dashpot nu_n/u and, in contact, the asperity
- *               spring alpha g; the quasi-static limit h -> inf gives g alpha_c/(1 + alpha_c));
+ *               spring alpha g; without normal lubrication (h = inf) g alpha_c/(1 + alpha_c),
+ *               and g in the hard core, where the law holds the gap at LUB_DELTA_STATIC_FLOOR
+ *               and the pair is a contact even for eps = 0);
  *   tangential  k_s = k_t                              in a frictional contact (stick bound),
  *               k_s = k_t nu_t / (nu_t + k_t dt)       otherwise (Maxwell element; 0 without
  *                                                      shear lubrication).

@@ -6,8 +6,10 @@
  *     contact, from a film much softer than g (h x >> 1) to one as stiff as g (h x << 1), within
  *     1e-5 relative (difference step 1e-7 of the gap);
  *  2. the limits: no normal lubrication gives 0 out of contact and g alpha/(1 + alpha) in
- *     contact; the tangential element is k_t in a frictional contact, the Maxwell value
- *     k_t nu_t/(nu_t + k_t dt) outside, 0 without shear lubrication;
+ *     contact, and g in the hard core (asperities crushed, or smooth spheres overlapping: the
+ *     law's own dF_n/du_n there, by a finite difference, with eps 0.02 and with eps 0, where
+ *     the pair is a frictional contact all the same); the tangential element is k_t in a frictional
+ * contact, the Maxwell value k_t nu_t/(nu_t + k_t dt) outside, 0 without shear lubrication;
  *  3. the Gershgorin rows bound the true largest eigenvalue of M^-1/2 K M^-1/2 (from above,
  *     and within a factor 3: 2.5 at most in these clusters), assembled
  *     here independently from the pairs' relative normal and tangential displacements (with the
@@ -92,6 +94,24 @@ static void check_limits(void)
     ST_CHECK(fabs(kn - 0.5 * p.k_bulk) <= 1e-12 * p.k_bulk,
              "no normal lubrication, contact: k_n %g (springs in series: g/2)", kn);
     ST_CHECK(ks == p.k_t, "frictional contact: k_s %g", ks);
+    /* the hard core (until 2026-12-07 g alpha/(1 + alpha) with eps > 0, and 0 for eps = 0) */
+    for (int smooth = 0; smooth <= 1; ++smooth) {
+        lub_law_params q = p;
+        q.eps = smooth ? 0.0 : q.eps;
+        const double s = smooth ? -0.005 : -0.05, ds = 1e-7;
+        const double fd = q.k_bulk *
+                          (normal_force(1e-3, s + ds, INFINITY, q.eps, q.alpha) -
+                           normal_force(1e-3, s - ds, INFINITY, q.eps, q.alpha)) /
+                          (2.0 * ds);
+        int contact = 0;
+        const double delta = lub_normal_solve(log(1e-3), s, INFINITY, q.eps, q.alpha, &contact);
+        lub_pair_step_stiffness(&q, a, delta, dt, &kn, &ks);
+        ST_CHECK(delta == LUB_DELTA_STATIC_FLOOR && contact &&
+                     fabs(fd - q.k_bulk) <= 1e-6 * q.k_bulk && fabs(kn - fd) <= 1e-6 * q.k_bulk &&
+                     ks == q.k_t,
+                 "hard core, eps %g: delta %g contact %d, k_n %g against the law's %g, k_s %g",
+                 q.eps, delta, contact, kn, fd, ks);
+    }
 
     p = law_with(LUB_TERM_ALL);
     lub_pair_step_stiffness(&p, a, log(0.3), dt, &kn, &ks);
