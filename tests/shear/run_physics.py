@@ -51,7 +51,8 @@ running anything (servo.png needs the runs' HDF5 files and is then left as it is
 plan that the table.csv lacks, and puts their rows in place of the CSV's (plan order); the
 other rows stay as the earlier sweep wrote them.
 --check: exit 1 if a criterion fails that is not in KNOWN_MISSES (the committed table's misses,
-listed below the plan; printed with known_miss=1 and counted in physics_known_misses). A
+listed below the plan; printed with known_miss=1 and counted in physics_known_misses), or a
+known miss that leaves its band (outside_band=1: the miss grew, or overshot the reference). A
 tolerance criterion outside KNOWN_MISSES fails only when missed by more than two standard
 errors (marginal=1 otherwise). With --from-csv it also fails (table_plan_mismatches=K) when
 the table is not the plan's: a case without a row, a row outside the plan, or a row run with
@@ -562,33 +563,44 @@ def plot(out, rows, n):
 
 
 # Criteria of the issue that the engine misses (README "simple_shear"; evidence in
-# tests/shear/README.md, "How each criterion fares"): they are
-# evaluated and printed like the others (known_miss=1) but do not fail --check. Any other
-# criterion fails --check only if it misses its tolerance by more than two standard errors
-# (a miss within them is printed with marginal=1: the statistics of one 10-strain run cannot
+# tests/shear/README.md, "How each criterion fares"): they are evaluated and printed like the
+# others (known_miss=1) but do not fail --check as long as the miss stays within its band: each
+# maps to the largest deviation accepted (phi: phi - phi_ref; mu, eta_r: value/ref - 1), on the
+# side of the committed miss, and the band runs from it to the criterion's own tolerance on the
+# other side (a miss that grows, or one that overshoots the reference, fails; until 2026-12-07
+# a known miss passed at any value). The limits are the committed deviation widened by the
+# spread seen over seeds, N and stiffness in tests/shear/README.md, and at least three of its
+# standard errors; a value beyond one by less than two standard errors is marginal=1, as for
+# the other criteria. Any other criterion fails --check only if it misses its tolerance by more
+# than two standard errors (marginal=1 within them: the statistics of one 10-strain run cannot
 # tell it from a pass). A known miss that passes is printed with now_passes=1.
 KNOWN_MISSES = {
     # ref (cut-off 1a): too little far-field lubrication in dilute states
-    "phi_ref_iv_1", "mu_ref_iv_1", "phi_ref_iv_0.1", "eta_r_ref_phi_0.35",
+    # committed: phi +0.066 +- 0.005 / mu -12.5 +- 3 % at Iv = 1, phi +0.017 at 0.1,
+    # eta_r -44 +- 3 % at phi 0.35
+    "phi_ref_iv_1": 0.085, "mu_ref_iv_1": -0.22, "phi_ref_iv_0.1": 0.03,
+    "eta_r_ref_phi_0.35": -0.55,
     # mu_m = 1: mu 12-15 % above the §2 law (valid for mu_m >= 0.36) in both configurations,
     # 23 % for delaunay at Iv = 0.1 (ref: +8 %)
-    "mu_ref_mu1_iv_0.01", "mu_ref_mu1_iv_0.001",
-    "mu_delaunay_mu1_iv_0.01", "mu_delaunay_mu1_iv_0.001", "mu_delaunay_mu1_iv_0.1",
+    "mu_ref_mu1_iv_0.01": 0.20, "mu_ref_mu1_iv_0.001": 0.20,
+    "mu_delaunay_mu1_iv_0.01": 0.22, "mu_delaunay_mu1_iv_0.001": 0.20,
+    "mu_delaunay_mu1_iv_0.1": 0.30,
     # mu_m = 0 at Iv = 0.1: phi 0.041 (ref) and 0.028 (delaunay) above phi_m(0)/(1 + Iv^0.5);
     # 0.008-0.012 below it at Iv <= 1e-3: the frictionless dilatancy is too weak
     # (+0.027-0.029 in both at N = 1000; the ref N = 300 cell partly orders in some packing
     # seeds, tests/shear/README.md)
-    "phi_ref_mu0_iv_0.1", "phi_delaunay_mu0_iv_0.1",
+    "phi_ref_mu0_iv_0.1": 0.055, "phi_delaunay_mu0_iv_0.1": 0.045,
     # delaunay: phi right down to Iv = 0.1, mu 14-19 % high at Iv = 1 and 0.1; at 0.01 the
     # committed table has +9.1 % (now_passes=1), four 30-strain seeds +10.2 +- 0.25 %
     # (tests/shear/README.md). The phi target at Iv = 1 is the extrapolation of a correlation
     # that the seed article validates below Iv = 0.1 only (seed 000 l.1012, Fig. 6 caption)
-    "phi_delaunay_iv_1", "mu_delaunay_iv_1", "mu_delaunay_iv_0.1", "mu_delaunay_iv_0.01",
-    # phi = 0.55 = 0.96 phi_m: +64 / +80 % in the table (ref / delaunay, stiffness 8e6, N = 300;
-    # +75 / +74 % at 4e6); at 4e6, N = 1000 gives +48 % (ref) and +50 % (delaunay), four
-    # 30-strain N = 300 seeds +53 % and +78 %; the 1e6 runs (+17-30 %) were not rigid
-    # (tests/shear/README.md): phi_m 0.005 below the law's
-    "eta_r_ref_phi_0.55", "eta_r_delaunay_phi_0.55",
+    "phi_delaunay_iv_1": 0.055, "mu_delaunay_iv_1": 0.20, "mu_delaunay_iv_0.1": 0.25,
+    "mu_delaunay_iv_0.01": 0.15,
+    # phi = 0.55 = 0.96 phi_m: +64 / +80 % in the table (ref / delaunay, stiffness 8e6, N = 300,
+    # standard errors 21 / 17 %; +75 / +74 % at 4e6); at 4e6, N = 1000 gives +48 % (ref) and
+    # +50 % (delaunay), four 30-strain N = 300 seeds +53 % and +78 %; the 1e6 runs (+17-30 %)
+    # were not rigid (tests/shear/README.md): phi_m 0.005 below the law's
+    "eta_r_ref_phi_0.55": 1.2, "eta_r_delaunay_phi_0.55": 1.2,
 }
 
 
@@ -596,17 +608,28 @@ def check(by, rows):
     """Returns (failures, known misses that missed)."""
     fails, missed = [], []
 
-    def crit(name, ok, detail, ok_2sigma=None):
+    def crit(name, ok, detail, ok_2sigma=None, dev=None, tol=None, sigma=0.0):
         """ok: within the tolerance; ok_2sigma: within it after moving the value two standard
-        errors towards the reference (None: same as ok)."""
+        errors towards the reference (None: same as ok). dev, tol, sigma: the signed deviation,
+        the tolerance and the standard error of the deviation, which a known miss's band
+        needs (every criterion in KNOWN_MISSES gives them)."""
         known = name in KNOWN_MISSES
         marginal = not ok and bool(ok_2sigma)
+        band = ""
+        if known and not ok:
+            limit = KNOWN_MISSES[name]
+            lo, hi = (-tol, limit) if limit > 0 else (limit, tol)
+            inside = lo <= dev <= hi
+            marginal = not inside and lo - 2 * sigma <= dev <= hi + 2 * sigma
+            band = f" band=[{lo:g},{hi:g}] dev={dev:.4g}" + \
+                ("" if inside else " outside_band=1") + (" marginal=1" if marginal else "")
+            known = inside
         tag = (" known_miss=1" if known and not ok else "") + \
             (" now_passes=1" if known and ok else "") + \
-            (" marginal=1" if marginal and not known else "")
-        print(f"criterion={name} ok={int(bool(ok))}{tag} {detail}")
+            (" marginal=1" if marginal and not known and not band else "")
+        print(f"criterion={name} ok={int(bool(ok))}{tag}{band} {detail}")
         if not ok and not known and not marginal:
-            fails.append(f"{name}: {detail}")
+            fails.append(f"{name}: {detail}{band}")
         if not ok and known:
             missed.append(name)
 
@@ -637,12 +660,14 @@ def check(by, rows):
         if r["group"] in "AB" and r["config"] in ("ref", "delaunay") and r["phi"]:
             crit(f"phi_{r['name']}", abs(r["phi"] - r["phi_ref"]) <= 0.015,
                  f"phi={r['phi']:.4f}+-{err(r, 'phi'):.4f} ref={r['phi_ref']:.4f}",
-                 abs(r["phi"] - r["phi_ref"]) <= 0.015 + 2 * err(r, "phi"))
+                 abs(r["phi"] - r["phi_ref"]) <= 0.015 + 2 * err(r, "phi"),
+                 dev=r["phi"] - r["phi_ref"], tol=0.015, sigma=err(r, "phi"))
             if r.get("mu_ref"):
                 dev = abs(r["mu"] / r["mu_ref"] - 1)
                 crit(f"mu_{r['name']}", dev <= 0.10,
                      f"mu={r['mu']:.4f}+-{err(r, 'mu'):.4f} ref={r['mu_ref']:.4f}",
-                     dev <= 0.10 + 2 * err(r, "mu") / r["mu_ref"])
+                     dev <= 0.10 + 2 * err(r, "mu") / r["mu_ref"],
+                     dev=r["mu"] / r["mu_ref"] - 1, tol=0.10, sigma=err(r, "mu") / r["mu_ref"])
     # group R: counted at the contact radius, phi does not depend on the roughness (the
     # asperity shell is what moves phi; tests/shear/README.md "The PRF model is this law with
     # the nominal radius at the asperity tips"): within 0.005 or three combined standard errors
@@ -687,7 +712,8 @@ def check(by, rows):
             dev = abs(r["eta_r"] / e - 1)
             crit(f"eta_r_{r['name']}", dev <= 0.15,
                  f"eta_r={r['eta_r']:.4g}+-{err(r, 'eta_r'):.2g} ref={e:.4g}",
-                 dev <= 0.15 + 2 * err(r, "eta_r") / e)
+                 dev <= 0.15 + 2 * err(r, "eta_r") / e,
+                 dev=r["eta_r"] / e - 1, tol=0.15, sigma=err(r, "eta_r") / e)
     nl = [by.get("ref_nlonly_iv_0.1"), by.get("ref_nlonly_iv_1")]
     fu = [by.get("ref_iv_0.1"), by.get("ref_iv_1")]
     if all(x and x["phi"] for x in nl + fu):
