@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "queue.h"
+#include "worker.h"
 
 typedef struct {
     pid_t pid;         /* 0 = not running */
@@ -75,6 +76,27 @@ static void build_argv(const lubd_config *c, int index, worker_argv *w)
     NUM("--keep-checkpoints", c->keep_checkpoints)
 #undef NUM
     w->argv[a] = NULL;
+}
+
+/* After worker `index` (process pid) ended with `status`: lubd_worker_keep_dead_worker_checkpoints
+ * for the jobs it held. */
+static void keep_dead_worker_checkpoints(const lubd_config *cfg, sqlite3 *db, int index, pid_t pid,
+                                         int status)
+{
+    char name[64], how[64];
+    snprintf(name, sizeof name, "w%d-pid%ld", index, (long)pid);
+    if (WIFSIGNALED(status))
+        snprintf(how, sizeof how, "signal %d", WTERMSIG(status));
+    else
+        snprintf(how, sizeof how, "exit code %d", WEXITSTATUS(status));
+    const int kept = lubd_worker_keep_dead_worker_checkpoints(cfg, db, name, how);
+    if (kept < 0)
+        fprintf(stderr, "lubdemd: cannot keep the checkpoints of the jobs of worker %s\n", name);
+    else if (kept > 0 && !cfg->quiet)
+        fprintf(stderr,
+                "lubdemd: %d job(s) of worker %s on their last attempt failed with the "
+                "checkpoint their engine left\n",
+                kept, name);
 }
 
 static pid_t spawn_worker(const lubd_config *cfg, int index)
@@ -158,6 +180,10 @@ int lubd_supervise(const lubd_config *cfg, lubd_server *srv)
                     fprintf(stderr, "lubdemd: worker w%d (pid %ld) died (%s %d); restarting\n", i,
                             (long)pid, WIFSIGNALED(status) ? "signal" : "exit",
                             WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
+                /* its engine died with it (PR_SET_PDEATHSIG): a job it held on its last
+                 * attempt keeps the checkpoint that engine left (until 2026-12-07 the reaper
+                 * failed it without, a lease later) */
+                keep_dead_worker_checkpoints(cfg, db, i, pid, status);
             }
         }
     }

@@ -1048,13 +1048,15 @@ static void job_ended(worker_ctx *w, const lubd_claim *c)
         fprintf(stderr, "lubdemd worker %s: %s\n", w->name, why);
 }
 
-/* One job left running on its last attempt by a service that died (its lease_token still
- * set, as the reaper finds it): when its engine left a checkpoint, what a continuation needs
- * is kept and the job fails with it, as after an engine killed from outside on its last
- * attempt. The files older than the attempt's claim are an earlier run's, treated as after an
- * engine run with --resume that died by a signal (drop_stale). Returns 1 when
- * the job was failed with its checkpoint, 0 when it is left to the reaper, -1 on an error. */
-static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_at)
+/* One job left running on its last attempt by a service that died, or by a worker that died
+ * (its lease_token still set, as the reaper finds it; `cause` says which, as the message's
+ * subject): when its engine left a checkpoint, what a continuation needs is kept and the job
+ * fails with it, as after an engine killed from outside on its last attempt. The files older
+ * than the attempt's claim are an earlier run's, treated as after an engine run with --resume
+ * that died by a signal (drop_stale). Returns 1 when the job was failed with its checkpoint,
+ * 0 when it is left to the reaper, -1 on an error. */
+static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_at,
+                                  const char *cause)
 {
     job_attempt a = {.w = w, .c = c, .resume_from = -1, .log_fd = -1};
     attempt_paths(&a);
@@ -1069,11 +1071,10 @@ static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_a
     if (step >= 0)
         snprintf(step_text, sizeof step_text, " of step %lld", step);
     snprintf(a.msg, sizeof a.msg,
-             "failed: the service stopped without releasing it (crash or kill -9) during "
-             "attempt %d, the last of %d; the checkpoint%s (%s) is kept with the job's files "
-             "(checkpoint.h5): a job submitted with \"continue_from\": \"%s\" continues the "
-             "run (lubdem_client.py extend %s '{}')",
-             c->attempt, c->max_attempts, step_text,
+             "failed: %s during attempt %d, the last of %d; the checkpoint%s (%s) is kept with "
+             "the job's files (checkpoint.h5): a job submitted with \"continue_from\": \"%s\" "
+             "continues the run (lubdem_client.py extend %s '{}')",
+             cause, c->attempt, c->max_attempts, step_text,
              ckpt_time >= claimed_at ? "the last periodic one its engine wrote"
                                      : "the one its engine started from",
              c->id, c->id);
@@ -1095,7 +1096,10 @@ static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_a
     return done;
 }
 
-int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db)
+/* The jobs on their last attempt leased to `worker` (NULL: to any worker) whose engines left
+ * checkpoints fail with them (keep_orphan_checkpoint, `cause` in their messages). */
+static int keep_checkpoints_of(const lubd_config *cfg, sqlite3 *db, const char *worker,
+                               const char *cause)
 {
     sqlite3_stmt *st;
     if (lubd_db_prepare(db,
@@ -1103,9 +1107,11 @@ int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db)
                         "j.max_attempts, (SELECT max(e.at) FROM job_events e WHERE e.job_id = "
                         "j.id AND e.token = j.lease_token AND e.event = 'claimed') FROM jobs j "
                         "WHERE j.state = 'running' AND j.attempt >= j.max_attempts AND "
-                        "j.lease_token IS NOT NULL",
+                        "j.lease_token IS NOT NULL AND (?1 IS NULL OR j.worker = ?1)",
                         &st) != 0)
         return -1;
+    if (worker)
+        sqlite3_bind_text(st, 1, worker, -1, SQLITE_TRANSIENT);
     enum { MAX_ORPHANS = 256 };
     lubd_claim *claims = calloc(MAX_ORPHANS, sizeof *claims);
     double *claimed_at = calloc(MAX_ORPHANS, sizeof *claimed_at);
@@ -1125,7 +1131,7 @@ int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db)
     int kept = 0;
     worker_ctx w = {cfg, db, "lubdemd", &worker_stop_flag};
     for (int i = 0; i < n; ++i) {
-        const int done = keep_orphan_checkpoint(&w, &claims[i], claimed_at[i]);
+        const int done = keep_orphan_checkpoint(&w, &claims[i], claimed_at[i], cause);
         if (done < 0)
             fprintf(stderr, "lubdemd: job %s: cannot keep the checkpoint its engine left\n",
                     claims[i].id);
@@ -1134,6 +1140,20 @@ int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db)
     free(claims);
     free(claimed_at);
     return kept;
+}
+
+int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db)
+{
+    return keep_checkpoints_of(cfg, db, NULL,
+                               "the service stopped without releasing it (crash or kill -9)");
+}
+
+int lubd_worker_keep_dead_worker_checkpoints(const lubd_config *cfg, sqlite3 *db,
+                                             const char *worker, const char *how)
+{
+    char cause[200];
+    snprintf(cause, sizeof cause, "its worker process died (%s)", how);
+    return keep_checkpoints_of(cfg, db, worker, cause);
 }
 
 int lubd_worker_main(const lubd_config *cfg, const char *name)

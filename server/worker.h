@@ -23,4 +23,13 @@ int lubd_worker_main(const lubd_config *cfg, const char *name);
  * The reaper fails the others. Returns how many were failed so, or -1 on a database error. */
 int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db);
 
+/* The same while the service runs, for the jobs of one worker process that died (its name as
+ * the jobs' worker column holds it, "w<slot>-pid<pid>"; its engine is killed with it,
+ * PR_SET_PDEATHSIG): those on their last attempt whose engine had written a checkpoint fail at
+ * once with it, their message saying "its worker process died (<how>)". The reaper requeues
+ * the others, or fails them, when their leases expire. Returns how many were failed so, or -1
+ * on a database error. Checksums the kept files (blocks for as long). */
+int lubd_worker_keep_dead_worker_checkpoints(const lubd_config *cfg, sqlite3 *db,
+                                             const char *worker, const char *how);
+
 #endif

@@ -27,7 +27,8 @@ served its stopped run's log until it runs again, dismissed or not (log_after_re
 stop and crashes silently is not given its first run's last error line
 (silent_crash_after_restart), nor served its first run's summary (stale_summary_after_restart);
 a job whose service was killed on its last attempt keeps its engine's checkpoint
-(service_killed_on_last_attempt)."""
+(service_killed_on_last_attempt), and so does one whose worker process was killed
+(worker_killed_on_last_attempt)."""
 import hashlib
 import os
 import resource
@@ -142,6 +143,7 @@ def run():
     silent_crash_after_restart(a)
     stale_summary_after_restart(a)
     service_killed_on_last_attempt(a)
+    worker_killed_on_last_attempt(a)
     unkeepable_checkpoint(a)
 
 
@@ -156,6 +158,43 @@ def plant_unremovable(path, depth=24):
         os.close(fd)
         fd = down
     os.close(fd)
+
+
+def worker_killed_on_last_attempt(a):
+    """A worker process killed (SIGKILL) while the service runs, during a job's last attempt
+    (--max-attempts 1), after its engine wrote a periodic checkpoint: the engine dies with it,
+    and the job fails at once (not a 60 s lease later) with that checkpoint kept, its message
+    saying that the worker died and how to continue. Until 2026-12-07 the reaper failed it when
+    the lease expired, without its files."""
+    srv = T.Server(a, "engine_failures_worker_killed", workers=1,
+                   extra=["--lease-s", "60", "--max-attempts", "1"]).fresh()
+    tok = srv.token("hana")
+    srv.start()
+    try:
+        job = submit(srv, tok, 25)
+        wait_running(srv, tok, job)
+        log = wait_log(srv, tok, job, b"checkpoint written", 10)
+        T.check(b"checkpoint written" in log, "the engine's log: %s" % log)
+        with sqlite3.connect(os.path.join(srv.run, "queue.db")) as db:
+            worker = db.execute("SELECT worker FROM jobs WHERE id = ?", (job,)).fetchone()[0]
+        os.kill(int(worker.split("-pid")[1]), signal.SIGKILL)
+        final = T.wait_final(srv, tok, job, timeout=20)
+        T.check(final["status"] == "failed" and final["attempt"] == 1 and
+                final["message"].startswith("failed: its worker process died (signal 9) during "
+                                            "attempt 1, the last of 1; the checkpoint") and
+                '"continue_from": "%s"' % job in final["message"],
+                "job of a killed worker on its last attempt: %s" % final)
+        st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+        T.check(st == 500 and sorted(res.get("outputs") or {}) ==
+                ["checkpoint-result.h5", "checkpoint.h5"],
+                "results of the job of the killed worker: %s %s" % (st, res))
+        client = lubdem_client.Client("http://127.0.0.1:%d" % srv.port, tok)
+        T.check(client.stopped_with_checkpoint(job), "the client sees a run it can continue")
+        quick = submit(srv, tok, 22)  # the restarted worker takes the next job
+        final = T.wait_final(srv, tok, quick, timeout=30)
+        T.check(final["status"] == "successful", "job after the worker's restart: %s" % final)
+    finally:
+        srv.stop()
 
 
 def unkeepable_checkpoint(a):
