@@ -17,6 +17,9 @@
  *    outside [1e-100, 1e100], an absurd spin about the normal, quasi-static law) are
  *    reported as not done and their state is bit-for-bit untouched; a regular far pair is
  *    accepted.
+ * 4. Unequal radii (a = 1.05, 2.75) against formulas written out in the test, not against the
+ *    scalar law: each torque arm r_i + u_n/2, the shear increment (zero for rolling without
+ *    sliding) and the a^3 of the roll/twist coefficients.
  * Prints name=value lines; exits non-zero on failure. */
 #include "contact_batch.h"
 #include "contact_law.h"
@@ -283,11 +286,166 @@ static void test_declined(void)
     printf("batch_isa=%s\nbatch_width=%d\n", lub_pair_batch_isa(), lub_pair_batch_width());
 }
 
+static vec3 tangential(vec3 f, vec3 n) { return v3_axpy(f, -v3_dot(f, n), n); }
+
+/* 4. Unequal radii (r1 = 0.8, r2 = 1.3, a = (r1 + r2)/2 = 1.05) against the formulas written out
+ * here, not against lub_pair_step (an error shared by both laws passes section 2):
+ *  - torque arms (notes §4.6): torque_i = (r_i + u_n/2) n x F_s, F_s = tangential part of the
+ *    force on body 1, roll/twist off; lubricated gap, Maxwell element, stick and slip;
+ *  - shear increment (notes §1.7): sticking contacts with no stored force, F_s = k_t du_s, du_s
+ *    the tangential relative velocity of the facing material points (body 1's at r1 n, body
+ *    2's at -r2 n) times dt: zero for rolling without sliding (r1 w1_t = -r2 w2_t);
+ *  - roll/twist coefficients pi eta a^3 (3/2 + 63x/500) ln(1/x) and pi eta a^3 x ln(1/x),
+ *    exponentially integrated, for a = 1.05 and a = 2.75, fixed and free bodies (shear
+ *    terms off: the total torques are these alone). */
+static void test_unequal_radii(void)
+{
+    const double dt = 1e-3;
+    const vec3 n = unit(v3(0.3, -0.5, 0.8));
+    const vec3 wt = tangential(v3(0.7, 0.2, -0.4), n);
+    lub_law_params p = {.eta = 1.0,
+                        .k_bulk = 1e4,
+                        .alpha = 1.0,
+                        .k_t = 5e3,
+                        .eps = 0.01,
+                        .mu = 0.5,
+                        .terms = LUB_TERM_ALL & ~(LUB_TERM_ROLL | LUB_TERM_TWIST)};
+    /* arms and increment: one batch */
+    const struct {
+        double s, x0, fs0; /* u_n / a, stored u/a, stored |F_s| */
+        vec3 w1, w2;
+        int stick; /* 1: sticking, F_s = k_t du_s */
+    } cases[] = {
+        {0.3, 0.3, 1.0, v3(0.5, -0.3, 0.2), v3(-0.2, 0.6, 0.4), 0},
+        {0.02, 0.02, 1.0, v3(0.5, -0.3, 0.2), v3(-0.2, 0.6, 0.4), 0},
+        {-0.004, 0.003, 1.0, v3(0.5, -0.3, 0.2), v3(-0.2, 0.6, 0.4), 0},
+        {-0.004, 0.003, 100.0, v3(0.5, -0.3, 0.2), v3(-0.2, 0.6, 0.4), 0},
+        {-0.004, 0.003, 0.0, v3_axpy(wt, 0.9, n), v3_axpy(v3_scale(wt, -0.8 / 1.3), -0.4, n), 1},
+        {-0.004, 0.003, 0.0, wt, v3(0, 0, 0), 1},
+        {-0.004, 0.003, 0.0, v3(0, 0, 0), wt, 1},
+        {-0.004, 0.003, 0.0, v3(0.5, -0.3, 0.2), v3(-0.2, 0.6, 0.4), 1},
+    };
+    enum { NC = sizeof cases / sizeof cases[0] };
+    pair_case cs[NC];
+    lub_pair_state sb[NC];
+    lub_pair_batch b;
+    b.n = NC;
+    for (int l = 0; l < NC; ++l) {
+        const double r1 = 0.8, r2 = 1.3, a = 0.5 * (r1 + r2);
+        memset(&cs[l], 0, sizeof cs[l]);
+        cs[l].in.branch = v3_scale(n, r1 + r2 + cases[l].s * a);
+        cs[l].in.r1 = r1, cs[l].in.r2 = r2;
+        cs[l].in.v1 = v3(0.1, -0.2, 0.3);
+        /* stick lanes: v2 - v1 along n, so du_s comes from the spins alone */
+        cs[l].in.v2 = cases[l].stick ? v3_axpy(cs[l].in.v1, 0.25, n) : v3(-0.3, 0.2, 0.1);
+        cs[l].in.w1 = cases[l].w1, cs[l].in.w2 = cases[l].w2;
+        cs[l].in.inv_inertia1 = 2.5 / (r1 * r1), cs[l].in.inv_inertia2 = 2.5 / (r2 * r2);
+        cs[l].in.dt = dt;
+        lub_pair_state_set_gap(&cs[l].st, log(cases[l].x0));
+        cs[l].st.fs = v3_scale(unit(tangential(v3(3.0, -1.0, 2.0), n)), cases[l].fs0);
+        cs[l].st.n_prev = n;
+        sb[l] = cs[l].st;
+        fill_lane(&b, l, &cs[l], &sb[l]);
+    }
+    int acc = lub_pair_step_batch(&p, dt, &b);
+    CHECK(acc == NC, "unequal radii: %d of %d lanes accepted", acc, NC);
+    double max1 = 0.0, max2 = 0.0, max_roll = 0.0, max_fs = 0.0;
+    for (int l = 0; l < NC; ++l) {
+        if (!b.done[l])
+            continue;
+        const double r1 = cs[l].in.r1, r2 = cs[l].in.r2;
+        const vec3 nn = unit(cs[l].in.branch);
+        const double u = v3_norm(cs[l].in.branch) - r1 - r2;
+        const vec3 fs = tangential(v3(b.f1x[l], b.f1y[l], b.f1z[l]), nn);
+        const vec3 nxf = v3_cross(nn, fs);
+        const double scale = (r2 + fabs(u)) * v3_norm(fs) + 1e-300;
+        const double e1 =
+            vdiff(v3(b.t1x[l], b.t1y[l], b.t1z[l]), v3_scale(nxf, r1 + 0.5 * u)) / scale;
+        const double e2 =
+            vdiff(v3(b.t2x[l], b.t2y[l], b.t2z[l]), v3_scale(nxf, r2 + 0.5 * u)) / scale;
+        if (l != 4) { /* lane 4 (rolling) has F_s = 0 */
+            CHECK(v3_norm(fs) > 1e-3, "unequal radii lane %d: no shear force", l);
+            CHECK(e1 < 1e-12, "batch unequal radii lane %d: torque1 != (r1 + u_n/2) n x F_s: %.3e",
+                  l, e1);
+            CHECK(e2 < 1e-12, "batch unequal radii lane %d: torque2 != (r2 + u_n/2) n x F_s: %.3e",
+                  l, e2);
+            max1 = fmax(max1, e1);
+            max2 = fmax(max2, e2);
+        }
+        if (cases[l].stick) {
+            /* sticking: |k_t du_s| well inside mu alpha g a (eps - x) */
+            const vec3 vc1 = v3_cross(cases[l].w1, v3_scale(nn, r1));
+            const vec3 vc2 = v3_cross(cases[l].w2, v3_scale(nn, -r2));
+            const vec3 ref = v3_scale(tangential(v3_sub(vc2, vc1), nn), p.k_t * dt);
+            const double e = vdiff(fs, ref) / (p.k_t * dt * r1 * v3_norm(wt));
+            CHECK(b.contact[l], "unequal radii lane %d: contact expected", l);
+            CHECK(e < 1e-12, "batch unequal radii lane %d: F_s vs k_t du_s: %.3e (|F_s| %.3e)", l,
+                  e, v3_norm(fs));
+            if (l == 4)
+                max_roll = fmax(max_roll, e);
+            else
+                max_fs = fmax(max_fs, e);
+        }
+    }
+    /* roll / twist coefficients */
+    const double radii[2][2] = {{0.8, 1.3}, {2.0, 3.5}};
+    const double inv[2][2] = {{0.0, 0.0}, {2.5, 1.7}};
+    const vec3 w1 = v3(0.3, 0.2, -0.1), w2 = v3(-0.4, 0.1, 0.5);
+    p.terms = LUB_TERM_NORMAL_LUB | LUB_TERM_ROLL | LUB_TERM_TWIST;
+    b.n = 4;
+    for (int l = 0; l < 4; ++l) {
+        const double r1 = radii[l / 2][0], r2 = radii[l / 2][1], a = 0.5 * (r1 + r2);
+        memset(&cs[l], 0, sizeof cs[l]);
+        cs[l].in.branch = v3_scale(n, r1 + r2 + 0.05 * a);
+        cs[l].in.r1 = r1, cs[l].in.r2 = r2;
+        cs[l].in.v1 = v3(0.1, -0.2, 0.3), cs[l].in.v2 = v3(-0.3, 0.2, 0.1);
+        cs[l].in.w1 = w1, cs[l].in.w2 = w2;
+        cs[l].in.inv_inertia1 = inv[l % 2][0], cs[l].in.inv_inertia2 = inv[l % 2][1];
+        cs[l].in.dt = dt;
+        lub_pair_state_set_gap(&cs[l].st, log(0.05));
+        cs[l].st.n_prev = n;
+        sb[l] = cs[l].st;
+        fill_lane(&b, l, &cs[l], &sb[l]);
+    }
+    acc = lub_pair_step_batch(&p, dt, &b);
+    CHECK(acc == 4, "unequal radii torques: %d of 4 lanes accepted", acc);
+    double max_t = 0.0;
+    for (int l = 0; l < 4; ++l) {
+        if (!b.done[l])
+            continue;
+        const double a = 0.5 * (cs[l].in.r1 + cs[l].in.r2), a3 = a * a * a;
+        const double inv_sum = cs[l].in.inv_inertia1 + cs[l].in.inv_inertia2;
+        const double x = exp(sb[l].delta), L = -sb[l].delta;
+        CHECK(sb[l].delta < 0.0, "unequal radii torques lane %d: u > a", l);
+        const double cr = LUB_PI * p.eta * a3 * (1.5 + 63.0 / 500.0 * x) * L;
+        const double ct = LUB_PI * p.eta * a3 * x * L;
+        const double kr = cr * dt * inv_sum, kt = ct * dt * inv_sum;
+        const double fr = kr > 0.0 ? -expm1(-kr) / kr : 1.0;
+        const double ft = kt > 0.0 ? -expm1(-kt) / kt : 1.0;
+        const vec3 Om = v3_sub(w2, w1);
+        const vec3 Omt = v3_scale(n, v3_dot(Om, n)), Omr = v3_sub(Om, Omt);
+        const vec3 T = v3_add(v3_scale(Omr, cr * fr), v3_scale(Omt, ct * ft));
+        const double e1 = vdiff(v3(b.t1x[l], b.t1y[l], b.t1z[l]), T) / v3_norm(T);
+        const double e2 = vdiff(v3(b.t2x[l], b.t2y[l], b.t2z[l]), v3_neg(T)) / v3_norm(T);
+        CHECK(e1 < 1e-11 && e2 < 1e-11,
+              "batch unequal radii a = %g, 1/I %g: roll+twist torques vs pi eta a^3 (...) ln(1/x): "
+              "%.3e / %.3e",
+              a, inv_sum, e1, e2);
+        max_t = fmax(max_t, fmax(e1, e2));
+    }
+    printf("batch_unequal_radii_torque1_arm_max_rel_err=%.3e\n", max1);
+    printf("batch_unequal_radii_torque2_arm_max_rel_err=%.3e\n", max2);
+    printf("batch_unequal_radii_rolling_fs_rel=%.3e\n", max_roll);
+    printf("batch_unequal_radii_stick_fs_vs_kt_du_max_rel_err=%.3e\n", max_fs);
+    printf("batch_unequal_radii_spin_torque_max_rel_err=%.3e\n", max_t);
+}
+
 int main(void)
 {
     test_math();
     test_batch_against_scalar();
     test_declined();
+    test_unequal_radii();
     printf("failures=%d\n", failures);
     return failures ? 1 : 0;
 }

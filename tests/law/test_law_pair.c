@@ -1,8 +1,11 @@
 /* test_law_pair.c — full per-pair law (lub_pair_step): conservation, frame invariance,
- * decomposition, switches, torques, new pairs, shear viscosity, error returns, and the
- * unfloored decay of a heavily compressed pair (delta far below -700, notes §11 P5).
+ * decomposition, switches, torques, new pairs, shear viscosity, error returns, the
+ * unfloored decay of a heavily compressed pair (delta far below -700, notes §11 P5), and, on
+ * unequal spheres (a != 1), each torque arm, the shear increment and the a^3 of the roll/twist
+ * coefficients against their formulas.
  * Prints name=value lines; exits non-zero on failure. */
 #include "contact_law.h"
+#include "contact_shear.h"
 #include "law_check.h"
 #include "law_rng.h"
 
@@ -523,6 +526,251 @@ static void test_compressed_decay(void)
     }
 }
 
+/* ---- unequal radii: r1 = 0.8, r2 = 1.3, a = (r1 + r2)/2 = 1.05 (notes §0.2, §1.4) ----
+ * The checks above cannot tell r1 from r2 or a^3 from a^2: the angular-momentum check sees only
+ * the sum of the two torque arms, a rigid motion gives a zero shear increment for any split of
+ * r1 w1 + r2 w2, and the torque coefficients are checked at a = 1. Here each quantity is
+ * compared with its formula written out in the test. */
+static const double UR1 = 0.8, UR2 = 1.3;
+
+static vec3 tangential(vec3 f, vec3 n) { return v3_axpy(f, -v3_dot(f, n), n); }
+
+/* Shear-force torque arms (notes §4.6): the arm of body i is r_i + u_n/2, the distance from its
+ * centre to the mid-gap point, and both bodies get (r_i + u_n/2) n x F_s (body 2: arm -n, force
+ * -F_s), F_s = the tangential part of the force on body 1. Lubricated gap (with roll/twist
+ * torques), near the roughness (Maxwell element), contact in stick and in slip, with the
+ * roll/twist terms on (their own outputs are subtracted) and off. */
+static void test_unequal_torque_arms(void)
+{
+    const double r1 = UR1, r2 = UR2, a = 0.5 * (r1 + r2);
+    const vec3 n = unit(v3(0.3, -0.5, 0.8));
+    const unsigned masks[2] = {LUB_TERM_ALL, LUB_TERM_ALL & ~(LUB_TERM_ROLL | LUB_TERM_TWIST)};
+    const struct {
+        double s, x0, fs0; /* u_n / a, stored u/a, stored |F_s| */
+    } cases[] = {{0.3, 0.3, 1.0}, {0.02, 0.02, 1.0}, {-0.004, 0.003, 1.0}, {-0.004, 0.003, 100.0}};
+    double max1 = 0.0, max2 = 0.0;
+    int n_slip = 0;
+    for (int m = 0; m < 2; ++m)
+        for (unsigned k = 0; k < sizeof cases / sizeof cases[0]; ++k) {
+            lub_law_params p = base_params();
+            p.terms = masks[m];
+            const double un = cases[k].s * a;
+            const lub_pair_input in = {.branch = v3_scale(n, r1 + r2 + un),
+                                       .v1 = v3(0.1, -0.2, 0.3),
+                                       .v2 = v3(-0.3, 0.2, 0.1),
+                                       .w1 = v3(0.5, -0.3, 0.2),
+                                       .w2 = v3(-0.2, 0.6, 0.4),
+                                       .r1 = r1,
+                                       .r2 = r2,
+                                       .inv_inertia1 = 2.5 / (r1 * r1),
+                                       .inv_inertia2 = 2.5 / (r2 * r2),
+                                       .dt = 1e-3};
+            lub_pair_state st;
+            memset(&st, 0, sizeof st);
+            lub_pair_state_set_gap(&st, log(cases[k].x0));
+            st.fs = v3_scale(unit(tangential(v3(3.0, -1.0, 2.0), n)), cases[k].fs0);
+            st.n_prev = n;
+            lub_pair_output o;
+            CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "unequal arms rc");
+            n_slip += o.slip;
+            const vec3 nn = unit(in.branch);
+            const double u = v3_norm(in.branch) - r1 - r2;
+            const vec3 fs = tangential(o.force1, nn);
+            const vec3 nxf = v3_cross(nn, fs);
+            const vec3 tl = v3_add(o.torque_roll1, o.torque_twist1);
+            const vec3 c1 = v3_add(v3_scale(nxf, r1 + 0.5 * u), tl);
+            const vec3 c2 = v3_sub(v3_scale(nxf, r2 + 0.5 * u), tl);
+            const double scale = (r2 + fabs(u)) * v3_norm(fs) + v3_norm(tl);
+            CHECK(v3_norm(fs) > 1e-3, "unequal arms case %u: no shear force", k);
+            const double e1 = v3_norm(v3_sub(o.torque1, c1)) / scale;
+            const double e2 = v3_norm(v3_sub(o.torque2, c2)) / scale;
+            CHECK(e1 < 1e-12, "unequal radii mask %u s %g: torque1 != (r1 + u_n/2) n x F_s: %.3e",
+                  p.terms, cases[k].s, e1);
+            CHECK(e2 < 1e-12, "unequal radii mask %u s %g: torque2 != (r2 + u_n/2) n x F_s: %.3e",
+                  p.terms, cases[k].s, e2);
+            max1 = fmax(max1, e1);
+            max2 = fmax(max2, e2);
+        }
+    CHECK(n_slip == 2, "unequal arms: %d slipping cases, expected 2", n_slip);
+    printf("unequal_radii_torque1_arm_max_rel_err=%.3e\n", max1);
+    printf("unequal_radii_torque2_arm_max_rel_err=%.3e\n", max2);
+}
+
+/* Objective shear increment (notes §1.7) on unequal spheres, against the relative velocity of
+ * the two material points facing each other, body 1's at r1 n and body 2's at -r2 n from their
+ * centres, with the translation scaled by alpha_r = (r1 + r2)/(r1 + r2 + u_n):
+ *   du_s = dt P[alpha_r (v2 - v1) + w2 x (-r2 n) - w1 x (r1 n)],  P = I - n n.
+ *  - rolling without sliding (r1 w1_t = -r2 w2_t, any spins about n, any approach velocity):
+ *    zero;
+ *  - worked cases with n = e_x, u_n = 0.1 (hand values) and random motions: the formula;
+ *  - the same through lub_pair_step: a sticking contact with no stored force has
+ *    F_s = k_t du_s exactly. */
+static void test_unequal_shear_increment(void)
+{
+    const double r1 = UR1, r2 = UR2, a = 0.5 * (r1 + r2), dt = 1e-3;
+    law_rng r = {2024};
+    double max_roll = 0.0, max_ref = 0.0;
+    for (int i = 0; i < 400; ++i) {
+        const vec3 n = unit(rand_vec(&r, 1.0));
+        const double un = a * law_rng_range(&r, -0.05, 1.0);
+        const vec3 wt = tangential(rand_vec(&r, 1.0), n);
+        const vec3 v1 = rand_vec(&r, 1.0);
+        if (i % 2 == 0) { /* rolling without sliding */
+            const vec3 w1 = v3_axpy(wt, law_rng_range(&r, -1.0, 1.0), n);
+            const vec3 w2 = v3_axpy(v3_scale(wt, -r1 / r2), law_rng_range(&r, -1.0, 1.0), n);
+            const vec3 v2 = v3_axpy(v1, law_rng_range(&r, -1.0, 1.0), n);
+            const vec3 du = lub_shear_increment(v1, v2, w1, w2, r1, r2, un, n, dt);
+            const double scale = dt * (r1 * v3_norm(wt) + v3_norm(v3_sub(v2, v1)) +
+                                       r1 * v3_norm(w1) + r2 * v3_norm(w2));
+            max_roll = fmax(max_roll, v3_norm(du) / scale);
+        } else {
+            const vec3 w1 = rand_vec(&r, 1.0), w2 = rand_vec(&r, 1.0), v2 = rand_vec(&r, 1.0);
+            const double alpha_r = (r1 + r2) / (r1 + r2 + un);
+            const vec3 vc1 = v3_cross(w1, v3_scale(n, r1));  /* body 1's point at r1 n */
+            const vec3 vc2 = v3_cross(w2, v3_scale(n, -r2)); /* body 2's point at -r2 n */
+            const vec3 ref = v3_scale(
+                tangential(v3_add(v3_scale(v3_sub(v2, v1), alpha_r), v3_sub(vc2, vc1)), n), dt);
+            const vec3 du = lub_shear_increment(v1, v2, w1, w2, r1, r2, un, n, dt);
+            const double scale =
+                dt * (alpha_r * v3_norm(v3_sub(v2, v1)) + r1 * v3_norm(w1) + r2 * v3_norm(w2));
+            max_ref = fmax(max_ref, v3_norm(v3_sub(du, ref)) / scale);
+        }
+    }
+    CHECK(max_roll < 1e-14, "unequal radii: rolling without sliding gives du_s = %.3e (rel)",
+          max_roll);
+    CHECK(max_ref < 1e-13, "unequal radii: du_s vs contact-point velocities: %.3e", max_ref);
+    /* hand values: n = e_x, u_n = 0.1, v2 - v1 = (0.5, 0.2, 0), alpha_r = 2.1/2.2;
+     * e_z x e_x = e_y, e_y x e_x = -e_z */
+    const double ar = 2.1 / 2.2;
+    const struct {
+        vec3 w1, w2, rate; /* du_s / dt */
+    } hand[] = {{v3(0, 0, 1), v3(0, 0, 0), v3(0, 0.2 * ar - 0.8, 0)},
+                {v3(0, 0, 0), v3(0, 0, 1), v3(0, 0.2 * ar - 1.3, 0)},
+                {v3(0.7, 2, 0.3), v3(0, 0, 0), v3(0, 0.2 * ar - 0.24, 1.6)},
+                {v3(0, 0, 1), v3(0, 0, -0.8 / 1.3), v3(0, 0.2 * ar, 0)}};
+    double max_hand = 0.0;
+    for (unsigned k = 0; k < sizeof hand / sizeof hand[0]; ++k) {
+        const vec3 du = lub_shear_increment(v3(0.1, 0.1, 0.1), v3(0.6, 0.3, 0.1), hand[k].w1,
+                                            hand[k].w2, r1, r2, 0.1, v3(1, 0, 0), dt);
+        const double e = v3_norm(v3_sub(du, v3_scale(hand[k].rate, dt))) / (dt * 1.3);
+        CHECK(e < 1e-14, "unequal radii hand case %u: du_s/dt = (%.17g, %.17g, %.17g)", k,
+              du.x / dt, du.y / dt, du.z / dt);
+        max_hand = fmax(max_hand, e);
+    }
+    /* through the full law: sticking contact, F_s(prev) = 0, so F_s = k_t du_s */
+    lub_law_params p = base_params();
+    const vec3 n = unit(v3(0.3, -0.5, 0.8));
+    const vec3 wt = tangential(v3(0.7, 0.2, -0.4), n);
+    const vec3 v1 = v3(0.1, -0.2, 0.3), v2 = v3_axpy(v1, 0.25, n);
+    const struct {
+        vec3 w1, w2;
+    } pc[] = {{v3_axpy(wt, 0.9, n), v3_axpy(v3_scale(wt, -r1 / r2), -0.4, n)}, /* rolling */
+              {wt, v3(0, 0, 0)},
+              {v3(0, 0, 0), wt},
+              {v3(0.5, -0.3, 0.2), v3(-0.2, 0.6, 0.4)}};
+    double max_law = 0.0;
+    for (unsigned k = 0; k < sizeof pc / sizeof pc[0]; ++k) {
+        const double un = -0.004 * a;
+        const lub_pair_input in = {.branch = v3_scale(n, r1 + r2 + un),
+                                   .v1 = v1,
+                                   .v2 = v2,
+                                   .w1 = pc[k].w1,
+                                   .w2 = pc[k].w2,
+                                   .r1 = r1,
+                                   .r2 = r2,
+                                   .inv_inertia1 = 2.5 / (r1 * r1),
+                                   .inv_inertia2 = 2.5 / (r2 * r2),
+                                   .dt = dt};
+        lub_pair_state st;
+        memset(&st, 0, sizeof st);
+        lub_pair_state_set_gap(&st, log(0.003));
+        st.n_prev = n;
+        lub_pair_output o;
+        CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "unequal stick rc");
+        CHECK(o.contact && !o.slip, "unequal stick case %u: contact %d slip %d", k, o.contact,
+              o.slip);
+        const vec3 vc1 = v3_cross(pc[k].w1, v3_scale(n, r1));
+        const vec3 vc2 = v3_cross(pc[k].w2, v3_scale(n, -r2));
+        const vec3 ref = v3_scale(tangential(v3_sub(vc2, vc1), n), p.k_t * dt); /* v2 - v1 || n */
+        const vec3 fs = tangential(o.force1, n);
+        const double e = v3_norm(v3_sub(fs, ref)) / (p.k_t * dt * r1 * v3_norm(wt));
+        CHECK(e < 1e-12, "unequal radii stick case %u: F_s vs k_t du_s: %.3e (|F_s| %.3e)", k, e,
+              v3_norm(fs));
+        max_law = fmax(max_law, e);
+    }
+    printf("unequal_radii_rolling_increment_max_rel=%.3e\n", max_roll);
+    printf("unequal_radii_increment_vs_contact_points_max_rel_err=%.3e\n", max_ref);
+    printf("unequal_radii_increment_hand_cases_max_rel_err=%.3e\n", max_hand);
+    printf("unequal_radii_stick_fs_vs_kt_du_max_rel_err=%.3e\n", max_law);
+}
+
+/* Roll and twist coefficients with a != 1 (notes §4.1-4.2, a = (r1 + r2)/2):
+ *   c_r = pi eta a^3 (3/2 + 63/500 x) ln(1/x),  c_t = pi eta a^3 x ln(1/x),  x = u/a,
+ * applied as c (1 - e^-k)/k, k = c dt (1/I1 + 1/I2) (c itself for fixed bodies). Radii
+ * (0.8, 1.3) and (2, 3.5) (a = 1.05, 2.75), fixed and free bodies; with the shear terms off the
+ * total torques are the lubrication torques alone (body 2: minus). */
+static void test_unequal_spin_coefficients(void)
+{
+    const double radii[2][2] = {{UR1, UR2}, {2.0, 3.5}};
+    const double inv[2][2] = {{0.0, 0.0}, {2.5, 1.7}};
+    const vec3 n = unit(v3(0.3, -0.5, 0.8));
+    const vec3 w1 = v3(0.3, 0.2, -0.1), w2 = v3(-0.4, 0.1, 0.5);
+    double max_r = 0.0, max_t = 0.0, max_tot = 0.0;
+    for (int ir = 0; ir < 2; ++ir)
+        for (int ii = 0; ii < 2; ++ii) {
+            lub_law_params p = base_params();
+            p.terms = LUB_TERM_NORMAL_LUB | LUB_TERM_ROLL | LUB_TERM_TWIST;
+            const double r1 = radii[ir][0], r2 = radii[ir][1], a = 0.5 * (r1 + r2);
+            const lub_pair_input in = {.branch = v3_scale(n, r1 + r2 + 0.05 * a),
+                                       .v1 = v3(0.1, -0.2, 0.3),
+                                       .v2 = v3(-0.3, 0.2, 0.1),
+                                       .w1 = w1,
+                                       .w2 = w2,
+                                       .r1 = r1,
+                                       .r2 = r2,
+                                       .inv_inertia1 = inv[ii][0],
+                                       .inv_inertia2 = inv[ii][1],
+                                       .dt = 1e-3};
+            lub_pair_state st;
+            memset(&st, 0, sizeof st);
+            lub_pair_state_set_gap(&st, log(0.05));
+            st.n_prev = n;
+            lub_pair_output o;
+            CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "unequal spin rc");
+            CHECK(o.delta < 0.0, "unequal spin: u > a");
+            const double x = exp(o.delta), L = -o.delta, inv_sum = inv[ii][0] + inv[ii][1];
+            const double a3 = a * a * a;
+            const double cr = LUB_PI * p.eta * a3 * (1.5 + 63.0 / 500.0 * x) * L;
+            const double ct = LUB_PI * p.eta * a3 * x * L;
+            const double kr = cr * in.dt * inv_sum, kt = ct * in.dt * inv_sum;
+            const double fr = kr > 0.0 ? -expm1(-kr) / kr : 1.0;
+            const double ft = kt > 0.0 ? -expm1(-kt) / kt : 1.0;
+            const vec3 Om = v3_sub(w2, w1);
+            const vec3 Omt = v3_scale(n, v3_dot(Om, n)), Omr = v3_sub(Om, Omt);
+            const vec3 Tr = v3_scale(Omr, cr * fr), Tt = v3_scale(Omt, ct * ft);
+            const double er = v3_norm(v3_sub(o.torque_roll1, Tr)) / v3_norm(Tr);
+            const double et = v3_norm(v3_sub(o.torque_twist1, Tt)) / v3_norm(Tt);
+            const vec3 T = v3_add(Tr, Tt);
+            const double e1 = v3_norm(v3_sub(o.torque1, T)) / v3_norm(T);
+            const double e2 = v3_norm(v3_add(o.torque2, T)) / v3_norm(T);
+            CHECK(er < 1e-12,
+                  "unequal radii a = %g, 1/I %g: roll torque vs pi eta a^3 (3/2 + 63x/500) "
+                  "ln(1/x): %.3e",
+                  a, inv_sum, er);
+            CHECK(et < 1e-12,
+                  "unequal radii a = %g, 1/I %g: twist torque vs pi eta a^3 x ln(1/x): %.3e", a,
+                  inv_sum, et);
+            CHECK(e1 < 1e-12 && e2 < 1e-12,
+                  "unequal radii a = %g, 1/I %g: total torques %.3e / %.3e", a, inv_sum, e1, e2);
+            max_r = fmax(max_r, er);
+            max_t = fmax(max_t, et);
+            max_tot = fmax(max_tot, fmax(e1, e2));
+        }
+    printf("unequal_radii_roll_coefficient_max_rel_err=%.3e\n", max_r);
+    printf("unequal_radii_twist_coefficient_max_rel_err=%.3e\n", max_t);
+    printf("unequal_radii_spin_total_torque_max_rel_err=%.3e\n", max_tot);
+}
+
 int main(void)
 {
     test_random_conservation_and_split();
@@ -531,6 +779,9 @@ int main(void)
     test_new_pairs_and_errors();
     test_shear_viscosity();
     test_compressed_decay();
+    test_unequal_torque_arms();
+    test_unequal_shear_increment();
+    test_unequal_spin_coefficients();
     printf("pair_failures=%d\n", failures);
     return failures ? 1 : 0;
 }
