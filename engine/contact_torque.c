@@ -11,7 +11,8 @@
  * N stiff pairs around one body can together remove up to N times its spin (overshoot,
  * growth for N >= 3). Passing inv_i = N_i / I_i (N_i = number of pairs of body i) gives each
  * pair the share I_i / N_i of the body's inertia; then the summed update of the spins is a
- * non-expansive map (see /tmp/readme-law.md and tests/law/test_law_matrix.c). */
+ * non-expansive map (see README.md "Roll/twist torques and stability with many neighbours" and
+ * tests/law/test_law_matrix.c). */
 #include "contact_torque.h"
 
 #include "contact_law.h"
