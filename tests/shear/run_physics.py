@@ -777,7 +777,8 @@ def check(by, rows):
 def plan_mismatches(rows, cases, n, quick):
     """A table.csv against the plan --check judges it by: one row per case of the plan, no row
     outside it, and every row run with the spec spec_for gives now (stiffness, St, strain,
-    cut-off, eps and the case's own keys such as Iv, mu_m, dt_safety). Not compared: the
+    cut-off, eps and the case's own keys such as Iv, mu_m, dt_safety), with the seed's
+    reference values the formulas give now (phi_ref, mu_ref, mu_c_ref). Not compared: the
     imposed phi (the row holds the measured one) and the law's terms and interaction set,
     which the CSV does not record beyond the config name. Returns one message per difference
     (empty: the table is the plan's)."""
@@ -798,8 +799,11 @@ def plan_mismatches(rows, cases, n, quick):
             continue
         # the row the plan would write, before any result: make_row with an empty summary
         want = make_row(c, spec_for(c, n, quick), 0, {}, float("nan"))
+        # the seed's reference values the criteria compare with are the formulas' of today
+        # (until 2026-12-07 the table's own were used unchecked)
         keys = ["stiffness", "St", "strain", "cutoff", "eps"] + \
-            [k for k in c if k in want and k not in ("name", "phi")]
+            [k for k in c if k in want and k not in ("name", "phi")] + \
+            [k for k in ("phi_ref", "mu_ref", "mu_c_ref") if k in want]
         for k in dict.fromkeys(keys):  # once each (a case may set St, eps or strain itself)
             if not same(r.get(k), want[k]):
                 msgs.append(f"{c['name']}: {k} is {r.get(k)} in the table, {want[k]} in the plan")

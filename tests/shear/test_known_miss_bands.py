@@ -9,7 +9,10 @@ outside_band=1 for that criterion (a miss that grew: mu_ref_iv_1 x 3, eta_r_ref_
 eta_r_delaunay_phi_0.55 x 10, phi_ref_mu0_iv_0.1 x 1.2, mu_delaunay_mu1_iv_0.01 x 2; one that
 overshot the reference: mu_ref_iv_1 x 1.4, +23 % against a tolerance of 10 %), or to exit 0
 when the value moves inside the band (eta_r_ref_phi_0.55 x 1.1, still known_miss=1). The
-unaltered table passes (shear.committed_table checks that too). Prints band_cases=N.
+unaltered table passes (shear.committed_table checks that too). Last, a table whose stored
+seed reference differs from the formula's (phi_ref of ref_iv_0.1 + 0.02) fails as a table
+that is not the plan's (until 2026-12-07 the criteria used the table's own references
+unchecked). Prints band_cases=N.
 
 usage: test_known_miss_bands.py --run-physics PATH --csv TABLE_CSV --out DIR
 """
@@ -65,6 +68,23 @@ def main():
         if not ok:
             print(f"FAIL: {name} {col} x {factor:g}: exit {p.returncode}, expected {want}")
             bad += 1
+    altered = [dict(r) for r in rows]
+    for r in altered:
+        if r["name"] == "ref_iv_0.1":
+            r["phi_ref"] = repr(float(r["phi_ref"]) + 0.02)
+    path = os.path.join(a.out, "altered_reference.csv")
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=fields)
+        w.writeheader()
+        w.writerows(altered)
+    p = subprocess.run([sys.executable, a.run_physics, "--from-csv", path, "--out",
+                        os.path.join(a.out, "out_reference"), "--check", "--quick"],
+                       capture_output=True, text=True)
+    seen = "table against plan: ref_iv_0.1: phi_ref is" in p.stderr
+    print(f"case=ref_iv_0.1:phi_ref+0.02 rc={p.returncode} want=1 named={int(seen)}")
+    if p.returncode != 1 or not seen:
+        print("FAIL: a stored reference that is not the formula's passes")
+        bad += 1
     print(f"band_cases={len(CASES)}")
     return 1 if bad else 0
 
