@@ -8,6 +8,7 @@
 #include "exec_request.h"
 #include "job_limits.h"
 #include "json_text.h"
+#include "oas_schema.h"
 #include "queue.h"
 #include "scene.h"
 #include "status_json.h"
@@ -53,6 +54,7 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
     json_error_t err;
     json_t *schema = json_load_file(path, JSON_PRESERVE_ORDER, &err);
     json_t *inputs = json_object();
+    char untranslated[400] = ""; /* the first input whose schema has no OpenAPI 3.0 form */
     json_t *props = json_object_get(schema, "properties");
     json_t *required = json_object_get(schema, "required");
     const char *key;
@@ -68,18 +70,30 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
                 req = 1;
         json_t *title = json_object_get(prop, "title");
         json_t *desc = json_object_get(prop, "description");
-        json_t *in = json_pack("{s:s, s:i, s:i, s:O}", "title",
+        /* OGC's input schema is an OpenAPI 3.0 Schema Object: the draft-07 file's translation
+         * (an empty schema, and inputsSchemaError, for one that has none) */
+        char why[300];
+        json_t *oas = lubd_oas_schema(prop, why, sizeof why);
+        if (!oas) {
+            if (!untranslated[0])
+                snprintf(untranslated, sizeof untranslated, "input %.60s: %s", key, why);
+            oas = json_object();
+        }
+        json_t *in = json_pack("{s:s, s:i, s:i, s:o}", "title",
                                json_is_string(title) ? json_string_value(title) : key, "minOccurs",
-                               req, "maxOccurs", 1, "schema", prop);
+                               req, "maxOccurs", 1, "schema", oas);
         if (json_is_string(desc))
             json_object_set(in, "description", desc);
         json_object_set_new(inputs, key, in);
     }
     json_object_set_new(o, "inputs", inputs);
-    if (schema)
-        json_object_set_new(o, "inputsSchema", schema);
-    else
+    if (!schema) {
         json_object_set_new(o, "inputsSchemaError", json_string(err.text));
+    } else {
+        json_object_set_new(o, "inputsSchema", schema); /* the draft-07 file as it is */
+        if (untranslated[0])
+            json_object_set_new(o, "inputsSchemaError", json_string(untranslated));
+    }
     json_t *outputs = json_pack(
         "{s:{s:s, s:s, s:{s:s, s:s}}, s:{s:s, s:s, s:{s:s, s:s, s:s}}}", "summary.json", "title",
         "summary", "description", "headline results (see schema/summary.schema.json)", "schema",

@@ -9,9 +9,12 @@ beginning instead of failing it (a continuation: from the checkpoint it continue
 deletion of that job while the continuation is queued hands over to it); completed
 simple_shear and resuspension jobs are extended to a larger strain; what a deletion leaves on
 disk (a failed hand-over, a service stopped before the folder was removed) is freed when the
-continuation ends and at the next start."""
+continuation ends and at the next start. The process descriptions serve each input's
+schema as an OpenAPI 3.0 Schema Object with the draft-07 file's bounds and values
+(check_input_schemas)."""
 import hashlib
 import json
+import math
 import os
 import shutil
 import signal
@@ -21,8 +24,138 @@ import sys
 import time
 
 import h5py
+import jsonschema
 
 import lubd_testlib as T
+
+# draft-07 keywords that OpenAPI 3.0 lacks (a served input schema holds none of them)
+DRAFT07_ONLY = ("const", "if", "then", "else", "$schema", "$id", "$comment", "$ref",
+                "definitions", "contains", "propertyNames", "dependencies", "patternProperties",
+                "additionalItems", "examples")
+
+
+def subschemas(node, path):
+    """(subschema, its path) of every place a schema holds one."""
+    for name, sub in node.get("properties", {}).items():
+        yield sub, "%s/properties/%s" % (path, name)
+    for k in ("items", "not", "additionalProperties"):
+        if isinstance(node.get(k), dict):
+            yield node[k], "%s/%s" % (path, k)
+    for k in ("allOf", "anyOf", "oneOf"):
+        for i, sub in enumerate(node.get(k, [])):
+            yield sub, "%s/%s/%d" % (path, k, i)
+
+
+def is_num(v):
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def draft07_bound(node, lower):
+    """The draft-07 node's tightest bound on one side: (value, exclusive) or None."""
+    m, e = node.get("minimum" if lower else "maximum"), node.get(
+        "exclusiveMinimum" if lower else "exclusiveMaximum")
+    c = ([(m, False)] if is_num(m) else []) + ([(e, True)] if is_num(e) else [])
+    if not c:
+        return None
+    return max(c) if lower else min(c, key=lambda b: (b[0], not b[1]))
+
+
+def oas_bound(node, lower):
+    m = node.get("minimum" if lower else "maximum")
+    return None if m is None else (m, node.get(
+        "exclusiveMinimum" if lower else "exclusiveMaximum") is True)
+
+
+def draft07_forms(node, path, bad, recurse=True):
+    """Appends to bad the draft-07-only forms of an OpenAPI 3.0 Schema Object."""
+    if "$ref" in node and path.startswith("openapi.json"):
+        return  # openapi.json's own references (#/components/...) are OpenAPI
+    for k, v in node.items():
+        if k in DRAFT07_ONLY:
+            bad.append("%s/%s present" % (path, k))
+        if k in ("exclusiveMinimum", "exclusiveMaximum") and not isinstance(v, bool):
+            bad.append("%s/%s = %r, not a boolean" % (path, k, v))
+        if k == "type" and (not isinstance(v, str) or v == "null"):
+            bad.append("%s/type = %r" % (path, v))
+    for sub, p in subschemas(node, path) if recurse else ():
+        draft07_forms(sub, p, bad)
+
+
+def compare_schema(draft, served, path, bad, count):
+    """Walks a draft-07 schema and its served translation side by side."""
+    if not isinstance(served, dict):
+        bad.append("%s: not an object" % path)
+        return
+    draft07_forms(served, path, bad, recurse=False)
+    for lower in (True, False):
+        want = draft07_bound(draft, lower)
+        count[0] += want is not None
+        if oas_bound(served, lower) != want:
+            bad.append("%s: %s bound %r, the draft-07 file's is %r" % (
+                path, "lower" if lower else "upper", oas_bound(served, lower), want))
+    if "const" in draft and served.get("enum") != [draft["const"]]:
+        bad.append("%s: const %r served as enum %r" % (path, draft["const"], served.get("enum")))
+    # the same verdicts, OpenAPI 3.0 read as draft-04 (boolean exclusive flags, no const), on
+    # the values at and next to each bound, the const, the default
+    probes = [draft[k] for k in ("const", "default") if k in draft]
+    for lower in (True, False):
+        b = draft07_bound(draft, lower)
+        if b:
+            probes += [b[0], math.nextafter(b[0], -math.inf), math.nextafter(b[0], math.inf)]
+    for x in probes:
+        if (jsonschema.Draft7Validator(draft).is_valid(x)
+                != jsonschema.Draft4Validator(served).is_valid(x)):
+            bad.append("%s: %r judged differently" % (path, x))
+    drafts = {p: sub for sub, p in subschemas(draft, path)}
+    serveds = {p: sub for sub, p in subschemas(served, path)}
+    if sorted(drafts) != sorted(serveds):
+        bad.append("%s: subschemas %s, the draft-07 file's %s" % (path, sorted(serveds),
+                                                                  sorted(drafts)))
+    for p in drafts.keys() & serveds.keys():
+        compare_schema(drafts[p], serveds[p], p, bad, count)
+
+
+def check_input_schemas(srv, schema_dir):
+    """GET /processes/{id} serves each input's schema as an OpenAPI 3.0 Schema Object (OGC
+    API - Processes 1.0): no draft-07-only form (numeric exclusiveMinimum/Maximum, const, type
+    arrays, if/then/else, $schema), with the draft-07 file's bounds (exclusive flags right) and
+    values. They were the draft-07 file's members as they are until 2026-12-07."""
+    st, _, doc = srv.request("GET", "/processes")
+    bad, count = [], [0]
+    for pid in [p["id"] for p in doc["processes"]]:
+        st, _, desc = srv.request("GET", "/processes/" + pid)
+        T.check(st == 200 and "inputsSchemaError" not in desc, "%s: %s" % (pid, st))
+        with open(os.path.join(schema_dir, pid + ".schema.json")) as f:
+            draft = json.load(f)
+        T.check(desc["inputsSchema"] == draft, "%s: inputsSchema is the draft-07 file" % pid)
+        inputs = {k: v for k, v in draft["properties"].items() if k != "scene"}
+        T.check(sorted(desc["inputs"]) == sorted(inputs), "%s: inputs" % pid)
+        for name, prop in inputs.items():
+            compare_schema(prop, desc["inputs"][name]["schema"], "%s/%s" % (pid, name), bad,
+                           count)
+    T.check(not bad, "input schemas not OpenAPI 3.0 or not the draft-07 file's (%d): %s"
+            % (len(bad), "; ".join(bad[:8])))
+    T.check(count[0] > 90, "only %d numeric bounds compared" % count[0])
+    print("input schemas: %d numeric bounds as in the draft-07 files" % count[0])
+    # nor has openapi.json (OpenAPI 3.0.3) any: its components and every operation's schemas
+    st, _, api = srv.request("GET", "/openapi.json")
+    bad = []
+    for name, sub in api["components"]["schemas"].items():
+        draft07_forms(sub, "openapi.json#/components/schemas/" + name, bad)
+
+    def schemas_in(node, path):
+        for k, v in node.items() if isinstance(node, dict) else enumerate(node):
+            if k == "schema" and isinstance(v, dict):
+                draft07_forms(v, "openapi.json#%s/schema" % path, bad)
+            elif isinstance(v, (dict, list)):
+                schemas_in(v, "%s/%s" % (path, k))
+    schemas_in(api["paths"], "/paths")
+    T.check(not bad, "openapi.json: %s" % "; ".join(bad[:8]))
+    # the condition of an if/then/else is stated in words instead
+    st, _, desc = srv.request("GET", "/processes/continuum_rheometer")
+    stress = desc["inputs"]["protocol"]["schema"]["items"]["oneOf"][1]
+    T.check("stress must not be 0" in stress.get("description", ""),
+            "rheometer stress segment: %s" % stress.get("description"))
 
 
 def submit_running(srv, tok, inputs, ready=lambda jid: True):
@@ -116,6 +249,7 @@ def run():
                                                              "summary.json"] and
                     doc["outputs"]["checkpoint.h5"]["schema"]["contentMediaType"] ==
                     "application/x-hdf5", "outputs of %s: %s" % (pid, doc.get("outputs")))
+        check_input_schemas(srv, a.schema)
 
         specs = {"falling_sphere": {"duration": 2.0},
                  "two_spheres_shear": {"duration": 5.0}}

@@ -4,7 +4,7 @@
  * copy of a continuation's files, their hand-over when the job they continue is deleted, and
  * the freeing of what deletions left on disk (a service stopped between their steps, a
  * hand-over that failed), the serialisation of two frees of one job, and a results list
- * whose reading fails part-way.
+ * whose reading fails part-way; the OpenAPI 3.0 translation of the draft-07 input schemas.
  * Usage:
  * test_server_units SCRATCH_DIR */
 #include <fcntl.h>
@@ -26,6 +26,7 @@
 #include "http_range.h"
 #include "job_limits.h"
 #include "lease.h"
+#include "oas_schema.h"
 #include "processors.h"
 #include "progress_line.h"
 #include "queue.h"
@@ -839,6 +840,99 @@ static void test_deletion_free_serialised(const char *dir)
     unlink(path);
 }
 
+/* draft-07 text in, the expected OpenAPI 3.0 text out (NULL: an error naming `why`) */
+static void oas_case(const char *in, const char *want, const char *why)
+{
+    json_t *draft = json_loads(in, JSON_DECODE_ANY, NULL), *before = json_deep_copy(draft);
+    char err[300];
+    json_t *got = lubd_oas_schema(draft, err, sizeof err);
+    CHECK(draft && json_equal(draft, before)); /* the input is untouched */
+    if (want) {
+        json_t *w = json_loads(want, 0, NULL);
+        CHECK(w && got && json_equal(got, w));
+        if (!(got && json_equal(got, w))) {
+            char *t = got ? json_dumps(got, JSON_COMPACT) : NULL;
+            fprintf(stderr, "  %s\n  gave %s (%s)\n", in, t ? t : "NULL", err);
+            free(t);
+        }
+        json_decref(w);
+    } else {
+        CHECK(!got && strstr(err, why) != NULL);
+        if (got || !strstr(err, why))
+            fprintf(stderr, "  %s\n  error \"%s\", wanted one with \"%s\"\n", in, err, why);
+    }
+    json_decref(got);
+    json_decref(before);
+    json_decref(draft);
+}
+
+static void test_oas_schema(void)
+{
+    /* exclusive bounds: the OpenAPI flag, the tighter of the two forms kept */
+    oas_case("{\"type\":\"number\",\"exclusiveMinimum\":0,\"maximum\":1}",
+             "{\"type\":\"number\",\"minimum\":0,\"exclusiveMinimum\":true,\"maximum\":1}", NULL);
+    oas_case("{\"exclusiveMaximum\":1,\"minimum\":1e-34}",
+             "{\"maximum\":1,\"exclusiveMaximum\":true,\"minimum\":1e-34}", NULL);
+    oas_case("{\"minimum\":2,\"exclusiveMinimum\":1,\"maximum\":5,\"exclusiveMaximum\":6}",
+             "{\"minimum\":2,\"maximum\":5}", NULL);
+    oas_case("{\"minimum\":1,\"exclusiveMinimum\":1.5,\"exclusiveMaximum\":5,\"maximum\":5}",
+             "{\"minimum\":1.5,\"exclusiveMinimum\":true,\"maximum\":5,\"exclusiveMaximum\":true}",
+             NULL);
+    oas_case("{\"minimum\":0,\"exclusiveMinimum\":true}",
+             "{\"minimum\":0,\"exclusiveMinimum\":true}", NULL);
+    /* const, type arrays, an untyped enum of mixed types, boolean schemas */
+    oas_case("{\"const\":\"m4\",\"default\":\"m4\"}", "{\"enum\":[\"m4\"],\"default\":\"m4\"}",
+             NULL);
+    oas_case("{\"type\":[\"number\",\"null\"],\"minimum\":0}",
+             "{\"type\":\"number\",\"nullable\":true,\"minimum\":0}", NULL);
+    oas_case("{\"type\":[\"string\"]}", "{\"type\":\"string\"}", NULL);
+    oas_case("{\"type\":[\"string\",\"boolean\",\"null\"]}",
+             "{\"anyOf\":[{\"type\":\"string\",\"nullable\":true},"
+             "{\"type\":\"boolean\",\"nullable\":true}]}",
+             NULL);
+    oas_case("{\"type\":[\"string\",\"integer\"],\"anyOf\":[{\"minimum\":1},{\"minLength\":2}]}",
+             "{\"anyOf\":[{\"minimum\":1},{\"minLength\":2}],"
+             "\"allOf\":[{\"anyOf\":[{\"type\":\"string\"},{\"type\":\"integer\"}]}]}",
+             NULL);
+    oas_case("{\"enum\":[\"none\",\"final\",false,true],\"default\":\"none\"}",
+             "{\"enum\":[\"none\",\"final\",false,true],\"default\":\"none\"}", NULL);
+    oas_case("{\"properties\":{\"a\":true,\"b\":false},\"additionalProperties\":false}",
+             "{\"properties\":{\"a\":{},\"b\":{\"not\":{}}},\"additionalProperties\":false}", NULL);
+    /* recursion into properties, items, additionalProperties, not, allOf/anyOf/oneOf;
+     * $schema, $id, $comment dropped */
+    oas_case(
+        "{\"$schema\":\"http://json-schema.org/draft-07/schema#\",\"$id\":\"x\","
+        "\"$comment\":\"c\",\"type\":\"object\",\"properties\":{\"p\":{\"type\":\"array\","
+        "\"items\":{\"oneOf\":[{\"properties\":{\"m\":{\"const\":\"rate\"},\"r\":{\"not\":"
+        "{\"const\":0}}}},{\"exclusiveMinimum\":0}]}},\"q\":{\"additionalProperties\":{"
+        "\"exclusiveMaximum\":3}},\"s\":{\"allOf\":[{\"const\":1}],\"anyOf\":[{\"const\":2}]}}}",
+        "{\"type\":\"object\",\"properties\":{\"p\":{\"type\":\"array\",\"items\":{\"oneOf\":"
+        "[{\"properties\":{\"m\":{\"enum\":[\"rate\"]},\"r\":{\"not\":{\"enum\":[0]}}}},"
+        "{\"minimum\":0,\"exclusiveMinimum\":true}]}},\"q\":{\"additionalProperties\":{"
+        "\"maximum\":3,\"exclusiveMaximum\":true}},\"s\":{\"allOf\":[{\"enum\":[1]}],"
+        "\"anyOf\":[{\"enum\":[2]}]}}}",
+        NULL);
+    /* if/then/else: dropped, the condition in words appended to the description */
+    oas_case("{\"description\":\"a segment\",\"if\":{\"required\":[\"strain\"],\"description\":"
+             "\"With strain, stress must not be 0.\"},\"then\":{\"properties\":{\"stress\":"
+             "{\"not\":{\"const\":0}}}},\"else\":{}}",
+             "{\"description\":\"a segment. With strain, stress must not be 0.\"}", NULL);
+    oas_case("{\"if\":{\"required\":[\"a\"]},\"then\":{\"required\":[\"b\"]}}",
+             "{\"description\":\"A further condition applies (a draft-07 if/then/else, which "
+             "OpenAPI 3.0 cannot state): see the process's inputsSchema.\"}",
+             NULL);
+    /* errors: what has no rule, with the JSON Pointer of where it is */
+    oas_case("{\"properties\":{\"a/b\":{\"$ref\":\"#/definitions/x\"}}}", NULL,
+             "/properties/a~1b: keyword \"$ref\"");
+    oas_case("{\"items\":[{\"type\":\"string\"}]}", NULL, "(root): keyword \"items\"");
+    oas_case("{\"anyOf\":[{\"type\":\"null\"}]}", NULL, "/anyOf/0: type null alone");
+    oas_case("{\"const\":1,\"enum\":[1,2]}", NULL, "const beside enum");
+    oas_case("{\"exclusiveMinimum\":\"0\"}", NULL, "neither a number nor a boolean");
+    oas_case("{\"type\":\"null\"}", NULL, "(root): type null alone");
+    oas_case("{\"type\":1}", NULL, "neither a string nor an array");
+    oas_case("3", NULL, "must be an object or a boolean");
+}
+
 int main(int argc, char **argv)
 {
     test_sha256();
@@ -846,6 +940,7 @@ int main(int argc, char **argv)
     test_progress();
     test_exec();
     test_job_limits();
+    test_oas_schema();
     test_queue(argc > 1 ? argv[1] : ".");
     test_finish_refused(argc > 1 ? argv[1] : ".");
     test_link_or_copy(argc > 1 ? argv[1] : ".");
