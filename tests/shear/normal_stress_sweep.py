@@ -16,10 +16,12 @@ eta_22(phi_lo)/eta_22(0.35) of the simulation and of the law for every phi_lo < 
 Prints name=value lines; writes TABLE (markdown) and FIGURE (png) when asked. --check (ctest
 shear.normal_stress_sweep, label physics, small runs) exits 1 unless
   - lambda_3 is within 10 % or 3 standard errors of the law at every 0.35 <= phi <= 0.50 run
-    (measured at N = 500, strain 20, stiffness 1e6: within 4.5 %; the check runs are smaller,
-    shorter and softer, their lambda_3 errors 2-8 %), and
+    (measured at N = 500, strain 20, stiffness 1e6, the ctest's settings: within 2.7 %),
   - eta_22 drops below phi = 0.35: eta_22(phi)/eta_22(0.35) < 0.5 for the runs below 0.35
-    (measured 0.28 at 0.30; law 0.21).
+    (measured 0.28 at 0.30; law 0.21), and
+  - eta_22 and eta_33 are within [1, 3] times the section 3 laws (or three standard errors of
+    that band) at every 0.35 <= phi <= 0.50 run: a known disagreement (measured 1.55-2.48),
+    bounded so that it cannot grow unseen (README, Where we disagree, item 12).
 usage: normal_stress_sweep.py --lubdem PATH --out DIR [--stiffness K] [--phi ...] [--n N]
        [--strain S] [--jobs J] [--reuse] [--table MD] [--figure PNG] [--check]
 """
@@ -200,6 +202,17 @@ def main():
                 if not (abs(dev) <= 0.10 or nsig <= 3.0):
                     failures.append(f"lambda_3 at phi={r['phi']:g} is {dev:+.1%} "
                                     f"({nsig:.1f} sigma) from the law")
+        # eta_22 and eta_33 themselves are 1.5-2.5 times the section 3 laws at phi 0.35-0.50
+        # (README, Where we disagree, item 12): a known disagreement, held to a band so that
+        # it cannot grow unseen (until 2026-12-07 nothing bounded them): the ratio to the law
+        # within [1, 3], or within three standard errors of it
+        for r in rows:
+            if 0.35 - 1e-9 <= r["phi"] <= 0.50 + 1e-9:
+                for k, law in (("eta_22", "law22"), ("eta_33", "law33")):
+                    ratio, err = r[k] / r[law], r[k + "_err"] / r[law]
+                    if not (1.0 - 3 * err <= ratio <= 3.0 + 3 * err):
+                        failures.append(f"{k} at phi={r['phi']:g} is {ratio:.2f} times the law "
+                                        f"(+-{err:.2f}), outside the band [1, 3]")
         if not ref:
             failures.append("no phi = 0.35 run for the drop criterion")
         for r in rows:
