@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "json_text.h"
+#include "spec_reader.h"
 
 /* a and b hold the same values: numbers by value (a spec may write 12 or 12.0, and a client or
  * an older service may print the one the other wrote as the other), the rest as json_equal. */
@@ -48,13 +49,14 @@ static int first_difference(const json_t *a, const json_t *b, const char *at, ch
         json_t *value;
         json_object_foreach ((json_t *)a, key, value) {
             char sub[512];
-            snprintf(sub, sizeof sub, "%s/%s", at, key);
+            lub_pointer_join(sub, sizeof sub, at, key);
             const json_t *other = json_object_get(b, key);
             if (!other) {
                 snprintf(out, len, "%s", sub);
                 snprintf(vb, vlen, "absent");
                 char *t = lub_json_dumps(value, JSON_COMPACT | JSON_ENCODE_ANY);
                 snprintf(va, vlen, "%s", t ? t : "?");
+                lub_utf8_trim_tail(va);
                 free(t);
                 return 1;
             }
@@ -71,6 +73,8 @@ static int first_difference(const json_t *a, const json_t *b, const char *at, ch
     char *tb = lub_json_dumps(b, JSON_COMPACT | JSON_ENCODE_ANY);
     snprintf(va, vlen, "%s", ta ? ta : "?");
     snprintf(vb, vlen, "%s", tb ? tb : "?");
+    lub_utf8_trim_tail(va); /* a value cut inside a character */
+    lub_utf8_trim_tail(vb);
     free(ta);
     free(tb);
     return 1;
@@ -97,8 +101,11 @@ int lub_resume_spec_mismatch(const json_t *here, const json_t *saved, const char
             first_difference(scene_a, scene_b, "/scene", at, sizeof at, now, was, sizeof now);
         if (other_scene || first_difference(a, b, "", at, sizeof at, now, was, sizeof now)) {
             snprintf(why, len, "%s: %s here, %s in the stopped run's spec", at, now, was);
-            if (at_out)
+            lub_utf8_trim_tail(why);
+            if (at_out) {
                 snprintf(at_out, at_len, "%s", at);
+                lub_utf8_trim_tail(at_out);
+            }
             rc = 1;
         }
     }

@@ -20,31 +20,57 @@
 
 void lub_report_spec_error(FILE *diag, int json_errors, const lub_error *err)
 {
+    char pointer[6 * sizeof err->pointer], message[6 * sizeof err->message];
+    lub_text_one_line(err->pointer, pointer, sizeof pointer);
+    lub_text_one_line(err->message, message, sizeof message);
     if (json_errors) {
+        /* the texts as they are (JSON escapes control characters); the one-line forms when
+         * they are not valid UTF-8, which json_pack refuses; a fixed object when even that
+         * fails (no memory) */
         json_t *o = json_pack("{s:s, s:s}", "pointer", err->pointer, "message", err->message);
-        char *s = json_dumps(o, JSON_COMPACT);
-        fprintf(diag, "%s\n", s);
+        if (!o)
+            o = json_pack("{s:s, s:s}", "pointer", pointer, "message", message);
+        char *s = o ? json_dumps(o, JSON_COMPACT) : NULL;
+        fprintf(diag, "%s\n", s ? s : "{\"pointer\": \"\", \"message\": \"invalid spec\"}");
         free(s);
         json_decref(o);
     } else {
-        fprintf(diag, "error: %s: %s\n", err->pointer[0] ? err->pointer : "(root)", err->message);
+        fprintf(diag, "error: %s: %s\n", pointer[0] ? pointer : "(root)", message);
     }
+}
+
+/* s with control characters and bytes that are not UTF-8 escaped (lub_text_one_line), in a new
+ * string the caller frees; NULL without memory. */
+static char *one_line_dup(const char *s)
+{
+    const size_t size = 6 * strlen(s) + 1; /* a byte takes at most 6 ("\\u001F") */
+    char *out = malloc(size);
+    return out ? (char *)lub_text_one_line(s, out, size) : NULL;
 }
 
 /* A refusal the run makes (exit 2) on diag: "error: <line>" (the line names the member, or
  * begins with "--resume: "), or with --json-errors {"pointer": pointer, "message": message}
- * (pointer "" when the refusal is not about one member), as the spec errors are. */
+ * (pointer "" when the refusal is not about one member), as the spec errors are; one line and
+ * valid JSON whatever the texts hold (lub_report_spec_error). */
 static void report_refusal(FILE *diag, int json_errors, const char *pointer, const char *message,
                            const char *line)
 {
     if (json_errors) {
         json_t *o = json_pack("{s:s, s:s}", "pointer", pointer, "message", message);
+        if (!o) { /* not valid UTF-8 (a folder's name): its one-line form */
+            char *p1 = one_line_dup(pointer), *m1 = one_line_dup(message);
+            o = p1 && m1 ? json_pack("{s:s, s:s}", "pointer", p1, "message", m1) : NULL;
+            free(p1);
+            free(m1);
+        }
         char *s = o ? json_dumps(o, JSON_COMPACT) : NULL;
         fprintf(diag, "%s\n", s ? s : "{\"pointer\": \"\", \"message\": \"refused\"}");
         free(s);
         json_decref(o);
     } else {
-        fprintf(diag, "error: %s\n", line);
+        char *l1 = one_line_dup(line);
+        fprintf(diag, "error: %s\n", l1 ? l1 : line);
+        free(l1);
     }
 }
 

@@ -36,8 +36,9 @@ int lub_run_spec(const lub_run_request *req);
 /* Parses and validates only (CLI "validate"): prints the resolved spec on `out`. */
 int lub_validate_spec(const char *spec_text, FILE *out, FILE *diag, int json_errors);
 
-/* A spec error on diag: "error: <pointer or (root)>: <message>", or with json_errors one line
- * {"pointer": ..., "message": ...} (README, CLI contract). */
+/* A spec error on diag: "error: <pointer or (root)>: <message>" on one line (control
+ * characters and bytes that are not UTF-8 escaped, lub_text_one_line), or with json_errors one
+ * line {"pointer": ..., "message": ...} (README, CLI contract), which is always valid JSON. */
 void lub_report_spec_error(FILE *diag, int json_errors, const lub_error *err);
 
 #endif

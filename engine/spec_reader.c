@@ -2,6 +2,7 @@
 #include "spec_reader.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
@@ -16,8 +17,103 @@ int lub_fail(lub_error *err, const char *pointer, const char *fmt, ...)
         va_start(ap, fmt);
         vsnprintf(err->message, sizeof err->message, fmt, ap);
         va_end(ap);
+        lub_utf8_trim_tail(err->pointer);
+        lub_utf8_trim_tail(err->message);
     }
     return -1;
+}
+
+/* The length of the valid UTF-8 character at s (1..4), 0 when s does not begin one. */
+static size_t utf8_char_len(const unsigned char *s)
+{
+    const unsigned char c = s[0];
+    if (c < 0x80)
+        return 1;
+    size_t n;
+    unsigned char lo = 0x80, hi = 0xBF; /* the range of the second byte */
+    if (c >= 0xC2 && c <= 0xDF) {
+        n = 2;
+    } else if (c >= 0xE0 && c <= 0xEF) {
+        n = 3;
+        if (c == 0xE0)
+            lo = 0xA0; /* no overlong form */
+        else if (c == 0xED)
+            hi = 0x9F; /* no surrogate */
+    } else if (c >= 0xF0 && c <= 0xF4) {
+        n = 4;
+        if (c == 0xF0)
+            lo = 0x90;
+        else if (c == 0xF4)
+            hi = 0x8F; /* nothing beyond U+10FFFF */
+    } else {
+        return 0;
+    }
+    if (s[1] < lo || s[1] > hi)
+        return 0;
+    for (size_t i = 2; i < n; ++i)
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+    return n;
+}
+
+int lub_utf8_prefix(const char *s, size_t max)
+{
+    size_t n = 0;
+    while (n < max && s[n])
+        ++n;
+    if (s[n]) /* cut: step back to the start of the character that would be cut */
+        while (n > 0 && ((unsigned char)s[n] & 0xC0) == 0x80)
+            --n;
+    return n > INT32_MAX ? INT32_MAX : (int)n;
+}
+
+void lub_utf8_trim_tail(char *s)
+{
+    size_t n = strlen(s);
+    if (n == 0)
+        return;
+    size_t lead = n - 1; /* the start of the last character */
+    while (lead > 0 && ((unsigned char)s[lead] & 0xC0) == 0x80 && n - lead < 4)
+        --lead;
+    const unsigned char c = (unsigned char)s[lead];
+    const size_t want = c < 0x80 ? 1 : c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : c >= 0xC0 ? 2 : 1;
+    if (n - lead < want)
+        s[lead] = '\0';
+}
+
+const char *lub_text_one_line(const char *s, char *out, size_t size)
+{
+    if (size == 0)
+        return out;
+    size_t n = 0;
+    const unsigned char *u = (const unsigned char *)s;
+    while (*u) {
+        char piece[8];
+        size_t len = utf8_char_len(u);
+        if (len == 1 && *u < 0x20) {
+            const char *esc = *u == '\n' ? "\\n" : *u == '\t' ? "\\t" : *u == '\r' ? "\\r" : NULL;
+            if (esc)
+                snprintf(piece, sizeof piece, "%s", esc);
+            else
+                snprintf(piece, sizeof piece, "\\u%04X", *u);
+        } else if (len == 1 && *u == 0x7F) {
+            snprintf(piece, sizeof piece, "\\u007F");
+        } else if (len == 0) {
+            snprintf(piece, sizeof piece, "\\x%02X", *u);
+            len = 1;
+        } else {
+            memcpy(piece, u, len);
+            piece[len] = '\0';
+        }
+        const size_t plen = strlen(piece);
+        if (n + plen >= size)
+            break;
+        memcpy(out + n, piece, plen);
+        n += plen;
+        u += len;
+    }
+    out[n] = '\0';
+    return out;
 }
 
 const char *lub_pointer_join(char *buf, size_t size, const char *parent, const char *key)
@@ -35,6 +131,7 @@ const char *lub_pointer_join(char *buf, size_t size, const char *parent, const c
         }
     }
     buf[n < size ? n : size - 1] = '\0';
+    lub_utf8_trim_tail(buf); /* a key cut inside a character */
     return buf;
 }
 
@@ -207,7 +304,8 @@ int lub_spec_enum(json_t *obj, const char *ptr, const char *key, const char *con
             for (const char *const *c = choices; *c && n < sizeof names - 40; ++c)
                 n += (size_t)snprintf(names + n, sizeof names - n, "%s\"%s\"",
                                       c == choices ? "" : ", ", *c);
-            return lub_fail(err, p, "must be one of %s (got \"%.80s\")", names, s);
+            return lub_fail(err, p, "must be one of %s (got \"%.*s\")", names,
+                            lub_utf8_prefix(s, 80), s);
         }
     }
     *out = s; /* borrowed from obj: valid while obj lives */

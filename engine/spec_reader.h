@@ -18,12 +18,28 @@ typedef struct {
     char message[512]; /* the constraint, in words, including the value received */
 } lub_error;
 
-/* Sets the error and returns -1 (for "return lub_fail(...)"). printf-style message. */
+/* Sets the error and returns -1 (for "return lub_fail(...)"). printf-style message. A pointer
+ * or message longer than its buffer is cut on a UTF-8 character boundary (lub_utf8_trim_tail),
+ * so that both stay valid UTF-8 when what was put in them was. */
 int lub_fail(lub_error *err, const char *pointer, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 
-/* Builds "parent/key" into buf (escaping ~ and / per RFC 6901). Returns buf. */
+/* Builds "parent/key" into buf (escaping ~ and / per RFC 6901). Returns buf. A pointer longer
+ * than size - 1 bytes is cut, on a UTF-8 character boundary. */
 const char *lub_pointer_join(char *buf, size_t size, const char *parent, const char *key);
+
+/* The length of the longest prefix of s of at most max bytes that does not end inside a UTF-8
+ * character: for quoting a user's string cut to a length ("%.*s"). */
+int lub_utf8_prefix(const char *s, size_t max);
+
+/* Cuts an incomplete UTF-8 character off the end of s (what a full buffer leaves of a
+ * multi-byte character). */
+void lub_utf8_trim_tail(char *s);
+
+/* s for a one-line message into out[size]: control characters as \n, \t, \r or \u00XX and
+ * bytes that are not valid UTF-8 as \xNN (a backslash stays as it is), cut on a character
+ * boundary when out is too small. Returns out. */
+const char *lub_text_one_line(const char *s, char *out, size_t size);
 
 /* Rejects any member of obj not in the NULL-terminated list `allowed`. */
 int lub_spec_only_keys(const json_t *obj, const char *ptr, const char *const *allowed,

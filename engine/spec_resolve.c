@@ -23,8 +23,9 @@ int lub_spec_resolve(const json_t *spec, json_t **resolved, lub_error *err)
         for (const lub_scene *const *it = lub_scene_list(); *it && n < sizeof names - 64; ++it)
             n += (size_t)snprintf(names + n, sizeof names - n, "%s\"%s\"",
                                   it == lub_scene_list() ? "" : ", ", (*it)->name);
-        return lub_fail(err, "/scene", "unknown scene \"%.80s\" (known: %s)",
-                        json_string_value(scene), names);
+        return lub_fail(err, "/scene", "unknown scene \"%.*s\" (known: %s)",
+                        lub_utf8_prefix(json_string_value(scene), 80), json_string_value(scene),
+                        names);
     }
     json_t *copy = json_deep_copy(spec);
     if (!copy)

@@ -73,6 +73,35 @@ printf '{"scene": "falling_sphere", "bogus_field": 1}' > "$work/j.json"
 $PY -c "import json; e=json.load(open('$work/j.err')); assert e['pointer']=='/bogus_field' and e['message']" \
   && ok || bad "json errors"
 
+# an error text cut inside a UTF-8 character (a quoted value at 80 bytes, a pointer at 256): one
+# valid JSON object with --json-errors (it was "(null)"), one valid UTF-8 line without
+$PY - "$work" <<'PYEOF'
+import json, sys
+w = sys.argv[1]
+specs = {"utf8_enum": {"scene": "falling_sphere", "sample_spacing": "a" * 79 + "\u00e9"},
+         "utf8_scene": {"scene": "x" * 79 + "\u00e9"},
+         "utf8_key": {"scene": "falling_sphere", "law": {"a" + "\u00e9" * 200: 1}}}
+for name, spec in specs.items():
+    open("%s/%s.json" % (w, name), "w", encoding="utf-8").write(json.dumps(spec, ensure_ascii=False))
+PYEOF
+for name in utf8_enum utf8_scene utf8_key; do
+  "$LUBDEM" validate "$work/$name.json" --json-errors > /dev/null 2> "$work/$name.err"; rc=$?
+  [ $rc -eq 2 ] && $PY -c "
+import json; e=json.loads(open('$work/$name.err', encoding='utf-8').read()); assert e['pointer'] and e['message']" \
+    && ok || bad "$name --json-errors: exit $rc: $(cat "$work/$name.err")"
+  "$LUBDEM" validate "$work/$name.json" > /dev/null 2> "$work/$name.err"; rc=$?
+  [ $rc -eq 2 ] && $PY -c "
+t=open('$work/$name.err', 'rb').read().decode('utf-8'); assert t.startswith('error: /') and t.count('\n') == 1" \
+    && ok || bad "$name: exit $rc, not one UTF-8 line: $(cat "$work/$name.err")"
+done
+# a control character in a key stays on the error's one line, escaped (a newline split it)
+printf '{"scene":"falling_sphere","law":{"x\\ny":1}}' | "$LUBDEM" validate - > /dev/null 2> "$work/nl.err"; rc=$?
+[ $rc -eq 2 ] && [ "$(wc -l < "$work/nl.err")" -eq 1 ] && grep -q '^error: /law/x\\ny: unknown field' "$work/nl.err" \
+  && ok || bad "newline in a key: exit $rc: $(cat "$work/nl.err")"
+printf '{"scene":"falling_sphere","law":{"x\\ny":1}}' | "$LUBDEM" validate - --json-errors > /dev/null 2> "$work/nl.err"
+$PY -c "import json; e=json.load(open('$work/nl.err')); assert e['pointer']=='/law/x\\ny', e" \
+  && ok || bad "newline in a key, --json-errors: $(cat "$work/nl.err")"
+
 # usage errors
 "$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
 "$LUBDEM" frobnicate > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown command exit code"

@@ -82,6 +82,43 @@ int main(void)
     CHECK(json_object_get(o, "inf") == NULL ||
           lub_spec_number(o, "", "inf", LUB_UNBOUNDED, 0, 0, &d, &err) == -1);
 
+    /* texts cut on a UTF-8 character boundary: a value quoted at 80 bytes, a pointer cut at
+     * its 256 (they ended with the first byte of a character, which json_pack refuses: the
+     * CLI printed "(null)" for --json-errors) */
+    char long_value[128], long_key[512];
+    memset(long_value, 'a', 79);
+    strcpy(long_value + 79, "\xc3\xa9"); /* "é" across byte 80 */
+    json_object_set_new(o, "mode3", json_string(long_value));
+    CHECK(lub_spec_enum(o, "", "mode3", choices, NULL, &s, &err) == -1);
+    CHECK(strstr(err.message, "aaaa\")") != NULL);
+    json_t *js = json_string(err.message);
+    CHECK(js != NULL);
+    json_decref(js);
+    strcpy(long_key, "a");
+    for (int k = 0; k < 200; ++k)
+        strcat(long_key, "\xc3\xa9");
+    json_t *keyed = json_object();
+    json_object_set_new(keyed, long_key, json_integer(1));
+    CHECK(lub_spec_only_keys(keyed, "/law", allowed, &err) == -1);
+    js = json_string(err.pointer);
+    CHECK(js != NULL && strlen(err.pointer) >= 250);
+    json_decref(js);
+    json_decref(keyed);
+    char jbuf[16];
+    CHECK(strcmp(lub_pointer_join(jbuf, sizeof jbuf, "/x", "abc\xc3\xa9\xc3\xa9\xc3\xa9\xc3\xa9"),
+                 "/x/abc\xc3\xa9\xc3\xa9\xc3\xa9") == 0);
+    CHECK(lub_utf8_prefix("ab\xe2\x82\xac", 4) == 2 && lub_utf8_prefix("ab\xe2\x82\xac", 5) == 5);
+    CHECK(lub_utf8_prefix("abc", 80) == 3);
+    lub_fail(&err, "", "%s", long_key); /* a message cut at its 512 bytes */
+    js = json_string(err.message);
+    CHECK(js != NULL);
+    json_decref(js);
+    /* one line: control characters and stray bytes escaped, characters kept */
+    char line[64];
+    CHECK(strcmp(lub_text_one_line("/law/x\ny\t\x01\xc3 \xc3\xa9", line, sizeof line),
+                 "/law/x\\ny\\t\\u0001\\xC3 \xc3\xa9") == 0);
+    CHECK(strcmp(lub_text_one_line("\xc3\xa9\xc3\xa9", line, 4), "\xc3\xa9") == 0);
+
     json_decref(o);
     printf("spec_reader_failures=%d\n", failures);
     printf("%d passed, %d failed\n", failures ? 0 : 1, failures ? 1 : 0);

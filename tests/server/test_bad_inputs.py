@@ -117,7 +117,15 @@ def run():
                     and name.startswith(ptr[len("/inputs/"):]) and ptr in doc["detail"],
                     "long non-ASCII name -> %s %s" % (st, doc))
 
-                # Nothing was queued by any of the above.
+        # An input's value quoted in the detail, cut at 80 bytes inside a character: the
+        # detail is the engine's message, valid UTF-8 (it came back "(detail not valid UTF-8)").
+        st, _, doc = srv.request("POST", ex, alice,
+                                 {"inputs": {"sample_spacing": "a" * 79 + "\u00e9"}})
+        T.check(st == 400 and ('(got "%s")' % ("a" * 79)) in doc.get("detail", "")
+                and doc["errors"][0]["pointer"] == "/inputs/sample_spacing",
+                "enum value cut inside a character -> %s %s" % (st, doc))
+
+        # Nothing was queued by any of the above.
         st, _, lst = srv.request("GET", "/jobs?limit=1000", admin)
         T.check(st == 200 and lst["jobs"] == [], "jobs were queued: %s" % lst["jobs"])
         st, _, health = srv.request("GET", "/health")
