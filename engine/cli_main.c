@@ -91,6 +91,19 @@ static char *read_all(const char *path, size_t *len, char *why, size_t why_len)
     return buf;
 }
 
+/* rc, or 4 (output error, README "Exit codes") with a line on stderr when what was printed on
+ * stdout could not all be written (a full disk, a closed pipe). The caller sets errno to 0
+ * before it prints, so that the reason of a failed write is still in errno. */
+static int stdout_written(int rc, const char *what)
+{
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "error: cannot write %s to standard output: %s\n", what,
+                errno ? strerror(errno) : "write error");
+        return LUB_EXIT_IO;
+    }
+    return rc;
+}
+
 static int cmd_scenes(void)
 {
     json_t *arr = json_array();
@@ -98,10 +111,15 @@ static int cmd_scenes(void)
         json_array_append_new(arr, json_pack("{s:s, s:s, s:s}", "name", (*s)->name, "title",
                                              (*s)->title, "description", (*s)->description));
     char *text = json_dumps(arr, JSON_INDENT(2));
+    json_decref(arr);
+    if (!text) {
+        fprintf(stderr, "error: out of memory\n");
+        return LUB_EXIT_INTERNAL;
+    }
+    errno = 0;
     printf("%s\n", text);
     free(text);
-    json_decref(arr);
-    return 0;
+    return stdout_written(0, "the scene list");
 }
 
 int main(int argc, char **argv)
@@ -114,13 +132,15 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "scenes") == 0)
         return cmd_scenes();
     if (strcmp(cmd, "version") == 0) {
+        errno = 0;
         printf("lubdem %s (git %s; %s; %s; contact law SIMD %s)\n", lub_build_version(),
                lub_build_git(), lub_build_compiler(), lub_build_cflags(), lub_pair_batch_isa());
-        return 0;
+        return stdout_written(0, "the version");
     }
     if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "help") == 0) {
+        errno = 0;
         usage(stdout);
-        return 0;
+        return stdout_written(0, "the usage");
     }
     if (strcmp(cmd, "run") != 0 && strcmp(cmd, "validate") != 0) {
         fprintf(stderr, "error: unknown command '%s'\n", cmd);

@@ -116,9 +116,19 @@ int lub_validate_spec(const char *spec_text, FILE *out, FILE *diag, int json_err
     if (!resolved)
         return LUB_EXIT_BAD_SPEC;
     char *s = lub_json_dumps(resolved, JSON_INDENT(2) | JSON_SORT_KEYS);
-    fprintf(out, "%s\n", s);
-    free(s);
     json_decref(resolved);
+    if (!s) {
+        fprintf(diag, "error: out of memory\n");
+        return LUB_EXIT_INTERNAL;
+    }
+    errno = 0;
+    const int bad = fprintf(out, "%s\n", s) < 0 || fflush(out) != 0 || ferror(out);
+    free(s);
+    if (bad) { /* a full disk, a closed pipe: the caller must not take the spec as printed */
+        fprintf(diag, "error: cannot write the resolved spec: %s\n",
+                errno ? strerror(errno) : "write error");
+        return LUB_EXIT_IO;
+    }
     return LUB_EXIT_OK;
 }
 

@@ -33,7 +33,9 @@ typedef struct {
 
 int lub_run_spec(const lub_run_request *req);
 
-/* Parses and validates only (CLI "validate"): prints the resolved spec on `out`. */
+/* Parses and validates only (CLI "validate"): prints the resolved spec on `out` and flushes it.
+ * LUB_EXIT_BAD_SPEC on an invalid spec (reported on diag), LUB_EXIT_IO with a line on diag
+ * when `out` cannot be written, LUB_EXIT_INTERNAL without memory. */
 int lub_validate_spec(const char *spec_text, FILE *out, FILE *diag, int json_errors);
 
 /* A spec error on diag: "error: <pointer or (root)>: <message>" on one line (control

@@ -102,6 +102,16 @@ printf '{"scene":"falling_sphere","law":{"x\\ny":1}}' | "$LUBDEM" validate - --j
 $PY -c "import json; e=json.load(open('$work/nl.err')); assert e['pointer']=='/law/x\\ny', e" \
   && ok || bad "newline in a key, --json-errors: $(cat "$work/nl.err")"
 
+# output that cannot be written (a full disk: /dev/full) is exit 4 with the reason (it was 0)
+if [ -w /dev/full ]; then
+  printf '{"scene": "falling_sphere"}' > "$work/full.json"
+  for cmd in "validate $work/full.json" scenes version help; do
+    "$LUBDEM" $cmd > /dev/full 2> "$work/full.err"; rc=$?
+    [ $rc -eq 4 ] && grep -q "^error: cannot write .*: No space left on device" "$work/full.err" \
+      && ok || bad "$cmd > /dev/full: exit $rc: $(cat "$work/full.err")"
+  done
+fi
+
 # usage errors
 "$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
 "$LUBDEM" frobnicate > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown command exit code"
