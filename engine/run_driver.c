@@ -151,7 +151,13 @@ static int mkdir_p(const char *path)
         }
     }
     struct stat st;
-    return (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) ? 0 : -1;
+    if (stat(path, &st) != 0)
+        return -1;
+    if (!S_ISDIR(st.st_mode)) { /* mkdir's EEXIST: a file, not a folder, has the name */
+        errno = ENOTDIR;
+        return -1;
+    }
+    return 0;
 }
 
 /* Puts a closed file's data on disk (fsync), so that a file renamed into place after a crash of

@@ -112,6 +112,14 @@ if [ -w /dev/full ]; then
   done
 fi
 
+# an output folder that cannot be made: exit 4 and the system's reason ("File exists" for a
+# file, mkdir's errno, until 2026-12-07)
+printf '{"scene": "falling_sphere", "duration": 0.5}' > "$work/outerr.json"
+touch "$work/afile"
+"$LUBDEM" run "$work/outerr.json" --out "$work/afile" --quiet 2> "$work/outerr.err"; rc=$?
+[ $rc -eq 4 ] && grep -q "^error: cannot create output folder $work/afile: Not a directory" "$work/outerr.err" \
+  && ok || bad "--out a file: exit $rc: $(cat "$work/outerr.err")"
+
 # usage errors
 "$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
 "$LUBDEM" frobnicate > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown command exit code"
