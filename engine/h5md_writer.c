@@ -269,10 +269,13 @@ lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen)
     hid_t fapl = H5Pcreate(H5P_FILE_ACCESS);
     /* H5MD implementation note: file format readable by HDF5 >= 1.8 */
     H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18);
+    errno = 0;
     f->file = H5Fcreate(path, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+    const int create_errno = errno;
     H5Pclose(fapl);
     if (f->file < 0) {
-        snprintf(errbuf, (size_t)errlen, "HDF5: cannot create %s", path);
+        snprintf(errbuf, (size_t)errlen, "HDF5: cannot create %s: %s", path,
+                 create_errno ? strerror(create_errno) : "HDF5 error");
         free(f->path);
         free(f);
         return NULL;

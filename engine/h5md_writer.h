@@ -30,6 +30,9 @@
 typedef struct lub_h5 lub_h5;
 typedef struct lub_h5_table lub_h5_table;
 
+/* Creates path (truncating a file of that name). NULL on failure, with the reason in errbuf:
+ * "HDF5: cannot create PATH: <the system's reason>" when the file cannot be made (what it may
+ * have begun stays: the caller removes it). */
 lub_h5 *lub_h5_create(const char *path, char *errbuf, int errlen);
 /* 1 if errno value e is an output failure a user can act on (no space, file too large, quota,
  * I/O error, read-only file system): what a failed HDF5 write or close leaves in errno when

@@ -132,9 +132,15 @@ int lub_validate_spec(const char *spec_text, FILE *out, FILE *diag, int json_err
     return LUB_EXIT_OK;
 }
 
-static int mkdir_p(const char *path)
+/* The output folder of at most MKDIR_MAX - 1 bytes. */
+#define MKDIR_MAX 4096
+
+/* Creates path and the folders above it that are missing; made[i] (MKDIR_MAX flags, zeroed by
+ * the caller) is set for each prefix path[0..i) this call created, for remove_made. 0, or -1
+ * with errno set: the system's reason, ENOTDIR when path is there but not a folder. */
+static int mkdir_p(const char *path, unsigned char *made)
 {
-    char buf[4096];
+    char buf[MKDIR_MAX];
     size_t n = strlen(path);
     if (n == 0 || n >= sizeof buf) { /* errno says why: the caller prints it */
         errno = n ? ENAMETOOLONG : ENOENT;
@@ -145,7 +151,9 @@ static int mkdir_p(const char *path)
         if (buf[i] == '/' || buf[i] == '\0') {
             char c = buf[i];
             buf[i] = '\0';
-            if (mkdir(buf, 0775) != 0 && errno != EEXIST)
+            if (mkdir(buf, 0775) == 0)
+                made[i] = 1;
+            else if (errno != EEXIST)
                 return -1;
             buf[i] = c;
         }
@@ -158,6 +166,23 @@ static int mkdir_p(const char *path)
         return -1;
     }
     return 0;
+}
+
+/* Removes the folders mkdir_p created for path (those it marked in made), the deepest first,
+ * when they are empty: a run that writes nothing leaves no folder of its own. */
+static void remove_made(const char *path, const unsigned char *made)
+{
+    char buf[MKDIR_MAX];
+    const size_t n = strlen(path);
+    if (n >= sizeof buf)
+        return;
+    memcpy(buf, path, n + 1);
+    for (size_t i = n; i >= 1; --i) {
+        if (made[i]) {
+            buf[i] = '\0';
+            rmdir(buf);
+        }
+    }
 }
 
 /* Puts a closed file's data on disk (fsync), so that a file renamed into place after a crash of
@@ -386,8 +411,9 @@ typedef struct {
     const char *stop_advice; /* a stopped run's --resume advice, added if its checkpoint is kept */
     int h5_failed, h5_room;  /* result.h5 lost; the loss is one of room, not of its name */
     char h5_reason[400];
-    int renamed;         /* result.h5 took its name */
-    int checkpoint_kept; /* a checkpoint.h5 in DIR continues this run */
+    int renamed;                   /* result.h5 took its name */
+    int checkpoint_kept;           /* a checkpoint.h5 in DIR continues this run */
+    unsigned char made[MKDIR_MAX]; /* the folders of DIR this run created (mkdir_p) */
 } run_state;
 
 /* The files' paths in DIR. */
@@ -821,7 +847,7 @@ int lub_run_spec(const lub_run_request *req)
         return LUB_EXIT_BAD_SPEC; /* nothing created */
     }
     s->scene = lub_scene_find(json_string_value(json_object_get(s->resolved, "scene")));
-    if (mkdir_p(req->out_dir) != 0) {
+    if (mkdir_p(req->out_dir, s->made) != 0) {
         fprintf(req->diag, "error: cannot create output folder %s: %s\n", req->out_dir,
                 strerror(errno));
         s->rc = LUB_EXIT_IO;
@@ -830,14 +856,16 @@ int lub_run_spec(const lub_run_request *req)
         s->rc = run_check_checkpoint(s);
     }
     if (s->rc == LUB_EXIT_OK) {
-        char errbuf[256];
+        char errbuf[4400];
         s->h5 = lub_h5_create(s->h5_tmp, errbuf, sizeof errbuf);
         if (!s->h5) {
             fprintf(req->diag, "error: %s\n", errbuf);
+            unlink(s->h5_tmp); /* what HDF5 may have begun */
             s->rc = LUB_EXIT_IO;
         }
     }
     if (s->rc != LUB_EXIT_OK) { /* refused or not started: nothing run, nothing written */
+        remove_made(req->out_dir, s->made);
         const int rc = s->rc;
         json_decref(s->resolved);
         free(s);

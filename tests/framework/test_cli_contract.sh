@@ -112,13 +112,36 @@ if [ -w /dev/full ]; then
   done
 fi
 
-# an output folder that cannot be made: exit 4 and the system's reason ("File exists" for a
-# file, mkdir's errno, until 2026-12-07)
+# an output folder that cannot be made or written: exit 4, the system's reason, and no folder of
+# the run's own left behind (until 2026-12-07 the reason was missing, "File exists" for a file,
+# and a folder the run had made stayed, empty)
 printf '{"scene": "falling_sphere", "duration": 0.5}' > "$work/outerr.json"
 touch "$work/afile"
 "$LUBDEM" run "$work/outerr.json" --out "$work/afile" --quiet 2> "$work/outerr.err"; rc=$?
 [ $rc -eq 4 ] && grep -q "^error: cannot create output folder $work/afile: Not a directory" "$work/outerr.err" \
   && ok || bad "--out a file: exit $rc: $(cat "$work/outerr.err")"
+# a folder whose files' names are too long (4088 bytes: the folder can be made, its
+# .result.h5.tmp cannot)
+long=$work/lp
+while [ ${#long} -lt 3900 ]; do long=$long/$(printf 'd%.0s' $(seq 1 150)); done
+long=$long/$(printf 'e%.0s' $(seq 1 $((4088 - ${#long} - 1))))
+"$LUBDEM" run "$work/outerr.json" --out "$long" --quiet 2> "$work/outerr.err"; rc=$?
+[ $rc -eq 4 ] && grep -q "^error: HDF5: cannot create $long/.result.h5.tmp: File name too long" "$work/outerr.err" \
+  && [ ! -e "$work/lp" ] && ok || bad "--out with too long a name: exit $rc, left: $(ls "$work/lp" 2>&1 | head -c 80): $(tail -c 200 "$work/outerr.err")"
+# a read-only and a full file system, where a user namespace may mount a tmpfs
+if unshare -rm true 2> /dev/null; then
+  mkdir -p "$work/mnt"
+  unshare -rm bash -c 'mount -t tmpfs -o ro tmpfs "$2" && "$1" run "$3" --out "$2" --quiet' _ \
+    "$LUBDEM" "$work/mnt" "$work/outerr.json" 2> "$work/outerr.err"; rc=$?
+  [ $rc -eq 4 ] && grep -q "^error: HDF5: cannot create $work/mnt/.result.h5.tmp: Read-only file system" "$work/outerr.err" \
+    && ok || bad "--out on a read-only file system: exit $rc: $(cat "$work/outerr.err")"
+  unshare -rm bash -c 'mount -t tmpfs -o size=1m,nr_inodes=2 tmpfs "$2" && "$1" run "$3" --out "$2/sub" --quiet; rc=$?; ls -A "$2"; exit $rc' _ \
+    "$LUBDEM" "$work/mnt" "$work/outerr.json" > "$work/outerr.ls" 2> "$work/outerr.err"; rc=$?
+  [ $rc -eq 4 ] && grep -q "^error: HDF5: cannot create $work/mnt/sub/.result.h5.tmp: No space left on device" "$work/outerr.err" \
+    && [ ! -s "$work/outerr.ls" ] && ok || bad "--out on a full file system: exit $rc, left $(cat "$work/outerr.ls"): $(cat "$work/outerr.err")"
+else
+  echo "note: no user namespace (unshare -rm): read-only and full file system cases skipped"
+fi
 
 # usage errors
 "$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
