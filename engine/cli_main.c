@@ -198,8 +198,14 @@ int main(int argc, char **argv)
     size_t text_len = 0;
     char why[128];
     char *text = read_all(spec_path, &text_len, why, sizeof why);
-    if (!text) {
-        fprintf(stderr, "error: cannot read spec %s: %s\n", spec_path, why);
+    if (!text) { /* with --json-errors in the JSON form too, as the NUL byte below */
+        if (json_errors) {
+            lub_error err;
+            lub_fail(&err, "", "cannot read spec %s: %s", spec_path, why);
+            lub_report_spec_error(stderr, json_errors, &err);
+        } else {
+            fprintf(stderr, "error: cannot read spec %s: %s\n", spec_path, why);
+        }
         return 2;
     }
     const char *nul = memchr(text, '\0', text_len);

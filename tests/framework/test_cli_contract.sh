@@ -58,6 +58,12 @@ printf ' ' >> "$work/64m.json"
 "$LUBDEM" run "$work/64m.json" --out "$work/out_64m" > /dev/null 2> "$work/64m.err"; rc=$?
 [ $rc -eq 2 ] && [ ! -e "$work/out_64m" ] && grep -q "larger than 64 MiB" "$work/64m.err" \
   && ok || bad "64 MiB + 1 spec: exit $rc: $(cat "$work/64m.err")"
+"$LUBDEM" validate "$work/64m.json" --json-errors > /dev/null 2> "$work/64m.err"; rc=$?
+[ $rc -eq 2 ] && $PY -c "import json; e=json.load(open('$work/64m.err')); assert e['pointer']=='' and 'larger than 64 MiB' in e['message']" \
+  && ok || bad "64 MiB + 1 spec, --json-errors: exit $rc: $(cat "$work/64m.err")"
+"$LUBDEM" validate "$work/no_such.json" --json-errors > /dev/null 2> "$work/nosuch.err"; rc=$?
+[ $rc -eq 2 ] && $PY -c "import json; e=json.load(open('$work/nosuch.err')); assert e['pointer']=='' and 'No such file' in e['message']" \
+  && ok || bad "missing spec, --json-errors: exit $rc: $(cat "$work/nosuch.err")"
 rm -f "$work/64m.json"
 printf '{"scene": "sbm_channel"}\0garbage' > "$work/nul.json"
 "$LUBDEM" run "$work/nul.json" --out "$work/out_nul" > /dev/null 2> "$work/nul.err"; rc=$?
