@@ -26,11 +26,20 @@ static void usage(FILE *f)
                "  lubdem version\n"
                "SPEC may be '-' for standard input. Exit codes: 0 ok, 1 internal, 2 usage or\n"
                "invalid spec, 3 numerical failure, 4 output error, 5 stopped by a signal.\n"
-               "--resume continues the run stopped in DIR from DIR/checkpoint.h5 (same spec;\n"
-               "simple_shear may raise /strain), or starts it when there is none;\n"
-               "--keep-checkpoint keeps the checkpoint of a completed run, to extend it;\n"
-               "--checkpoint-every also writes one every SECONDS of wall time (a kill -9\n"
-               "then loses at most that much).\n");
+               "--resume continues the run stopped in DIR from DIR/checkpoint.h5, or starts it\n"
+               "when there is none; --keep-checkpoint keeps the checkpoint of a completed run,\n"
+               "to extend it; --checkpoint-every also writes one every SECONDS of wall time (a\n"
+               "kill -9 then loses at most that much). With --resume the spec must be the\n"
+               "stopped run's, except these members (/strain not below the strain already run):\n");
+    /* from the scenes' own lists, which the continuation checks */
+    for (const lub_scene *const *s = lub_scene_list(); *s; ++s) {
+        if (!(*s)->resumable || !(*s)->resume_may_differ)
+            continue;
+        fprintf(f, "  %s:", (*s)->name);
+        for (const char *const *m = (*s)->resume_may_differ; *m; ++m)
+            fprintf(f, "%s /%s", m == (*s)->resume_may_differ ? "" : ",", *m);
+        fprintf(f, "\n");
+    }
 }
 
 /* The largest spec read: specs are a few kB, and a larger input is a mistake (README, CLI

@@ -149,6 +149,14 @@ else
   echo "note: no user namespace (unshare -rm): read-only and full file system cases skipped"
 fi
 
+# the usage names the members a --resume may change, scene by scene (it said "simple_shear may
+# raise /strain" until 2026-12-07)
+"$LUBDEM" help > "$work/help.out"
+grep -qx '  simple_shear: /strain, /target_rel_error, /target_min_strain, /pair_network' "$work/help.out" \
+  && grep -qx '  resuspension: /strain, /pair_network' "$work/help.out" \
+  && grep -q '/strain not below the strain already run' "$work/help.out" \
+  && ok || bad "usage of --resume: $(cat "$work/help.out")"
+
 # usage errors
 "$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
 "$LUBDEM" frobnicate > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown command exit code"
