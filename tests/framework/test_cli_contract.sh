@@ -157,6 +157,15 @@ grep -qx '  simple_shear: /strain, /target_rel_error, /target_min_strain, /pair_
   && grep -q '/strain not below the strain already run' "$work/help.out" \
   && ok || bad "usage of --resume: $(cat "$work/help.out")"
 
+# exit 2 after the packing: a step count only the run can check leaves a failed summary with
+# exit code 2, as the README's exit-code table says (it said "nothing" until 2026-12-07)
+printf '{"scene":"simple_shear","n_particles":600,"strain":10000,"sample_strain":10,"St":1e-8,"stiffness":1e9,"dt_safety":1,"radius_std":0.2}' > "$work/late.json"
+"$LUBDEM" run "$work/late.json" --out "$work/late" --quiet 2> "$work/late.err"; rc=$?
+[ $rc -eq 2 ] && $PY -c "
+import json; s=json.load(open('$work/late/summary.json')); assert s['status']=='failed' and s['exit_code']==2 and s['diagnostic'].startswith('/stiffness: the run would take')" \
+  && grep -E '^\| 2 \|' "$SCHEMA_DIR/../README.md" | grep -q 'summary.json. with status .failed., .exit_code. 2' \
+  && ok || bad "step count refused after the packing (exit $rc) and the README's exit 2 row: $(cat "$work/late.err")"
+
 # usage errors
 "$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
 "$LUBDEM" frobnicate > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown command exit code"
