@@ -6,7 +6,8 @@ For each scene listed by `lubdem scenes`:
   1. the schema file exists and is a valid draft-07 schema;
   2. the engine's resolved default spec ({"scene": name} plus defaults) validates against it;
   3. mutations of the resolved spec are judged the same way by both: for every numeric
-     property, values just outside its minimum/maximum (exclusive or not), a wrong type, and
+     property, values just outside its minimum/maximum (exclusive or not), at an inclusive
+     bound and the nearest value inside each bound (until 2026-12-07 only outside), a wrong type, and
      an unknown extra field, at the top level and inside nested objects;
   4. the members that only exist with another's value (CONDITIONAL: Iv and servo with
      "control": "pressure", delaunay_update_strain with "lubrication_pairs": "delaunay", K
@@ -14,7 +15,9 @@ For each scene listed by `lubdem scenes`:
 usage: check_schemas.py LUBDEM SCHEMA_DIR"""
 import copy
 import json
+import math
 import os
+import re
 import subprocess
 import sys
 
@@ -48,8 +51,25 @@ def engine_accepts(lubdem, spec):
     return p.returncode == 0, (p.stdout if p.returncode == 0 else p.stderr)
 
 
+def refuses_bound(msg, pointer, bound):
+    """The engine's --json-errors refusal is at `pointer` and states the numeric bound `bound`
+    ("must be >= 0 (got ...)", "must be < 1 (got ...)"), not another rule."""
+    try:
+        e = json.loads(msg)
+    except ValueError:
+        return True
+    m = re.match(r"must be (>=|>|<=|<) (\S+) \(got ", e.get("message", ""))
+    if e.get("pointer") != pointer or not m:
+        return False
+    try:
+        return float(m.group(2)) == float(bound)
+    except ValueError:
+        return False
+
+
 def mutations(schema, spec, path=()):
-    """Yield (description, mutated spec) pairs for the object at `path`."""
+    """Yield (description, mutated spec) pairs for the object at `path`, and (description,
+    mutated spec, (pointer, bound)) for a value at or inside a bound of the member at pointer."""
     props = schema.get("properties", {})
     node = spec
     for k in path:
@@ -61,7 +81,7 @@ def mutations(schema, spec, path=()):
         typ = sub.get("type")
         if typ in ("number", "integer"):
             for key, delta, excl in (("minimum", -1, False), ("maximum", 1, False),
-                                     ("exclusiveMinimum", 0, True), ("exclusiveMaximum", 0, True)):
+                                     ("exclusiveMinimum", -1, True), ("exclusiveMaximum", 1, True)):
                 if key in sub and not isinstance(sub[key], bool):
                     bound = sub[key]
                     if excl:
@@ -69,12 +89,23 @@ def mutations(schema, spec, path=()):
                     else:
                         step = max(abs(bound) * 1e-6, 1e-9) if typ == "number" else 1
                         bad = bound + delta * step
-                    m = copy.deepcopy(spec)
-                    tgt = m
-                    for k in path:
-                        tgt = tgt[k]
-                    tgt[name] = bad
-                    yield f"{'/'.join(here)}={bad} ({key} {bound})", m
+                    # the bound itself (when inclusive) and the nearest value inside it (the
+                    # next double, or the next integer): an engine that makes an inclusive
+                    # bound exclusive, or an exclusive one wider, disagrees with the schema
+                    inside = (bound - delta if typ == "integer"
+                              else math.nextafter(float(bound), -delta * math.inf))
+                    values = [(bad, None)] + ([] if excl else [(bound, bound)]) + [(inside, bound)]
+                    for v, within in values:
+                        m = copy.deepcopy(spec)
+                        tgt = m
+                        for k in path:
+                            tgt = tgt[k]
+                        tgt[name] = v
+                        desc = f"{'/'.join(here)}={v!r} ({key} {bound})"
+                        if within is None:
+                            yield desc, m
+                        else:
+                            yield desc, m, ("/" + "/".join(here), within)
             m = copy.deepcopy(spec)
             tgt = m
             for k in path:
@@ -133,10 +164,26 @@ def main():
             print(f"{name}: resolved default spec violates the schema: {errs[0].message} "
                   f"at {list(errs[0].absolute_path)}", file=sys.stderr)
             disagreements += 1
-        for desc, spec in mutations(schema, resolved):
+        for desc, spec, *within in mutations(schema, resolved):
             schema_ok = validator.is_valid(spec)
             engine_ok, msg = engine_accepts(lubdem, spec)
             checked += 1
+            if within:
+                # a value at or inside a bound: neither the schema nor the engine may refuse
+                # it for this bound (e.g. "must be > 0" where the schema says minimum 0); either
+                # may for another rule (a cell too small, a step count, a conditional member)
+                pointer, bound = within[0]
+                schema_bound = any(
+                    e.validator in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum")
+                    and "/" + "/".join(str(k) for k in e.absolute_path) == pointer
+                    for e in validator.iter_errors(spec))
+                if schema_bound or (not engine_ok and refuses_bound(msg, pointer, bound)):
+                    disagreements += 1
+                    print(f"{name}: {desc}: at or inside the bound: schema "
+                          f"{'accepts' if schema_ok else 'rejects'}, engine "
+                          f"{'accepts' if engine_ok else 'rejects'} ({msg.strip()[:200]})",
+                          file=sys.stderr)
+                continue
             if schema_ok != engine_ok:
                 disagreements += 1
                 print(f"{name}: {desc}: schema {'accepts' if schema_ok else 'rejects'}, engine "

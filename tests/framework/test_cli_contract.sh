@@ -166,6 +166,23 @@ import json; s=json.load(open('$work/late/summary.json')); assert s['status']=='
   && grep -E '^\| 2 \|' "$SCHEMA_DIR/../README.md" | grep -q 'summary.json. with status .failed., .exit_code. 2' \
   && ok || bad "step count refused after the packing (exit $rc) and the README's exit 2 row: $(cat "$work/late.err")"
 
+# --threads 1..1024 and --checkpoint-every 0.1..1e7: the bounds are taken, one step outside
+# is a usage error (no test tried them until 2026-12-07: an engine taking 0 or 1025 passed)
+printf '{"scene": "falling_sphere", "duration": 0.5}' > "$work/opts.json"
+for opt in "--threads 0" "--threads 1025" "--threads -1" "--threads 2x" "--threads 1e3" \
+           "--checkpoint-every 0.09999" "--checkpoint-every 0" "--checkpoint-every 10000001" \
+           "--checkpoint-every nan" "--checkpoint-every inf" "--checkpoint-every 1s"; do
+  rm -rf "$work/opts_bad"
+  "$LUBDEM" run "$work/opts.json" --out "$work/opts_bad" --quiet $opt 2> "$work/opts.err"; rc=$?
+  [ $rc -eq 2 ] && [ ! -e "$work/opts_bad" ] && grep -q "^error: ${opt%% *} must be " "$work/opts.err" \
+    && ok || bad "$opt: exit $rc: $(cat "$work/opts.err")"
+done
+for opts in "--threads 1 --checkpoint-every 0.1" "--threads 1024 --checkpoint-every 1e7"; do
+  rm -rf "$work/opts_ok"
+  "$LUBDEM" run "$work/opts.json" --out "$work/opts_ok" --quiet $opts 2> "$work/opts.err"; rc=$?
+  [ $rc -eq 0 ] && [ -f "$work/opts_ok/summary.json" ] && ok || bad "$opts: exit $rc: $(cat "$work/opts.err")"
+done
+
 # usage errors
 "$LUBDEM" run > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "run without args exit code"
 "$LUBDEM" frobnicate > /dev/null 2>&1; [ $? -eq 2 ] && ok || bad "unknown command exit code"
