@@ -4,8 +4,9 @@
  * after it but no member. lub_json_overflow_member() replaces it by a marker string (and any
  * later such number by 0), parses the text again and looks the marker up, so that the refusal
  * names the member like every other spec error: "/phi: the number 1e400 (line 1 column 35) is
- * beyond the range of a double ...". A string in the spec equal to the marker ("\u0001number")
- * would be found instead (not a spec any scene accepts).
+ * beyond the range of a double ...". It parses two copies with two markers and takes the place
+ * where they differ, so that a string of the spec equal to a marker is not taken for it (until
+ * 2026-12-07 one marker, and a spec string "\u0001number" before the number was named).
  *
  * text: the spec text jansson refused with *jerr. Returns 0 with *err naming the member, or -1
  * when the refusal was for another reason or the member cannot be found (*err untouched).
@@ -18,5 +19,11 @@
 #include "spec_reader.h"
 
 int lub_json_overflow_member(const char *text, const json_error_t *jerr, lub_error *err);
+
+/* The same for a key jansson refused as a duplicate (JSON_REJECT_DUPLICATES gives its position,
+ * not its object): the key is renamed to a marker in two copies, and the refusal names the
+ * member, "/law/eps: the member appears twice in its object (again at line 1 column 35): give
+ * it once". 0 with *err, or -1 (another reason, or not found; *err untouched). */
+int lub_json_duplicate_member(const char *text, const json_error_t *jerr, lub_error *err);
 
 #endif

@@ -94,7 +94,8 @@ static json_t *parse_and_resolve(const char *text, FILE *diag, int json_errors)
     lub_error err;
     json_t *spec = json_loads(text, JSON_REJECT_DUPLICATES, &jerr);
     if (!spec) {
-        if (lub_json_overflow_member(text, &jerr, &err) != 0)
+        if (lub_json_overflow_member(text, &jerr, &err) != 0 &&
+            lub_json_duplicate_member(text, &jerr, &err) != 0)
             lub_fail(&err, "", "invalid JSON at line %d column %d: %s", jerr.line, jerr.column,
                      jerr.text);
         lub_report_spec_error(diag, json_errors, &err);

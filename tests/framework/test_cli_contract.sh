@@ -43,7 +43,12 @@ expect_spec_error unknownfield '{"scene": "falling_sphere", "bogus_field": 1}' '
 expect_spec_error overflow '{"scene": "falling_sphere", "duration": 1e400}' '/duration'
 expect_spec_error overflow_nested '{"scene": "simple_shear", "microstructure": {"start_strain": -1e999}}' '/microstructure/start_strain'
 expect_spec_error overflow_int '{"scene": "simple_shear", "seed": 99999999999999999999999}' '/seed'
-expect_spec_error duplicate '{"scene": "falling_sphere", "scene": "falling_sphere"}' '(root)'
+# a duplicate key is named at its member (it was "(root): ... duplicate object key near '"eps"'")
+expect_spec_error duplicate '{"scene": "falling_sphere", "scene": "falling_sphere"}' '/scene'
+expect_spec_error duplicate_nested '{"scene": "falling_sphere", "law": {"eps": 0.01, "eps": 0.02}}' '/law/eps'
+expect_spec_error duplicate_escaped '{"scene": "falling_sphere", "law": {"a/\"b": 1, "a/\"b": 2}}' '/law/a~1"b'
+# a spec string equal to the overflow's marker is not taken for the number (it was named /x)
+expect_spec_error overflow_marker '{"x": "\u0001number", "scene": "falling_sphere", "St": 1e400}' '/St'
 
 # spec files: at most 64 MiB (it was 128 MiB in effect, and a larger one said "No such file or
 # directory", a stale errno), no NUL byte (the text after one was ignored)
