@@ -195,3 +195,46 @@ int lub_json_duplicate_member(const char *text, const json_error_t *jerr, lub_er
              jerr->line, jerr->column);
     return 0;
 }
+
+int lub_json_underflow_member(const char *text, lub_error *err)
+{
+    int in_string = 0, line = 1;
+    const char *line_start = text;
+    for (const char *c = text; *c; ++c) {
+        if (in_string) {
+            if (*c == '\\' && c[1])
+                ++c;
+            else if (*c == '"')
+                in_string = 0;
+            continue;
+        }
+        if (*c == '"') {
+            in_string = 1;
+        } else if (*c == '\n') {
+            ++line;
+            line_start = c + 1;
+        } else if (*c == '-' || (*c >= '0' && *c <= '9')) {
+            const char *e = c;
+            int nonzero = 0, in_exponent = 0;
+            for (; *e && strchr("0123456789+-.eE", *e); ++e) {
+                if (*e == 'e' || *e == 'E')
+                    in_exponent = 1;
+                else if (!in_exponent && *e >= '1' && *e <= '9')
+                    nonzero = 1;
+            }
+            const size_t start = (size_t)(c - text), end = (size_t)(e - text);
+            if (nonzero && end - start <= 400 && strtod(c, NULL) == 0.0) {
+                char at[sizeof err->pointer];
+                if (!find_member(text, start, end, 0, NULL, at, sizeof at))
+                    return -1;
+                lub_fail(err, at,
+                         "the number %.*s (line %d column %d) is below the range of a double "
+                         "(magnitude below 4.9e-324): it would be read as 0",
+                         (int)(end - start), c, line, (int)(c - line_start) + 1);
+                return 0;
+            }
+            c = e - 1;
+        }
+    }
+    return -1;
+}

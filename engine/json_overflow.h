@@ -26,4 +26,11 @@ int lub_json_overflow_member(const char *text, const json_error_t *jerr, lub_err
  * it once". 0 with *err, or -1 (another reason, or not found; *err untouched). */
 int lub_json_duplicate_member(const char *text, const json_error_t *jerr, lub_error *err);
 
+/* A number in text (which jansson parsed) that is not 0 as written but below the smallest
+ * double, which jansson reads as 0 without a word (1e-400: a "dt" of 0 would be taken as the
+ * automatic step, an "St" refused as "got 0"): 0 with *err naming the member, "/dt: the number
+ * 1e-400 (line 1 column 32) is below the range of a double ...", or -1 when there is none (or it
+ * cannot be found). */
+int lub_json_underflow_member(const char *text, lub_error *err);
+
 #endif

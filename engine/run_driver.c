@@ -101,6 +101,11 @@ static json_t *parse_and_resolve(const char *text, FILE *diag, int json_errors)
         lub_report_spec_error(diag, json_errors, &err);
         return NULL;
     }
+    if (lub_json_underflow_member(text, &err) == 0) { /* read as 0 without a word */
+        json_decref(spec);
+        lub_report_spec_error(diag, json_errors, &err);
+        return NULL;
+    }
     json_t *resolved = NULL;
     int rc = lub_spec_resolve(spec, &resolved, &err);
     json_decref(spec);

@@ -47,6 +47,12 @@ expect_spec_error overflow_int '{"scene": "simple_shear", "seed": 99999999999999
 expect_spec_error duplicate '{"scene": "falling_sphere", "scene": "falling_sphere"}' '/scene'
 expect_spec_error duplicate_nested '{"scene": "falling_sphere", "law": {"eps": 0.01, "eps": 0.02}}' '/law/eps'
 expect_spec_error duplicate_escaped '{"scene": "falling_sphere", "law": {"a/\"b": 1, "a/\"b": 2}}' '/law/a~1"b'
+# a number below the range of a double (read as 0 by jansson) is refused at its member, quoted as
+# written (a "dt" of 1e-400 ran with the automatic step; "St" said "must be > 0 (got 0)")
+expect_spec_error underflow_dt '{"scene": "falling_sphere", "duration": 0.5, "dt": 1e-400}' '/dt'
+expect_spec_error underflow_st '{"scene": "falling_sphere", "St": 1e-400}' '/St'
+grep -q "^error: /St: the number 1e-400 (line 1 column 35) is below the range of a double" "$work/underflow_st.err" \
+  && ok || bad "St 1e-400: $(cat "$work/underflow_st.err")"
 # a spec string equal to the overflow's marker is not taken for the number (it was named /x)
 expect_spec_error overflow_marker '{"x": "\u0001number", "scene": "falling_sphere", "St": 1e400}' '/St'
 
