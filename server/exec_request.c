@@ -94,20 +94,33 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
                          process_id);
     json_error_t jerr;
     r->body = json_loadb(body, len, JSON_REJECT_DUPLICATES, &jerr);
-    if (!r->body) {
-        /* a number beyond a double or an int64 is named at its member, as lubdem does; it
-         * parses the text again (up to 100 times), so only for a body of at most 64 KiB, on
-         * the request's thread */
-        lub_error big;
-        char *text =
-            body && len <= ((size_t)64 << 10) && !memchr(body, '\0', len) ? malloc(len + 1) : NULL;
-        int named = -1;
-        if (text) {
-            memcpy(text, body, len);
-            text[len] = '\0';
-            named = lub_json_overflow_member(text, &jerr, &big);
-            free(text);
+    /* the body as a string, for naming a member the parser refused or read as 0; it is parsed
+     * again (up to 100 times), so only for a body of at most 64 KiB, on the request's thread */
+    char *text =
+        body && len <= ((size_t)64 << 10) && !memchr(body, '\0', len) ? malloc(len + 1) : NULL;
+    if (text) {
+        memcpy(text, body, len);
+        text[len] = '\0';
+    }
+    lub_error big;
+    int named = -1;
+    if (!r->body && text) {
+        /* a number beyond a double or an int64, or a duplicate key, is named at its member,
+         * as lubdem does (until 2026-12-07 a duplicate was answered as malformed JSON) */
+        named = lub_json_overflow_member(text, &jerr, &big);
+        if (named != 0)
+            named = lub_json_duplicate_member(text, &jerr, &big);
+    } else if (r->body && text) {
+        /* a number below the range of a double, which the parser reads as 0 without a word
+         * (until 2026-12-07 the service took "dt": 1e-400 as the automatic step) */
+        named = lub_json_underflow_member(text, &big);
+        if (named == 0) {
+            json_decref(r->body);
+            r->body = NULL;
         }
+    }
+    free(text);
+    if (!r->body) {
         if (named == 0) {
             const int input = strncmp(big.pointer, "/inputs/", 8) == 0;
             return lubd_fail(f, 400,

@@ -23,8 +23,15 @@ def run():
         cases = [
             ("malformed JSON", ex, b'{"inputs": {"duration": 1,}', {}, alice, 400, "",
              "not valid JSON"),
-            ("duplicate key", ex, b'{"inputs": {}, "inputs": {}}', {}, alice, 400, "",
-             "duplicate"),
+            # named at its member since 2026-12-07, as lubdem names it (it was malformed JSON)
+            ("duplicate key", ex, b'{"inputs": {}, "inputs": {}}', {}, alice, 400, "/inputs",
+             "appears twice"),
+            ("nested duplicate key", ex, b'{"inputs": {"law": {"eps": 0.01, "eps": 0.02}}}', {},
+             alice, 400, "/inputs/law/eps", "appears twice"),
+            # read as 0 by the parser: refused at its member, as lubdem refuses it (the service
+            # took it as 0, the automatic step, until 2026-12-07)
+            ("number below a double", ex, b'{"inputs": {"dt": 1e-400}}', {}, alice, 400,
+             "/inputs/dt", "below the range of a double"),
             ("body not an object", ex, b'[1,2]', {}, alice, 400, "", "JSON object"),
             ("number beyond a double", ex, b'{"inputs": {"duration": 1e400}}', {}, alice,
              400, "/inputs/duration", "beyond the range of a double"),
