@@ -251,6 +251,38 @@ double lub_packing_radii(const lub_packing_params *p, double *radius)
     return cbrt(sphere_volume_sum(radius, p->n) / p->phi);
 }
 
+/* The smallest true gap u_n = |d| - r_i - r_j over all pairs (nearest images), from lists of
+ * growing range (no skin): every pair with u_n < range a_ij, a_ij >= r_min, is listed, so the
+ * smallest listed gap is the true one once it is below range r_min; until then (no pair that
+ * close, or a listed pair of large spheres whose gap an unlisted pair of small ones may
+ * undercut) the range grows 4-fold. When a list cannot be built (cell narrower than twice its
+ * listing distance, out of memory) the O(n^2) search. Until 2026-12-07 a single list of range
+ * 0.2 was read: INFINITY (reported as null) when no pair had u_n < 0.2 a_ij, and with radius
+ * spread possibly not the smallest gap. */
+static double final_min_gap(lub_nlist *nl, const lub_cell *cell, const vec3 *pos,
+                            const double *radius, int n)
+{
+    double rmin = INFINITY;
+    for (int i = 0; i < n; ++i)
+        rmin = fmin(rmin, radius[i]);
+    nl->skin = 0.0;
+    for (double range = 0.2;; range *= 4.0) {
+        nl->range = range;
+        if (lub_nlist_build(nl, cell, pos, radius, n) != LUB_NLIST_OK)
+            return lub_packing_min_gap(cell, pos, radius, n);
+        double g = INFINITY;
+        for (size_t k = 0; k < nl->npairs; ++k) {
+            const int i = nl->pi[k], j = nl->pj[k];
+            const vec3 d = v3_sub(v3_add(pos[j], lub_cell_shift(cell, &nl->pc[3 * k])), pos[i]);
+            const double u = v3_norm(d) - radius[i] - radius[j];
+            if (u < g)
+                g = u;
+        }
+        if (g < range * rmin)
+            return g;
+    }
+}
+
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info)
 {
@@ -364,21 +396,7 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
         lub_cell_wrap(cell, &pos[i], NULL, NULL);
     spatial_sort(cell, pos, radius, disp, ref, n);
     {
-        /* final verification with the true radii on a fresh list (pairs with u_n < 0.2 a) */
-        nl.skin = 0.0;
-        nl.range = 0.2;
-        double g = INFINITY;
-        if (lub_nlist_build(&nl, cell, pos, radius, n) == LUB_NLIST_OK) {
-            for (size_t k = 0; k < nl.npairs; ++k) {
-                int i = nl.pi[k], j = nl.pj[k];
-                vec3 d = v3_sub(v3_add(pos[j], lub_cell_shift(cell, &nl.pc[3 * k])), pos[i]);
-                double u = v3_norm(d) - radius[i] - radius[j];
-                if (u < g)
-                    g = u;
-            }
-        } else {
-            g = lub_packing_min_gap(cell, pos, radius, n);
-        }
+        const double g = final_min_gap(&nl, cell, pos, radius, n);
         if (info) {
             info->min_gap = g;
             info->phi = vs / cell->volume;
