@@ -676,8 +676,8 @@ static int ss_record_sample(ss_run_state *r, int64_t step, const lub_shear_sampl
 {
     lub_run_ctx *ctx = r->ctx;
     const double gd = r->gd, s0 = r->s0;
-    /* bond order after the step (one pass over the pair list, which the first step
-     * builds; image shifts stay consistent with the positions until the next rebuild) */
+    /* bond order after the step: one pass over the pair list where it reaches every bond
+     * (cut-off >= 0.4 a, skin not overspent), else over a list of its own (shear_system.h) */
     long bonds_here = 0;
     const double q6_here = lub_shear_bond_order_q6(&r->sys, SS_BOND_FACTOR, &bonds_here);
     r->lp.bonds_sum += (double)bonds_here;

@@ -66,6 +66,7 @@ void lub_shear_free(lub_shear_system *s)
     }
     lub_pdf_free(&s->pdf);
     lub_nlist_free(&s->nl);
+    lub_nlist_free(&s->bond_nl);
     lub_pairs_free(&s->pairs);
     lub_topology_free(&s->topo);
     memset(s, 0, sizeof *s);
@@ -141,6 +142,7 @@ int lub_shear_init(lub_shear_system *s, int n, const double *radius, const vec3 
     s->fail_pair = -1;
     lub_nlist_init(&s->nl, cutoff, skin);
     s->nl.threads = threads;
+    lub_nlist_init(&s->bond_nl, 0.0, 0.0);
     lub_pairs_init(&s->pairs);
     s->need_rebuild = 1;
     return LUB_SHEAR_OK;
@@ -186,14 +188,69 @@ double lub_shear_phi(const lub_shear_system *s)
     return 4.0 / 3.0 * PI * v / s->cell.volume;
 }
 
-double lub_shear_bond_order_q6(const lub_shear_system *s, double bond_factor, long *bonds)
+/* Q6 over the nearest-image pairs closer than bond_factor (r_i + r_j), O(n^2): the bond
+ * list's fallback where it cannot be built (a cell narrower than twice its listing distance,
+ * or no memory). The nearest image is searched among the 27 around the rounded fractional
+ * difference. */
+static double bond_order_brute(const lub_shear_system *s, double bond_factor, long *bonds)
 {
     lub_q6_accum acc;
     lub_q6_zero(&acc);
-    const lub_pairs *ps = &s->pairs;
-    for (size_t k = 0; k < ps->n; ++k) {
-        const int i = ps->i[k], j = ps->j[k];
-        const vec3 d = v3_sub(v3_add(s->x[j], lub_cell_shift(&s->cell, &ps->c[3 * k])), s->x[i]);
+    for (int i = 0; i < s->n; ++i)
+        for (int j = i + 1; j < s->n; ++j) {
+            const vec3 d0 = v3_sub(s->x[j], s->x[i]);
+            const vec3 f = lub_cell_to_frac(&s->cell, d0);
+            const int k0[3] = {-(int)lround(f.x), -(int)lround(f.y), -(int)lround(f.z)};
+            vec3 best = d0;
+            double best2 = INFINITY;
+            for (int a = -1; a <= 1; ++a)
+                for (int b = -1; b <= 1; ++b)
+                    for (int c = -1; c <= 1; ++c) {
+                        const int k[3] = {k0[0] + a, k0[1] + b, k0[2] + c};
+                        const vec3 d = v3_add(d0, lub_cell_shift(&s->cell, k));
+                        if (v3_norm2(d) < best2) {
+                            best2 = v3_norm2(d);
+                            best = d;
+                        }
+                    }
+            const double reach = bond_factor * (s->r[i] + s->r[j]);
+            if (best2 < reach * reach)
+                lub_q6_add(&acc, best);
+        }
+    if (bonds)
+        *bonds = acc.n;
+    return lub_q6_value(&acc);
+}
+
+double lub_shear_bond_order_q6(lub_shear_system *s, double bond_factor, long *bonds)
+{
+    /* the pair list holds every pair closer than (r_i + r_j)(1 + cutoff/2) + skin - skin_used
+     * (skin rule; also right after a step that found the skin used up): enough when that
+     * covers bond_factor (r_i + r_j) for the largest pair */
+    double rmax = 0.0;
+    for (int i = 0; i < s->n; ++i)
+        rmax = fmax(rmax, s->r[i]);
+    const int list_covers =
+        s->nl.skin - s->skin_used >= 2.0 * rmax * (bond_factor - 1.0 - 0.5 * s->nl.range);
+    const int32_t *pi = s->pairs.i, *pj = s->pairs.j, *pc = s->pairs.c;
+    size_t np = s->pairs.n;
+    if (!list_covers) {
+        /* a list of its own: every pair closer than bond_factor (r_i + r_j), no skin */
+        lub_nlist *bl = &s->bond_nl;
+        bl->range = fmax(0.0, 2.0 * (bond_factor - 1.0));
+        bl->skin = 0.0;
+        if (lub_nlist_build(bl, &s->cell, s->x, s->r, s->n) != LUB_NLIST_OK)
+            return bond_order_brute(s, bond_factor, bonds);
+        pi = bl->pi;
+        pj = bl->pj;
+        pc = bl->pc;
+        np = bl->npairs;
+    }
+    lub_q6_accum acc;
+    lub_q6_zero(&acc);
+    for (size_t k = 0; k < np; ++k) {
+        const int i = pi[k], j = pj[k];
+        const vec3 d = v3_sub(v3_add(s->x[j], lub_cell_shift(&s->cell, &pc[3 * k])), s->x[i]);
         const double reach = bond_factor * (s->r[i] + s->r[j]);
         if (v3_norm2(d) < reach * reach)
             lub_q6_add(&acc, d);
@@ -225,11 +282,14 @@ size_t lub_shear_memory_bytes(const lub_shear_system *s)
 {
     size_t n = (size_t)s->n;
     size_t b = n * PARTICLE_BYTES;
-    const lub_nlist *nl = &s->nl;
-    for (int t = 0; t < nl->nparts; ++t) /* per-thread buffers of the parallel search */
-        b += nl->parts[t].cap * NLIST_PAIR_BYTES;
-    b += nl->pair_cap * NLIST_PAIR_BYTES + nl->part_cap * NLIST_PARTICLE_BYTES +
-         nl->bin_cap * sizeof(int);
+    const lub_nlist *lists[2] = {&s->nl, &s->bond_nl}; /* the bond list: empty unless used */
+    for (int l = 0; l < 2; ++l) {
+        const lub_nlist *nl = lists[l];
+        for (int t = 0; t < nl->nparts; ++t) /* per-thread buffers of the parallel search */
+            b += nl->parts[t].cap * NLIST_PAIR_BYTES;
+        b += nl->pair_cap * NLIST_PAIR_BYTES + nl->part_cap * NLIST_PARTICLE_BYTES +
+             nl->bin_cap * sizeof(int);
+    }
     const lub_pairs *ps = &s->pairs;
     b += (ps->cap + ps->ocap) * STORE_PAIR_BYTES + ps->fcap * STORE_FLAT_PAIR_BYTES;
     b += s->topo.site_cap * sizeof(lub_power_site) + (size_t)s->topo.n_cap * sizeof(size_t);
