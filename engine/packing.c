@@ -364,7 +364,10 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
                     b = lub_nlist_build(&nl, cell, pos, radius, n);
                 }
                 if (b != LUB_NLIST_OK) {
-                    rc = (b == LUB_NLIST_NOMEM) ? -1 : -2;
+                    /* a cube narrower than twice even that distance: too few spheres for the
+                     * pair search (packing.h). Until 2026-12-07 reported as -2, "phi too
+                     * high" */
+                    rc = (b == LUB_NLIST_NOMEM) ? -1 : -4;
                     goto done;
                 }
                 memcpy(ref, pos, (size_t)n * sizeof *ref);

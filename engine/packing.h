@@ -50,7 +50,11 @@ typedef struct {
 
 /* Fills radius[n] and pos[n] (wrapped in the cube) and initialises *cell to the cube.
  * Returns 0 on success, -1 if out of memory, -2 if the target could not be reached without
- * overlaps within max_sweeps (phi too high), -3 if *p->stop was set (outputs unusable). */
+ * overlaps within max_sweeps (phi too high), -3 if *p->stop was set, -4 if the cube becomes
+ * narrower than twice the inflated contact distance 2 r_max (1 + margin), where the pair search
+ * cannot run: too few spheres for their size (with radius std 0.05: n <= 5 at phi 0.3, n <= 9
+ * at phi 0.5; more with a wider spread, whose r_max is larger). The scenes refuse such sizes
+ * before packing. Until 2026-12-07 this was -2. Outputs unusable unless 0. */
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info);
 /* The radii lub_packing_generate gives for *p (the same draw, into radius[p->n]) and the side

@@ -333,6 +333,11 @@ static int ss_pack(ss_run_state *r, vec3 **pos, lub_cell *cell)
     if (prc) {
         if (prc == -1)
             lub_diagnostic_out_of_memory(ctx, "packing", n, 0.0, "/n_particles");
+        else if (prc == -4) /* too few spheres: the spec refuses such sizes before */
+            snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
+                     "packing generation failed: %d spheres at phi=%g are too few for the "
+                     "packing's pair search (cube narrower than twice their contact distance)",
+                     n, p->phi);
         else
             snprintf(ctx->diagnostic, sizeof ctx->diagnostic,
                      "packing generation failed (target fraction not reached without "
