@@ -193,7 +193,7 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
     if (lub_spec_resolve(r->spec, &r->resolved, &err) != 0) {
         char ptr[300];
         snprintf(ptr, sizeof ptr, "/inputs%.250s", err.pointer);
-        lubd_utf8_trim_tail(ptr);
+        lub_utf8_trim_tail(ptr);
         lubd_fail(f, 400, LUBD_PT_BASE "invalid-input", "Invalid input", ptr, "%s: %s", ptr,
                   err.message);
         goto fail;

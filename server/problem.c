@@ -5,19 +5,7 @@
 #include <stdio.h>
 #include <string.h>
 
-void lubd_utf8_trim_tail(char *s)
-{
-    size_t n = strlen(s);
-    if (n == 0)
-        return;
-    size_t lead = n - 1; /* the start of the last character */
-    while (lead > 0 && ((unsigned char)s[lead] & 0xC0) == 0x80 && n - lead < 4)
-        --lead;
-    const unsigned char c = (unsigned char)s[lead];
-    const size_t want = c < 0x80 ? 1 : c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : c >= 0xC0 ? 2 : 1;
-    if (n - lead < want)
-        s[lead] = '\0';
-}
+#include "spec_reader.h"
 
 int lubd_fail(lubd_fault *f, int status, const char *type, const char *title, const char *pointer,
               const char *fmt, ...)
@@ -31,8 +19,8 @@ int lubd_fail(lubd_fault *f, int status, const char *type, const char *title, co
     va_start(ap, fmt);
     vsnprintf(f->detail, sizeof f->detail, fmt, ap);
     va_end(ap);
-    lubd_utf8_trim_tail(f->pointer); /* where a long name was cut, keep it valid UTF-8 */
-    lubd_utf8_trim_tail(f->detail);
+    lub_utf8_trim_tail(f->pointer); /* where a long name was cut, keep it valid UTF-8 */
+    lub_utf8_trim_tail(f->detail);
     f->retry_after = 0;
     return -1;
 }

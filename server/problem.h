@@ -25,10 +25,9 @@ typedef struct {
 /* Fills *f; pointer NULL = not about a single field. Returns -1 (for "return lubd_fail(...)").*/
 int lubd_fail(lubd_fault *f, int status, const char *type, const char *title, const char *pointer,
               const char *fmt, ...) __attribute__((format(printf, 6, 7)));
-/* Cuts an incomplete UTF-8 character off the end of s (what a "%.Ns" or a full buffer leaves
- * of a multi-byte name), so that the text stays valid for JSON. Applied to pointer and detail
- * by lubd_fail. */
-void lubd_utf8_trim_tail(char *s);
+/* lubd_fail cuts an incomplete UTF-8 character off the end of pointer and detail (what a
+ * "%.Ns" or a full buffer leaves of a multi-byte name; the engine's lub_utf8_trim_tail,
+ * spec_reader.h), so that the texts stay valid for JSON. */
 /* New JSON object {type,title,status,detail[,instance][,errors:[{pointer,detail}]]}. */
 json_t *lubd_fault_json(const lubd_fault *f, const char *instance);
 
