@@ -463,14 +463,15 @@ typedef struct {
     int from_other;  /* out_dir holds the files of the job this one continues ("continue_from") */
     int log_fd;
     lubd_engine_opts eo;
-    end_reason why;      /* how the engine's supervision ended */
-    int status;          /* the engine's wait status */
-    char st_text[200];   /* the status in words, as the log states it */
-    double cpu_used;     /* CPU time the engine used (user + system, s) */
-    double started_at;   /* wall clock when the engine started (wall_now) */
-    off_t log_from;      /* the log's size when the engine started: what it wrote follows */
-    int killed_outside;  /* SIGKILL from outside this service (assess_kill_from_outside) */
-    int have_ckpt;       /* ... that left out/checkpoint.h5 */
+    end_reason why;           /* how the engine's supervision ended */
+    int status;               /* the engine's wait status */
+    char st_text[200];        /* the status in words, as the log states it */
+    double cpu_used;          /* CPU time the engine used (user + system, s) */
+    double started_at;        /* wall clock when the engine started (wall_now) */
+    off_t log_from;           /* the log's size when the engine started: what it wrote follows */
+    int killed_outside;       /* SIGKILL from outside this service (assess_kill_from_outside) */
+    int killed_at_wall_limit; /* SIGKILL at this service's wall-clock limit (the same) */
+    int have_ckpt;            /* ... that left out/checkpoint.h5 */
     int crashed_resumed; /* an engine run with --resume died by a signal, its checkpoint kept */
     /* why a checkpoint of an earlier run could not be kept, or "" */
     char keep_failure[3200];
@@ -770,6 +771,7 @@ static void assess_kill_from_outside(job_attempt *a)
     const int killed =
         WIFSIGNALED(a->status) && WTERMSIG(a->status) == SIGKILL && !reached_cpu_limit(a);
     a->killed_outside = killed && a->why != END_WALL_LIMIT;
+    a->killed_at_wall_limit = killed && a->why == END_WALL_LIMIT;
     char ckpt_file[1500];
     lubd_pathf(ckpt_file, sizeof ckpt_file, "%s/checkpoint.h5", a->out_dir);
     const double ckpt_time = killed ? mtime_of(ckpt_file) : -1.0;
@@ -954,8 +956,7 @@ static void record_failure(job_attempt *a)
     finishing_beat beat = {a->w, a->c, 0.0, 0};
     char diag[600] = "";
     summary_diagnostic(a->out_dir, diag, sizeof diag);
-    const int killed = WIFSIGNALED(a->status) && WTERMSIG(a->status) == SIGKILL;
-    if (!diag[0] && !a->killed_outside && !(killed && a->why == END_WALL_LIMIT))
+    if (!diag[0] && !a->killed_outside && !a->killed_at_wall_limit)
         /* a killed engine's last line says nothing of the kill */
         log_diagnostic(a->log_path, a->log_from, diag, sizeof diag);
     /* 4 = cannot write output; 126/127 = the engine could not be executed: infrastructure. */

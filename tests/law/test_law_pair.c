@@ -535,6 +535,16 @@ static const double UR1 = 0.8, UR2 = 1.3;
 
 static vec3 tangential(vec3 f, vec3 n) { return v3_axpy(f, -v3_dot(f, n), n); }
 
+/* a pair state at gap x0 a with normal n (no stored shear force) */
+static lub_pair_state unequal_state(double x0, vec3 n)
+{
+    lub_pair_state st;
+    memset(&st, 0, sizeof st);
+    lub_pair_state_set_gap(&st, log(x0));
+    st.n_prev = n;
+    return st;
+}
+
 /* Shear-force torque arms (notes §4.6): the arm of body i is r_i + u_n/2, the distance from its
  * centre to the mid-gap point, and both bodies get (r_i + u_n/2) n x F_s (body 2: arm -n, force
  * -F_s), F_s = the tangential part of the force on body 1. Lubricated gap (with roll/twist
@@ -565,11 +575,8 @@ static void test_unequal_torque_arms(void)
                                        .inv_inertia1 = 2.5 / (r1 * r1),
                                        .inv_inertia2 = 2.5 / (r2 * r2),
                                        .dt = 1e-3};
-            lub_pair_state st;
-            memset(&st, 0, sizeof st);
-            lub_pair_state_set_gap(&st, log(cases[k].x0));
+            lub_pair_state st = unequal_state(cases[k].x0, n);
             st.fs = v3_scale(unit(tangential(v3(3.0, -1.0, 2.0), n)), cases[k].fs0);
-            st.n_prev = n;
             lub_pair_output o;
             CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "unequal arms rc");
             n_slip += o.slip;
@@ -681,10 +688,7 @@ static void test_unequal_shear_increment(void)
                                    .inv_inertia1 = 2.5 / (r1 * r1),
                                    .inv_inertia2 = 2.5 / (r2 * r2),
                                    .dt = dt};
-        lub_pair_state st;
-        memset(&st, 0, sizeof st);
-        lub_pair_state_set_gap(&st, log(0.003));
-        st.n_prev = n;
+        lub_pair_state st = unequal_state(0.003, n);
         lub_pair_output o;
         CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "unequal stick rc");
         CHECK(o.contact && !o.slip, "unequal stick case %u: contact %d slip %d", k, o.contact,
@@ -731,10 +735,7 @@ static void test_unequal_spin_coefficients(void)
                                        .inv_inertia1 = inv[ii][0],
                                        .inv_inertia2 = inv[ii][1],
                                        .dt = 1e-3};
-            lub_pair_state st;
-            memset(&st, 0, sizeof st);
-            lub_pair_state_set_gap(&st, log(0.05));
-            st.n_prev = n;
+            lub_pair_state st = unequal_state(0.05, n);
             lub_pair_output o;
             CHECK(lub_pair_step(&p, &in, &st, &o) == 0, "unequal spin rc");
             CHECK(o.delta < 0.0, "unequal spin: u > a");
