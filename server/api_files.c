@@ -10,6 +10,7 @@
 #include "api.h"
 #include "http_range.h"
 #include "queue.h"
+#include "spec_reader.h"
 #include "status_json.h"
 
 /* Serves an open fd (ownership passes to this function). etag may be NULL. */
@@ -39,8 +40,10 @@ static enum MHD_Result serve_fd(lubd_request *r, int fd, uint64_t size, const ch
     if (kind == LUBD_RANGE_UNSATISFIABLE) {
         close(fd);
         lubd_fault f;
+        char quoted[104];
+        lub_text_one_line(range, quoted, sizeof quoted);
         lubd_fail(&f, 416, LUBD_PT_BASE "range-not-satisfiable", "Range not satisfiable", NULL,
-                  "range %.100s is outside the %llu bytes of the file", range,
+                  "range %s is outside the %llu bytes of the file", quoted,
                   (unsigned long long)size);
         struct MHD_Response *resp =
             lubd_json_response(lubd_fault_json(&f, r->url), "application/problem+json");
@@ -116,8 +119,10 @@ enum MHD_Result lubd_api_result_file(lubd_request *r, const char *id, const char
             rf = &files[i];
     if (!rf) {
         free(files);
+        char quoted[68];
+        lub_text_one_line(name, quoted, sizeof quoted);
         lubd_fail(&f, 404, LUBD_PT_BASE "no-such-output", "No such output", NULL,
-                  "job %s has no output \"%.64s\" (see /jobs/%s/results)", id, name, id);
+                  "job %s has no output \"%s\" (see /jobs/%s/results)", id, quoted, id);
         return lubd_reply_fault(r, &f);
     }
     char path[1400], etag[80], disp[200];

@@ -8,6 +8,7 @@
 #include "fsutil.h"
 #include "queue.h"
 #include "sha256.h"
+#include "spec_reader.h"
 #include "status_json.h"
 
 int lubd_load_visible_job(lubd_request *r, const char *id, void *out, lubd_fault *f,
@@ -25,9 +26,12 @@ int lubd_load_visible_job(lubd_request *r, const char *id, void *out, lubd_fault
     }
     if (found < 0)
         return lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
-    if (found == 0 || (j->user_id != r->user.id && !r->user.is_admin))
+    if (found == 0 || (j->user_id != r->user.id && !r->user.is_admin)) {
+        char quoted[68];
+        lub_text_one_line(id, quoted, sizeof quoted);
         return lubd_fail(f, 404, LUBD_OGC_EXC "no-such-job", "No such job", NULL,
-                         "job \"%.64s\" does not exist (or belongs to another user)", id);
+                         "job \"%s\" does not exist (or belongs to another user)", quoted);
+    }
     if (j->purged && !allow_purged)
         return lubd_fail(f, 410, LUBD_PT_BASE "job-purged", "Job purged", NULL,
                          "job %s was deleted (DELETE of a job that had ended or been "
@@ -92,10 +96,12 @@ enum MHD_Result lubd_api_jobs(lubd_request *r)
     status_acc acc = {0, 0, ""};
     MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, collect_status, &acc);
     if (acc.bad) {
+        char quoted[64];
+        lub_text_one_line(acc.bad_value, quoted, sizeof quoted);
         lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
-                  "status: unknown value \"%.60s\" (accepted, running, successful, failed, "
+                  "status: unknown value \"%s\" (accepted, running, successful, failed, "
                   "dismissed)",
-                  acc.bad_value);
+                  quoted);
         return lubd_reply_fault(r, &f);
     }
     q.state_mask = acc.mask;

@@ -11,6 +11,7 @@
 #include "oas_schema.h"
 #include "queue.h"
 #include "scene.h"
+#include "spec_reader.h"
 #include "status_json.h"
 
 static json_t *summary_of(const lub_scene *s, const char *base)
@@ -44,8 +45,10 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
     const lub_scene *s = lub_scene_find(id);
     if (!s) {
         lubd_fault f;
+        char quoted[104];
+        lub_text_one_line(id, quoted, sizeof quoted);
         lubd_fail(&f, 404, LUBD_OGC_EXC "no-such-process", "No such process", NULL,
-                  "process \"%.100s\" does not exist (GET /processes lists them)", id);
+                  "process \"%s\" does not exist (GET /processes lists them)", quoted);
         return lubd_reply_fault(r, &f);
     }
     json_t *o = summary_of(s, r->base);

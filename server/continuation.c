@@ -11,6 +11,7 @@
 #include "queue.h"
 #include "resume_spec.h"
 #include "scene.h"
+#include "spec_reader.h"
 
 #define BAD_FROM(f, ...)                                                                           \
     lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/continue_from",         \
@@ -56,7 +57,7 @@ static int same_run(sqlite3 *db, const lubd_continuation *c, const lub_scene *sc
                 lubd_fail(f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "out of memory");
         } else if (d > 0) {
             char ptr[600];
-            snprintf(ptr, sizeof ptr, "/inputs%.500s", at);
+            snprintf(ptr, sizeof ptr, "/inputs%.*s", lub_utf8_prefix(at, 500), at);
             rc = lubd_fail(f, 400, LUBD_PT_BASE "invalid-input", "Invalid input", ptr,
                            "/inputs%s (job %s being the stopped run): a continuation takes the "
                            "inputs of the job it continues, defaults included%s",

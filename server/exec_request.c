@@ -8,6 +8,7 @@
 #include "json_overflow.h"
 #include "scene.h"
 #include "sha256.h"
+#include "spec_reader.h"
 
 static const char *const allowed_members[] = {"inputs",     "priority",      "outputs", "response",
                                               "subscriber", "continue_from", NULL};
@@ -24,10 +25,12 @@ static int check_members(const json_t *body, lubd_fault *f)
         if (!ok) {
             char ptr[300];
             lub_pointer_join(ptr, sizeof ptr, "", key);
+            char quoted[104];
+            lub_text_one_line(key, quoted, sizeof quoted);
             return lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", ptr,
-                             "unknown member \"%.100s\" (allowed: inputs, priority, outputs, "
+                             "unknown member \"%s\" (allowed: inputs, priority, outputs, "
                              "response, subscriber, continue_from)",
-                             key);
+                             quoted);
         }
     }
     json_t *o = json_object_get(body, "outputs");
@@ -88,10 +91,12 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
                     lubd_fault *f)
 {
     memset(r, 0, sizeof *r);
-    if (!lub_scene_find(process_id))
+    if (!lub_scene_find(process_id)) {
+        char quoted[104];
+        lub_text_one_line(process_id, quoted, sizeof quoted);
         return lubd_fail(f, 404, LUBD_OGC_EXC "no-such-process", "No such process", NULL,
-                         "process \"%.100s\" does not exist (GET /processes lists them)",
-                         process_id);
+                         "process \"%s\" does not exist (GET /processes lists them)", quoted);
+    }
     json_error_t jerr;
     r->body = json_loadb(body, len, JSON_REJECT_DUPLICATES, &jerr);
     /* the body as a string, for naming a member the parser refused or read as 0; it is parsed

@@ -10,6 +10,7 @@
 
 #include "api.h"
 #include "json_text.h"
+#include "spec_reader.h"
 
 typedef struct {
     char *body;
@@ -237,9 +238,10 @@ static enum MHD_Result on_request(void *cls, struct MHD_Connection *conn, const 
             cs->user = r.user;
             const char *ct = lubd_header(&r, MHD_HTTP_HEADER_CONTENT_TYPE);
             if (!json_content_type(ct)) {
+                char quoted[104];
+                lub_text_one_line(ct ? ct : "none", quoted, sizeof quoted);
                 lubd_fail(&f, 415, LUBD_PT_BASE "unsupported-media-type", "Unsupported media type",
-                          NULL, "Content-Type must be application/json (got %.100s)",
-                          ct ? ct : "none");
+                          NULL, "Content-Type must be application/json (got %s)", quoted);
                 return lubd_reply_fault(&r, &f);
             }
             return MHD_YES;

@@ -166,6 +166,31 @@ def run():
         T.check(st == 400 and "cursor" in doc["detail"], "bad cursor")
         st, _, doc = srv.request("GET", "/processes/nope")
         T.check(st == 404 and doc["type"].endswith("no-such-process"), "unknown process desc")
+
+        # A user's string quoted in a detail (job id, process id, status value, body member,
+        # Content-Type) is cut on a character boundary, with control characters
+        # and bytes that are not UTF-8 escaped; until 2026-12-07 a "%.64s" cut inside a
+        # character, or a byte such as 0xFF, made the detail "(detail not valid UTF-8)".
+        e_acute = "\u00e9"
+        quoted = [
+            ("GET", "/jobs/" + "a" * 63 + "%C3%A9", None, {}, 404,
+             'job "%s" does not exist' % ("a" * 63 + e_acute)),
+            ("GET", "/jobs/" + "a" * 66 + "%C3%A9", None, {}, 404,
+             'job "%s" does not exist' % ("a" * 66)),
+            ("GET", "/jobs/%FF", None, {}, 404, 'job "\\xFF" does not exist'),
+            ("GET", "/processes/" + "b" * 99 + "%C3%A9", None, {}, 404,
+             'process "%s" does not exist' % ("b" * 99 + e_acute)),
+            ("GET", "/jobs?status=%FF%0A", None, {}, 400, 'unknown value "\\xFF\\n"'),
+            ("POST", ex, ('{"%s%s": 1}' % ("d" * 99, e_acute)).encode(), {}, 400,
+             'unknown member "%s"' % ("d" * 99 + e_acute)),
+            ("POST", ex, b'{"inputs": {}}', {"Content-Type": ("e" * 99 + e_acute).encode()},
+             415, "(got %s)" % ("e" * 99 + e_acute)),
+        ]
+        for method, path, body, headers, status, fragment in quoted:
+            st, _, doc = srv.request(method, path, alice, body, headers)
+            T.check(st == status and fragment in doc.get("detail", ""),
+                    "%s %s -> %s %s (wanted %s with %r)" % (method, path[:40], st, doc, status,
+                                                            fragment))
     finally:
         srv.stop()
 
