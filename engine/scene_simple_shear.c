@@ -46,6 +46,7 @@
 #include "simple_shear_series.h"
 #include "simple_shear_spec.h"
 #include "state_checkpoint.h"
+#include "stats.h"
 #include "step_count.h"
 #include "step_schedule.h"
 #include "step_stiffness.h"
@@ -1014,6 +1015,20 @@ static void ss_put_counters(ss_run_state *r, const lub_ss_steady_stats *st)
                         json_boolean(r->stopped_early));
 }
 
+/* The rms of series k about its mean over samples [start, n), over that mean (NaN without
+ * samples or with a zero mean). */
+static double ss_relative_rms(const lub_ss_series *ser, int k, size_t start)
+{
+    if (start >= ser->n)
+        return NAN;
+    const size_t m = ser->n - start;
+    const double mean = lub_stats_mean(ser->v[k] + start, m);
+    double sum = 0.0;
+    for (size_t i = start; i < ser->n; ++i)
+        sum += (ser->v[k][i] - mean) * (ser->v[k][i] - mean);
+    return mean != 0.0 ? sqrt(sum / (double)m) / fabs(mean) : NAN;
+}
+
 /* The advisory checks (shear_run_checks.h: rigid limit, inertia, crushed asperities, ordering,
  * lost pairs, steady state, the law's tolerance, the target error) as the summary's warnings,
  * with the run's own (network frames skipped, no microstructure sampled, a zero headline), and
@@ -1061,6 +1076,7 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
         .mu_m = mu_m,
         .pressure_ratio = p->pressure ? mean_of[SS_OBS_P] : NAN, /* in units of s0 = P */
         .pressure_ratio_sem = p->pressure ? sem_of[SS_OBS_P] : NAN,
+        .pressure_rms_ratio = p->pressure ? ss_relative_rms(&r->ser, SS_OBS_P, start) : NAN,
         .headline = p->pressure ? mean_of[SS_OBS_MU] : mean_of[SS_OBS_ETA],
         .headline_law = p->pressure ? ref_of[SS_OBS_MU] : ref_of[SS_OBS_ETA],
         .headline_is_mu = p->pressure,

@@ -85,7 +85,9 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
     char sem_text[48] = " (no error bar)";
     if (sem_known)
         snprintf(sem_text, sizeof sem_text, " +- %.2g", dev_sem);
-    if (exceeds(fabs(dev), fmax(LUB_SHEAR_PRESSURE_DEVIATION_MAX, 3.0 * dev_sem))) {
+    const int undetermined = exceeds(dev_sem, LUB_SHEAR_PRESSURE_DEVIATION_MAX);
+    if (exceeds(fabs(dev), LUB_SHEAR_PRESSURE_DEVIATION_MAX) &&
+        (fabs(dev) > 3.0 * dev_sem || undetermined)) {
         if (st->steady)
             add_warning(out, &n,
                         "the servo did not hold the imposed pressure: the steady mean of "
@@ -100,6 +102,14 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                         "servo_rate sits at +-gain in the time series, lower /servo/gain)",
                         st->pressure_ratio, sem_text);
     }
+    if (exceeds(st->pressure_rms_ratio, LUB_SHEAR_SERVO_PRESSURE_RMS_MAX))
+        add_warning(out, &n,
+                    "the pressure servo oscillates: -sigma_yy fluctuates by %.3g %% rms about its "
+                    "steady mean (the default servo: 3-7 %%; imposed volume: 23-33 %%), so its "
+                    "oscillation, not the suspension, sets the stress; lower /servo/gain, raise "
+                    "/servo/filter_strain or lower /dt_safety (or /St: inertia slows the "
+                    "particles' answer to the cell)",
+                    100.0 * st->pressure_rms_ratio);
     const double off = st->headline / st->headline_law - 1.0;
     const double tol = st->headline_is_mu ? LUB_SHEAR_LAW_MU_TOL : LUB_SHEAR_LAW_ETA_TOL;
     const double phi_off = st->phi_law > 0.0 ? st->phi_mean - st->phi_law : NAN;

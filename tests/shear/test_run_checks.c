@@ -140,6 +140,34 @@ int main(void)
     none("pressure 15 % off, 2.5 standard errors", &st);
     st.pressure_ratio_sem = 0.04;
     one("pressure 15 % off, 3.75 standard errors", &st, "1.15 +- 0.04 times P", NULL);
+    /* a mean known only to more than 10 % is not held (a servo switching between its clamps,
+     * Iv 10, St 0.1: 1.31 +- 0.56 P passed the 3-standard-error gate until 2026-12-07); known
+     * to 10 % it is chance again */
+    st.pressure_ratio = 1.31;
+    st.pressure_ratio_sem = 0.56;
+    one("pressure 31 % off, known to 56 %", &st, "1.31 +- 0.56 times P", "lower /servo/gain");
+    st.pressure_ratio = 1.25;
+    st.pressure_ratio_sem = 0.1;
+    none("pressure 25 % off, 2.5 standard errors of 10 %", &st);
+    st.pressure_ratio = 1.05;
+    st.pressure_ratio_sem = 0.2;
+    none("pressure 5 % off, known to 20 %", &st);
+    /* the servo oscillating: -sigma_yy fluctuating by more than 50 % rms about its mean (the
+     * default servo: 3-12 %; Iv 10, St 0.1 at the default step: 2740 %) */
+    st.pressure_ratio = 1.0;
+    st.pressure_ratio_sem = 0.02;
+    st.pressure_rms_ratio = 0.51;
+    one("pressure rms 51 %", &st, "the pressure servo oscillates: -sigma_yy fluctuates by 51 %",
+        "lower /dt_safety");
+    ST_CHECK(strstr(text[0], "lower /servo/gain") && strstr(text[0], "/servo/filter_strain"),
+             "servo oscillation advice: %s", text[0]);
+    st.pressure_rms_ratio = 0.5;
+    none("pressure rms 50 %", &st);
+    st.pressure_rms_ratio = NAN;
+    none("pressure rms unknown", &st);
+    st.pressure_rms_ratio = 0.0;
+    st.pressure_ratio = 1.15;
+    st.pressure_ratio_sem = 0.04;
     /* a run without a steady state (Iv = 10, St = 10, strain 2: -sigma_yy 58.8 P over 26
      * samples, no error bar) is told to run longer, not only to lower the gain */
     st.steady = 0;
