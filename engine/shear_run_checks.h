@@ -119,7 +119,8 @@ typedef struct {
  *   3-standard-error gate (until 2026-12-07).
  * - The servo oscillating: -sigma_yy fluctuating by more than LUB_SHEAR_SERVO_PRESSURE_RMS_MAX
  *   (50 %) rms about its steady mean. The default servo gives 2.6-6.8 % at N = 300, Iv 1-0.01
- *   (servo study; 3.2-12 % in single runs at Iv 1-1e-3), imposed volume 23-33 %. The servo's
+ *   (servo study; 3.2-12 % in single runs at Iv 1-1e-3, 26 % at Iv 1e-4), imposed volume
+ *   23-33 %. The servo's
  *   own dilation raises a viscous pressure that grows with gain Iv; with the step too long to
  *   resolve that loop it switches between its clamps (Iv 10, St 0.1, default servo and step:
  *   +-70 P every 8 steps, 2740 % rms, mu 24.3 where 17-19 is right; dt_safety 0.03 cures it),
