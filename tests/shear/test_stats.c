@@ -192,6 +192,44 @@ int main(void)
                  sem_mean / sd);
         ST_CHECK(covered >= 0.88 * reps, "ratio 2-sigma coverage %d/%d", covered, reps);
         ST_CHECK(mor / 0.6 - 1.0 > 0.02, "premise: mean of ratios bias %g", mor / 0.6 - 1.0);
+        /* The same with mean(y) = 2 (the Monte Carlo above has mean(y) = 1, where the delta
+         * method's division by mean(y) changes nothing) and x correlated with y, as sigma_xy
+         * with P: y = 2 + 0.4 a, x = 1.2 + 0.3 a + 0.1 g (a: AR(1), rho 0.5, unit variance; g
+         * white), R = 0.6, so x - R y = 0.06 a + 0.1 g. The error bar must match the scatter
+         * of the 200 independent replicas: the scatter's own relative standard error is
+         * 1/sqrt(2 x 199) = 5 %, so [0.85, 1.2] is its 3-sigma band plus the few % by which
+         * the AR(1)-corrected estimator itself may be off at these lengths (the same band as
+         * the AR(1) checks above). Without the division by mean(y) the ratio is 2; an error
+         * bar that propagated the two SEMs as if x and y were independent would be 4.7 times
+         * the scatter (checked as a premise: the covariance matters here). */
+        sum = sum2 = sem_mean = 0.0;
+        covered = 0;
+        double indep_mean = 0.0;
+        for (int r = 0; r < reps; ++r) {
+            double a = lub_rng_gauss(&rng);
+            for (size_t i = 0; i < nm; ++i) {
+                a = 0.5 * a + sqrt(1.0 - 0.25) * lub_rng_gauss(&rng);
+                y[i] = 2.0 + 0.4 * a;
+                x[i] = 1.2 + 0.3 * a + 0.1 * lub_rng_gauss(&rng);
+            }
+            lub_stats_ratio(x, y, nm, z, scr, &rr, &sr);
+            const double sx = lub_stats_sem(x, nm, scr), sy = lub_stats_sem(y, nm, scr);
+            indep_mean += sqrt(sx * sx + rr * rr * sy * sy) / lub_stats_mean(y, nm) / reps;
+            sum += rr;
+            sum2 += rr * rr;
+            sem_mean += sr / reps;
+            covered += fabs(rr - 0.6) < 2.0 * sr;
+        }
+        const double mean2 = sum / reps, sd2 = sqrt((sum2 - sum * sum / reps) / (reps - 1));
+        printf("ratio_mc_my2 mean=%.5f sd=%.3g sem_mean=%.3g sem_over_sd=%.3f "
+               "coverage_2sigma=%.3f independent_propagation_over_sd=%.2f\n",
+               mean2, sd2, sem_mean, sem_mean / sd2, (double)covered / reps, indep_mean / sd2);
+        ST_CHECK(fabs(mean2 - 0.6) < 3.0 * sd2 / sqrt(reps), "mean(y) 2: ratio of means %g", mean2);
+        ST_CHECK(sem_mean / sd2 > 0.85 && sem_mean / sd2 < 1.2,
+                 "mean(y) 2: ratio SEM / scatter = %g", sem_mean / sd2);
+        ST_CHECK(covered >= 0.88 * reps, "mean(y) 2: ratio 2-sigma coverage %d/%d", covered, reps);
+        ST_CHECK(indep_mean / sd2 > 3.0, "premise: x and y correlated (independent %g)",
+                 indep_mean / sd2);
         free(y);
         free(z);
     }
