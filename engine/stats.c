@@ -60,6 +60,7 @@ size_t lub_stats_mser(const double *x, size_t n, size_t batch, int *steady)
             }
         }
     }
+    /* not steady when the cut is one of the last two the search reaches, d >= m/2 - 1 */
     if (steady)
         *steady = (best_d + 1 < limit);
     return best_d * batch;

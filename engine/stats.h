@@ -4,8 +4,12 @@
  * Rules (also in the README):
  *  - End of the transient: MSER-5 (White 1997; Marginal Standard Error Rule on batch means of
  *    5 samples): the truncation d minimises  sum_{k>=d} (y_k - mean_{>=d})^2 / (m - d)^2  over
- *    the batch means y, searched over the first half of the series only. A series whose
- *    optimum falls in the search limit region (d > m/2 - 1) is flagged "not steady".
+ *    the batch means y, searched over d = 0 .. m/2 only (integer division: about the first
+ *    half). A series whose optimum falls in the search limit region, the last two cuts the
+ *    search reaches (d >= m/2 - 1), is flagged "not steady": a transient still going on puts
+ *    the optimum at the limit, and one batch of noise can move it one cut before. (Until
+ *    2026-12-07 this comment said d > m/2 - 1, the limit alone; the code has always flagged
+ *    both, and the resuspension height_steady verdicts were made with it.)
  *    Callers may impose a minimum start (e.g. a minimum strain) and take the later of the two.
  *  - Standard error of the mean of the retained samples: batch means with an AR(1)
  *    correction. The series is halved by averaging neighbours (Flyvbjerg-Petersen blocking)
@@ -51,7 +55,8 @@ double lub_stats_mean(const double *x, size_t n);
 double lub_stats_var(const double *x, size_t n); /* unbiased sample variance */
 
 /* MSER with batch means of `batch` samples (5 recommended). Returns the truncation index in
- * samples (a multiple of batch); *steady set as described above (may be NULL). */
+ * samples (a multiple of batch); *steady (may be NULL) is 0 when the cut d in batches is
+ * >= m/2 - 1 (m = n / batch) or m < 4, else 1 (rule above; shear.stats pins the boundary). */
 size_t lub_stats_mser(const double *x, size_t n, size_t batch, int *steady);
 
 /* Standard error of the mean of x[0..n) (AR(1)-corrected batch means, rule above). scratch:

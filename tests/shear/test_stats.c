@@ -115,6 +115,24 @@ int main(void)
             x[i] = (double)i * 0.01 + 0.1 * lub_rng_gauss(&rng);
         lub_stats_mser(x, m, 5, &steady);
         ST_CHECK(steady == 0, "drifting series flagged steady");
+        /* The flag's boundary (stats.h): a cut d (in batches) is flagged "not steady" when
+         * d >= m/2 - 1, the last two batches the search reaches (it stops at d = m/2). A step
+         * series: batch means 10 up to the step, then -1, +1, -1, ... (whose MSER value falls
+         * as the kept part grows, so the optimum is the step exactly). m = 20 and 21 batches
+         * of 5 (m/2 = 10): a step at batch 8 is steady, at 9 (= m/2 - 1) and 10 (= m/2) it is
+         * flagged. Flagging only d > m/2 - 1 fails the step at 9. */
+        for (size_t mb = 20; mb <= 21; ++mb) {
+            for (size_t step = 8; step <= 10; ++step) {
+                for (size_t i = 0; i < 5 * mb; ++i)
+                    x[i] = i / 5 < step ? 10.0 : ((i / 5) % 2 ? 1.0 : -1.0);
+                steady = -1;
+                const size_t d = lub_stats_mser(x, 5 * mb, 5, &steady);
+                const int want = step == 8; /* m/2 - 1 = 9 for both m */
+                ST_CHECK(d == 5 * step && steady == want,
+                         "MSER step at batch %zu of %zu: cut %zu (want %zu), flag %d (want %d)",
+                         step, mb, d, 5 * step, steady, want);
+            }
+        }
         /* drift test: white noise passes, a slow ramp fails */
         for (size_t i = 0; i < m; ++i)
             x[i] = 1.0 + 0.1 * lub_rng_gauss(&rng);
