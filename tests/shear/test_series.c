@@ -2,6 +2,7 @@
  * (simple_shear_series.h) on synthetic series whose answers are known: ratio observables are
  * ratios of time averages (an exact proportion gives the ratio with no error), the stress parts
  * are averaged over their total's window (they add up to it), Iv is gd/<P> in the stress unit,
+ * the error bars of mu and Iv are their delta-method values to round-off,
  * an imposed phi has no error while a free one has, a drifting headline is not steady, the
  * /target_rel_error check stops on a small error and never on a zero mean, never on a window
  * the summary calls not steady or on a headline averaged over less than /target_min_strain,
@@ -13,6 +14,7 @@
 
 #include "shear_test.h"
 #include "simple_shear_series.h"
+#include "stats.h"
 
 #define SAMPLES 600
 #define SAMPLE_STRAIN 0.02
@@ -134,6 +136,45 @@ int main(void)
              ratio_of_means, mean_of_ratios);
     ST_CHECK(st.sem[SS_OBS_MU] > 0.0 && st.sem[SS_OBS_MU] < 0.01, "mu's error %g",
              st.sem[SS_OBS_MU]);
+    /* The error bars of mu and Iv, to round-off, against their definitions (README "Ratios
+     * are ratios of means"), computed here from the series: each series' window starts at the
+     * later of the common start and its own MSER-5 cut (lub_stats_analyse with min_start), a
+     * ratio's at the later of its two series' windows. mu = <sigma_xy>/<P> has the delta
+     * method's error: the SEM (stats.h rule) of z_k = (sigma_xy_k - mu P_k)/<P>, <P> = 2 here,
+     * so a z without its division by <P> doubles it; Iv = gd/(s0 <P>) has gd sem(P)/(s0
+     * <P>^2). Two unit systems (gd, s0) = (0.01, 1) and (0.03, 2.5). A factor on either error
+     * bar fails these (the checks above only bound mu's error by 0.01). */
+    for (int u = 0; u < 2; ++u) {
+        const double gd = u ? 0.03 : 0.01, s0 = u ? 2.5 : 1.0;
+        lub_ss_series_statistics(&p, gd, s0, &ser, &st);
+        const double *P = ser.v[SS_OBS_P], *sxy = ser.v[SS_OBS_SXY];
+        const size_t n = ser.n;
+        static double zs[SAMPLES], scr[SAMPLES];
+        size_t dp = lub_stats_mser(P, n, 5, NULL), ds = lub_stats_mser(sxy, n, 5, NULL);
+        dp = dp > st.start ? dp : st.start;
+        ds = ds > st.start ? ds : st.start;
+        const size_t dm = dp > ds ? dp : ds;
+        const double mp = lub_stats_mean(P + dp, n - dp);
+        const double iv_sem = gd * lub_stats_sem(P + dp, n - dp, scr) / (s0 * mp * mp);
+        const double mx = lub_stats_mean(sxy + dm, n - dm), my = lub_stats_mean(P + dm, n - dm);
+        for (size_t i = dm; i < n; ++i)
+            zs[i - dm] = (sxy[i] - mx / my * P[i]) / my;
+        const double mu_sem = lub_stats_sem(zs, n - dm, scr);
+        printf("series u%d windows: common %zu, P %zu, mu %zu; Iv %.6g +- %.6g (direct %.6g); "
+               "mu %.6g +- %.6g (direct %.6g)\n",
+               u, st.start, dp, dm, st.mean[SS_OBS_IV], st.sem[SS_OBS_IV], iv_sem,
+               st.mean[SS_OBS_MU], st.sem[SS_OBS_MU], mu_sem);
+        ST_CHECK(fabs(my - 2.0) < 0.1 && mu_sem > 0.0 && iv_sem > 0.0,
+                 "premise: <P> %g near 2, error bars %g %g not 0", my, mu_sem, iv_sem);
+        ST_CHECK(fabs(st.mean[SS_OBS_IV] - gd / (s0 * mp)) <= 1e-12 * gd / (s0 * mp),
+                 "Iv %.17g against gd/(s0 <P>) %.17g", st.mean[SS_OBS_IV], gd / (s0 * mp));
+        ST_CHECK(fabs(st.sem[SS_OBS_IV] - iv_sem) <= 1e-12 * iv_sem,
+                 "Iv's error %.17g against gd sem(P)/(s0 <P>^2) %.17g", st.sem[SS_OBS_IV], iv_sem);
+        ST_CHECK(fabs(st.mean[SS_OBS_MU] - mx / my) <= 1e-12 * mx / my, "mu %.17g against %.17g",
+                 st.mean[SS_OBS_MU], mx / my);
+        ST_CHECK(fabs(st.sem[SS_OBS_MU] - mu_sem) <= 1e-12 * mu_sem,
+                 "mu's error %.17g against the delta method's %.17g", st.sem[SS_OBS_MU], mu_sem);
+    }
     lub_ss_series_free(&ser);
 
     /* a free phi has an error; a rising sigma_xy is not steady */
