@@ -143,6 +143,40 @@ int main(void)
         printf("drift z_white=%.2f z_ramp=%.2f\n", z0, z1);
         ST_CHECK(fabs(z0) <= 3.0, "white noise drift z %g", z0);
         ST_CHECK(fabs(z1) > 3.0, "ramp not detected z %g", z1);
+        /* The drift test's false alarms on short correlated windows, as the README and stats.h
+         * state them: stationary AR(1) series of correlation time tau = 50 samples (1 strain
+         * at sample_strain 0.02) over windows of 6, 10 and 20 tau, 2000 series each. The
+         * nominal rate of |z| > 3 is 0.27 %; the halves' SEMs, read from 32 batch means over
+         * 3-10 tau, are too small on average (var(z) 2.6 / 1.9 / 1.25), so the rate is 7.1 /
+         * 3.9 / 1.6 % (140000 series each, README "Steady state and error bars"). The bands are
+         * 3 binomial standard deviations of 2000 series about those rates: a change of the
+         * test or of the SEM that moves them fails here, and the README's figures with it. */
+        {
+            lub_rng rz;
+            lub_rng_seed(&rz, 77);
+            const double rho = exp(-1.0 / 50.0), taus[3] = {6.0, 10.0, 20.0};
+            const double rate[3] = {0.071, 0.039, 0.016};
+            const int nz = 2000;
+            for (int t = 0; t < 3; ++t) {
+                const size_t len = (size_t)(50.0 * taus[t]);
+                int alarms = 0;
+                for (int r = 0; r < nz; ++r) {
+                    double v = lub_rng_gauss(&rz);
+                    for (size_t i = 0; i < len; ++i) {
+                        v = rho * v + sqrt(1.0 - rho * rho) * lub_rng_gauss(&rz);
+                        x[i] = v;
+                    }
+                    alarms += fabs(lub_stats_drift_z(x, len, scr)) > 3.0;
+                }
+                const double p = (double)alarms / nz,
+                             band = 3.0 * sqrt(rate[t] * (1 - rate[t]) / nz);
+                printf("drift false alarms, window %.0f tau: P(|z| > 3) = %.4f (README %.3f)\n",
+                       taus[t], p, rate[t]);
+                ST_CHECK(fabs(p - rate[t]) <= band,
+                         "drift test false-alarm rate at %.0f tau: %.4f, README says %.3f", taus[t],
+                         p, rate[t]);
+            }
+        }
         /* analyse respects min_start */
         for (size_t i = 0; i < m; ++i)
             x[i] = 1.0 + 0.1 * lub_rng_gauss(&rng);
