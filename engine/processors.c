@@ -4,12 +4,30 @@
 
 #include <sched.h>
 #include <unistd.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+int lub_omp_thread_limit(void)
+{
+#ifdef _OPENMP
+    const int limit = omp_get_thread_limit();
+    return limit > 0 ? limit : 1;
+#else
+    return 1;
+#endif
+}
 
 int lub_threads_usable(int requested)
 {
     const int processors = lub_processors_available();
-    const int asked = requested > 0 ? requested : 1;
-    return asked < processors ? asked : processors;
+    const int limit = lub_omp_thread_limit();
+    int usable = requested > 0 ? requested : 1;
+    if (usable > processors)
+        usable = processors;
+    if (usable > limit)
+        usable = limit;
+    return usable;
 }
 
 int lub_processors_available(void)

@@ -247,6 +247,8 @@ int lub_rs_step(lub_rs_system *s)
             }
         }
     }
+    if (s->team_min == 0 || s->team < s->team_min)
+        s->team_min = s->team;
     if (failed)
         return LUB_RS_NONFINITE;
     /* once per neighbour list, from the flags of its first evaluation */

@@ -88,6 +88,8 @@ typedef struct {
     lub_pairs pairs;
     lub_pair_accum *acc; /* [p.threads] per-particle pair sums of each thread */
     int team;            /* threads of the last pair pass (accumulators in use) */
+    int team_min;        /* smallest team of the pair passes since init (0: none yet): below
+                            p.threads when OpenMP gave fewer (OMP_THREAD_LIMIT, OMP_DYNAMIC) */
     lub_law_params law;
     lub_rs_params p;
     double time, t_ref;

@@ -22,7 +22,10 @@ typedef struct lub_run_ctx {
                                               {"value": v, "stderr": e (or null), "unit": "...", "ref": ...} */
     json_t *summary_extra; /* object: anything else (active_terms, units, diagnostics) */
     int threads;           /* OpenMP threads to use (>= 1): --threads, at most the processors
-                              the process may run on */
+                              the process may run on and the OpenMP thread limit */
+    int threads_used;      /* set by a scene whose steps run OpenMP teams: the smallest team
+                              they got (below `threads` when OpenMP gave fewer); 0: not known,
+                              the summary states `threads` */
     char diagnostic[1024]; /* on LUB_EXIT_NUMERICAL: what failed, where, when; on
                               LUB_EXIT_BAD_SPEC: "<JSON pointer>: <constraint>" (the driver
                               prints it as a spec error, --json-errors included) */

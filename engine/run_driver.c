@@ -8,6 +8,9 @@
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "build_info.h"
 #include "checkpoint_file.h"
@@ -412,6 +415,7 @@ typedef struct {
     lub_periodic_ckpt periodic;
     lub_run_ctx ctx;
     int threads_requested, processors;
+    int thread_limit;        /* OpenMP's (OMP_THREAD_LIMIT) */
     int rc;                  /* the exit code so far */
     double wall;             /* the scene's wall time, s */
     const char *stop_advice; /* a stopped run's --resume advice, added if its checkpoint is kept */
@@ -503,7 +507,21 @@ static void run_context_init(run_state *s)
      * thread that is not running: on 2 processors: 1.6 s with 2 threads, 51 s with 256) */
     s->threads_requested = req->threads > 0 ? req->threads : 1;
     s->processors = lub_processors_available();
+    s->thread_limit = lub_omp_thread_limit();
     ctx->threads = lub_threads_usable(s->threads_requested);
+#ifdef _OPENMP
+    /* teams of exactly ctx->threads (OMP_DYNAMIC=true let the runtime give fewer on a loaded
+     * host: a different run, the summary none the wiser); once, before any parallel region */
+    omp_set_dynamic(0);
+#endif
+}
+
+/* The threads the run used: the smallest team a scene's steps got, or ctx->threads when the
+ * scene does not say (no step, or a scene without OpenMP teams). */
+static int run_threads_used(const run_state *s)
+{
+    const int used = s->ctx.threads_used;
+    return used > 0 && used < s->ctx.threads ? used : s->ctx.threads;
 }
 
 /* A refused continuation, or one that failed before it took up the stopped run (the memory
@@ -581,12 +599,29 @@ static void run_stop_reason(run_state *s)
 static void run_driver_warnings(run_state *s)
 {
     lub_run_ctx *ctx = &s->ctx;
-    if (ctx->threads < s->threads_requested) {
+    if (ctx->threads < s->threads_requested && s->processors <= s->thread_limit) {
         char text[256];
         snprintf(text, sizeof text,
                  "--threads %d asked for more threads than the %d processor%s this process may "
                  "run on; the run used %d (more threads would only slow it down)",
                  s->threads_requested, s->processors, s->processors == 1 ? "" : "s", ctx->threads);
+        append_warning(ctx, text);
+    } else if (ctx->threads < s->threads_requested) {
+        char text[256];
+        snprintf(text, sizeof text,
+                 "--threads %d asked for more threads than the OpenMP thread limit of %d "
+                 "(OMP_THREAD_LIMIT); the run used %d: its results are those of a %d-thread "
+                 "run",
+                 s->threads_requested, s->thread_limit, ctx->threads, ctx->threads);
+        append_warning(ctx, text);
+    }
+    const int used = run_threads_used(s);
+    if (used < ctx->threads) {
+        char text[256];
+        snprintf(text, sizeof text,
+                 "OpenMP gave teams of as few as %d of the %d threads the run asked for; the "
+                 "summary's threads is %d (a %d-thread run differs by round-off)",
+                 used, ctx->threads, used, ctx->threads);
         append_warning(ctx, text);
     }
     char why[256];
@@ -715,7 +750,7 @@ static int run_write_summary(run_state *s, int *failed_errno)
     json_object_set(summary, "results", ctx->summary_results);
     json_object_update(summary, ctx->summary_extra);
     json_object_set_new(summary, "wall_time_s", json_real(s->wall));
-    json_object_set_new(summary, "threads", json_integer(ctx->threads));
+    json_object_set_new(summary, "threads", json_integer(run_threads_used(s)));
     json_object_set_new(summary, "threads_requested", json_integer(s->threads_requested));
     if (s->resuming)
         json_object_set_new(summary, "resumed_from_step", json_integer(ctx->resumed_from_step));

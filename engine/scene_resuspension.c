@@ -346,6 +346,7 @@ typedef struct {
 
 static void rs_run_state_free(rs_run_state *r)
 {
+    r->ctx->threads_used = r->S.team_min; /* the smallest team the steps got (0: no step) */
     lub_rs_free(&r->S);
     rs_buffers_free(&r->B);
 }

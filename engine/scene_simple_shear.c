@@ -1240,6 +1240,7 @@ static int ss_run(const json_t *resolved, lub_run_ctx *ctx)
         ss_write_profiles(r);
     }
     const int exit_code = r->exit_code;
+    ctx->threads_used = r->sys.team_min; /* the smallest team the steps got (0: no step) */
     if (r->resume)
         lub_ckpt_close(r->resume, NULL, 0);
     lub_ss_series_free(&r->ser);

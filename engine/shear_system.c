@@ -599,6 +599,8 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
         count[LUB_COUNT_CRUSHED] = ncrush;
         count[LUB_COUNT_SLIDING] = nslide;
     }
+    if (s->team_min == 0 || s->team < s->team_min)
+        s->team_min = s->team;
     if (failed)
         return LUB_SHEAR_NONFINITE;
     /* once per neighbour list, from the flags of its first evaluation */

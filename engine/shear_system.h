@@ -126,6 +126,8 @@ typedef struct {
     size_t *tcount;      /* [LUB_COUNT_N * threads], indexed by LUB_COUNT_* */
     lub_pair_accum *acc; /* [threads] per-particle pair sums of each thread (pair_accum.h) */
     int team;            /* threads of the last step's team (accumulators in use) */
+    int team_min;        /* smallest team of the steps since init (0: no step yet): below
+                            `threads` when OpenMP gave fewer (OMP_THREAD_LIMIT, OMP_DYNAMIC) */
     lub_pdf pdf;         /* accumulated snapshots (if enabled) */
     lub_pdf *tpdf;       /* [threads] or NULL */
     /* failure report */

@@ -253,6 +253,42 @@ assert s["threads"] == procs and s["threads_requested"] == procs + 1, s
 assert any("--threads" in w for w in s["warnings"]), s.get("warnings")
 PYEOF
 
+# the threads OpenMP gives, not those asked for: OMP_THREAD_LIMIT=1 caps --threads 2 at 1 (the
+# summary said 2, and result.h5 was the 1-thread run's bit for bit), with a warning; the
+# engine turns dynamic teams off, so OMP_DYNAMIC=true on a loaded host runs (and reports) the
+# threads asked for. A short simple_shear run: its steps run OpenMP teams (falling_sphere's
+# do not), and it reports the smallest team they got.
+printf '%s' '{"scene": "simple_shear", "n_particles": 300, "phi": 0.4, "strain": 0.02}' \
+  > "$work/teams.json"
+thread_run() { # name, expected threads, expected warning (grep -E; "" for none), env...
+  local name=$1 want=$2 warn=$3
+  shift 3
+  env "$@" "$LUBDEM" run "$work/teams.json" --out "$work/$name" --threads 2 --quiet \
+    2> "$work/$name.err"
+  local rc=$?
+  [ $rc -eq 0 ] || { bad "$name: exit $rc: $(cat "$work/$name.err")"; return; }
+  $PY - "$work/$name/summary.json" "$SCHEMA_DIR/summary.schema.json" "$want" "$warn" <<'PYEOF' \
+    && ok || bad "$name: summary threads (expected $want)"
+import json, re, sys, jsonschema
+s = json.load(open(sys.argv[1])); jsonschema.validate(s, json.load(open(sys.argv[2])))
+want, warn = int(sys.argv[3]), sys.argv[4]
+assert s["threads"] == want and s["threads_requested"] == 2, (s["threads"], s["threads_requested"])
+tw = [w for w in s.get("warnings", []) if "thread" in w]
+assert (any(re.search(warn, w) for w in tw) if warn else not tw), tw
+PYEOF
+  if [ -n "$warn" ]; then
+    grep -Eq "^warning: .*$warn" "$work/$name.err" && ok || bad "$name: no warning on stderr"
+  fi
+}
+thread_run limit1 1 'more threads than the OpenMP thread limit of 1 \(OMP_THREAD_LIMIT\); the run used 1' \
+  OMP_THREAD_LIMIT=1
+if [ "$(nproc)" -ge 2 ]; then
+  thread_run teams2 2 "" -u OMP_THREAD_LIMIT -u OMP_DYNAMIC
+  thread_run dynamic2 2 "" OMP_DYNAMIC=true
+else
+  echo "note: 1 processor: the 2-thread runs are skipped" >&2
+fi
+
 # SIGTERM: stops within seconds with a valid partial result and exit code 5
 "$LUBDEM" run "$work/long.json" --out "$work/run2" > "$work/run2.out" 2> "$work/run2.err" &
 pid=$!
