@@ -8,6 +8,12 @@
  *  3. drag hooks: an isolated particle relaxes to the mean flow u at the exact implicit rate
  *     of the shear drag (gradient) or the dilute drag; no shear drag in the vorticity
  *     orientation; the dilute drag is switched off for a particle with >= 3 interactions.
+ *  4. 1 and 2 threads: a sheared, settling bed of 343 particles (above the 256 at which the
+ *     neighbour search goes parallel; 200 steps, 5 rebuilds) stepped on 1 and on 2
+ *     threads keeps its positions within 1e-10 a of each other (only the order of the pair
+ *     sums differs), two 2-thread runs agree bit for bit, and the 2-thread system's teams
+ *     really had 2 threads (team_min); skipped on 1 processor or an OpenMP thread limit of 1.
+ *     Summing only thread 0's pair sums (the other thread's forces lost) fails it.
  * Each check fails on a wrong formula (cap volume, factor 6 pi r, gating, sign). */
 #include <math.h>
 #include <stdio.h>
@@ -15,6 +21,7 @@
 #include <string.h>
 
 #include "floor_wall.h"
+#include "processors.h"
 #include "resuspension_profile.h"
 #include "resuspension_system.h"
 
@@ -328,11 +335,69 @@ static void test_drag(void)
     CHECK(fabs(traj[0][2] - traj[1][2]) > 1e-6, "dilute drag did not act on a lone particle");
 }
 
+/* 7 layers of 7 x 7 spheres (radii 0.85-1.05) above the floor, settling under gravity while
+ * sheared, on 1 thread and twice on 2 */
+static void test_threads(void)
+{
+    if (lub_processors_available() < 2 || lub_omp_thread_limit() < 2) {
+        printf("threads_1_vs_2=skipped (%d processor(s), OpenMP thread limit %d)\n",
+               lub_processors_available(), lub_omp_thread_limit());
+        return;
+    }
+    enum { NL = 7, NB = NL * 49, STEPS = 200 };
+    double rb[NB];
+    vec3 xb[NB];
+    for (int l = 0, q = 0; l < NL; ++l)
+        for (int i = 0; i < 7; ++i)
+            for (int k = 0; k < 7; ++k, ++q) {
+                rb[q] = 0.85 + 0.05 * ((q * 7) % 5);
+                xb[q] = v3(1.0 + 2.28 * i + 0.3 * (l % 2), 5.0 + 2.3 * l, 1.0 + 2.28 * k);
+            }
+    lub_rs_system S[3]; /* 1 thread, 2 threads, 2 threads again */
+    const int threads[3] = {1, 2, 2};
+    int rc = 0;
+    for (int m = 0; m < 3; ++m) {
+        sys_setup st = default_setup();
+        st.p.gravity = 10.0;
+        st.p.eta_dilute = 1.0;
+        st.p.dt = 1e-3;
+        st.p.threads = threads[m];
+        rc |= make_system(&S[m], &st, NB, rb, xb, 0.15);
+    }
+    CHECK(rc == LUB_RS_OK, "init of the thread systems: rc %d", rc);
+    CHECK(S[0].n > 256, "%d bodies: the neighbour search stays serial", S[0].n);
+    double diff12 = 0.0, diff22 = 0.0;
+    for (int k = 0; k < STEPS && rc == LUB_RS_OK; ++k) {
+        for (int m = 0; m < 3 && rc == LUB_RS_OK; ++m)
+            if ((rc = lub_rs_step(&S[m])) != LUB_RS_OK)
+                fprintf(stderr, "threads %d: %s\n", threads[m], S[m].fail_msg);
+        for (int i = 0; i < S[0].n && rc == LUB_RS_OK; ++i) {
+            diff12 = fmax(diff12, v3_norm(v3_sub(S[0].x[i], S[1].x[i])));
+            diff22 = fmax(diff22, v3_norm(v3_sub(S[1].x[i], S[2].x[i])));
+        }
+    }
+    printf("threads_1_vs_2_max_position_diff=%.3g threads_2_vs_2=%.3g rebuilds=%ld "
+           "pairs=%ld team_min=%d,%d\n",
+           diff12, diff22, S[1].rebuilds, (long)S[1].pairs.n, S[0].team_min, S[1].team_min);
+    CHECK(rc == LUB_RS_OK, "thread runs failed: rc %d", rc);
+    CHECK(S[1].team_min == 2 && S[2].team_min == 2, "2-thread systems ran teams of %d, %d",
+          S[1].team_min, S[2].team_min);
+    CHECK(S[0].team_min == 1, "1-thread system ran a team of %d", S[0].team_min);
+    CHECK(S[1].rebuilds >= 2, "%ld neighbour-list rebuilds: the parallel search is untested",
+          S[1].rebuilds);
+    CHECK(S[1].pairs.n > NB, "%ld pairs: the pair forces are hardly tested", (long)S[1].pairs.n);
+    CHECK(diff22 == 0.0, "two 2-thread runs: positions differ by %g", diff22);
+    CHECK(diff12 < 1e-10, "1 vs 2 threads: positions differ by %g a", diff12);
+    for (int m = 0; m < 3; ++m)
+        lub_rs_free(&S[m]);
+}
+
 int main(void)
 {
     test_slab();
     test_floor();
     test_drag();
+    test_threads();
     if (failures) {
         fprintf(stderr, "%d failure(s)\n", failures);
         return 1;
