@@ -811,7 +811,7 @@ static void ss_time_loop(ss_run_state *r)
      * and a longer /strain stops there, with no step more (until 2026-12-06 it went on to the
      * next check, one strain later). */
     if (ctx->resume_path && p->target_rel_error > 0 && lp->next_check == lp->strain + 1.0 &&
-        lub_ss_target_reached(p, &r->ser, NULL))
+        lub_ss_target_reached(p, &r->ser, NULL, NULL))
         r->stopped_early = 1;
     /* An extension of a completed run whose last snapshot event fell near its end, and was
      * left to the end's snapshot (written after its checkpoint, so not copied): a run asked
@@ -866,7 +866,7 @@ static void ss_time_loop(ss_run_state *r)
              * after the step's snapshot (the loop's condition) */
             if (lp->strain >= lp->next_check) {
                 lp->next_check = lp->strain + 1.0;
-                if (p->target_rel_error > 0 && lub_ss_target_reached(p, &r->ser, NULL))
+                if (p->target_rel_error > 0 && lub_ss_target_reached(p, &r->ser, NULL, NULL))
                     r->stopped_early = 1;
             }
         }
@@ -1029,6 +1029,25 @@ static double ss_relative_rms(const lub_ss_series *ser, int k, size_t start)
     return mean != 0.0 ? sqrt(sum / (double)m) / fabs(mean) : NAN;
 }
 
+/* A number of the summary's, null where it is not finite (JSON has no NaN). */
+static json_t *ss_json_number(double x) { return isfinite(x) ? json_real(x) : json_null(); }
+
+/* The record of the /target_rel_error check over the summary's series (the one the stop
+ * tested when the run stopped on it): the headline's relative error, the one-sided 90 % upper
+ * confidence bound of it that the stop compares with the target, and what the bound is made
+ * of (lub_ss_target_reached, stats.h lub_stats_sem_upper_factor). */
+static void ss_put_target_bound(lub_run_ctx *ctx, const lub_ss_target_check *t)
+{
+    json_t *o = json_object();
+    json_object_set_new(o, "confidence", json_real(0.9));
+    json_object_set_new(o, "relative_error", ss_json_number(t->rel_error));
+    json_object_set_new(o, "relative_error_bound", ss_json_number(t->rel_bound));
+    json_object_set_new(o, "batch_means", json_integer((json_int_t)t->batches));
+    json_object_set_new(o, "lag1", ss_json_number(t->lag1));
+    json_object_set_new(o, "dof", ss_json_number(t->dof));
+    json_object_set_new(ctx->summary_extra, "target_error_bound", o);
+}
+
 /* The advisory checks (shear_run_checks.h: rigid limit, inertia, crushed asperities, ordering,
  * lost pairs, steady state, the law's tolerance, the target error) as the summary's warnings,
  * with the run's own (network frames skipped, no microstructure sampled, a zero headline), and
@@ -1049,8 +1068,14 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
      * where the run it continues would have warned (until 2026-12-07) */
     const int failed = r->exit_code != LUB_EXIT_OK && !r->stopped_by_request;
     int target_zero_mean = 0; /* a failed run's diagnostic is its message */
-    if (p->target_rel_error > 0.0 && !r->stopped_early && !failed && r->ser.n > 0)
-        (void)lub_ss_target_reached(p, &r->ser, &target_zero_mean);
+    lub_ss_target_check target = {NAN, NAN, 0, NAN, NAN};
+    if (p->target_rel_error > 0.0 && r->ser.n > 0) {
+        int zero_mean = 0;
+        (void)lub_ss_target_reached(p, &r->ser, &zero_mean, &target);
+        if (!r->stopped_early && !failed)
+            target_zero_mean = zero_mean;
+        ss_put_target_bound(ctx, &target);
+    }
     const lub_shear_run_state checks = {
         .elastic_number = p->stiffness / mean_of[SS_OBS_P],
         .kinetic_share = fabs(mean_of[SS_OBS_XY_KIN]) / fabs(mean_of[SS_OBS_SXY]),
@@ -1085,6 +1110,7 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
         .article_set = p->delaunay && !(p->law.params.terms & (LUB_TERM_ROLL | LUB_TERM_TWIST)),
         .headline_sem = p->pressure ? sem_of[SS_OBS_MU] : sem_of[SS_OBS_ETA],
         .target_rel_error = p->target_rel_error,
+        .headline_rel_bound = target.rel_bound,
         .stopped_on_target = r->stopped_early,
         .target_zero_mean = target_zero_mean,
     };

@@ -33,6 +33,31 @@ static double round_up_2(double x)
 static int exceeds(double value, double limit) { return isfinite(value) && value > limit; }
 static int falls_below(double value, double limit) { return isfinite(value) && value < limit; }
 
+/* What the unreached target's warning adds to the relative error rel: the 90 % upper bound
+ * the stop tests, and why a run within the target did not stop. */
+static const char *target_note(const lub_shear_run_state *st, double rel, char *buf, size_t len)
+{
+    const double bound = st->headline_rel_bound;
+    if (!isfinite(bound))
+        return rel <= st->target_rel_error ? ", within the target, but over less than "
+                                             "/target_min_strain of steady window or before "
+                                             "the last check (one a strain)"
+                                           : "";
+    if (bound <= st->target_rel_error)
+        snprintf(buf, len,
+                 " (90 %% upper bound %.2g), within the target, but over less than "
+                 "/target_min_strain of steady window or before the last check (one a strain)",
+                 bound);
+    else if (rel <= st->target_rel_error)
+        snprintf(buf, len,
+                 ", within the target, but not its 90 %% upper bound %.2g, which the stop "
+                 "tests",
+                 bound);
+    else
+        snprintf(buf, len, " (90 %% upper bound %.2g)", bound);
+    return buf;
+}
+
 int lub_shear_run_warnings(const lub_shear_run_state *st,
                            char out[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN])
 {
@@ -193,6 +218,7 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
      * failed run did not end at /strain, and its diagnostic says why: until 2026-12-07 it was
      * told to raise /strain) */
     const double rel = fabs(st->headline_sem / st->headline);
+    char note[160];
     if (st->target_rel_error > 0.0 && !st->stopped_on_target && !st->stopped && !st->failed &&
         !st->target_zero_mean && isfinite(rel))
         add_warning(out, &n,
@@ -200,10 +226,6 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "relative error of %s is %.2g%s; raise /strain (lubdem run --keep-checkpoint "
                     "lets a run be extended)",
                     st->strain_target, st->target_rel_error, st->headline_is_mu ? "mu" : "eta_r",
-                    rel,
-                    rel <= st->target_rel_error
-                        ? ", within the target, but over less than /target_min_strain of steady "
-                          "window or before the last check (one a strain)"
-                        : "");
+                    rel, target_note(st, rel, note, sizeof note));
     return n;
 }

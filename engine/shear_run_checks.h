@@ -62,6 +62,8 @@ typedef struct {
                                   with (lubrication_pairs "delaunay", no roll/twist torque) */
     double headline_sem;       /* the headline's standard error (NaN: unknown) */
     double target_rel_error;   /* the spec's /target_rel_error (0: none) */
+    double headline_rel_bound; /* the 90 % upper bound of headline_sem / |headline| that the
+                                  stop tests (NaN: unknown) */
     int stopped_on_target;     /* 1: the run stopped on it */
     int target_zero_mean;      /* 1: the headline averaged 0 (the scene says so itself) */
 } lub_shear_run_state;

@@ -114,7 +114,7 @@ static size_t ss_ratio_stat(lub_ss_series *ser, int num, int den, size_t min_sta
     lub_stats_analyse(ser->v[den], ser->n, min_start, ser->scratch, &ry);
     const size_t d = rx.start > ry.start ? rx.start : ry.start;
     lub_stats_ratio(ser->v[num] + d, ser->v[den] + d, ser->n - d, ser->ratio_z, ser->scratch,
-                    &r->mean, &r->sem);
+                    &r->mean, &r->sem, &r->batches, &r->lag1);
     return d;
 }
 
@@ -134,7 +134,8 @@ static int ss_window_steady(lub_ss_series *ser, size_t start, const int watch[3]
     return steady;
 }
 
-int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_mean)
+int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_mean,
+                          lub_ss_target_check *chk)
 {
     int watch[3];
     const size_t start = lub_ss_steady_start(ser, p->pressure, p->transient_strain, watch);
@@ -158,8 +159,21 @@ int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_
     const int checked = steady && averaged >= p->target_min_strain;
     if (zero_mean)
         *zero_mean = checked && sr.mean == 0.0;
-    return checked && isfinite(sr.sem) && sr.mean != 0.0 &&
-           sr.sem <= p->target_rel_error * fabs(sr.mean);
+    /* the promise is kept with margin: the stop tests a one-sided 90 % upper confidence bound
+     * of the standard error, not the estimate. Stopping the first time the noisy estimate met
+     * the target picked low estimates: on synthetic runs (mu correlated over 0.3 strain) the
+     * stopped mu scattered by 1.25x the target (tests/shear/README.md, "Run until mu is known
+     * to 1 %") */
+    const double rel = sr.mean != 0.0 ? sr.sem / fabs(sr.mean) : NAN;
+    const double bound = rel * lub_stats_sem_upper_factor(sr.batches, sr.lag1);
+    if (chk) {
+        chk->rel_error = rel;
+        chk->rel_bound = bound;
+        chk->batches = sr.batches;
+        chk->lag1 = sr.lag1;
+        chk->dof = lub_stats_sem_dof(sr.batches, sr.lag1);
+    }
+    return checked && isfinite(bound) && bound <= p->target_rel_error;
 }
 
 void lub_ss_series_statistics(const lub_ss_params *p, double gd, double s0, lub_ss_series *ser,

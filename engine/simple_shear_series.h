@@ -78,12 +78,22 @@ size_t lub_ss_steady_start(const lub_ss_series *ser, int pressure, double transi
                            int watch[3]);
 
 /* The /target_rel_error check: 1 when the summary written now would call the run steady (no
- * drift of any watched series) and report the headline (mu at imposed pressure, eta_r at
- * imposed volume) with a standard error of at most /target_rel_error of its mean, averaged over
- * at least /target_min_strain (mu: from the later of sigma_xy's and P's own starts); *zero_mean
- * (unless NULL) is set when that window is steady with a mean of 0, which has no relative
- * error. */
-int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_mean);
+ * drift of any watched series) and the headline (mu at imposed pressure, eta_r at imposed
+ * volume), averaged over at least /target_min_strain (mu: from the later of sigma_xy's and P's
+ * own starts), is known to /target_rel_error of its mean at 90 % confidence: its standard
+ * error times lub_stats_sem_upper_factor (a one-sided 90 % upper confidence bound, stats.h) is
+ * at most /target_rel_error |mean|. *chk (unless NULL) receives the check's record over the
+ * headline's window, whether the window qualifies or not; *zero_mean (unless NULL) is set when
+ * that window is steady with a mean of 0, which has no relative error. */
+typedef struct {
+    double rel_error; /* the standard error over |mean| (NaN: no error bar or a mean of 0) */
+    double rel_bound; /* its 90 % upper confidence bound, the value the stop tests */
+    size_t batches;   /* batch means the error is read from (0: none) */
+    double lag1;      /* their lag-1 correlation as the AR(1) correction used it */
+    double dof;       /* the chi-square degrees of freedom of the bound (lub_stats_sem_dof) */
+} lub_ss_target_check;
+int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_mean,
+                          lub_ss_target_check *chk);
 
 /* The steady-state statistics of every observable over one window (the summary's). */
 typedef struct {

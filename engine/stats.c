@@ -79,8 +79,13 @@ static double lag1_correlation(const double *y, size_t m)
     return den > 0.0 ? num / den : 0.0;
 }
 
-double lub_stats_sem(const double *x, size_t n, double *scratch)
+double lub_stats_sem_batches(const double *x, size_t n, double *scratch, size_t *batches,
+                             double *lag1)
 {
+    if (batches)
+        *batches = 0;
+    if (lag1)
+        *lag1 = NAN;
     if (n < LUB_STATS_MIN_BATCHES)
         return NAN;
     memcpy(scratch, x, n * sizeof *x);
@@ -98,7 +103,41 @@ double lub_stats_sem(const double *x, size_t n, double *scratch)
         r = 0.0;
     if (r > LUB_STATS_MAX_LAG1)
         r = LUB_STATS_MAX_LAG1;
+    if (batches)
+        *batches = m;
+    if (lag1)
+        *lag1 = r;
     return sem * sqrt((1.0 + r) / (1.0 - r));
+}
+
+double lub_stats_sem(const double *x, size_t n, double *scratch)
+{
+    return lub_stats_sem_batches(x, n, scratch, NULL, NULL);
+}
+
+double lub_stats_sem_dof(size_t batches, double lag1)
+{
+    if (batches < 2 || !(lag1 >= 0.0) || !(lag1 < 1.0))
+        return NAN;
+    const double m = (double)batches, r2 = lag1 * lag1;
+    /* var ln(sem^2) = var ln(s^2) + var ln((1 + r)/(1 - r)): 2 (1 + r^2)/((m - 1)(1 - r^2))
+     * + (2/(1 - r^2))^2 (1 - r^2)/m; a chi-square variable of nu dof has var ln = 2/nu */
+    return (1.0 - r2) / ((1.0 + r2) / (m - 1.0) + 2.0 / m);
+}
+
+double lub_stats_chi2_quantile(double dof, double z)
+{
+    if (!(dof > 0.0))
+        return NAN;
+    const double a = 2.0 / (9.0 * dof), c = 1.0 - a + z * sqrt(a);
+    return c > 0.0 ? dof * c * c * c : 0.0;
+}
+
+double lub_stats_sem_upper_factor(size_t batches, double lag1)
+{
+    const double dof = lub_stats_sem_dof(batches, lag1);
+    const double q = lub_stats_chi2_quantile(dof, -LUB_STATS_SEM_UPPER_Z);
+    return q > 0.0 ? sqrt(dof / q) : (isnan(dof) ? NAN : INFINITY);
 }
 
 double lub_stats_drift_z(const double *x, size_t n, double *scratch)
@@ -129,7 +168,7 @@ void lub_stats_analyse_window(const double *x, size_t n, size_t start, double *s
     r->start = d;
     r->n = n - d;
     r->mean = lub_stats_mean(x + d, r->n);
-    r->sem = lub_stats_sem(x + d, r->n, scratch);
+    r->sem = lub_stats_sem_batches(x + d, r->n, scratch, &r->batches, &r->lag1);
     double v = lub_stats_var(x + d, r->n);
     r->n_eff = (isfinite(r->sem) && r->sem > 0) ? v / (r->sem * r->sem) : NAN;
     r->drift_z = lub_stats_drift_z(x + d, r->n, scratch);
@@ -137,14 +176,18 @@ void lub_stats_analyse_window(const double *x, size_t n, size_t start, double *s
 }
 
 void lub_stats_ratio(const double *x, const double *y, size_t n, double *z, double *scratch,
-                     double *ratio, double *sem)
+                     double *ratio, double *sem, size_t *batches, double *lag1)
 {
     const double mx = lub_stats_mean(x, n), my = lub_stats_mean(y, n);
     *ratio = (n > 0 && my != 0.0) ? mx / my : NAN;
     *sem = NAN;
+    if (batches)
+        *batches = 0;
+    if (lag1)
+        *lag1 = NAN;
     if (n < LUB_STATS_MIN_BATCHES || !isfinite(*ratio))
         return;
     for (size_t i = 0; i < n; ++i)
         z[i] = (x[i] - *ratio * y[i]) / my;
-    *sem = lub_stats_sem(z, n, scratch);
+    *sem = lub_stats_sem_batches(z, n, scratch, batches, lag1);
 }

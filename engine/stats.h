@@ -51,6 +51,8 @@ typedef struct {
     size_t n;     /* samples used */
     double mean;
     double sem;     /* standard error of the mean (AR(1)-corrected batch means); NaN if n < 32 */
+    size_t batches; /* batch means the sem is read from (0 if n < 32) */
+    double lag1;    /* their lag-1 correlation as the correction used it (clipped; NaN if n < 32) */
     double n_eff;   /* effective number of independent samples */
     int steady;     /* 1 if the drift test passes on the retained samples */
     double drift_z; /* (mean_2 - mean_1) / sqrt(sem_1^2 + sem_2^2) of the two halves */
@@ -67,6 +69,33 @@ size_t lub_stats_mser(const double *x, size_t n, size_t batch, int *steady);
 /* Standard error of the mean of x[0..n) (AR(1)-corrected batch means, rule above). scratch:
  * n doubles. Returns NaN if n < 32; 0 for a constant series. */
 double lub_stats_sem(const double *x, size_t n, double *scratch);
+
+/* The same estimate with its parts: *batches (unless NULL) the number m of batch means it is
+ * read from, *lag1 (unless NULL) their lag-1 correlation r as the correction used it (clipped
+ * to [0, LUB_STATS_MAX_LAG1]); 0 and NaN if n < 32. */
+double lub_stats_sem_batches(const double *x, size_t n, double *scratch, size_t *batches,
+                             double *lag1);
+
+/* How far the sem may be below the true standard error, for a stop that must keep its promise
+ * (the /target_rel_error stop of simple_shear). sem^2 = s^2 (1 + r)/(1 - r) has two noisy
+ * parts: the variance s^2 of m batch means (m - 1 degrees of freedom when they are
+ * independent; with a lag-1 correlation r (AR(1)) var s^2 is (1 + r^2)/(1 - r^2) times larger)
+ * and their lag-1 correlation r (var r = (1 - r^2)/m, Bartlett). To first order
+ * var ln sem^2 = 2 (1 + r^2)/((m - 1)(1 - r^2)) + 4/((1 - r^2) m); lub_stats_sem_dof is the
+ * dof nu of the chi-square variable with the same variance of its logarithm (2/nu):
+ * nu = (1 - r^2)/((1 + r^2)/(m - 1) + 2/m), NaN if m < 2 or r is NaN or >= 1 (10.5 for m = 32,
+ * r = 0; 9.3 for r = 0.3; 6.2 for m = 63, r = 0.8; 0.8 at the clip r = 0.95 with m = 32).
+ * lub_stats_chi2_quantile is the Wilson-Hilferty approximation of the chi-square quantile of
+ * nu degrees of freedom at the standard normal quantile z (at z = -1.28: within 1.5 % of the
+ * exact quantile for nu >= 3; below it for smaller nu, which errs on the safe side; 0 where
+ * the cube root's argument is negative). lub_stats_sem_upper_factor is
+ * sqrt(nu / chi2_{0.10}(nu)): sem times it is a one-sided 90 % upper confidence bound of the
+ * standard error (1.42 for m = 32, r = 0; 1.46 for r = 0.3; 1.26 for m = 63, r = 0; 1.63 for
+ * r = 0.8; infinite if the quantile is 0; NaN with nu). */
+#define LUB_STATS_SEM_UPPER_Z 1.2815515655446004 /* the standard normal's 90 % quantile */
+double lub_stats_sem_dof(size_t batches, double lag1);
+double lub_stats_chi2_quantile(double dof, double z);
+double lub_stats_sem_upper_factor(size_t batches, double lag1);
 
 /* Drift z-score of the two halves of x[0..n) (NaN if a half has < 32 samples). */
 double lub_stats_drift_z(const double *x, size_t n, double *scratch);
@@ -86,8 +115,10 @@ void lub_stats_analyse_window(const double *x, size_t n, size_t start, double *s
  * <sigma_xy>/<P> at imposed volume, where the mean of the sampled ratios x_k/y_k is biased by
  * the fluctuations of y), and its standard error by the delta method: the SEM (rule above) of
  * z_k = (x_k - R y_k)/mean(y). z and scratch: n doubles each (z receives that series).
- * *ratio is NaN if mean(y) is 0 or n is 0; *sem is NaN if n < 32 or *ratio is not finite. */
+ * *ratio is NaN if mean(y) is 0 or n is 0; *sem is NaN if n < 32 or *ratio is not finite.
+ * *batches and *lag1 (unless NULL): as lub_stats_sem_batches gives them for z (0 and NaN
+ * without a sem). */
 void lub_stats_ratio(const double *x, const double *y, size_t n, double *z, double *scratch,
-                     double *ratio, double *sem);
+                     double *ratio, double *sem, size_t *batches, double *lag1);
 
 #endif

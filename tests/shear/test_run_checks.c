@@ -25,6 +25,7 @@ static lub_shear_run_state clean(void)
                               .steady_samples = 400.0,
                               .strain_reached = 10.0,
                               .transient_strain = 2.0,
+                              .headline_rel_bound = NAN,
                               .pressure_ratio = NAN}; /* imposed volume */
     return st;
 }
@@ -341,6 +342,23 @@ int main(void)
     st.headline_sem = 0.005; /* within the target, but the run did not stop on it */
     one("target error within, not stopped", &st, "error of eta_r is 0.0039, within the target",
         "raise /strain");
+    /* with the 90 % upper bound the stop tests (lub_ss_target_reached): given, and a run whose
+     * error is within the target but its bound is not is told so */
+    st.headline_sem = 0.0265;
+    st.headline_rel_bound = 0.031;
+    one("target error missed, bound", &st, "error of eta_r is 0.021 (90 % upper bound 0.031);",
+        "raise /strain");
+    st.headline_sem = 0.005;
+    st.headline_rel_bound = 0.0055;
+    one("target error within, bound not", &st,
+        "error of eta_r is 0.0039, within the target, but not its 90 % upper bound 0.0055, which "
+        "the stop tests;",
+        "raise /strain");
+    st.headline_rel_bound = 0.0048;
+    one("target error and bound within, not stopped", &st,
+        "error of eta_r is 0.0039 (90 % upper bound 0.0048), within the target, but over less "
+        "than /target_min_strain",
+        "raise /strain");
     st.stopped_on_target = 1;
     none("stopped on the target", &st);
     st.stopped_on_target = 0;
@@ -393,7 +411,8 @@ int main(void)
     st.dt_over_elastic = 70.0;
     st.pressure_ratio = 0.5;
     st.target_rel_error = 0.01;
-    st.headline_sem = 0.07;
+    st.headline_sem = 0.0063;       /* 0.9 %: within the target */
+    st.headline_rel_bound = 0.0095; /* and so is its bound: the longest of the messages */
     st.strain_target = 10.0;
     for (int steady = 0; steady <= 1; ++steady) {
         st.steady = steady;

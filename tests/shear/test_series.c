@@ -4,9 +4,10 @@
  * are averaged over their total's window (they add up to it), Iv is gd/<P> in the stress unit,
  * the error bars of mu and Iv are their delta-method values to round-off,
  * an imposed phi has no error while a free one has, a drifting headline is not steady, the
- * /target_rel_error check stops on a small error and never on a zero mean, never on a window
- * the summary calls not steady or on a headline averaged over less than /target_min_strain,
- * and the room of the series grows without losing samples. */
+ * /target_rel_error check stops on a small error (its 90 % upper bound, not the estimate) and
+ * never on a zero mean, never on a window the summary calls not steady or on a headline
+ * averaged over less than /target_min_strain, and the room of the series grows without losing
+ * samples. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -99,16 +100,16 @@ int main(void)
     p.target_min_strain = 5.0;
     int zero = -1;
     p.pressure = 0; /* headline eta_r = sigma_xy/(eta gd): its error is not 0 */
-    const int eta_stop = lub_ss_target_reached(&p, &ser, &zero);
+    const int eta_stop = lub_ss_target_reached(&p, &ser, &zero, NULL);
     p.pressure = 1; /* headline mu */
-    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 1 && zero == 0,
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 1 && zero == 0,
              "mu known to 0 %% stops (zero_mean %d)", zero);
     p.target_min_strain = 100.0; /* longer than the window */
-    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0, "no stop on a window too short");
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 0, "no stop on a window too short");
     p.target_min_strain = 5.0;
     p.target_rel_error = 1e-6;
     p.pressure = 0;
-    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0 && eta_stop == 1,
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 0 && eta_stop == 1,
              "eta_r's error (about 1 %% of a noise of 30 %%) is above 1e-6 of it, below 2 %%");
     lub_ss_series_free(&ser);
 
@@ -175,6 +176,28 @@ int main(void)
         ST_CHECK(fabs(st.sem[SS_OBS_MU] - mu_sem) <= 1e-12 * mu_sem,
                  "mu's error %.17g against the delta method's %.17g", st.sem[SS_OBS_MU], mu_sem);
     }
+
+    /* the stop tests the 90 % upper bound of mu's relative error, not the estimate: a target
+     * between the two does not stop the run (it did until 2026-12-07); at the bound it does.
+     * The check's record: the summary's error, and the bound as stats.h makes it */
+    lub_ss_target_check chk;
+    p.target_min_strain = 5.0;
+    p.target_rel_error = 0.5;
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, &chk) == 1, "a stop at 50 %%");
+    ST_CHECK(
+        fabs(chk.rel_error - st.sem[SS_OBS_MU] / st.mean[SS_OBS_MU]) < 1e-15 && chk.batches >= 32 &&
+            chk.lag1 >= 0.0 && chk.dof == lub_stats_sem_dof(chk.batches, chk.lag1) &&
+            chk.rel_bound == chk.rel_error * lub_stats_sem_upper_factor(chk.batches, chk.lag1) &&
+            chk.rel_bound > 1.2 * chk.rel_error,
+        "record: error %g (summary %g), bound %g, %zu batch means, lag-1 %g, dof %g", chk.rel_error,
+        st.sem[SS_OBS_MU] / st.mean[SS_OBS_MU], chk.rel_bound, chk.batches, chk.lag1, chk.dof);
+    p.target_rel_error = 0.5 * (chk.rel_error + chk.rel_bound);
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 0,
+             "no stop at %g: the error %g is within it, its 90 %% bound %g is not",
+             p.target_rel_error, chk.rel_error, chk.rel_bound);
+    p.target_rel_error = chk.rel_bound;
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 1, "a stop at the bound %g",
+             chk.rel_bound);
     lub_ss_series_free(&ser);
 
     /* a free phi has an error; a rising sigma_xy is not steady */
@@ -200,7 +223,7 @@ int main(void)
         ser.v[SS_OBS_PHI][i] += 0.02 * (double)i / SAMPLES;
     lub_ss_series_statistics(&p, 0.01, 1.0, &ser, &st);
     ST_CHECK(!st.steady, "a drifting phi is not steady (drift z %g)", st.worst_drift_z);
-    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0,
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 0,
              "no stop while phi drifts, though mu's error is 0");
     lub_ss_series_free(&ser);
 
@@ -214,16 +237,17 @@ int main(void)
         ser.v[SS_OBS_SXY][i] *= 0.25;
     }
     p.target_min_strain = 9.0;
-    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0,
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 0,
              "no stop: mu's window is shorter than /target_min_strain");
     p.target_min_strain = 8.0;
-    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 1, "a stop once the window is long enough");
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 1,
+             "a stop once the window is long enough");
     lub_ss_series_free(&ser);
     p.target_min_strain = 5.0;
 
     /* a headline of exactly 0 has no relative error: no stop, and it is said */
     fill(&ser, 0.0, 0.55, 0.0, 0.0);
-    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero) == 0 && zero == 1,
+    ST_CHECK(lub_ss_target_reached(&p, &ser, &zero, NULL) == 0 && zero == 1,
              "mu = 0 +- 0 does not stop (zero_mean %d)", zero);
     lub_ss_series_free(&ser);
     ST_CHECK(ser.v[0] == NULL && ser.cap == 0, "free leaves an empty series");
