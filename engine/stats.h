@@ -32,7 +32,9 @@
  *    correlation time tau (60000-140000 each): P(|z| > 3) = 7.1 % over a window of 6 tau, 3.9 % at
  *    10 tau, 1.6 % at 20 tau, 0.7 % at 40 tau (var(z) 2.6 / 1.9 / 1.25 / 1.03); shear.stats
  *    checks the first three.
- *  - "Known to x %": sem / |mean| <= x/100.
+ *  - "Known to x %" (the /target_rel_error stop): a one-sided 90 % upper confidence bound of
+ *    sem / |mean| is <= x/100 (lub_stats_sem_upper_factor below; until 2026-12-07 the sem
+ *    itself, which a stop at the first low estimate undercut).
  * All functions are pure: they read the arrays and write the outputs; no allocation except
  * lub_stats_sem, which uses a caller-provided scratch array of n doubles.
  */
