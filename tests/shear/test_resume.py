@@ -464,18 +464,20 @@ check(not bad, f"10: result.h5 equal bit for bit to the long run's ({len(ia)} da
 # extension repeats the check made at the stopped run's last step and stops there too, with no
 # step more (until 2026-12-06 it went on to the next check, one strain later: 4.05 -> 5.07 in
 # the reviewer's run). A smaller target goes on, to the steps of a run asked for it from the
-# start. The tiny cell (40 spheres, cut-off 0.1 a) takes under a second per run.
+# start. The tiny cell (40 spheres, cut-off 0.1 a) takes under a second per run. Targets 0.3
+# and 0.15 since the stop tests the 90 % upper bound of the error (2026-12-07): with 0.2 the
+# 8-strain run no longer stopped (eta_r's error 0.16, its bound 0.23); with 0.3 it stops at 4.5.
 ext11, ref11 = os.path.join(WORK, "ext11"), os.path.join(WORK, "ref11")
 base11 = {"scene": "simple_shear", "n_particles": 40, "cutoff": 0.1, "skin": 0.05, "phi": 0.45,
-          "transient_strain": 0.5, "target_rel_error": 0.2, "target_min_strain": 1,
+          "transient_strain": 0.5, "target_rel_error": 0.3, "target_min_strain": 1,
           "sample_strain": 0.01, "snapshots": 0}  # snapshots keep the first run's spacing
-for label, target in (("same target", 0.2), ("smaller target", 0.1)):
+for label, target in (("same target", 0.3), ("smaller target", 0.15)):
     for d in (ext11, ref11):
         shutil.rmtree(d, ignore_errors=True)
     rc, _, err = run(write_spec("short11", dict(base11, strain=8)), ext11, "--keep-checkpoint")
     s = summary(ext11)
     check(rc == 0 and s["stopped_on_target_error"] and s["results"]["strain_reached"]["value"] < 8,
-          f"11 ({label}): the 8-strain run stopped on /target_rel_error 0.2 at strain "
+          f"11 ({label}): the 8-strain run stopped on /target_rel_error 0.3 at strain "
           f"{s['results']['strain_reached']['value']:.3f} (exit {rc}) {err[-200:]}")
     long11 = write_spec("long11", dict(base11, strain=16, target_rel_error=target))
     rc, _, err = run(long11, ext11, "--resume")
