@@ -8,6 +8,48 @@
 #include "shear_test.h"
 #include "stats.h"
 
+/* Replicas of the ratio of means R = <x>/<y> with y = y0 + ya a (a: AR(1), rho 0.5, unit
+ * variance) and x = 0.6 y0 + xa a + 0.1 g (g white), so R = 0.6 whenever xa = 0.6 ya: the
+ * scatter of R over `reps` series of nm samples, the mean of its error bar
+ * (lub_stats_ratio), how often R - 0.6 lies within 2 error bars, the mean of the sampled
+ * ratios, and the mean error bar of a propagation that took x and y as independent. x, y, z,
+ * scr: nm doubles each. */
+typedef struct {
+    double mean, sd, sem_mean, mean_of_ratios, independent_sem_mean;
+    int covered;
+} ratio_mc;
+
+static ratio_mc ratio_monte_carlo(lub_rng *rng, int reps, size_t nm, double y0, double ya,
+                                  double xa, double *x, double *y, double *z, double *scr)
+{
+    ratio_mc out = {0};
+    double sum = 0.0, sum2 = 0.0;
+    for (int r = 0; r < reps; ++r) {
+        double a = lub_rng_gauss(rng);
+        for (size_t i = 0; i < nm; ++i) {
+            a = 0.5 * a + sqrt(1.0 - 0.25) * lub_rng_gauss(rng);
+            y[i] = y0 + ya * a;
+            x[i] = 0.6 * y0 + xa * a + 0.1 * lub_rng_gauss(rng);
+        }
+        double rr, sr;
+        lub_stats_ratio(x, y, nm, z, scr, &rr, &sr, NULL, NULL);
+        double m = 0.0;
+        for (size_t i = 0; i < nm; ++i)
+            m += x[i] / y[i];
+        out.mean_of_ratios += m / (double)nm / reps;
+        const double sx = lub_stats_sem(x, nm, scr), sy = lub_stats_sem(y, nm, scr);
+        out.independent_sem_mean +=
+            sqrt(sx * sx + rr * rr * sy * sy) / lub_stats_mean(y, nm) / reps;
+        sum += rr;
+        sum2 += rr * rr;
+        out.sem_mean += sr / reps;
+        out.covered += fabs(rr - 0.6) < 2.0 * sr;
+    }
+    out.mean = sum / reps;
+    out.sd = sqrt((sum2 - sum * sum / reps) / (reps - 1));
+    return out;
+}
+
 int main(void)
 {
     lub_rng rng;
@@ -281,26 +323,10 @@ int main(void)
          * biased by ~0.6 * 0.2^2 = +4 %. */
         const int reps = 200;
         const size_t nm = 4096;
-        double sum = 0.0, sum2 = 0.0, sem_mean = 0.0, mor = 0.0;
-        int covered = 0;
-        for (int r = 0; r < reps; ++r) {
-            double a = lub_rng_gauss(&rng);
-            for (size_t i = 0; i < nm; ++i) {
-                a = 0.5 * a + sqrt(1.0 - 0.25) * lub_rng_gauss(&rng);
-                y[i] = 1.0 + 0.2 * a;
-                x[i] = 0.6 + 0.1 * lub_rng_gauss(&rng);
-            }
-            lub_stats_ratio(x, y, nm, z, scr, &rr, &sr, NULL, NULL);
-            double m = 0.0;
-            for (size_t i = 0; i < nm; ++i)
-                m += x[i] / y[i];
-            mor += m / (double)nm / reps;
-            sum += rr;
-            sum2 += rr * rr;
-            sem_mean += sr / reps;
-            covered += fabs(rr - 0.6) < 2.0 * sr;
-        }
-        const double mean = sum / reps, sd = sqrt((sum2 - sum * sum / reps) / (reps - 1));
+        const ratio_mc mc1 = ratio_monte_carlo(&rng, reps, nm, 1.0, 0.2, 0.0, x, y, z, scr);
+        const double mean = mc1.mean, sd = mc1.sd, sem_mean = mc1.sem_mean,
+                     mor = mc1.mean_of_ratios;
+        const int covered = mc1.covered;
         printf("ratio_mc mean=%.5f sd=%.5f sem_mean=%.5f sem_over_sd=%.3f coverage_2sigma=%.3f "
                "mean_of_ratios=%.5f\n",
                mean, sd, sem_mean, sem_mean / sd, (double)covered / reps, mor);
@@ -319,32 +345,17 @@ int main(void)
          * the AR(1) checks above). Without the division by mean(y) the ratio is 2; an error
          * bar that propagated the two SEMs as if x and y were independent would be 4.7 times
          * the scatter (checked as a premise: the covariance matters here). */
-        sum = sum2 = sem_mean = 0.0;
-        covered = 0;
-        double indep_mean = 0.0;
-        for (int r = 0; r < reps; ++r) {
-            double a = lub_rng_gauss(&rng);
-            for (size_t i = 0; i < nm; ++i) {
-                a = 0.5 * a + sqrt(1.0 - 0.25) * lub_rng_gauss(&rng);
-                y[i] = 2.0 + 0.4 * a;
-                x[i] = 1.2 + 0.3 * a + 0.1 * lub_rng_gauss(&rng);
-            }
-            lub_stats_ratio(x, y, nm, z, scr, &rr, &sr, NULL, NULL);
-            const double sx = lub_stats_sem(x, nm, scr), sy = lub_stats_sem(y, nm, scr);
-            indep_mean += sqrt(sx * sx + rr * rr * sy * sy) / lub_stats_mean(y, nm) / reps;
-            sum += rr;
-            sum2 += rr * rr;
-            sem_mean += sr / reps;
-            covered += fabs(rr - 0.6) < 2.0 * sr;
-        }
-        const double mean2 = sum / reps, sd2 = sqrt((sum2 - sum * sum / reps) / (reps - 1));
+        const ratio_mc mc2 = ratio_monte_carlo(&rng, reps, nm, 2.0, 0.4, 0.3, x, y, z, scr);
+        const double mean2 = mc2.mean, sd2 = mc2.sd, indep_mean = mc2.independent_sem_mean;
         printf("ratio_mc_my2 mean=%.5f sd=%.3g sem_mean=%.3g sem_over_sd=%.3f "
                "coverage_2sigma=%.3f independent_propagation_over_sd=%.2f\n",
-               mean2, sd2, sem_mean, sem_mean / sd2, (double)covered / reps, indep_mean / sd2);
+               mean2, sd2, mc2.sem_mean, mc2.sem_mean / sd2, (double)mc2.covered / reps,
+               indep_mean / sd2);
         ST_CHECK(fabs(mean2 - 0.6) < 3.0 * sd2 / sqrt(reps), "mean(y) 2: ratio of means %g", mean2);
-        ST_CHECK(sem_mean / sd2 > 0.85 && sem_mean / sd2 < 1.2,
-                 "mean(y) 2: ratio SEM / scatter = %g", sem_mean / sd2);
-        ST_CHECK(covered >= 0.88 * reps, "mean(y) 2: ratio 2-sigma coverage %d/%d", covered, reps);
+        ST_CHECK(mc2.sem_mean / sd2 > 0.85 && mc2.sem_mean / sd2 < 1.2,
+                 "mean(y) 2: ratio SEM / scatter = %g", mc2.sem_mean / sd2);
+        ST_CHECK(mc2.covered >= 0.88 * reps, "mean(y) 2: ratio 2-sigma coverage %d/%d", mc2.covered,
+                 reps);
         ST_CHECK(indep_mean / sd2 > 3.0, "premise: x and y correlated (independent %g)",
                  indep_mean / sd2);
         free(y);
