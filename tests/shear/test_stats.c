@@ -8,6 +8,31 @@
 #include "shear_test.h"
 #include "stats.h"
 
+/* x[0..n) of an AR(1) sequence: v = v0_scale g, then v = rho v + innov_scale g per sample (g
+ * standard normal draws of rng, in that order). */
+static void ar1_fill(lub_rng *rng, double *x, size_t n, double rho, double v0_scale,
+                     double innov_scale)
+{
+    double v = v0_scale * lub_rng_gauss(rng);
+    for (size_t i = 0; i < n; ++i) {
+        v = rho * v + innov_scale * lub_rng_gauss(rng);
+        x[i] = v;
+    }
+}
+
+/* Exact standard error of the mean of n samples of a stationary AR(1) sequence with unit
+ * innovations: sx^2 [1 + 2 sum_k (1 - k/n) rho^k] / n, sx^2 = 1/(1 - rho^2). */
+static double ar1_exact_sem(double rho, size_t n)
+{
+    const double sx2 = 1.0 / (1 - rho * rho);
+    double acc = 1.0, rk = 1.0;
+    for (size_t k = 1; k < n; ++k) {
+        rk *= rho;
+        acc += 2.0 * (1.0 - (double)k / (double)n) * rk;
+    }
+    return sqrt(sx2 * acc / (double)n);
+}
+
 /* Replicas of the ratio of means R = <x>/<y> with y = y0 + ya a (a: AR(1), rho 0.5, unit
  * variance) and x = 0.6 y0 + xa a + 0.1 g (g white), so R = 0.6 whenever xa = 0.6 ya: the
  * scatter of R over `reps` series of nm samples, the mean of its error bar
@@ -94,21 +119,12 @@ int main(void)
         for (int t = 0; t < 3; ++t) {
             const double rho = rhos_short[t];
             const double sx2 = 1.0 / (1 - rho * rho);
-            double acc = 1.0, rk = 1.0;
-            for (size_t k = 1; k < ns; ++k) {
-                rk *= rho;
-                acc += 2.0 * (1.0 - (double)k / (double)ns) * rk;
-            }
-            const double exact = sqrt(sx2 * acc / (double)ns);
+            const double exact = ar1_exact_sem(rho, ns);
             const int reps = 400;
             double mean_est = 0;
             int covered = 0;
             for (int r = 0; r < reps; ++r) {
-                double v = sqrt(sx2) * lub_rng_gauss(&rng);
-                for (size_t i = 0; i < ns; ++i) {
-                    v = rho * v + lub_rng_gauss(&rng);
-                    x[i] = v;
-                }
+                ar1_fill(&rng, x, ns, rho, sqrt(sx2), 1.0);
                 double sem = lub_stats_sem(x, ns, scr);
                 mean_est += sem / reps;
                 if (fabs(lub_stats_mean(x, ns)) < 2 * sem)
@@ -160,20 +176,11 @@ int main(void)
             const double rho = rhos_b[t];
             const size_t nb = 400;
             const double sx2 = 1.0 / (1.0 - rho * rho);
-            double acc = 1.0, rk = 1.0;
-            for (size_t k = 1; k < nb; ++k) {
-                rk *= rho;
-                acc += 2.0 * (1.0 - (double)k / (double)nb) * rk;
-            }
-            const double exact = sqrt(sx2 * acc / (double)nb);
+            const double exact = ar1_exact_sem(rho, nb);
             int bound_covers = 0, sem_covers = 0;
             const int reps = 1000;
             for (int k = 0; k < reps; ++k) {
-                double v = sqrt(sx2) * lub_rng_gauss(&rng);
-                for (size_t i = 0; i < nb; ++i) {
-                    v = rho * v + lub_rng_gauss(&rng);
-                    x[i] = v;
-                }
+                ar1_fill(&rng, x, nb, rho, sqrt(sx2), 1.0);
                 const double e = lub_stats_sem_batches(x, nb, scr, &m, &r);
                 sem_covers += e >= exact;
                 bound_covers += e * lub_stats_sem_upper_factor(m, r) >= exact;
@@ -268,11 +275,7 @@ int main(void)
                 const size_t len = (size_t)(50.0 * taus[t]);
                 int alarms = 0;
                 for (int r = 0; r < nz; ++r) {
-                    double v = lub_rng_gauss(&rz);
-                    for (size_t i = 0; i < len; ++i) {
-                        v = rho * v + sqrt(1.0 - rho * rho) * lub_rng_gauss(&rz);
-                        x[i] = v;
-                    }
+                    ar1_fill(&rz, x, len, rho, 1.0, sqrt(1.0 - rho * rho));
                     alarms += fabs(lub_stats_drift_z(x, len, scr)) > 3.0;
                 }
                 const double p = (double)alarms / nz,
