@@ -56,6 +56,19 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
     snprintf(path, sizeof path, "%s/%s.schema.json", r->srv->cfg->schema_dir, s->name);
     json_error_t err;
     json_t *schema = json_load_file(path, JSON_PRESERVE_ORDER, &err);
+    /* the scene is selected by the process id, not an input (POST refuses inputs.scene):
+     * the schema file (a lubdem spec file's, with "scene" required) is served without it,
+     * and without its $id, which names the file's schema */
+    json_object_del(json_object_get(schema, "properties"), "scene");
+    json_t *req_list = json_object_get(schema, "required");
+    for (size_t i = json_array_size(req_list); i-- > 0;) {
+        json_t *v = json_array_get(req_list, i);
+        if (json_is_string(v) && strcmp(json_string_value(v), "scene") == 0)
+            json_array_remove(req_list, i);
+    }
+    if (req_list && json_array_size(req_list) == 0)
+        json_object_del(schema, "required");
+    json_object_del(schema, "$id");
     json_t *inputs = json_object();
     char untranslated[400] = ""; /* the first input whose schema has no OpenAPI 3.0 form */
     json_t *props = json_object_get(schema, "properties");
@@ -63,8 +76,6 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
     const char *key;
     json_t *prop;
     json_object_foreach (props, key, prop) {
-        if (strcmp(key, "scene") == 0)
-            continue; /* selected by the process id, not an input */
         int req = 0;
         size_t i;
         json_t *v;
@@ -93,7 +104,7 @@ enum MHD_Result lubd_api_process(lubd_request *r, const char *id)
     if (!schema) {
         json_object_set_new(o, "inputsSchemaError", json_string(err.text));
     } else {
-        json_object_set_new(o, "inputsSchema", schema); /* the draft-07 file as it is */
+        json_object_set_new(o, "inputsSchema", schema); /* the draft-07 file, no scene */
         if (untranslated[0])
             json_object_set_new(o, "inputsSchemaError", json_string(untranslated));
     }

@@ -196,6 +196,15 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
     lub_error err;
     memset(&err, 0, sizeof err);
     if (lub_spec_resolve(r->spec, &r->resolved, &err) != 0) {
+        /* the engine lists the spec file's members, "scene" first; the scene is not an
+         * input here (the process id in the URL selects it) */
+        static const char listed[] = "unknown field (allowed: ", first[] = "scene, ";
+        const int top = err.pointer[0] == '/' && !strchr(err.pointer + 1, '/');
+        if (top && strncmp(err.message, listed, sizeof listed - 1) == 0) {
+            char *names = err.message + sizeof listed - 1;
+            if (strncmp(names, first, sizeof first - 1) == 0)
+                memmove(names, names + sizeof first - 1, strlen(names + sizeof first - 1) + 1);
+        }
         char ptr[300];
         snprintf(ptr, sizeof ptr, "/inputs%.250s", err.pointer);
         lub_utf8_trim_tail(ptr);

@@ -5,6 +5,8 @@ wrong Content-Type, unknown process, missing/invalid token, another user's job, 
 without admin rights, bad job ids."""
 import socket
 
+import jsonschema
+
 import lubd_testlib as T
 
 PROBLEM = "application/problem+json"
@@ -137,6 +139,29 @@ def run():
         T.check(st == 200 and lst["jobs"] == [], "jobs were queued: %s" % lst["jobs"])
         st, _, health = srv.request("GET", "/health")
         T.check(health["queue"] == {"accepted": 0, "running": 0}, "queue not empty")
+
+        # Every process's published inputsSchema takes {} and refuses "scene", as POST does:
+        # until 2026-12-07 it was the spec file's, "scene" required, so no inputs passed it
+        # and were accepted; and the unknown-input message listed "scene" among the inputs.
+        st, _, procs = srv.request("GET", "/processes")
+        for pid in [p["id"] for p in procs["processes"]]:
+            st, _, desc = srv.request("GET", "/processes/" + pid)
+            schema = desc["inputsSchema"]
+            v = jsonschema.Draft7Validator(schema)
+            T.check("scene" not in schema["properties"] and
+                    "scene" not in schema.get("required", []) and v.is_valid({}) and
+                    not v.is_valid({"scene": pid}),
+                    "%s: inputsSchema takes {} and refuses scene: %s" %
+                    (pid, [e.message for e in v.iter_errors({})]))
+            st, _, doc = srv.request("POST", "/processes/%s/execution" % pid, alice,
+                                     {"inputs": {}})
+            T.check(st == 201, "%s: {} -> %s %s" % (pid, st, doc))
+            st, _, doc = srv.request("DELETE", "/jobs/" + doc["jobID"], alice)
+            T.check(st == 200, "%s: dismiss -> %s" % (pid, st))
+            st, _, doc = srv.request("POST", "/processes/%s/execution" % pid, alice,
+                                     {"inputs": {"durration": 1}})
+            T.check(st == 400 and "unknown field (allowed: " in doc["detail"] and
+                    "scene" not in doc["detail"], "%s: unknown input -> %s" % (pid, doc))
 
         # Another user's job; bad job ids; unknown routes; wrong methods.
         st, _, doc = srv.request("POST", ex, alice, {"inputs": {"duration": 1}})

@@ -127,7 +127,15 @@ def check_input_schemas(srv, schema_dir):
         T.check(st == 200 and "inputsSchemaError" not in desc, "%s: %s" % (pid, st))
         with open(os.path.join(schema_dir, pid + ".schema.json")) as f:
             draft = json.load(f)
-        T.check(desc["inputsSchema"] == draft, "%s: inputsSchema is the draft-07 file" % pid)
+        # the file without "scene" (selected by the process id, refused as an input) and its
+        # $id; until 2026-12-07 it was the file as it is, "scene" required, so no inputs both
+        # passed it and were accepted
+        served = {k: v for k, v in draft.items() if k not in ("$id", "required")}
+        served["properties"] = {k: v for k, v in draft["properties"].items() if k != "scene"}
+        if [r for r in draft.get("required", []) if r != "scene"]:
+            served["required"] = [r for r in draft["required"] if r != "scene"]
+        T.check(desc["inputsSchema"] == served,
+                "%s: inputsSchema is the draft-07 file without scene" % pid)
         inputs = {k: v for k, v in draft["properties"].items() if k != "scene"}
         T.check(sorted(desc["inputs"]) == sorted(inputs), "%s: inputs" % pid)
         for name, prop in inputs.items():
@@ -271,6 +279,12 @@ def run():
                     "timestamps")
             st, _, res = srv.request("GET", "/jobs/%s/results" % jid, alice)
             T.check(st == 200 and res["summary"]["scene"] == pid, "results document")
+            # the inputs it echoes are valid inputs of the process (no member it lacks)
+            st, _, desc = srv.request("GET", "/processes/" + pid)
+            errs = [e.message for e in
+                    jsonschema.Draft7Validator(desc["inputsSchema"]).iter_errors(res["inputs"])]
+            T.check(res["inputs"] == specs[pid] and not errs,
+                    "%s: results inputs %s: %s" % (pid, res["inputs"], errs))
             h5 = res["outputs"]["result.h5"]
             T.check(h5["type"] == "application/x-hdf5" and h5["size"] > 0, "result.h5 entry")
             st, hd, data = srv.request("GET", "/jobs/%s/results/result.h5" % jid, alice,
