@@ -1,4 +1,7 @@
 /* api_jobs.c — job list, status, dismiss and the results document. */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -87,87 +90,233 @@ static enum MHD_Result collect_status(void *cls, enum MHD_ValueKind kind, const 
     return MHD_YES;
 }
 
+/* Collects the values of a list parameter (name or name[], repeated and comma-separated; empty
+ * items skipped) into a JSON array of strings. */
+typedef struct {
+    const char *name, *alias; /* alias: another name for it, or NULL */
+    json_t *values;
+} list_acc;
+
+static enum MHD_Result collect_list(void *cls, enum MHD_ValueKind kind, const char *key,
+                                    const char *value)
+{
+    (void)kind;
+    list_acc *a = cls;
+    const size_t n = strlen(a->name);
+    const int named = (strncmp(key, a->name, n) == 0 && (!key[n] || strcmp(key + n, "[]") == 0)) ||
+                      (a->alias && strcmp(key, a->alias) == 0);
+    if (!named || !value)
+        return MHD_YES;
+    for (const char *t = value; *t;) {
+        const size_t len = strcspn(t, ",");
+        if (len > 0)
+            json_array_append_new(a->values, json_stringn(t, len));
+        t += len + (t[len] == ',');
+    }
+    return MHD_YES;
+}
+
+/* Appends s to the growing string *buf (NULL on allocation failure, which sticks),
+ * percent-encoding every byte but RFC 3986's unreserved ones when `escape`. */
+static void append(char **buf, size_t *len, const char *s, int escape)
+{
+    if (!*buf)
+        return;
+    const size_t add = strlen(s) * (escape ? 3 : 1);
+    char *grown = realloc(*buf, *len + add + 1);
+    if (!grown) {
+        free(*buf);
+        *buf = NULL;
+        return;
+    }
+    *buf = grown;
+    for (const unsigned char *c = (const unsigned char *)s; *c; ++c) {
+        if (!escape || isalnum(*c) || strchr("-._~", *c))
+            grown[(*len)++] = (char)*c;
+        else
+            *len += (size_t)sprintf(grown + *len, "%%%02X", *c);
+    }
+    grown[*len] = '\0';
+}
+
+static enum MHD_Result bad_parameter(lubd_request *r, const char *fmt, const char *value)
+{
+    lubd_fault f;
+    char quoted[104];
+    lub_text_one_line(value ? value : "", quoted, sizeof quoted);
+    lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL, fmt,
+              quoted);
+    return lubd_reply_fault(r, &f);
+}
+
+/* datetime (OGC API - Processes job list): an instant, or an interval start/end whose either
+ * end may be open ("" or ".."), matched against the jobs' created times. 0, or -1. */
+static int parse_datetime(const char *v, lubd_list_query *q)
+{
+    const char *slash = strchr(v, '/');
+    long long lo, hi;
+    if (!slash) {
+        if (lubd_parse_rfc3339(v, &hi, &lo) != 0)
+            return -1;
+        q->created_from_ms = lo;
+        q->created_to_ms = hi;
+        return 0;
+    }
+    char start[64];
+    const size_t n = (size_t)(slash - v);
+    if (n >= sizeof start || strchr(slash + 1, '/'))
+        return -1;
+    memcpy(start, v, n);
+    start[n] = '\0';
+    const char *end = slash + 1;
+    long long unused;
+    if (n > 0 && strcmp(start, "..") != 0) {
+        if (lubd_parse_rfc3339(start, &unused, &lo) != 0)
+            return -1;
+        q->created_from_ms = lo;
+    }
+    if (*end && strcmp(end, "..") != 0) {
+        if (lubd_parse_rfc3339(end, &hi, &unused) != 0)
+            return -1;
+        q->created_to_ms = hi;
+    }
+    return 0;
+}
+
+/* minDuration/maxDuration: seconds, a number >= 0. 0, or -1. */
+static int parse_seconds(const char *v, double *out)
+{
+    char *end;
+    errno = 0;
+    const double x = strtod(v, &end);
+    if (end == v || *end || errno || !isfinite(x) || x < 0 || !isdigit((unsigned char)v[0]))
+        return -1;
+    *out = x;
+    return 0;
+}
+
 enum MHD_Result lubd_api_jobs(lubd_request *r)
 {
     lubd_fault f;
     if (lubd_authenticate(r, &f) != 0)
         return lubd_reply_fault(r, &f);
-    lubd_list_query q = {r->user.is_admin ? -1 : r->user.id, 0, NULL, 10, 0};
+    lubd_list_query q = {r->user.is_admin ? -1 : r->user.id, 0, NULL, 10, 0, -1, -1, -1.0, -1.0};
     status_acc acc = {0, 0, ""};
     MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, collect_status, &acc);
-    if (acc.bad) {
-        char quoted[64];
-        lub_text_one_line(acc.bad_value, quoted, sizeof quoted);
-        lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
-                  "status: unknown value \"%s\" (accepted, running, successful, failed, "
-                  "dismissed)",
-                  quoted);
-        return lubd_reply_fault(r, &f);
-    }
+    if (acc.bad)
+        return bad_parameter(r,
+                             "status: unknown value \"%s\" (accepted, running, successful, "
+                             "failed, dismissed)",
+                             acc.bad_value);
     q.state_mask = acc.mask;
-    const char *proc = lubd_query(r, "processID");
-    if (!proc)
-        proc = lubd_query(r, "process");
-    q.process_id = proc;
+    /* type: "process", the only type of job there is (OGC API - Processes Part 1) */
+    list_acc types = {"type", NULL, json_array()};
+    MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, collect_list, &types);
+    size_t i;
+    json_t *v;
+    json_array_foreach (types.values, i, v)
+        if (strcmp(json_string_value(v), "process") != 0) {
+            enum MHD_Result rc = bad_parameter(
+                r, "type: unknown value \"%s\" (process: the only job type)", json_string_value(v));
+            json_decref(types.values);
+            return rc;
+        }
+    const int typed = json_array_size(types.values) > 0;
+    json_decref(types.values);
+    const char *dt = lubd_query(r, "datetime");
+    if (dt && parse_datetime(dt, &q) != 0)
+        return bad_parameter(r,
+                             "datetime: \"%s\" is neither an RFC 3339 date-time (such as "
+                             "2026-12-07T10:00:00Z) nor an interval of two, either end open "
+                             "(\"..\" or empty)",
+                             dt);
+    const char *mind = lubd_query(r, "minDuration"), *maxd = lubd_query(r, "maxDuration");
+    if (mind && parse_seconds(mind, &q.min_duration) != 0)
+        return bad_parameter(r, "minDuration: \"%s\" is not a number of seconds >= 0", mind);
+    if (maxd && parse_seconds(maxd, &q.max_duration) != 0)
+        return bad_parameter(r, "maxDuration: \"%s\" is not a number of seconds >= 0", maxd);
     const char *lim = lubd_query(r, "limit");
     if (lim) {
         char *end;
-        long v = strtol(lim, &end, 10);
-        if (*end || end == lim || v < 1 || v > 1000) {
-            lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
-                      "limit: must be an integer in [1, 1000]");
-            return lubd_reply_fault(r, &f);
-        }
-        q.limit = (int)v;
+        long val = strtol(lim, &end, 10);
+        if (*end || end == lim || val < 1 || val > 1000)
+            return bad_parameter(r, "limit: must be an integer in [1, 1000] (got \"%s\")", lim);
+        q.limit = (int)val;
     }
     const char *cur = lubd_query(r, "cursor");
     if (cur) {
         char *end;
-        long long v = cur[0] == 's' ? strtoll(cur + 1, &end, 10) : -1;
-        if (v <= 0 || *end) {
-            lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
-                      "cursor: not a cursor from a 'next' link");
-            return lubd_reply_fault(r, &f);
-        }
-        q.before_seq = v;
+        long long val = cur[0] == 's' ? strtoll(cur + 1, &end, 10) : -1;
+        if (val <= 0 || *end)
+            return bad_parameter(r, "cursor: \"%s\" is not a cursor from a 'next' link", cur);
+        q.before_seq = val;
     }
-    lubd_job *jobs;
-    int n, more;
-    sqlite3 *db = lubd_db_acquire(&r->srv->pool);
-    int rc = lubd_queue_list(db, &q, &jobs, &n, &more);
-    lubd_db_release(&r->srv->pool, db);
+    /* processID (or process): repeated and comma-separated, any of them */
+    list_acc procs = {"processID", "process", json_array()};
+    MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, collect_list, &procs);
+    char *proc_json = json_array_size(procs.values) ? json_dumps(procs.values, JSON_COMPACT) : NULL;
+    q.process_ids = proc_json;
+    lubd_job *jobs = NULL;
+    int n = 0, more = 0, rc = -1;
+    if (!json_array_size(procs.values) || proc_json) {
+        sqlite3 *db = lubd_db_acquire(&r->srv->pool);
+        rc = lubd_queue_list(db, &q, &jobs, &n, &more);
+        lubd_db_release(&r->srv->pool, db);
+    }
+    free(proc_json);
     if (rc != 0) {
+        json_decref(procs.values);
         lubd_fail(&f, 500, LUBD_PT_BASE "internal", "Internal error", NULL, "database error");
         return lubd_reply_fault(r, &f);
     }
     json_t *arr = json_array();
-    for (int i = 0; i < n; ++i)
-        json_array_append_new(arr, lubd_status_json(&jobs[i], r->base, r->user.is_admin));
-    /* Filters are re-encoded from validated values only. */
-    char filters[400] = "";
+    for (int k = 0; k < n; ++k)
+        json_array_append_new(arr, lubd_status_json(&jobs[k], r->base, r->user.is_admin));
+    /* The links' filters: the validated values, percent-encoded */
     size_t fl = 0;
+    char *filters = calloc(1, 1);
     static const char *const names[] = {"accepted", "running", "successful", "failed", "dismissed"};
     for (int b = 0; b < 5; ++b)
-        if (q.state_mask & (1 << b))
-            fl += (size_t)snprintf(filters + fl, sizeof filters - fl, "&status=%s", names[b]);
-    int proc_ok = proc && strlen(proc) < 64 &&
-                  strspn(proc, "abcdefghijklmnopqrstuvwxyz"
-                               "ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") == strlen(proc);
-    if (proc_ok && fl < sizeof filters)
-        snprintf(filters + fl, sizeof filters - fl, "&processID=%s", proc);
-    json_t *links = json_array();
-    char href[1200];
-    int hl = snprintf(href, sizeof href, "%s/jobs?limit=%d%s", r->base, q.limit, filters);
-    if (cur && hl > 0 && (size_t)hl < sizeof href) /* this page, not the first */
-        snprintf(href + hl, sizeof href - (size_t)hl, "&cursor=s%lld", q.before_seq);
-    json_array_append_new(links, json_pack("{s:s, s:s, s:s}", "href", href, "rel", "self", "type",
-                                           "application/json"));
-    if (more && n > 0) {
-        snprintf(href, sizeof href, "%s/jobs?limit=%d%s&cursor=s%lld", r->base, q.limit, filters,
-                 jobs[n - 1].seq);
-        json_array_append_new(links, json_pack("{s:s, s:s, s:s}", "href", href, "rel", "next",
-                                               "type", "application/json"));
+        if (q.state_mask & (1 << b)) {
+            append(&filters, &fl, "&status=", 0);
+            append(&filters, &fl, names[b], 0);
+        }
+    json_array_foreach (procs.values, i, v) {
+        append(&filters, &fl, "&processID=", 0);
+        append(&filters, &fl, json_string_value(v), 1);
     }
+    json_decref(procs.values);
+    if (typed)
+        append(&filters, &fl, "&type=process", 0);
+    if (dt) {
+        append(&filters, &fl, "&datetime=", 0);
+        append(&filters, &fl, dt, 1);
+    }
+    char num[40];
+    if (mind) {
+        snprintf(num, sizeof num, "&minDuration=%.17g", q.min_duration);
+        append(&filters, &fl, num, 0);
+    }
+    if (maxd) {
+        snprintf(num, sizeof num, "&maxDuration=%.17g", q.max_duration);
+        append(&filters, &fl, num, 0);
+    }
+    json_t *links = json_array();
+    char cursor[40] = "";
+    if (cur) /* this page, not the first */
+        snprintf(cursor, sizeof cursor, "&cursor=s%lld", q.before_seq);
+    if (filters)
+        json_array_append_new(links, json_pack("{s:o, s:s, s:s}", "href",
+                                               json_sprintf("%s/jobs?limit=%d%s%s", r->base,
+                                                            q.limit, filters, cursor),
+                                               "rel", "self", "type", "application/json"));
+    if (filters && more && n > 0)
+        json_array_append_new(links,
+                              json_pack("{s:o, s:s, s:s}", "href",
+                                        json_sprintf("%s/jobs?limit=%d%s&cursor=s%lld", r->base,
+                                                     q.limit, filters, jobs[n - 1].seq),
+                                        "rel", "next", "type", "application/json"));
+    free(filters);
     free(jobs);
     return lubd_reply_json(
         r, 200, json_pack("{s:o, s:i, s:o}", "jobs", arr, "numberReturned", n, "links", links));

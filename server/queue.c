@@ -261,6 +261,12 @@ int lubd_queue_get(sqlite3 *db, const char *id, lubd_job *j)
     return result;
 }
 
+/* a job's created time in ms since the epoch as its status shows it (lubd_rfc3339: whole
+ * seconds, then the fraction's milliseconds cut, at most 999) */
+#define CREATED_MS                                                                                 \
+    "(CAST(j.created AS INTEGER) * 1000 + min(999, CAST((j.created - CAST(j.created AS "           \
+    "INTEGER)) * 1000.0 AS INTEGER)))"
+
 int lubd_queue_list(sqlite3 *db, const lubd_list_query *q, lubd_job **jobs, int *n, int *more)
 {
     *jobs = NULL;
@@ -272,18 +278,26 @@ int lubd_queue_list(sqlite3 *db, const lubd_list_query *q, lubd_job **jobs, int 
                         "WHERE j.purged = 0 AND (?1 < 0 OR j.user_id = ?1) AND (?2 = 0 OR "
                         "(?2 >> (CASE j.state WHEN 'accepted' THEN 0 WHEN 'running' THEN 1 "
                         "WHEN 'successful' THEN 2 WHEN 'failed' THEN 3 ELSE 4 END)) & 1) AND "
-                        "(?3 IS NULL OR j.process_id = ?3) AND (?4 = 0 OR j.seq < ?4) "
-                        "ORDER BY j.seq DESC LIMIT ?5",
+                        "(?3 IS NULL OR j.process_id IN (SELECT value FROM json_each(?3))) "
+                        "AND (?4 = 0 OR j.seq < ?4) AND (?6 < 0 OR " CREATED_MS " >= ?6) AND "
+                        "(?7 < 0 OR " CREATED_MS " <= ?7) AND (?8 < 0 OR (j.started IS NOT NULL "
+                        "AND coalesce(j.finished, " LUBD_SQL_NOW ") - j.started >= ?8)) AND "
+                        "(?9 < 0 OR (j.started IS NOT NULL AND coalesce(j.finished, " LUBD_SQL_NOW
+                        ") - j.started <= ?9)) ORDER BY j.seq DESC LIMIT ?5",
                         &st) != 0)
         return -1;
     sqlite3_bind_int64(st, 1, q->user_id);
     sqlite3_bind_int(st, 2, q->state_mask);
-    if (q->process_id)
-        sqlite3_bind_text(st, 3, q->process_id, -1, SQLITE_STATIC);
+    if (q->process_ids)
+        sqlite3_bind_text(st, 3, q->process_ids, -1, SQLITE_STATIC);
     else
         sqlite3_bind_null(st, 3);
     sqlite3_bind_int64(st, 4, q->before_seq);
     sqlite3_bind_int(st, 5, q->limit + 1);
+    sqlite3_bind_int64(st, 6, q->created_from_ms);
+    sqlite3_bind_int64(st, 7, q->created_to_ms);
+    sqlite3_bind_double(st, 8, q->min_duration);
+    sqlite3_bind_double(st, 9, q->max_duration);
     lubd_job *arr = calloc((size_t)q->limit + 1, sizeof *arr);
     if (!arr) {
         sqlite3_finalize(st);

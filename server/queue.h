@@ -67,11 +67,17 @@ int lubd_queue_is_replay(sqlite3 *db, long long user_id, const char *key, const 
 int lubd_queue_get(sqlite3 *db, const char *id, lubd_job *j);
 
 typedef struct {
-    long long user_id;      /* -1 = every user (admin) */
-    int state_mask;         /* 0 = every state */
-    const char *process_id; /* NULL = any */
+    long long user_id;       /* -1 = every user (admin) */
+    int state_mask;          /* 0 = every state */
+    const char *process_ids; /* a JSON array of process ids (any of them); NULL = any */
     int limit;
     long long before_seq; /* cursor: only jobs with seq < before_seq; 0 = from the newest */
+    /* created (as shown: cut to the millisecond) within [from, to], in ms since the epoch;
+     * -1 = open */
+    long long created_from_ms, created_to_ms;
+    /* started to finished (or now, while running) within [min, max] seconds, which a job
+     * that never started does not meet; < 0 = no bound */
+    double min_duration, max_duration;
 } lubd_list_query;
 
 /* Fills a malloc'd array (caller frees) newest first; *more = 1 if more rows follow. */

@@ -1,6 +1,7 @@
 /* status_json.c — statusInfo rendering (OGC API - Processes 1.0 statusInfo.yaml + extras). */
 #include "status_json.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -82,4 +83,82 @@ json_t *lubd_status_json(const lubd_job *j, const char *base, int with_user)
     json_array_append_new(links, mklink(href, "log", "text/plain", "engine log"));
     json_object_set_new(o, "links", links);
     return o;
+}
+
+/* n decimal digits at *s into *out (advancing *s); 0, or -1 */
+static int digits(const char **s, int n, int *out)
+{
+    int v = 0;
+    for (int i = 0; i < n; ++i, ++*s) {
+        if (!isdigit((unsigned char)**s))
+            return -1;
+        v = v * 10 + (**s - '0');
+    }
+    *out = v;
+    return 0;
+}
+
+/* days from 1970-01-01 to the proleptic Gregorian date y-m-d */
+static long long days_from_civil(int y, int m, int d)
+{
+    y -= m <= 2;
+    const long long era = (y >= 0 ? y : y - 399) / 400;
+    const long long yoe = y - era * 400;
+    const long long doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+    const long long doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+    return era * 146097 + doe - 719468;
+}
+
+int lubd_parse_rfc3339(const char *s, long long *floor_ms, long long *ceil_ms)
+{
+    int y, mo, d, h, mi, sec;
+    if (digits(&s, 4, &y) || *s++ != '-' || digits(&s, 2, &mo) || *s++ != '-' || digits(&s, 2, &d))
+        return -1;
+    if (*s != 'T' && *s != 't' && *s != ' ')
+        return -1;
+    ++s;
+    if (digits(&s, 2, &h) || *s++ != ':' || digits(&s, 2, &mi) || *s++ != ':' ||
+        digits(&s, 2, &sec))
+        return -1;
+    static const int mdays[] = {31, 28, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
+    const int leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+    if (mo < 1 || mo > 12 || d < 1 || d > mdays[mo - 1] + (mo == 2 && leap) || h > 23 || mi > 59 ||
+        sec > 60)
+        return -1;
+    int ms = 0, rest = 0; /* the first 3 digits of the fraction; rest: a later one is not 0 */
+    if (*s == '.') {
+        ++s;
+        if (!isdigit((unsigned char)*s))
+            return -1;
+        int taken = 0;
+        for (; isdigit((unsigned char)*s); ++s) {
+            if (taken < 3) {
+                ms = ms * 10 + (*s - '0');
+                ++taken;
+            } else if (*s != '0') {
+                rest = 1;
+            }
+        }
+        for (; taken < 3; ++taken)
+            ms *= 10;
+    }
+    int offset_min = 0;
+    if (*s == 'Z' || *s == 'z') {
+        ++s;
+    } else if (*s == '+' || *s == '-' || *s == ' ') {
+        const int sign = *s++ == '-' ? -1 : 1;
+        int oh, om;
+        if (digits(&s, 2, &oh) || *s++ != ':' || digits(&s, 2, &om) || oh > 23 || om > 59)
+            return -1;
+        offset_min = sign * (oh * 60 + om);
+    } else {
+        return -1;
+    }
+    if (*s)
+        return -1;
+    const long long secs =
+        days_from_civil(y, mo, d) * 86400LL + h * 3600LL + mi * 60LL + sec - offset_min * 60LL;
+    *floor_ms = secs * 1000 + ms;
+    *ceil_ms = *floor_ms + rest;
+    return 0;
 }

@@ -166,6 +166,62 @@ def check_input_schemas(srv, schema_dir):
             "rheometer stress segment: %s" % stress.get("description"))
 
 
+def check_job_list_filters(srv, tok, jobs):
+    """GET /jobs's OGC API - Processes job-list parameters, on the user's two finished jobs
+    (jobs: {process id: job id}). Until 2026-12-07 only the first processID counted
+    (a=..&processID=b listed a's jobs, processID=a,b none), and type, datetime, minDuration
+    and maxDuration were ignored."""
+    both = sorted(jobs.values())
+
+    def listed(query, want_status=200):
+        st, _, lst = srv.request("GET", "/jobs?" + query, tok)
+        T.check(st == want_status, "GET /jobs?%s -> %s %s" % (query, st, lst))
+        return sorted(j["jobID"] for j in lst["jobs"]) if st == 200 else lst
+
+    for q in ("processID=falling_sphere&processID=two_spheres_shear",
+              "processID=falling_sphere,two_spheres_shear", "processID=two_spheres_shear,nope",
+              "processID=falling_sphere&process=two_spheres_shear", "type=process",
+              "type=process&processID=falling_sphere,two_spheres_shear"):
+        want = both if "nope" not in q else [jobs["two_spheres_shear"]]
+        T.check(listed(q) == want, "%s: %s (want %s)" % (q, listed(q), want))
+    T.check(listed("processID=nope") == [], "processID=nope")
+    # the next link keeps every filter
+    st, _, lst = srv.request("GET", "/jobs?limit=1&processID=falling_sphere,two_spheres_shear"
+                             "&type=process&minDuration=0", tok)
+    nxt = [l["href"] for l in lst["links"] if l["rel"] == "next"]
+    T.check(st == 200 and nxt, "next link of a filtered list: %s" % lst)
+    st, _, lst2 = srv.request("GET", nxt[0].split(str(srv.port), 1)[1], tok)
+    T.check(sorted([lst["jobs"][0]["jobID"], lst2["jobs"][0]["jobID"]]) == both
+            and not [l for l in lst2["links"] if l["rel"] == "next"],
+            "filtered second page %s" % nxt[0])
+    doc = {}
+    for jid in both:
+        st, _, doc[jid] = srv.request("GET", "/jobs/" + jid, tok)
+    first, second = sorted(both, key=lambda j: doc[j]["created"])
+    c1, c2 = doc[first]["created"], doc[second]["created"]
+
+    def created_in(lo, hi):  # the jobs created (as shown) within [lo, hi]; same format
+        return [j for j in both if lo <= doc[j]["created"] <= hi]
+    cases = [("datetime=" + c1, created_in(c1, c1)), ("datetime=%s/%s" % (c1, c2), both),
+             ("datetime=%s/.." % c2, created_in(c2, "9")), ("datetime=%s/" % c2,
+                                                             created_in(c2, "9")),
+             ("datetime=../" + c1, created_in("", c1)), ("datetime=/" + c1, created_in("", c1)),
+             ("datetime=2000-01-01T00:00:00Z/2000-01-02T00:00:00.5%2B01:00", []),
+             # the same instant in another offset
+             ("datetime=" + c1.replace("Z", "%2B00:00"), created_in(c1, c1)),
+             ("datetime=" + c1.replace("Z", "1Z"), []),
+             ("minDuration=0", both), ("maxDuration=3600", both), ("minDuration=3600", []),
+             ("maxDuration=0", [])]
+    for q, want in cases:
+        T.check(listed(q) == sorted(want), "%s: %s (want %s)" % (q, listed(q), sorted(want)))
+    for q, name in (("type=job", "type"), ("datetime=yesterday", "datetime"),
+                    ("datetime=2026-13-01T00:00:00Z", "datetime"),
+                    ("datetime=2026-12-01T00:00:00Z/x/y", "datetime"),
+                    ("minDuration=-1", "minDuration"), ("maxDuration=soon", "maxDuration")):
+        lst = listed(q, 400)
+        T.check(lst["detail"].startswith(name + ":"), "%s: %s" % (q, lst["detail"]))
+
+
 def submit_running(srv, tok, inputs, ready=lambda jid: True):
     """Submits a simple_shear job and polls it until it runs at 5 % or more and ready(jid)
     holds (at most 120 s). Returns the job id and its last status document."""
@@ -356,6 +412,7 @@ def run():
         T.check(st == 200 and lst["jobs"] == [], "bob's list is empty")
         st, _, lst = srv.request("GET", "/jobs?status=bogus", alice)
         T.check(st == 400 and "status" in lst["detail"], "bad status filter")
+        check_job_list_filters(srv, alice, jobs)
 
         # Dismiss a running job: the engine is stopped, the job becomes dismissed.
         st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", alice,
