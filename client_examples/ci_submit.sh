@@ -16,8 +16,12 @@
 #                           inputs out, so a second submission of the step was refused, 409).
 #                           A job this script timed out on is left running for that reason
 #                           (exit 3 says how to dismiss it). Should the key's job have been
-#                           dismissed (DELETE), the step submits anew under KEY-after-JOBID, a
-#                           key that a further retry finds again.
+#                           dismissed (DELETE), the step submits anew under KEY-after-JOBID
+#                           (KEY cut to 216 characters, so that the key stays within the
+#                           service's 255; after a second dismissal KEY-after-JOBID2, not
+#                           KEY-after-JOBID-after-JOBID2, which outgrew 255 for a long CI job
+#                           name until 2026-12-07 and was refused, exit 2), a key that a
+#                           further retry finds again.
 #   LUBDEM_DISMISS_ON_TIMEOUT=1  dismiss the job on a timeout instead (a retried step then
 #                           submits a new job, as above).
 #   LUBDEM_FAIL_ON_WARNINGS=1  exit 4 when the run's summary has warnings (its own validity
@@ -49,6 +53,7 @@ fi
 STEP=$(printf '%s' "$STEP" | tr -c 'A-Za-z0-9._-' '_' | cut -c1-150)
 REQUEST=$(printf '%s\n%s' "$PROCESS" "$INPUTS" | sha256sum | cut -c1-16)
 KEY=${LUBDEM_IDEMPOTENCY_KEY:-ci-$STEP-$PROCESS-$REQUEST}
+BASE_KEY=${KEY:0:216}  # + "-after-" + a job id (39 characters) <= 255
 AUTH="Authorization: Bearer $TOKEN"
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
@@ -71,7 +76,7 @@ for TRY in 1 2 3 4 5 6; do
     exit 1
   fi
   echo "job $JOB (Idempotency-Key $KEY) was dismissed; submitting again"
-  KEY="$KEY-after-$JOB"
+  KEY="$BASE_KEY-after-$JOB"
 done
 echo "job $JOB submitted (Idempotency-Key $KEY)"
 DEADLINE=$(( $(date +%s) + TIMEOUT ))

@@ -100,6 +100,30 @@ def run():
         rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "300", h5, extra_env=key)
         T.check(rc == 0 and ("job %s submitted" % again.group(1)) in out,
                 "a second retry finds the resubmitted job:\n" + out)
+        # two dismissals under a long CI job name: the key stays within the service's 255
+        # characters (until 2026-12-07 it grew by -after-JOBID per dismissal, to 266 here, and
+        # the third try was refused, exit 2)
+        long_step = {"LUBDEM_IDEMPOTENCY_KEY": "", "CI_PIPELINE_ID": "813",
+                     "CI_JOB_NAME": "n" * 200, "GITHUB_RUN_ID": "", "GITHUB_JOB": ""}
+        blocker = block()
+        dismissed = []
+        for _ in range(2):
+            rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "1", h5,
+                         extra_env=dict(long_step, LUBDEM_DISMISS_ON_TIMEOUT="1"))
+            job = re.search(r"job ([0-9a-f]{32}) submitted \(Idempotency-Key ([^)]*)\)", out)
+            T.check(rc == 3 and job and "dismissing job" in out,
+                    "long CI job name, dismissal %d:\n%s" % (len(dismissed) + 1, out))
+            dismissed.append(job.group(1))
+            if len(dismissed) == 1:
+                base_key = job.group(2)
+        srv.request("DELETE", "/jobs/" + blocker, tok)
+        rc, out = sh(srv, tok, "bash", ci, "two_spheres_shear", inputs, "300", h5,
+                     extra_env=long_step)
+        job = re.search(r"job ([0-9a-f]{32}) submitted \(Idempotency-Key ([^)]*)\)", out)
+        T.check(rc == 0 and job and job.group(1) not in dismissed and len(base_key) > 180 and
+                job.group(2) == base_key[:216] + "-after-" + dismissed[1] and
+                len(job.group(2)) <= 255 and "verified" in out,
+                "long CI job name after two dismissals (key %s):\n%s" % (base_key, out))
         # the default Idempotency-Key: a retry of the same CI step (GitLab: a new CI_JOB_ID,
         # the same pipeline and job name; GitHub: the same run and job) gets the same job; the
         # same step with other inputs a new one (until 2026-12-07 the key was ci-$CI_JOB_ID-
