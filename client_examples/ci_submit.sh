@@ -30,8 +30,13 @@
 # A failed job whose engine wrote a summary leaves it in OUT_FILE.failed.json (the service's
 # problem document, member "summary": the diagnostic, and the results of a run that completed
 # but could not write its result.h5).
-# Exit: 0 successful and verified, 1 job failed/dismissed/checksum mismatch, 2 rejected
-# submission, 3 timeout, 4 successful and verified but with warnings (LUBDEM_FAIL_ON_WARNINGS=1).
+# Exit: 0 successful and verified, 1 job failed/dismissed/checksum mismatch, or the job could not
+# be followed (the service unreachable, the token refused, the job deleted, a download failed),
+# 2 rejected submission or the service unreachable when submitting (nothing submitted, as far as
+# the script knows), 3 timeout, 4 successful and verified but with warnings
+# (LUBDEM_FAIL_ON_WARNINGS=1). Each failure ends with an 'error: ...' line (until 2026-12-07 a
+# failed curl ended the script with curl's own code: 7 for an unreachable service, 22 for an
+# HTTP error while polling).
 set -euo pipefail
 PROCESS=${1:?process id}
 INPUTS=${2:?inputs JSON object}
@@ -58,16 +63,38 @@ AUTH="Authorization: Bearer $TOKEN"
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 field() { sed -n "s/^ *\"$1\": *\"\([^\"]*\)\".*/\1/p" | head -n 1; }
+# get PATH OUT EXIT: GET $URL$PATH into OUT (curl's retries); on a failure an 'error:' line
+# (the problem's detail for an HTTP error) and exit EXIT
+get() {
+  local code rc=0
+  code=$(curl -sS --retry 5 --retry-all-errors -w '%{http_code}' -H "$AUTH" -o "$2" \
+         "$URL$1") || rc=$?
+  if [ "$rc" != 0 ]; then
+    echo "error: GET $URL$1 failed (curl exit $rc): the service cannot be reached" >&2
+    exit "$3"
+  fi
+  if [ "$code" != 200 ]; then
+    echo "error: GET $URL$1: HTTP $code: $(field detail < "$2")" >&2
+    exit "$3"
+  fi
+}
 
 # A key names its request for a day: a job dismissed under it (by an earlier step's
 # LUBDEM_DISMISS_ON_TIMEOUT=1, or by hand) would come back to every retry and fail it. Such a
 # job is submitted again under KEY-after-JOBID, which the next retry finds in turn.
 for TRY in 1 2 3 4 5 6; do
+  RC=0
   CODE=$(curl -sS --retry 5 --retry-all-errors --retry-delay 1 -o "$TMP/job.json" -w '%{http_code}' \
          -H "$AUTH" -H 'Content-Type: application/json' -H "Idempotency-Key: $KEY" \
-         -d "{\"inputs\": $INPUTS}" "$URL/processes/$PROCESS/execution")
+         -d "{\"inputs\": $INPUTS}" "$URL/processes/$PROCESS/execution") || RC=$?
+  if [ "$RC" != 0 ]; then
+    echo "error: POST $URL/processes/$PROCESS/execution failed (curl exit $RC): the service" \
+         "cannot be reached; nothing was submitted, or a retry with Idempotency-Key $KEY finds" \
+         "the job" >&2
+    exit 2
+  fi
   if [ "$CODE" != 201 ]; then
-    echo "submission rejected (HTTP $CODE):"; cat "$TMP/job.json"; exit 2
+    echo "error: submission rejected (HTTP $CODE):"; cat "$TMP/job.json"; exit 2
   fi
   JOB=$(field jobID < "$TMP/job.json")
   [ "$(field status < "$TMP/job.json")" = dismissed ] || break
@@ -81,7 +108,7 @@ done
 echo "job $JOB submitted (Idempotency-Key $KEY)"
 DEADLINE=$(( $(date +%s) + TIMEOUT ))
 while :; do
-  curl -fsS --retry 5 --retry-all-errors -H "$AUTH" -o "$TMP/job.json" "$URL/jobs/$JOB"
+  get "/jobs/$JOB" "$TMP/job.json" 1
   STATUS=$(field status < "$TMP/job.json")
   case "$STATUS" in successful|failed|dismissed) break ;; esac
   if [ "$(date +%s)" -ge "$DEADLINE" ]; then
@@ -110,11 +137,16 @@ if [ "$STATUS" != successful ]; then
   fi
   exit 1
 fi
-curl -fsS -H "$AUTH" -o "$TMP/results.json" "$URL/jobs/$JOB/results"
+get "/jobs/$JOB/results" "$TMP/results.json" 1
 WANT=$(sed -n '/"outputs"/,$p' "$TMP/results.json" | sed -n '/"result.h5": {/,/}/p' | field sha256)
 rm -f "$OUT_FILE"  # a fresh download; -C - makes curl's retries resume with a Range request
+RC=0
 curl -fsS --retry 5 --retry-all-errors -C - -H "$AUTH" -o "$OUT_FILE" \
-     "$URL/jobs/$JOB/results/result.h5"
+     "$URL/jobs/$JOB/results/result.h5" || RC=$?
+if [ "$RC" != 0 ]; then
+  echo "error: download of $URL/jobs/$JOB/results/result.h5 failed (curl exit $RC)" >&2
+  exit 1
+fi
 GOT=$(sha256sum "$OUT_FILE" | cut -d' ' -f1)
 if [ -z "$WANT" ] || [ "$GOT" != "$WANT" ]; then
   echo "sha256 mismatch for $OUT_FILE: got $GOT, expected $WANT"; exit 1

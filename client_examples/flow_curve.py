@@ -38,9 +38,9 @@ library only; uses lubdem_client.py from this directory).
 Exit status: 0 all runs successful; 1 a job failed or the wait timed out (the table still
 lists every value, with its status), or the service went away while waiting (the jobs are
 named, or found again by the same command with --key); 2 bad arguments, or a submission was
-rejected (the message names the input by its JSON pointer; the values after it are not
-submitted, the jobs already queued keep running and are named); 4 warnings with
---fail-on-warnings.
+rejected (the message names the input by its JSON pointer) or could not reach the service (an
+'error:' line; until 2026-12-07 a Python traceback): the values after it are not submitted, the
+jobs already queued keep running and are named; 4 warnings with --fail-on-warnings.
 Token: --token, $LUBDEM_TOKEN, or ./run/local-token.
 """
 import argparse
@@ -220,8 +220,12 @@ def main(argv=None):
         key = "%s:%s" % (a.key, point) if a.key else None
         try:
             job = client.submit(a.process, body, idempotency_key=key)
-        except ApiError as e:
-            print("error: %s rejected: %s" % (point, e), file=sys.stderr)
+        except (ApiError, OSError) as e:  # OSError: urllib's URLError, a connection refused
+            if isinstance(e, ApiError):
+                print("error: %s rejected: %s" % (point, e), file=sys.stderr)
+            else:
+                print("error: %s not submitted: the service at %s cannot be reached (%s)" % (
+                    point, a.url, getattr(e, "reason", e)), file=sys.stderr)
             if job_ids:
                 print("the %d job(s) queued before it keep running (%s); %s" % (
                     len(job_ids), " ".join(job_ids),

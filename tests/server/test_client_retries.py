@@ -7,6 +7,10 @@
   under KEY-after-JOBID; the default key is the CI step's (GitLab's pipeline and job name,
   GitHub's run and job) with a hash of the request: a retry with a new CI_JOB_ID gets the same
   job, other inputs a new one, and without a CI step a random key comes with a warning;
+* ci_submit.sh after two dismissals under a 200-character CI job name: the derived key stays
+  within 255 characters (it grew past them and was refused); a token revoked while it polls:
+  exit 1 with an error line (curl's 22); no service at the URL: exit 2 with an error line
+  (curl's 7), and flow_curve.py exit 2 with an error line (a traceback);
 * lubdem_client.py extend of a running job says it has not ended (it said HTTP 404);
 * read_result.py prints the build provenance (the attributes of /parameters/build; it printed
   the group's repr);
@@ -17,11 +21,19 @@ import csv
 import os
 import re
 import shutil
+import socket
 import subprocess
 import sys
 import time
 
 import lubd_testlib as T
+
+
+class Dead:
+    """A server that is not there: a port nothing listens on."""
+
+    def __init__(self, port):
+        self.port = port
 
 
 def run():
@@ -154,6 +166,32 @@ def run():
         T.check(key and key.startswith("ci-random-") and
                 "warning: neither LUBDEM_IDEMPOTENCY_KEY nor a CI" in out,
                 "no CI step: a random key and a warning (%s):\n%s" % (key, out))
+        # the token revoked while ci_submit.sh polls: exit 1 with an error line naming the 401
+        # (until 2026-12-07 curl's exit 22, through set -e, with curl's words only)
+        blocker = block()
+        tok2 = srv.token("ci2")
+        env2 = dict(os.environ, LUBDEM_URL="http://127.0.0.1:%d" % srv.port, LUBDEM_TOKEN=tok2,
+                    LUBDEM_IDEMPOTENCY_KEY="ci-revoked")
+        proc = subprocess.Popen(["bash", ci, "two_spheres_shear", inputs, "300", h5], env=env2,
+                                cwd=out_dir, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                                text=True)
+        first_line = proc.stdout.readline()
+        job = re.search(r"job ([0-9a-f]{32}) submitted", first_line)
+        srv.cli("token", "revoke", tok2)
+        try:
+            rest, _ = proc.communicate(timeout=120)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            rest, _ = proc.communicate()
+        out = first_line + rest
+        T.check(job and proc.returncode == 1 and
+                re.search(r"^error: GET \S+/jobs/%s: HTTP 401: " % job.group(1), out, re.M),
+                "ci_submit.sh, token revoked while polling (exit %s):\n%s"
+                % (proc.returncode, out))
+        root = srv.token("root", admin=True)
+        if job:
+            srv.request("DELETE", "/jobs/" + job.group(1), root)
+        srv.request("DELETE", "/jobs/" + blocker, tok)
         # read_result.py: the build provenance from the group's attributes
         try:
             import h5py  # noqa: F401
@@ -165,6 +203,26 @@ def run():
             print("h5py not available: read_result.py not exercised")
     finally:
         srv.stop()
+
+    # no service at the URL: ci_submit.sh exits 2 (nothing submitted) and flow_curve.py 2,
+    # each with an error line (until 2026-12-07 ci_submit.sh exited with curl's 7 and
+    # flow_curve.py with a Python traceback)
+    with socket.socket() as free:
+        free.bind(("127.0.0.1", 0))
+        dead = Dead(free.getsockname()[1])
+    rc, out = sh(dead, tok, "bash", ci, "two_spheres_shear", '{"duration": 2.0}', "60", "x.h5",
+                 extra_env={"LUBDEM_IDEMPOTENCY_KEY": "ci-dead"})
+    T.check(rc == 2 and re.search(r"^error: POST \S+/execution failed \(curl exit 7\): the "
+                                  r"service cannot be reached", out, re.M),
+            "ci_submit.sh, no service (exit %s):\n%s" % (rc, out))
+    fc_dead = [sys.executable, os.path.join(ce, "flow_curve.py"), "--vary", "/Iv", "--values",
+               "0.1,0.2", "--poll", "0.2"]
+    for key in ([], ["--key", "dead"]):
+        rc, out = sh(dead, tok, *fc_dead, *key)
+        T.check(rc == 2 and "Traceback" not in out and
+                re.search(r"^error: /Iv=0.1 not submitted: the service at \S+ cannot be reached",
+                          out, re.M),
+                "flow_curve.py %s, no service (exit %s):\n%s" % (key, rc, out))
 
     # flow_curve.py: a run stopped at the CPU time limit (1 s) with its checkpoint, then the
     # same command with --chain 2 and a deadline already passed: its first round of polls
