@@ -146,13 +146,17 @@ int lubd_exec_parse(const char *body, size_t len, const char *process_id, lubd_e
         goto fail;
     json_t *prio = json_object_get(r->body, "priority");
     if (prio) {
-        if (!json_is_integer(prio) || json_integer_value(prio) < -10 ||
-            json_integer_value(prio) > 10) {
+        /* an integer, or a number of integral value (2.0), as JSON Schema's "integer" and the
+         * engine's integer inputs take it (until 2026-12-07 2.0 was refused) */
+        json_int_t p = 0;
+        const int whole =
+            json_is_integer(prio) ? (p = json_integer_value(prio), 1) : integral_real(prio, &p);
+        if (!whole || p < -10 || p > 10) {
             lubd_fail(f, 400, LUBD_PT_BASE "invalid-request", "Invalid request", "/priority",
                       "must be an integer in [-10, 10]");
             goto fail;
         }
-        r->priority = (int)json_integer_value(prio);
+        r->priority = (int)p;
     }
     json_t *from = json_object_get(r->body, "continue_from");
     if (from) {
