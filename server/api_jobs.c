@@ -437,9 +437,11 @@ enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
         int system = strcmp(j.failure_kind, "system") == 0;
         lubd_fail(&f, system ? 500 : 422, LUBD_PT_BASE "job-failed", "Job failed", NULL,
                   "job %s failed (%s): %s", id, j.failure_kind, j.message);
-        /* What the failed attempt's engine wrote, where it wrote anything: its summary (the
-         * diagnostic, and the results of a run whose result.h5 could not be written) and the
-         * files it kept (a partial or failed result.h5, a stopped run's checkpoint), served
+        /* The job's inputs (always: what a job continuing it submits; until 2026-12-07 they
+         * were left out with the files when the engine had written nothing), and what the
+         * failed attempt's engine wrote, where it wrote anything: its summary (the diagnostic,
+         * and the results of a run whose result.h5 could not be written) and the files it kept
+         * (a partial or failed result.h5, a stopped run's checkpoint; {} for none), served
          * like a successful job's. Jobs that failed before the files were kept (or whose files
          * could not be moved) have their summary in the attempt's folder only. */
         if (!summary && j.attempt > 0) {
@@ -447,11 +449,6 @@ enum MHD_Result lubd_api_results(lubd_request *r, const char *id)
             snprintf(path, sizeof path, "%s/%s/attempt-%d/out/summary.json", r->srv->cfg->jobs_dir,
                      id, j.attempt);
             summary = json_load_file(path, JSON_PRESERVE_ORDER, NULL);
-        }
-        if (!json_is_object(summary) && json_object_size(outputs) == 0) {
-            json_decref(summary);
-            json_decref(outputs);
-            return lubd_reply_fault(r, &f);
         }
         json_t *body = lubd_fault_json(&f, r->url);
         json_t *inputs = inputs_json(r, id);

@@ -80,6 +80,9 @@ def run():
             st, _, res = srv.request("GET", "/jobs/%s/results" % ids[dur], tok)
             T.check(st == (500 if kind == "system" else 422) and text in res["detail"],
                     "results of failed job %s -> %s" % (dur, st))
+            # the inputs always (until 2026-12-07 not for a job whose engine wrote nothing)
+            T.check(res.get("inputs") == {"duration": dur} and "outputs" in res,
+                    "inputs of failed job %s: %s" % (dur, res))
             summary = res.get("summary")
             if dur in (3, 4, 5):  # the engine wrote a summary: it comes with the problem
                 T.check(isinstance(summary, dict)
