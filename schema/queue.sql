@@ -81,13 +81,14 @@ CREATE TABLE IF NOT EXISTS results(
   PRIMARY KEY(job_id, name)
 ) STRICT;
 
--- Append-only audit of state transitions (claims, finishes, requeues): lets tests prove
+-- Append-only audit of state transitions (submissions, claims, finishes, requeues, releases at
+-- a service stop, dismissals, and purges: a DELETE of a job that had ended): lets tests prove
 -- "final state reached exactly once" and "no overlapping attempts".
 CREATE TABLE IF NOT EXISTS job_events(
   seq     INTEGER PRIMARY KEY,
   job_id  TEXT NOT NULL,
   at      REAL NOT NULL,
-  event   TEXT NOT NULL,   -- submitted|claimed|successful|failed|dismissed|requeued|released
+  event   TEXT NOT NULL,   -- submitted|claimed|successful|failed|dismissed|requeued|released|purged
   attempt INTEGER NOT NULL,
   worker  TEXT,
   token   TEXT

@@ -198,6 +198,13 @@ def run():
         T.check(st == 404 and doc["status"] == 404, "unknown route")
         st, h, doc = srv.request("PUT", "/jobs", alice, {"x": 1})
         T.check(st == 405 and "GET" in h.get("allow", ""), "PUT /jobs -> %s" % st)
+        # a POST is checked as every POST is before its path, as openapi.json says: the
+        # token (401), the Content-Type (415), then 405
+        for tok, ctype, status in ((None, "application/json", 401), (alice, "text/plain", 415),
+                                   (alice, "application/json", 405)):
+            st, h, doc = srv.request("POST", "/jobs", tok, b"{}", {"Content-Type": ctype})
+            T.check(st == status and (status != 405 or "GET" in h.get("allow", "")),
+                    "POST /jobs (%s) -> %s (want %s)" % (ctype, st, status))
         st, _, doc = srv.request("GET", "/jobs?limit=0", alice)
         T.check(st == 400 and "limit" in doc["detail"], "limit=0")
         st, _, doc = srv.request("GET", "/jobs?cursor=abc", alice)

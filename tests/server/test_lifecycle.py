@@ -166,6 +166,27 @@ def check_input_schemas(srv, schema_dir):
             "rheometer stress segment: %s" % stress.get("description"))
 
 
+# response headers of the API's own that openapi.json documents where they are sent
+SENT_HEADERS = ("retry-after", "etag", "accept-ranges", "content-range", "content-disposition",
+                "location", "allow", "idempotent-replayed", "preference-applied")
+
+
+def check_headers_documented(srv, tok, path, template, cases):
+    """GET path with each case's request headers: the status wanted, the headers wanted, and
+    every one of SENT_HEADERS it sends documented in openapi.json for that status (until
+    2026-12-07 none of Retry-After, ETag, Accept-Ranges, Content-Range, Content-Disposition
+    was, on GET /jobs/{jobId}, its results, their files and the log)."""
+    st, _, api = srv.request("GET", "/openapi.json")
+    responses = api["paths"][template]["get"]["responses"]
+    for req_headers, want_status, want in cases:
+        st, hd, _ = srv.request("GET", path, tok, headers=req_headers, raw=True)
+        documented = {k.lower() for k in responses.get(str(st), {}).get("headers", {})}
+        sent = {k for k in hd if k in SENT_HEADERS}
+        T.check(st == want_status and set(want) <= sent and sent <= documented,
+                "GET %s %s -> %s, headers %s sent, %s documented in openapi.json"
+                % (template, req_headers, st, sorted(sent), sorted(documented)))
+
+
 def check_job_list_filters(srv, tok, jobs):
     """GET /jobs's OGC API - Processes job-list parameters, on the user's two finished jobs
     (jobs: {process id: job id}). Until 2026-12-07 only the first processID counted
@@ -379,6 +400,16 @@ def run():
                                        raw=True)
             T.check(st == 200 and head == b"" and int(hd["content-length"]) == len(data),
                     "HEAD -> %s %s" % (st, hd))
+            check_headers_documented(
+                srv, alice, "/jobs/%s/results/result.h5" % jid, "/jobs/{jobId}/results/{name}",
+                [({}, 200, ("etag", "accept-ranges", "content-disposition")),
+                 ({"Range": "bytes=0-9"}, 206, ("content-range", "etag")),
+                 ({"If-None-Match": '"%s"' % digest}, 304, ("etag",)),
+                 ({"Range": "bytes=%d-" % len(data)}, 416, ("content-range",))])
+            check_headers_documented(
+                srv, alice, "/jobs/%s/log" % jid, "/jobs/{jobId}/log",
+                [({}, 200, ("accept-ranges",)), ({"Range": "bytes=0-9"}, 206, ("content-range",)),
+                 ({"Range": "bytes=100000000-"}, 416, ("content-range",))])
             st, hd, summ = srv.request("GET", "/jobs/%s/results/summary.json" % jid, alice)
             T.check(st == 200 and summ["scene"] == pid, "summary.json download")
             st, hd, log = srv.request("GET", "/jobs/%s/log" % jid, alice, raw=True)
@@ -426,6 +457,13 @@ def run():
                 break
             time.sleep(0.1)
         T.check(doc["status"] == "running", "long job running")
+        # while it runs: Retry-After on its status, and on its results' result-not-ready
+        check_headers_documented(srv, alice, "/jobs/" + long_id, "/jobs/{jobId}",
+                                 [({}, 200, ("retry-after",))])
+        check_headers_documented(srv, alice, "/jobs/%s/results" % long_id,
+                                 "/jobs/{jobId}/results", [({}, 404, ("retry-after",))])
+        check_headers_documented(srv, alice, "/jobs/%s/results/result.h5" % long_id,
+                                 "/jobs/{jobId}/results/{name}", [({}, 404, ("retry-after",))])
         time.sleep(1.0)
         st, _, doc = srv.request("GET", "/jobs/" + long_id, alice)
         T.check(doc["message"].startswith("running"), "progress message: %s" % doc["message"])
