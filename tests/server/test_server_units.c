@@ -31,6 +31,7 @@
 #include "progress_line.h"
 #include "queue.h"
 #include "sha256.h"
+#include "status_json.h"
 #include "tokens.h"
 
 static int failures = 0;
@@ -933,8 +934,39 @@ static void test_oas_schema(void)
     oas_case("3", NULL, "must be an object or a boolean");
 }
 
+/* RFC 3339 date-times of GET /jobs?datetime=: the inverse of lubd_rfc3339, to the millisecond */
+static void test_rfc3339(void)
+{
+    long long lo = 0, hi = 0;
+    char shown[40];
+    lubd_rfc3339(1796645522.125, shown, sizeof shown); /* exact in binary */
+    CHECK(lubd_parse_rfc3339(shown, &lo, &hi) == 0 && lo == 1796645522125LL && hi == lo);
+    CHECK(lubd_parse_rfc3339("1970-01-01T00:00:00Z", &lo, &hi) == 0 && lo == 0 && hi == 0);
+    CHECK(lubd_parse_rfc3339("2024-02-29t23:59:59.5z", &lo, &hi) == 0 && lo == 1709251199500LL &&
+          hi == lo);
+    /* a digit after the milliseconds: cut down (lo), the next millisecond up (hi) */
+    CHECK(lubd_parse_rfc3339("1970-01-01T00:00:00.0011Z", &lo, &hi) == 0 && lo == 1 && hi == 2);
+    CHECK(lubd_parse_rfc3339("1970-01-01T01:00:00+01:00", &lo, &hi) == 0 && lo == 0);
+    CHECK(lubd_parse_rfc3339("1970-01-01T00:00:00 01:00", &lo, &hi) == 0 && lo == -3600000LL);
+    CHECK(lubd_parse_rfc3339("1969-12-31T23:00:00-01:00", &lo, &hi) == 0 && lo == 0);
+    static const char *const bad[] = {"",
+                                      "2026-12-07",
+                                      "2026-12-07T10:00:00",
+                                      "2026-13-01T00:00:00Z",
+                                      "2023-02-29T00:00:00Z",
+                                      "2026-12-07T24:00:00Z",
+                                      "2026-12-07T10:00:00.Z",
+                                      "2026-12-07T10:00:00Zx",
+                                      "2026-12-07T10:00:00+1:00",
+                                      "..",
+                                      NULL};
+    for (const char *const *b = bad; *b; ++b)
+        CHECK(lubd_parse_rfc3339(*b, &lo, &hi) == -1);
+}
+
 int main(int argc, char **argv)
 {
+    test_rfc3339();
     test_sha256();
     test_range();
     test_progress();
