@@ -134,7 +134,7 @@ static int search_range(const search_ctx *sc, int i0, int i1, lub_nlist_part *ou
                                     -round_half_away(ds.z)};
                         vec3 dsc = v3(ds.x + c[0], ds.y + c[1], ds.z + c[2]);
                         vec3 d = lub_cell_to_cart(cell, dsc);
-                        double lim = (ri + radius[j]) * factor + nl->skin;
+                        double lim = fmax((ri + radius[j]) * factor, nl->reach) + nl->skin;
                         if (v3_norm2(d) < lim * lim) {
                             if (np + 1 > out->cap &&
                                 ensure_capacity(&out->pi, &out->pj, &out->pc, &out->cap, np + 1))
@@ -209,7 +209,7 @@ int lub_nlist_build(lub_nlist *nl, const lub_cell *cell, const vec3 *pos, const 
         if (radius[i] > rmax)
             rmax = radius[i];
     double factor = 1.0 + 0.5 * nl->range;
-    double dmax = 2.0 * rmax * factor + nl->skin;
+    double dmax = fmax(2.0 * rmax * factor, nl->reach) + nl->skin;
     nl->max_dist = dmax;
     double w[3];
     lub_cell_widths(cell, w);

@@ -2,7 +2,10 @@
  *
  * A pair (i < j) is listed when the centre distance to the nearest image of j is below
  *   (r_i + r_j)(1 + range/2) + skin,   i.e. u_n < range * a_ij + skin,  a_ij = (r_i + r_j)/2,
- * where `range` is the lubrication cut-off in units of a_ij (e.g. 2). Each pair carries the
+ * where `range` is the lubrication cut-off in units of a_ij (e.g. 2), or, when the owner sets
+ * `reach` (a centre distance, 0 after lub_nlist_init), when it is below
+ *   max((r_i + r_j)(1 + range/2), reach) + skin
+ * (the Delaunay set's candidates, pair_topology.h). Each pair carries the
  * integer image shift c such that the branch vector is d = x_j + H c - x_i. Positions may be
  * anywhere (not necessarily wrapped): the cell list bins their wrapped fractional coordinates
  * and c accounts for the unwrapped positions.
@@ -47,6 +50,7 @@ enum { LUB_NLIST_OK = 0, LUB_NLIST_NOMEM = -1, LUB_NLIST_CELL_TOO_SMALL = -2 };
 typedef struct {
     double range; /* cut-off in units of a_ij (>= 0) */
     double skin;  /* extra listing distance, length units (>= 0) */
+    double reach; /* smallest listing distance before the skin, length units (0: none) */
 
     /* result */
     size_t npairs;

@@ -2,14 +2,21 @@
  * pair_topology.h). */
 #include "pair_topology.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-void lub_topology_init(lub_topology *t, double range, double guard, const double *radius, int n,
-                       int threads)
+double lub_topology_reach(double r_min, double r_max, double range)
+{
+    return (r_min + r_max) * (1.0 + 0.5 * (range + LUB_TOPOLOGY_LIST_EXTRA));
+}
+
+void lub_topology_init(lub_topology *t, double range, double reach, double guard,
+                       const double *radius, int n, int threads)
 {
     memset(t, 0, sizeof *t);
     t->range = range;
+    t->reach = reach;
     t->guard = guard;
     t->r_min = n > 0 ? radius[0] : 0.0;
     t->r_max = t->r_min;
@@ -27,11 +34,16 @@ void lub_topology_free(lub_topology *t)
     memset(t, 0, sizeof *t);
 }
 
-double lub_topology_certified_radius(const lub_topology *t, double ri, double margin)
+/* every sphere within this centre distance of one of radius ri is in its list, whatever the
+ * skin state */
+static double known_distance(const lub_topology *t, double ri)
 {
-    /* every sphere within this centre distance of i is still in its list */
-    const double known = (ri + t->r_min) * (1.0 + 0.5 * t->range) + (margin > 0.0 ? margin : 0.0);
-    return lub_power_certified_radius(known, ri, t->r_max);
+    return fmax((ri + t->r_min) * (1.0 + 0.5 * t->range), t->reach);
+}
+
+double lub_topology_certified_radius(const lub_topology *t, double ri)
+{
+    return lub_power_certified_radius(known_distance(t, ri), ri, t->r_max);
 }
 
 static int grow(lub_topology *t, int n, size_t nsites)
@@ -55,7 +67,7 @@ static int grow(lub_topology *t, int n, size_t nsites)
 }
 
 int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, const vec3 *x,
-                        const double *r, int n, double cutoff, double margin)
+                        const double *r, int n, double cutoff)
 {
     const size_t np = ps->n;
     if (grow(t, n, 2 * np)) {
@@ -92,8 +104,19 @@ int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, co
     for (int i = 0; i < n; ++i) {
         lub_power_site *s = sites + first[i];
         const int m = (int)(first[i + 1] - first[i]);
-        lub_power_sort(s, m);
-        const double R = lub_topology_certified_radius(t, r[i], margin);
+        /* sites at the known distance or beyond (the list's skin and reach beyond it) neither
+         * have a face within the ball nor cut one (the bound of lub_power_certified_radius, and
+         * lub_power_face_area's stop): only the nearer ones are sorted and clipped with */
+        const double known = known_distance(t, r[i]), known2 = known * known;
+        int near = 0;
+        for (int q = 0; q < m; ++q)
+            if (v3_norm2(s[q].d) < known2) {
+                const lub_power_site tmp = s[near];
+                s[near++] = s[q];
+                s[q] = tmp;
+            }
+        lub_power_sort(s, near);
+        const double R = lub_power_certified_radius(known, r[i], rmax);
         for (int q = 0; q < m; ++q) {
             if (!(s[q].tag & 1))
                 continue; /* decided from the other sphere's side */
@@ -102,8 +125,8 @@ int lub_topology_update(lub_topology *t, lub_pairs *ps, const lub_cell *cell, co
             const double un = v3_norm(s[q].d) - r[i] - s[q].r;
             int is_open = 0;
             int ok = un < guard * a;
-            if (!ok)
-                ok = lub_power_face_area(r[i], s, m, q, R, rmax, &is_open) > 1e-9 * a * a;
+            if (!ok && q < near)
+                ok = lub_power_face_area(r[i], s, near, q, R, rmax, &is_open) > 1e-9 * a * a;
             ps->allow[k] = (unsigned char)ok;
             if (un <= cutoff * a) {
                 inside++;

@@ -1292,8 +1292,10 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
     const double sheared = p.target_rel_error > 0.0
                                ? fmin(p.strain, p.transient_strain + p.target_min_strain)
                                : p.strain;
-    const int rebuilt = sheared > 1.01 * lub_shear_rebuild_strain(p.cutoff, p.skin);
-    need->bytes = lub_shear_min_bytes(n, p.phi, p.radius_std, p.cutoff, p.skin, threads, rebuilt);
+    const double listed =
+        lub_shear_list_range(p.cutoff, p.radius_std, p.delaunay); /* the list's range */
+    const int rebuilt = sheared > 1.01 * lub_shear_rebuild_strain(listed, p.skin);
+    need->bytes = lub_shear_min_bytes(n, p.phi, p.radius_std, listed, p.skin, threads, rebuilt);
     if (p.pair_network != LUB_NETWORK_NONE) /* the pairs inside the cut-off, and a quarter more */
         need->bytes += 1.25 * 0.9 * n *
                        lub_shear_listed_pairs_estimate(p.phi, p.radius_std, p.cutoff, 0.0) *

@@ -308,6 +308,22 @@ double lub_shear_listed_pairs_estimate(double phi, double radius_std, double cut
     return shell > 0.0 ? 0.5 * phi / (1.0 + 3.0 * v2) * shell : 0.0;
 }
 
+double lub_shear_list_range(double cutoff, double radius_std, int delaunay)
+{
+    if (!delaunay)
+        return cutoff;
+    const double r_lo = fmax(1.0 - 3.0 * radius_std, 0.2), r_hi = 1.0 + 3.0 * radius_std;
+    /* mean-size pairs (centre distance 2 + range) are listed to the reach */
+    return fmax(cutoff, lub_topology_reach(r_lo, r_hi, cutoff) - 2.0);
+}
+
+double lub_shear_listing_distance(double cutoff, double radius_std, double skin, int delaunay)
+{
+    const double r_lo = fmax(1.0 - 3.0 * radius_std, 0.2), r_hi = 1.0 + 3.0 * radius_std;
+    const double d = 2.0 * r_hi * (1.0 + 0.5 * cutoff);
+    return (delaunay ? fmax(d, lub_topology_reach(r_lo, r_hi, cutoff)) : d) + skin;
+}
+
 double lub_shear_rebuild_strain(double cutoff, double skin) { return skin / (2.0 + cutoff + skin); }
 
 double lub_shear_min_bytes(double n, double phi, double radius_std, double cutoff, double skin,
@@ -321,12 +337,11 @@ double lub_shear_min_bytes(double n, double phi, double radius_std, double cutof
     return n * per_particle + pairs * per_pair;
 }
 
-/* Delaunay flags from the current positions; the list holds every pair within its listing
- * distance minus the skin consumed since the rebuild. */
+/* Delaunay flags from the current positions; the list holds every pair with u_n < nl.range
+ * a_ij (the skin criterion), the range the topology certifies its faces with. */
 static int update_topology(lub_shear_system *s)
 {
-    if (lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff,
-                            s->nl.skin - s->skin_used))
+    if (lub_topology_update(&s->topo, &s->pairs, &s->cell, s->x, s->r, s->n, s->cutoff))
         return 1;
     s->topology_step = s->step;
     return 0;
@@ -408,7 +423,15 @@ void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard)
 {
     s->topology_interval = interval < 1 ? 1 : interval;
     s->topology_step = -1;
-    lub_topology_init(&s->topo, s->cutoff, guard, s->r, s->n, s->threads);
+    /* candidates listed to a reach beyond the cut-off, so that the faces are certified within a
+     * ball that does not shrink as the skin is consumed (pair_topology.h) */
+    double r_min = s->n > 0 ? s->r[0] : 1.0, r_max = r_min;
+    for (int p = 1; p < s->n; ++p) {
+        r_min = fmin(r_min, s->r[p]);
+        r_max = fmax(r_max, s->r[p]);
+    }
+    s->nl.reach = lub_topology_reach(r_min, r_max, s->cutoff);
+    lub_topology_init(&s->topo, s->cutoff, s->nl.reach, guard, s->r, s->n, s->threads);
     s->pairs.allow_guard = guard; /* between updates too (pair_eval) */
     s->need_rebuild = 1;
 }

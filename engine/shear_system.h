@@ -145,8 +145,18 @@ void lub_shear_free(lub_shear_system *s);
 
 /* Restricts the lubricated pairs to the Delaunay (power-diagram) neighbours, updated at every
  * neighbour-list rebuild and every `interval` steps (>= 1); pairs closer than guard*a are always
- * allowed. Call after lub_shear_init, before the first step. */
+ * allowed. The neighbour list then lists every pair closer than lub_topology_reach(r_min,
+ * r_max, cutoff) + skin too (the faces' certification, pair_topology.h), so the cell must hold
+ * twice that listing distance. Call after lub_shear_init, before the first step. */
 void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard);
+
+/* For packings of radius_std (lub_packing_generate's radius bounds before their
+ * normalisation): the listing range of mean-size pairs in units of a (they are listed at u_n <
+ * range a + skin: the cut-off, or the Delaunay set's reach), for the memory estimate; and the
+ * largest listing distance (length, skin included), which half the cell's width must exceed.
+ * Pure. */
+double lub_shear_list_range(double cutoff, double radius_std, int delaunay);
+double lub_shear_listing_distance(double cutoff, double radius_std, double skin, int delaunay);
 
 /* Changes the velocity gradient to Lnew, adding (Lnew - L) x to every velocity (and the
  * change of mean spin to every spin), as for a homogeneous change of the imposed flow. */

@@ -7,6 +7,7 @@
 
 #include "network_output.h"
 #include "packing.h"
+#include "shear_system.h"
 #include "step_count.h"
 #include "step_stiffness.h"
 
@@ -23,11 +24,9 @@ static const lub_law_spec_opts ss_law_opts = {
 };
 
 /* Smallest admissible cube side for the neighbour search (with margin for tilt/servo). */
-static double ss_min_side(double radius_std, double cutoff, double skin)
+static double ss_min_side(double radius_std, double cutoff, double skin, int delaunay)
 {
-    double rmax = fmax(1.0 + 3.0 * radius_std, 1.0);
-    double dmax = 2.0 * rmax * (1.0 + 0.5 * cutoff) + skin;
-    return 2.0 * dmax / 0.8;
+    return 2.0 * lub_shear_listing_distance(cutoff, radius_std, skin, delaunay) / 0.8;
 }
 
 /* Defaults of the members the step count depends on (lub_ss_read, ss_check_steps). */
@@ -290,7 +289,7 @@ int lub_ss_read(json_t *spec, lub_ss_params *p, lub_error *err)
     /* the cell must hold twice the neighbour listing distance (see neighbor_list.h) */
     double mean_r3 = 1.0 + 3.0 * p->radius_std * p->radius_std;
     double side = cbrt((double)p->n * 4.0 / 3.0 * SS_PI * mean_r3 / p->phi);
-    double need = ss_min_side(p->radius_std, p->cutoff, p->skin);
+    double need = ss_min_side(p->radius_std, p->cutoff, p->skin, p->delaunay);
     if (side < need) {
         long long nmin =
             (long long)ceil(need * need * need * p->phi / (4.0 / 3.0 * SS_PI * mean_r3));
