@@ -719,6 +719,19 @@ int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dim
     return rc ? write_failed(f, "write", path, -1) : 0;
 }
 
+int lub_h5_profile_note(lub_h5 *f, const char *name, const char *key, const char *text)
+{
+    if (f->lost)
+        return 0;
+    char path[512];
+    snprintf(path, sizeof path, "profiles/%s", name);
+    hid_t d = H5Dopen2(f->file, path, H5P_DEFAULT);
+    const int rc = d < 0 || write_string_attr(d, key, text);
+    if (d >= 0)
+        H5Dclose(d);
+    return rc ? write_failed(f, "write an attribute of", path, -1) : 0;
+}
+
 static void frames_free(lub_h5_frames *fr)
 {
     hid_t ids[4] = {fr->step_ds, fr->time_ds, fr->start_ds, fr->count_ds};

@@ -141,6 +141,10 @@ int64_t lub_h5_frames_skipped(const lub_h5_frames *fr, int64_t *first_step, char
 int lub_h5_write_array(lub_h5 *f, const char *name, int rank, const int64_t *dims,
                        const double *data, const char *unit);
 
+/* A string attribute `key` = text on the /profiles dataset `name` written before (a
+ * convention the numbers need to be read). */
+int lub_h5_profile_note(lub_h5 *f, const char *name, const char *key, const char *text);
+
 /* Flushes buffers and HDF5 metadata (used at checkpoints and before a partial exit). */
 int lub_h5_flush(lub_h5 *f);
 /* Flushes, writes the root "status" attribute, closes everything and frees f. Returns -1 when

@@ -18,13 +18,21 @@ int lub_pdf_init(lub_pdf *p, int n_theta, int n_phi)
     p->gap_sum = calloc(nb, sizeof(double));
     p->count = calloc(nb, sizeof(double));
     p->vel_sum = calloc(3 * nb, sizeof(double));
+    p->vel_com_sum = calloc(3 * nb, sizeof(double));
     p->stress = calloc(4 * 9 * nb, sizeof(double));
     if (!p->density || !p->contact_density || !p->gap_sum || !p->count || !p->vel_sum ||
-        !p->stress) {
+        !p->vel_com_sum || !p->stress) {
         lub_pdf_free(p);
         return -1;
     }
+    p->strain_first = p->strain_last = NAN;
     return 0;
+}
+
+double lub_pdf_bytes(int n_theta, int n_phi)
+{
+    /* density, contact density, gap, count (1 each), two velocities (3 each), stress (36) */
+    return (4.0 + 6.0 + 36.0) * (double)n_theta * (double)n_phi * sizeof(double);
 }
 
 void lub_pdf_free(lub_pdf *p)
@@ -34,6 +42,7 @@ void lub_pdf_free(lub_pdf *p)
     free(p->gap_sum);
     free(p->count);
     free(p->vel_sum);
+    free(p->vel_com_sum);
     free(p->stress);
     memset(p, 0, sizeof *p);
 }
@@ -46,8 +55,10 @@ void lub_pdf_clear(lub_pdf *p)
     memset(p->gap_sum, 0, nb * sizeof(double));
     memset(p->count, 0, nb * sizeof(double));
     memset(p->vel_sum, 0, 3 * nb * sizeof(double));
+    memset(p->vel_com_sum, 0, 3 * nb * sizeof(double));
     memset(p->stress, 0, 36 * nb * sizeof(double));
     p->snapshots = 0;
+    p->strain_first = p->strain_last = NAN;
 }
 
 int lub_pdf_bin(const lub_pdf *p, vec3 n, int *inversed)
@@ -86,7 +97,7 @@ double lub_pdf_solid_angle(const lub_pdf *p, int bin)
     return (cos(it * dt) - cos((it + 1) * dt)) * dp;
 }
 
-void lub_pdf_add_pair(lub_pdf *p, const lub_pair_output *o, vec3 branch, vec3 w, double a,
+void lub_pdf_add_pair(lub_pdf *p, const lub_pair_output *o, vec3 branch, vec3 w, vec3 wc, double a,
                       int n_particles, double volume)
 {
     int inv;
@@ -102,6 +113,9 @@ void lub_pdf_add_pair(lub_pdf *p, const lub_pair_output *o, vec3 branch, vec3 w,
     p->vel_sum[3 * b] += sg * w.x;
     p->vel_sum[3 * b + 1] += sg * w.y;
     p->vel_sum[3 * b + 2] += sg * w.z;
+    p->vel_com_sum[3 * b] += sg * wc.x;
+    p->vel_com_sum[3 * b + 1] += sg * wc.y;
+    p->vel_com_sum[3 * b + 2] += sg * wc.z;
     size_t nb = (size_t)p->nt * (size_t)p->np;
     vec3 f[4] = {v3_scale(o->n, o->fn_contact), o->fs_contact, v3_scale(o->n, o->fn_lub),
                  o->fs_lub};
@@ -125,8 +139,10 @@ void lub_pdf_accumulate(lub_pdf *a, const lub_pdf *b)
         a->gap_sum[k] += b->gap_sum[k];
         a->count[k] += b->count[k];
     }
-    for (size_t k = 0; k < 3 * nb; ++k)
+    for (size_t k = 0; k < 3 * nb; ++k) {
         a->vel_sum[k] += b->vel_sum[k];
+        a->vel_com_sum[k] += b->vel_com_sum[k];
+    }
     for (size_t k = 0; k < 36 * nb; ++k)
         a->stress[k] += b->stress[k];
 }
@@ -138,11 +154,13 @@ void lub_pdf_finish(lub_pdf *p)
     for (size_t k = 0; k < nb; ++k) {
         p->density[k] *= s;
         p->contact_density[k] *= s;
-        double c = p->count[k] > 0 ? 1.0 / p->count[k] : 0.0;
+        /* an empty bin has no mean: NaN (until 2026-12-07 0, a touching pair at rest) */
+        const double c = p->count[k] > 0 ? 1.0 / p->count[k] : NAN;
         p->gap_sum[k] *= c;
-        p->vel_sum[3 * k] *= c;
-        p->vel_sum[3 * k + 1] *= c;
-        p->vel_sum[3 * k + 2] *= c;
+        for (int d = 0; d < 3; ++d) {
+            p->vel_sum[3 * k + d] *= c;
+            p->vel_com_sum[3 * k + d] *= c;
+        }
     }
     for (size_t k = 0; k < 36 * nb; ++k)
         p->stress[k] *= s;

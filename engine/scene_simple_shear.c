@@ -846,6 +846,11 @@ static void ss_time_loop(ss_run_state *r)
             r->exit_code = ss_step_failed(r, rc, step, strain_here, ly, phi_here);
             break;
         }
+        if (pdf) { /* the averaging window (/profiles/pdf_strain_range) */
+            if (sys->pdf.snapshots == 1)
+                sys->pdf.strain_first = strain_here;
+            sys->pdf.strain_last = strain_here;
+        }
         lp->strain += r->gd * r->dt;
         if (p->pressure) {
             if (step == 0)
@@ -1199,7 +1204,9 @@ static void ss_write_summary(ss_run_state *r)
 
 /* The microstructure distributions (microstructure.h) into result.h5's /profiles, when any
  * was sampled: [n_theta][n_phi] maps; vectors and tensors as [n_theta * n_phi][3 or 9] rows
- * (bin index = i_theta * n_phi + i_phi). */
+ * (bin index = i_theta * n_phi + i_phi); the bin edges (with the angle convention as their
+ * "convention" attribute), the pair counts, the snapshot count and the strains of the first
+ * and last snapshot. */
 static void ss_write_profiles(ss_run_state *r)
 {
     lub_run_ctx *ctx = r->ctx;
@@ -1208,27 +1215,59 @@ static void ss_write_profiles(ss_run_state *r)
     if (!(p->pdf_on && sys->pdf.snapshots > 0))
         return;
     lub_pdf_finish(&sys->pdf);
-    size_t nb = (size_t)p->pdf_nt * (size_t)p->pdf_np;
-    int64_t dims[2] = {p->pdf_nt, p->pdf_np};
+    const int nt = (int)p->pdf_nt, np = (int)p->pdf_np;
+    size_t nb = (size_t)nt * (size_t)np;
+    int64_t dims[2] = {nt, np};
     int64_t dims3[2] = {(int64_t)nb, 3};
     int64_t dims9[2] = {(int64_t)nb, 9};
+    const char *vu = p->pressure ? "a*P/eta" : "a*gd";
     int io = lub_h5_write_array(ctx->out, "pdf_interaction_density", 2, dims, sys->pdf.density,
                                 "1/sr") ||
              lub_h5_write_array(ctx->out, "pdf_contact_density", 2, dims, sys->pdf.contact_density,
                                 "1/sr") ||
-             lub_h5_write_array(ctx->out, "pdf_mean_gap", 2, dims, sys->pdf.gap_sum, "a") ||
+             lub_h5_write_array(ctx->out, "pdf_pair_count", 2, dims, sys->pdf.count, "1") ||
+             /* u_n/a_ij: dimensionless (its unit said "a" until 2026-12-07) */
+             lub_h5_write_array(ctx->out, "pdf_mean_gap", 2, dims, sys->pdf.gap_sum, "1") ||
              lub_h5_write_array(ctx->out, "pdf_mean_relative_velocity", 2, dims3, sys->pdf.vel_sum,
-                                p->pressure ? "a*P/eta" : "a*gd");
+                                vu) ||
+             lub_h5_write_array(ctx->out, "pdf_mean_centre_relative_velocity", 2, dims3,
+                                sys->pdf.vel_com_sum, vu);
     const char *pn[4] = {"pdf_stress_normal_contact", "pdf_stress_tangential_contact",
                          "pdf_stress_normal_lubrication", "pdf_stress_tangential_lubrication"};
     for (int k = 0; k < 4 && !io; ++k)
         io = lub_h5_write_array(ctx->out, pn[k], 2, dims9, sys->pdf.stress + k * nb * 9,
                                 p->pressure ? "P/sr" : "eta*gd/sr");
+    /* the bin edges, theta_i = i pi/n_theta and phi_i = i pi/n_phi (360 bins at most) */
+    const double pi = 3.14159265358979323846;
+    double edges[361];
+    const char *convention =
+        "pair normal n from i to j; theta = arccos(n_y) (gradient y at theta = 0), phi = "
+        "atan2(n_x, n_z) (vorticity z at phi = 0, flow x at phi = pi/2); a pair with phi < 0 "
+        "is counted as -n (theta -> pi - theta, phi -> phi + pi, its velocities' sign "
+        "flipped); bin = i_theta * n_phi + i_phi, solid angle (cos theta_i - cos theta_i+1) "
+        "(phi_i+1 - phi_i)";
+    for (int k = 0; k <= nt; ++k)
+        edges[k] = k * pi / nt;
+    int64_t de = nt + 1;
+    io = io || lub_h5_write_array(ctx->out, "pdf_theta_edges", 1, &de, edges, "rad") ||
+         lub_h5_profile_note(ctx->out, "pdf_theta_edges", "convention", convention);
+    for (int k = 0; k <= np; ++k)
+        edges[k] = k * pi / np;
+    de = np + 1;
+    io = io || lub_h5_write_array(ctx->out, "pdf_phi_edges", 1, &de, edges, "rad") ||
+         lub_h5_profile_note(ctx->out, "pdf_phi_edges", "convention", convention);
+    const double snaps = (double)sys->pdf.snapshots;
+    const double range[2] = {sys->pdf.strain_first, sys->pdf.strain_last};
+    const int64_t one = 1, two = 2;
+    io = io || lub_h5_write_array(ctx->out, "pdf_snapshots", 1, &one, &snaps, "1") ||
+         lub_h5_write_array(ctx->out, "pdf_strain_range", 1, &two, range, "1");
     if (io && r->exit_code == LUB_EXIT_OK) {
         snprintf(ctx->diagnostic, sizeof ctx->diagnostic, "%s", lub_h5_last_error(ctx->out));
         r->exit_code = LUB_EXIT_IO;
     }
     lub_summary_put(ctx, "pdf_snapshots", (double)sys->pdf.snapshots, NAN, "1");
+    lub_summary_put(ctx, "pdf_first_strain", sys->pdf.strain_first, NAN, "1");
+    lub_summary_put(ctx, "pdf_last_strain", sys->pdf.strain_last, NAN, "1");
 }
 
 static int ss_run(const json_t *resolved, lub_run_ctx *ctx)

@@ -3,6 +3,7 @@
 
 #include "state_checkpoint.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -55,7 +56,11 @@ int lub_shear_save(lub_ckpt *c, const lub_shear_system *s)
         double *arrays[6];
         size_t counts[6];
         const int k_n = pdf_arrays(&s->pdf, names, arrays, counts);
-        rc = lub_ckpt_put_i64(c, "pdf/snapshots", s->pdf.snapshots);
+        const double range[2] = {s->pdf.strain_first, s->pdf.strain_last};
+        rc = lub_ckpt_put_i64(c, "pdf/snapshots", s->pdf.snapshots) ||
+             lub_ckpt_put(c, "pdf/vel_com_sum", LUB_CKPT_F64, 3 * (size_t)s->pdf.nt * s->pdf.np,
+                          s->pdf.vel_com_sum) ||
+             lub_ckpt_put(c, "pdf/strain_range", LUB_CKPT_F64, 2, range);
         for (int k = 0; k < k_n && !rc; ++k)
             rc = lub_ckpt_put(c, names[k], LUB_CKPT_F64, counts[k], arrays[k]);
     }
@@ -137,6 +142,24 @@ int lub_shear_restore(lub_ckpt *c, lub_shear_system *s)
         for (int k = 0; k < k_n; ++k)
             if (lub_ckpt_get(c, names[k], LUB_CKPT_F64, counts[k], arrays[k]))
                 return -1;
+        /* since 2026-12-07; a checkpoint written before has neither: the centre-of-mass
+         * velocity map of its continuation is NaN where the stopped run had taken a pair, and
+         * the averaging window's strains are not known (NaN) */
+        const size_t nb = (size_t)s->pdf.nt * (size_t)s->pdf.np;
+        double range[2] = {NAN, NAN};
+        if (lub_ckpt_has(c, "pdf/vel_com_sum")) {
+            if (lub_ckpt_get(c, "pdf/vel_com_sum", LUB_CKPT_F64, 3 * nb, s->pdf.vel_com_sum))
+                return -1;
+        } else {
+            for (size_t k = 0; k < nb; ++k)
+                for (int d = 0; d < 3; ++d)
+                    s->pdf.vel_com_sum[3 * k + d] = s->pdf.count[k] > 0 ? NAN : 0.0;
+        }
+        if (lub_ckpt_has(c, "pdf/strain_range") &&
+            lub_ckpt_get(c, "pdf/strain_range", LUB_CKPT_F64, 2, range))
+            return -1;
+        s->pdf.strain_first = range[0];
+        s->pdf.strain_last = range[1];
     }
     return 0;
 }

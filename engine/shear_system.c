@@ -573,10 +573,10 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
             if (want_pdf) {
                 double h1 = ri + 0.5 * un, h2 = rj + 0.5 * un;
                 vec3 v2 = v3_add(s->v[j], mat_vec(cell->L, lub_cell_shift(cell, &ps->c[3 * k])));
-                vec3 w = v3_sub(v2, s->v[i]);
-                w = v3_sub(w, v3_scale(v3_cross(s->w[j], o.n), h2));
+                const vec3 wc = v3_sub(v2, s->v[i]); /* centre-of-mass relative velocity */
+                vec3 w = v3_sub(wc, v3_scale(v3_cross(s->w[j], o.n), h2));
                 w = v3_sub(w, v3_scale(v3_cross(s->w[i], o.n), h1));
-                lub_pdf_add_pair(&s->tpdf[tid], &o, d, w, a, n, cell->volume);
+                lub_pdf_add_pair(&s->tpdf[tid], &o, d, w, wc, a, n, cell->volume);
             }
         }
         /* pair sums of the team (in thread order) + kinetic stress + integrate: one pass per
