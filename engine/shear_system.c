@@ -447,6 +447,50 @@ int lub_shear_complete_list(lub_shear_system *s)
     return LUB_SHEAR_OK;
 }
 
+/* The microstructure of the configuration the step is about to evaluate into the threads'
+ * s->tpdf: every interacting pair through the scalar law on a copy of its state (a pair
+ * entering the cut-off on a fresh one), as lub_pair_eval would evaluate it, but changing no pair
+ * state, flag or sum, so that the step that follows, batched or not, is bit for bit the one of
+ * a run without microstructure (until 2026-12-07 a snapshot step took the scalar law for the
+ * forces too, and a run with microstructure left the one without at round-off). A pair the law
+ * fails on is left out; the step reports the failure. No allocation. */
+static void pdf_snapshot(lub_shear_system *s)
+{
+    const int nt = s->threads;
+    const lub_cell *cell = &s->cell;
+    const lub_pairs *ps = &s->pairs;
+    const lub_pair_bodies bodies = {
+        .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
+    const long npairs = (long)ps->n;
+    const int n = s->n;
+    for (int k = 0; k < nt; ++k)
+        lub_pdf_clear(&s->tpdf[k]);
+#pragma omp parallel num_threads(nt)
+    {
+        lub_pdf *pdf = &s->tpdf[thread_id()];
+#pragma omp for schedule(static)
+        for (long k = 0; k < npairs; ++k) {
+            lub_pair_input in;
+            double un;
+            if (lub_pair_input_of(ps, (size_t)k, cell, &bodies, s->cutoff, s->dt, &in, &un) !=
+                LUB_PAIR_OK)
+                continue;
+            lub_pair_state st = ps->state[k];
+            if (!ps->active[k])
+                lub_pair_state_reset(&st); /* as lub_pairs_enter */
+            lub_pair_output o;
+            if (lub_pair_step(&s->law, &in, &st, &o) != 0 || !v3_isfinite(o.force1) ||
+                !v3_isfinite(o.torque1) || !v3_isfinite(o.torque2))
+                continue;
+            const double h1 = in.r1 + 0.5 * un, h2 = in.r2 + 0.5 * un;
+            const vec3 wc = v3_sub(in.v2, in.v1); /* centre-of-mass relative velocity */
+            vec3 w = v3_sub(wc, v3_scale(v3_cross(in.w2, o.n), h2));
+            w = v3_sub(w, v3_scale(v3_cross(in.w1, o.n), h1));
+            lub_pdf_add_pair(pdf, &o, in.branch, w, wc, 0.5 * (in.r1 + in.r2), n, cell->volume);
+        }
+    }
+}
+
 int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
 {
     if (s->need_rebuild) {
@@ -479,13 +523,15 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
         s->tsyy[k] = 0.0;
         for (int c = 0; c < LUB_COUNT_N; ++c)
             s->tcount[LUB_COUNT_N * k + c] = 0;
-        if (want_pdf)
-            lub_pdf_clear(&s->tpdf[k]);
     }
+    if (want_pdf)
+        pdf_snapshot(s);
 
     const lub_pair_bodies bodies = {
         .x = s->x, .v = s->v, .w = s->w, .r = s->r, .inv_i_share = s->inv_i_share};
-    const int batched = s->batch_law && !want_stress && !want_pdf;
+    /* a microstructure snapshot reads the pairs on copies of their states (pdf_snapshot): the
+     * step itself is the one taken without it, batched law included */
+    const int batched = s->batch_law && !want_stress;
     /* the cell at the end of the step (a pure function of the current cell) and the affine
      * map since the last rebuild, so that the skin criterion is measured in the same pass as
      * the integration */
@@ -569,14 +615,6 @@ int lub_shear_step(lub_shear_system *s, unsigned flags, lub_shear_sample *out)
                  * until 2026-12-06 every pair this compressed, contact or not) */
                 ncrush += (o.contact && un < -law->alpha * law->eps * a) ? 1 : 0;
                 nslide += o.slip ? 1 : 0;
-            }
-            if (want_pdf) {
-                double h1 = ri + 0.5 * un, h2 = rj + 0.5 * un;
-                vec3 v2 = v3_add(s->v[j], mat_vec(cell->L, lub_cell_shift(cell, &ps->c[3 * k])));
-                const vec3 wc = v3_sub(v2, s->v[i]); /* centre-of-mass relative velocity */
-                vec3 w = v3_sub(wc, v3_scale(v3_cross(s->w[j], o.n), h2));
-                w = v3_sub(w, v3_scale(v3_cross(s->w[i], o.n), h1));
-                lub_pdf_add_pair(&s->tpdf[tid], &o, d, w, wc, a, n, cell->volume);
             }
         }
         /* pair sums of the team (in thread order) + kinetic stress + integrate: one pass per

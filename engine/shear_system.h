@@ -67,7 +67,8 @@ enum {
 enum {
     LUB_SAMPLE_STRESS = 1u << 0, /* full stress decomposition + pair counts */
     LUB_SAMPLE_SYY = 1u << 1,    /* only sigma_yy (total), cheap, for the pressure servo */
-    LUB_SAMPLE_PDF = 1u << 2     /* microstructure snapshot into sys->pdf */
+    LUB_SAMPLE_PDF = 1u << 2     /* microstructure snapshot into sys->pdf (read on copies of
+                                    the pair states: the step is the one without it) */
 };
 
 typedef struct {
@@ -101,7 +102,7 @@ typedef struct {
     double dt, time;
     long step;
     int threads;
-    int batch_law; /* 1 (default): steps without a stress/PDF sample evaluate the law 4 or 8 pairs
+    int batch_law; /* 1 (default): steps without a stress sample evaluate the law 4 or 8 pairs
                       per vector operation (lub_pair_eval_range, contact_batch.h); 0: the scalar
                       lub_pair_step for every pair. Results agree to round-off. */
     double drag_viscosity; /* eta_d >= 0 of the drag towards the affine flow (step 4); 0 after
