@@ -1121,6 +1121,8 @@ static void ss_put_warnings(ss_run_state *r, const lub_ss_steady_stats *st,
         .headline_rel_bound = target.rel_bound,
         .stopped_on_target = r->stopped_early,
         .target_zero_mean = target_zero_mean,
+        .pdf_first_strain = p->pdf_on && sys->pdf.snapshots > 0 ? sys->pdf.strain_first : NAN,
+        .steady_from_strain = steady_detected ? r->ser.strain[start] : NAN,
     };
     char warning_text[LUB_SHEAR_WARNINGS_MAX][LUB_SHEAR_WARNING_LEN];
     const int n_warnings = lub_shear_run_warnings(&checks, warning_text);

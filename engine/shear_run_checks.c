@@ -214,6 +214,12 @@ int lub_shear_run_warnings(const lub_shear_run_state *st,
                     "no steady state detected (the transient lasts into the "
                     "second half of the run, or the watched series drift after it): the means "
                     "are not steady-state values; raise /strain");
+    if (st->steady && falls_below(st->pdf_first_strain, st->steady_from_strain - 1e-9))
+        add_warning(out, &n,
+                    "the microstructure (/profiles) is averaged from strain %.4g, before the "
+                    "steady state detected from strain %.4g: its maps mix in the transient; "
+                    "raise /microstructure/start_strain to %.3g or more",
+                    st->pdf_first_strain, st->steady_from_strain, st->steady_from_strain);
     /* a target error the run did not reach before /strain (a stopped run's advice is above; a
      * failed run did not end at /strain, and its diagnostic says why: until 2026-12-07 it was
      * told to raise /strain) */

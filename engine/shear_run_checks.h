@@ -66,6 +66,9 @@ typedef struct {
                                   stop tests (NaN: unknown) */
     int stopped_on_target;     /* 1: the run stopped on it */
     int target_zero_mean;      /* 1: the headline averaged 0 (the scene says so itself) */
+    double pdf_first_strain;   /* strain of the first microstructure snapshot averaged into
+                                  /profiles (NaN: none) */
+    double steady_from_strain; /* strain where the detected steady window starts (NaN: none) */
 } lub_shear_run_state;
 
 /* Thresholds and why (tests/shear/README.md, sections named):
@@ -136,7 +139,11 @@ typedef struct {
  *   user comparing `value` with `ref` should know which set the law speaks for. Fires when the
  *   steady headline (mu, or eta_r) is off by more than the issue's tolerance (10 %, 15 %) or
  *   phi by more than 0.015; the article's set's own misses (eta_r at 0.55, mu at Iv = 1) are
- *   listed in the README and not warned (there is no member to change). */
+ *   listed in the README and not warned (there is no member to change).
+ * - The microstructure averaged from before the detected steady state: /profiles mixes the
+ *   transient into its maps (they average every snapshot from /microstructure/start_strain,
+ *   which the scene cannot know to be steady before the run ends); until 2026-12-07 nothing
+ *   said so. */
 #define LUB_SHEAR_EL_MIN 5e3
 #define LUB_SHEAR_KINETIC_SHARE_MAX 1e-2
 #define LUB_CRUSHED_CONTACT_FRACTION_MAX 1e-2
@@ -152,9 +159,10 @@ typedef struct {
 #define LUB_SHEAR_LAW_ETA_TOL 0.15
 #define LUB_SHEAR_LAW_PHI_TOL 0.015
 
-/* at most 10 at once: the jamming warning replaces two, the law's needs a steady state and the
- * steady state's a run without one (11 leaves one spare; add_warning drops any beyond) */
-enum { LUB_SHEAR_WARNINGS_MAX = 11, LUB_SHEAR_WARNING_LEN = 400 };
+/* at most 11 at once: the jamming warning replaces two, the law's and the microstructure
+ * window's need a steady state and the steady state's a run without one (12 leaves one spare;
+ * add_warning drops any beyond) */
+enum { LUB_SHEAR_WARNINGS_MAX = 12, LUB_SHEAR_WARNING_LEN = 400 };
 /* A run that ends less than this strain after /transient_strain is told to raise /strain,
  * not to lower /sample_strain: 10 samples at the smallest /sample_strain (1e-4) */
 #define LUB_SHEAR_SAMPLE_SPAN_MIN 1e-3

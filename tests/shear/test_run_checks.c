@@ -391,9 +391,23 @@ int main(void)
     one("strain equal to the transient", &st, "the run ended at strain 2, only 5.03e-05 after",
         "raise /strain above /transient_strain");
 
-    /* everything at once (imposed pressure): nine messages, each naming the spec member to
-     * change (a JSON pointer after "; raise ", "; lower " or "; set "), none truncated; first
-     * without a steady state (its message), then with one (the law's message instead) */
+    /* the microstructure averaged from strain 1, before the steady state detected from 2.5:
+     * one warning naming /microstructure/start_strain; from 2.5 on, none; without a steady
+     * state (its own warning) or without microstructure (NaN), none of it */
+    st = clean();
+    st.pdf_first_strain = 1.0;
+    st.steady_from_strain = 2.5;
+    one("microstructure before the steady state", &st, "averaged from strain 1, before",
+        "raise /microstructure/start_strain to 2.5");
+    st.pdf_first_strain = 2.5;
+    none("microstructure from the steady state", &st);
+    st.pdf_first_strain = NAN;
+    none("no microstructure", &st);
+
+    /* everything at once (imposed pressure): nine messages, ten with a steady state, each
+     * naming the spec member to change (a JSON pointer after "; raise ", "; lower " or
+     * "; set "), none truncated; first without a steady state (its message), then with one
+     * (the law's message and the microstructure window's instead) */
     st = clean();
     st.steady = 0;
     st.headline_is_mu = 1;
@@ -414,12 +428,14 @@ int main(void)
     st.headline_sem = 0.0063;       /* 0.9 %: within the target */
     st.headline_rel_bound = 0.0095; /* and so is its bound: the longest of the messages */
     st.strain_target = 10.0;
+    st.pdf_first_strain = 1.0;
+    st.steady_from_strain = 2.0;
     for (int steady = 0; steady <= 1; ++steady) {
         st.steady = steady;
         const char *w;
         int n = count(&st, &w);
-        ST_CHECK(n == 9 && n < LUB_SHEAR_WARNINGS_MAX, "all checks, steady %d: %d warnings", steady,
-                 n);
+        ST_CHECK(n == 9 + steady && n < LUB_SHEAR_WARNINGS_MAX,
+                 "all checks, steady %d: %d warnings", steady, n);
         int law = 0;
         for (int k = 0; k < n; ++k)
             law += strstr(text[k], "reference law") != NULL;
