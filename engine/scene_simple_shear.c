@@ -1344,6 +1344,20 @@ static int ss_memory_need(const json_t *resolved, int threads, lub_memory_need *
         need->bytes += 1.25 * 0.9 * n *
                        lub_shear_listed_pairs_estimate(p.phi, p.radius_std, p.cutoff, 0.0) *
                        LUB_PAIR_NETWORK_PAIR_BYTES;
+    /* the microstructure's sums: the run's and one per thread (lub_shear_init; 102 MB at 360 x
+     * 360 bins and 2 threads, uncounted until 2026-12-07) */
+    const double pdf_bytes =
+        p.pdf_on ? (threads + 1.0) * lub_pdf_bytes((int)p.pdf_nt, (int)p.pdf_np) : 0.0;
+    if (pdf_bytes > need->bytes) { /* the bins, not the particles, set the size */
+        need->bytes += pdf_bytes;
+        need->per_item = 0.0;
+        need->member = "/microstructure/n_theta";
+        snprintf(need->what, sizeof need->what,
+                 "%lld particles with %lld x %lld microstructure bins on %d thread%s",
+                 (long long)p.n, p.pdf_nt, p.pdf_np, threads, threads == 1 ? "" : "s");
+        return 0;
+    }
+    need->bytes += pdf_bytes;
     need->per_item = need->bytes / n;
     need->member = "/n_particles";
     snprintf(need->what, sizeof need->what,

@@ -48,6 +48,8 @@
 #     snapshots asked for: the run completes (exit 0, status complete, valid result.h5 with
 #     its full time series) with fewer snapshots and a warning naming /snapshots (it used to
 #     be killed by SIGXFSZ, exit 153, leaving only .result.h5.tmp and no summary);
+#  6f. 360 x 360 microstructure bins under that limit: refused before the packing, naming
+#      /microstructure/n_theta (their sums were not counted);
 #  6c. an address-space limit (RLIMIT_AS, as lubdemd's --mem-mb sets it) too small for the
 #     system: exit 1 with a diagnostic that says out of memory, where, the limit and
 #     /n_particles (it said "simulation failure (step 0, strain 0.0000)"); skipped for a
@@ -720,6 +722,13 @@ if (ulimit -v 60000; "$LUBDEM" version >/dev/null 2>&1); then
     rc=$?
     check "[ $rc -eq 1 ] && grep -q '^error: not enough memory: the [0-9]* samples of the time series need at least [0-9]* MiB, but this process may use .*RLIMIT_AS.*; lower /strain (or raise /sample_strain) (nothing was run)$' $W/series_mem.err" \
       "series beyond the address-space limit: rc=$rc, $(cat $W/series_mem.err)"
+    # 6f. 360 x 360 microstructure bins (48 MB of sums for the run and as much per thread) are
+    #     refused before the packing, naming /microstructure/n_theta (they were not counted)
+    echo '{"scene":"simple_shear","n_particles":300,"phi":0.5,"strain":0.001,"transient_strain":0,"snapshots":0,"microstructure":{"enabled":true,"n_theta":360,"n_phi":360}}' >$W/pdf_mem.json
+    (ulimit -v 60000; "$LUBDEM" run $W/pdf_mem.json --out $W/pdf_mem --quiet) 2>$W/pdf_mem.err
+    rc=$?
+    check "[ $rc -eq 1 ] && grep -q '^error: not enough memory: 300 particles with 360 x 360 microstructure bins on [0-9]* thread.* need at least [0-9.]* MiB, but this process may use .*RLIMIT_AS.*lower /microstructure/n_theta (nothing was run)' $W/pdf_mem.err" \
+      "microstructure beyond the address-space limit: rc=$rc, $(cat $W/pdf_mem.err)"
 else
     echo "address-space limit: skipped (this binary does not start under ulimit -v 60000)"
 fi
