@@ -4,6 +4,8 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
+#include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -79,4 +81,32 @@ int lub_file_copy(const char *src, const char *dst, lub_copy_how how_wanted, lub
     close(in);
     errno = err;
     return err ? -1 : 0;
+}
+
+int lub_sync_path(const char *path)
+{
+    const int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return -1;
+    int err = fsync(fd) != 0 ? errno : 0;
+    if (close(fd) != 0 && !err)
+        err = errno;
+    errno = err;
+    return err ? -1 : 0;
+}
+
+int lub_sync_folder_of(const char *path)
+{
+    char dir[PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        return lub_sync_path(".");
+    const size_t n = slash == path ? 1 : (size_t)(slash - path); /* "/x": the root */
+    if (n >= sizeof dir) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    memcpy(dir, path, n);
+    dir[n] = '\0';
+    return lub_sync_path(dir);
 }

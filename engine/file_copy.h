@@ -1,5 +1,6 @@
 /* file_copy.h — a whole-file copy, put on disk before it returns: what a periodic checkpoint
- * makes of the result.h5 being written (periodic_checkpoint.h).
+ * makes of the result.h5 being written (periodic_checkpoint.h); and the fsync of a file or
+ * folder by name, before and after a rename into place.
  *
  * LUB_COPY_IN_KERNEL copies with copy_file_range(2): the file system may share the blocks (a
  * reflink on XFS or Btrfs, no data moved), copy on the server (NFS 4.2), or copy inside the
@@ -22,5 +23,13 @@ typedef enum { LUB_COPY_IN_KERNEL, LUB_COPY_BUFFERED } lub_copy_how;
  * way the bytes went: LUB_COPY_BUFFERED when `how` asked for it or the kernel could not copy
  * these files (the fall-back). */
 int lub_file_copy(const char *src, const char *dst, lub_copy_how how, lub_copy_how *used);
+
+/* Puts the file or folder `path` on disk (open, fsync, close): a file before it is renamed into
+ * place, so that after a crash of the machine the name holds the whole file, not an empty or
+ * partial one; a folder after a rename into it, so that the new name survives the crash too.
+ * 0, or -1 with errno set (the open, fsync or close that failed). */
+int lub_sync_path(const char *path);
+/* lub_sync_path of the folder holding path ("." when path names no folder). */
+int lub_sync_folder_of(const char *path);
 
 #endif

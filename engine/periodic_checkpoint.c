@@ -64,13 +64,28 @@ int lub_periodic_copy_output(lub_periodic_ckpt *pc, lub_h5 *out)
 
 int lub_periodic_publish(lub_periodic_ckpt *pc)
 {
+    char why[300];
+    /* the checkpoint on disk before it replaces the last one (the copy of result.h5 was synced
+     * by lub_file_copy): until 2026-12-07 it was only flushed to the kernel, so that a crash of
+     * the machine could leave an empty or partial checkpoint.h5 where the last good one was */
+    if (lub_sync_path(pc->ckpt_tmp) != 0) {
+        snprintf(why, sizeof why, "cannot put the checkpoint on disk: %s", strerror(errno));
+        lub_periodic_failed(pc, why);
+        return -1;
+    }
     if (rename(pc->copy_tmp, pc->copy_dst) != 0 || rename(pc->ckpt_tmp, pc->ckpt_dst) != 0) {
-        char why[300];
         snprintf(why, sizeof why, "cannot rename the checkpoint into place: %s", strerror(errno));
         lub_periodic_failed(pc, why);
         return -1;
     }
     pc->written++;
+    /* the new names on disk too; the checkpoint is in place either way, so a failure here is
+     * recorded and the run goes on */
+    if (lub_sync_folder_of(pc->ckpt_dst) != 0) {
+        snprintf(why, sizeof why, "cannot put the folder's new names on disk: %s", strerror(errno));
+        lub_periodic_failed(pc, why);
+        return 0;
+    }
     pc->next_at = lub_wall_seconds() + pc->every_s;
     return 0;
 }

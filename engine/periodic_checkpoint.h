@@ -8,9 +8,11 @@
  *                         file being written is not one after a kill);
  *   checkpoint.h5         the scene's state, which names that copy as the file holding its rows
  *                         (text "output_file", LUB_PERIODIC_OUTPUT).
- * The copy is renamed first, so a checkpoint.h5 always has an output file with at least its
- * rows (the continuation copies the first rows it needs). A checkpoint written when a stop
- * request ends the run names result.h5 instead (run_driver.h).
+ * Both are on disk (fsync) before they are renamed, and DIR after, so a crash of the machine
+ * leaves the last checkpoint or the new one, whole. The copy is renamed first, so a
+ * checkpoint.h5 always has an output file with at least its rows (the continuation copies the
+ * first rows it needs). A checkpoint written when a stop request ends the run names result.h5
+ * instead (run_driver.h).
  *
  * Cost: the copy is the size of result.h5 so far (snapshots included), made by lub_file_copy
  * (file_copy.h: inside the kernel, or no data moved where the file system shares blocks), the
@@ -49,8 +51,10 @@ int lub_periodic_due(lub_periodic_ckpt *pc, int64_t step);
  * the failure recorded (also when `out` has been given up, lub_h5_output_lost). */
 int lub_periodic_copy_output(lub_periodic_ckpt *pc, lub_h5 *out);
 
-/* Last part, once the scene has written ckpt_tmp: renames the copy, then the checkpoint, and
- * schedules the next. 0, or -1 with the failure recorded. */
+/* Last part, once the scene has written ckpt_tmp: puts it on disk (fsync), renames the copy,
+ * then the checkpoint, puts the folder's new names on disk (fsync of DIR) and schedules the
+ * next. 0 when the checkpoint is in place (a failed fsync of DIR is recorded all the same), or
+ * -1 with the failure recorded. */
 int lub_periodic_publish(lub_periodic_ckpt *pc);
 
 /* The scene could not write ckpt_tmp (why): removes the temporaries, records it, schedules the

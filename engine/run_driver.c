@@ -14,6 +14,7 @@
 
 #include "build_info.h"
 #include "checkpoint_file.h"
+#include "file_copy.h"
 #include "json_overflow.h"
 #include "json_text.h"
 #include "processors.h"
@@ -192,20 +193,6 @@ static void remove_made(const char *path, const unsigned char *made)
             rmdir(buf);
         }
     }
-}
-
-/* Puts a closed file's data on disk (fsync), so that a file renamed into place after a crash of
- * the machine is the whole file, not an empty or partial one; 0, or -1 with errno set. */
-static int sync_file(const char *path)
-{
-    const int fd = open(path, O_RDONLY | O_CLOEXEC);
-    if (fd < 0)
-        return -1;
-    const int rc = fsync(fd);
-    const int e = errno;
-    close(fd);
-    errno = e;
-    return rc;
 }
 
 static int write_file_atomic(const char *dir, const char *name, const char *text)
@@ -658,7 +645,7 @@ static void run_finish_result_h5(run_state *s)
     }
     free(resolved_text);
     free(units_text);
-    if (!s->h5_failed && sync_file(s->h5_tmp) != 0) {
+    if (!s->h5_failed && lub_sync_path(s->h5_tmp) != 0) {
         s->h5_failed = 1;
         snprintf(s->h5_reason, sizeof s->h5_reason, "%s (putting it on disk)", strerror(errno));
     }
@@ -679,7 +666,7 @@ static void run_finish_result_h5(run_state *s)
 static void run_settle_checkpoint(run_state *s)
 {
     lub_run_ctx *ctx = &s->ctx;
-    if (ctx->checkpoint_written && s->renamed && sync_file(s->ckpt_tmp) == 0 &&
+    if (ctx->checkpoint_written && s->renamed && lub_sync_path(s->ckpt_tmp) == 0 &&
         rename(s->ckpt_tmp, s->ckpt_dst) == 0) {
         s->checkpoint_kept = 1;
         unlink(s->copy_dst);
@@ -776,7 +763,7 @@ static int run_write_summary(run_state *s, int *failed_errno)
     errno = 0;
     const int failed = write_file_atomic(s->req->out_dir, "summary.json", text) != 0;
     *failed_errno = errno;
-    sync_file(s->req->out_dir); /* the renames into DIR, on disk too (best effort) */
+    lub_sync_path(s->req->out_dir); /* the renames into DIR, on disk too (best effort) */
     free(text);
     json_decref(summary);
     return failed ? -1 : 0;
