@@ -801,10 +801,25 @@ static void run_report_outcome(run_state *s)
     }
 }
 
+/* The file in DIR that holds the rows of the checkpoint at ckpt_path (its "output_file":
+ * result.h5 or LUB_PERIODIC_OUTPUT) into out[len]; "" when it cannot be read. */
+static void checkpoint_rows_file(const char *ckpt_path, const char *out_dir, char *out, size_t len)
+{
+    out[0] = '\0';
+    lub_ckpt *c = lub_ckpt_open(ckpt_path, NULL, 0);
+    char *name = c ? lub_ckpt_get_text(c, "output_file") : NULL;
+    if (name && (strcmp(name, "result.h5") == 0 || strcmp(name, LUB_PERIODIC_OUTPUT) == 0))
+        snprintf(out, len, "%s/%s", out_dir, name);
+    free(name);
+    lub_ckpt_close(c, NULL, 0);
+}
+
 /* A summary that could not be written: the errors the summary would have held go to stderr,
- * and no result.h5 or checkpoint stays without it. Exit 4 whatever the run's own outcome was:
- * nothing is left to read. scene_rc, scene_diagnostic: the scene's own outcome, before the
- * loss of result.h5 was added. */
+ * and no result.h5 stays without it, unless a checkpoint is kept: the checkpoint and the file
+ * holding its rows then stay (until 2026-12-07 they were removed too, and with them the
+ * stopped run a continuation had taken up), so that --resume goes on once the summary can be
+ * written. Exit 4 whatever the run's own outcome was: no summary is left to read. scene_rc,
+ * scene_diagnostic: the scene's own outcome, before the loss of result.h5 was added. */
 static void run_summary_lost(run_state *s, int summary_errno, int scene_rc,
                              const char *scene_diagnostic)
 {
@@ -817,7 +832,19 @@ static void run_summary_lost(run_state *s, int summary_errno, int scene_rc,
                 s->h5_reason[0] ? s->h5_reason : "HDF5 error");
     fprintf(req->diag, "error: cannot write the results in %s%s%s\n", req->out_dir,
             summary_errno ? ": " : "", summary_errno ? strerror(summary_errno) : "");
-    if (s->renamed) { /* no result.h5 without its summary, no checkpoint without both */
+    char rows[RUN_PATH_LEN] = "";
+    if (s->checkpoint_kept)
+        checkpoint_rows_file(s->ckpt_dst, req->out_dir, rows, sizeof rows);
+    if (rows[0]) { /* the checkpoint and its rows stay; a result.h5 it does not need goes */
+        if (strcmp(rows, s->h5_dst) != 0 && s->renamed)
+            unlink(s->h5_dst);
+        if (strcmp(rows, s->copy_dst) != 0)
+            unlink(s->copy_dst);
+        fprintf(req->diag,
+                "note: %s and %s, which holds its rows, are kept: lubdem run --resume continues "
+                "the run once summary.json can be written\n",
+                s->ckpt_dst, rows);
+    } else if (s->renamed) { /* no result.h5 without its summary, no checkpoint without both */
         unlink(s->h5_dst);
         unlink(s->ckpt_dst);
         unlink(s->copy_dst);

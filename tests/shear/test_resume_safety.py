@@ -1,12 +1,16 @@
 #!/usr/bin/env python3
 """What happens to a stopped run's files (README "Stopping and resuming", "Output"; fast suite,
-about 15 s). On a small simple_shear run (250 particles, 3 strain):
+about 25 s). On a small simple_shear run (250 particles, 3 strain):
  1. durability: under an LD_PRELOAD library that logs fsync (with the path synced) and rename,
     a run taking periodic checkpoints (--checkpoint-every) stopped by SIGTERM, and its
     continuation: every file renamed into the run's folder (.checkpoint.h5.tmp,
     .checkpoint-result.h5.tmp, .result.h5.tmp, .summary.json.tmp) was fsync'd under its
     temporary name before its rename, and the folder was fsync'd after the rename (until
     2026-12-07 the periodic checkpoint.h5 was never synced, nor its folder);
+ 2. a continuation that cannot write its summary.json (a non-empty folder of that name),
+    stopped by SIGTERM: exit 4, and checkpoint.h5 and the result.h5 it needs stay (they used to
+    be deleted, leaving nothing to continue from); once the folder is removed, --resume
+    completes with the results of the run that never stopped;
 Usage: test_resume_safety.py LUBDEM WORKDIR SHIM [--sanitized] (the sanitizer build skips 1:
 the LD_PRELOAD library cannot come before its runtime)
 """
@@ -149,6 +153,22 @@ else:
     rc, err = run(spec, per, "--resume", "--checkpoint-every", "0.1", env=env)
     check(rc == 0, f"1: its continuation completed (exit {rc}) {err[-200:]}")
     check_sync_log(log, per, "continuation")
+
+# ---- 2. a continuation whose summary cannot be written keeps its checkpoint ----
+blocked = copy_of(stopped, "blocked")
+os.remove(os.path.join(blocked, "summary.json"))
+os.makedirs(os.path.join(blocked, "summary.json", "inside"))
+rc, err = run(spec, blocked, "--resume", stop_at=0.7)
+check(rc == 4 and "cannot write the results" in err,
+      f"2: continuation without a summary: exit 4 (got {rc}) {err.strip()[-300:]}")
+left = sorted(os.listdir(blocked))
+check("checkpoint.h5" in left and "result.h5" in left,
+      f"2: checkpoint.h5 and result.h5 kept ({left})")
+shutil.rmtree(os.path.join(blocked, "summary.json"))
+rc, err = run(spec, blocked, "--resume")
+check(rc == 0 and same_results(ref, blocked) and summary(blocked).get("resumed_from_step", 0) > 0,
+      f"2: --resume then completes, with the uninterrupted run's results (exit {rc}) "
+      f"{err.strip()[-300:]}")
 
 if failures:
     print(f"{len(failures)} FAILED")
