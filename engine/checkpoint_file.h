@@ -6,9 +6,17 @@
  *                              names may contain '/' (intermediate groups are created)
  *   /<name>                    or a scalar UTF-8 string (lub_ckpt_put_text: variable length;
  *                              lub_ckpt_get_text also reads fixed-length strings)
+ *   /<name> attribute "crc32"  (uint32) the CRC-32 (IEEE 802.3, zlib's crc32) of the dataset's
+ *                              data in the file's byte order (little-endian), or of the text's
+ *                              UTF-8 bytes; lub_ckpt_get and lub_ckpt_get_text check it and
+ *                              refuse data that differs ("checkpoint: /system/x is damaged:
+ *                              ...")
+ *   root attribute "lubdem_checksums" = 1 (int32): every dataset carries its "crc32" (a
+ *                              dataset without one is then damaged; a checkpoint written before
+ *                              2026-12-07 has neither, and its data is read unchecked)
  *   root attribute "lubdem_checkpoint" = LUB_CKPT_FORMAT (int32), written by a successful
- *                              lub_ckpt_close: a file whose writing did not finish is not
- *                              taken for a checkpoint
+ *                              lub_ckpt_close after the others: a file whose writing did not
+ *                              finish is not taken for a checkpoint
  *
  * Units: none; values are stored as given. Element counts are counts of elements, not bytes.
  * Values come back identical, bit for bit (NaN payloads, infinities and -0.0 included): file
@@ -45,7 +53,8 @@ lub_ckpt *lub_ckpt_open(const char *path, char *err, size_t len);
 int lub_ckpt_put(lub_ckpt *c, const char *name, lub_ckpt_type type, size_t count, const void *data);
 /* Reads dataset `name` into data, which holds exactly `count` elements of `type`; -1 (message in
  * lub_ckpt_error) when it is missing, has another element count ("checkpoint: /x has 10
- * elements, expected 12") or another element type (class, size or signedness). */
+ * elements, expected 12"), another element type (class, size or signedness), or data whose
+ * CRC-32 is not the one stored with it (data then holds what was read). */
 int lub_ckpt_get(lub_ckpt *c, const char *name, lub_ckpt_type type, size_t count, void *data);
 /* Element count of dataset `name` into *count; -1 when missing. */
 int lub_ckpt_count(lub_ckpt *c, const char *name, size_t *count);
@@ -63,7 +72,7 @@ int lub_ckpt_get_i64(lub_ckpt *c, const char *name, int64_t *v);
 
 /* UTF-8 text (e.g. a JSON document) as a scalar string dataset (put: variable length; get:
  * variable or fixed length). get returns a malloc'd copy (caller frees) or NULL with the error
- * set. */
+ * set (also for a text whose CRC-32 is not the one stored with it). */
 int lub_ckpt_put_text(lub_ckpt *c, const char *name, const char *text);
 char *lub_ckpt_get_text(lub_ckpt *c, const char *name);
 

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """What happens to a stopped run's files (README "Stopping and resuming", "Output"; fast suite,
-about 25 s). On a small simple_shear run (250 particles, 3 strain):
+about 30 s). On a small simple_shear run (250 particles, 3 strain):
  1. durability: under an LD_PRELOAD library that logs fsync (with the path synced) and rename,
     a run taking periodic checkpoints (--checkpoint-every) stopped by SIGTERM, and its
     continuation: every file renamed into the run's folder (.checkpoint.h5.tmp,
@@ -11,6 +11,9 @@ about 25 s). On a small simple_shear run (250 particles, 3 strain):
     stopped by SIGTERM: exit 4, and checkpoint.h5 and the result.h5 it needs stay (they used to
     be deleted, leaving nothing to continue from); once the folder is removed, --resume
     completes with the results of the run that never stopped;
+ 3. damaged checkpoint data: one byte flipped inside system/x, or system/v[0] multiplied by
+    1.01 in place, is refused with exit 2 naming the dataset, the folder unchanged (both used
+    to be continued silently); the CRC-32 stored with each dataset is zlib's of its bytes;
 Usage: test_resume_safety.py LUBDEM WORKDIR SHIM [--sanitized] (the sanitizer build skips 1:
 the LD_PRELOAD library cannot come before its runtime)
 """
@@ -21,6 +24,7 @@ import shutil
 import signal
 import subprocess
 import sys
+import zlib
 
 import h5py
 import numpy as np
@@ -169,6 +173,38 @@ rc, err = run(spec, blocked, "--resume")
 check(rc == 0 and same_results(ref, blocked) and summary(blocked).get("resumed_from_step", 0) > 0,
       f"2: --resume then completes, with the uninterrupted run's results (exit {rc}) "
       f"{err.strip()[-300:]}")
+
+# ---- 3. damaged checkpoint data refused ----
+with h5py.File(os.path.join(stopped, "checkpoint.h5"), "r") as f:
+    x = f["system/x"]
+    xs = x[()]
+    check("crc32" in x.attrs and int(x.attrs["crc32"]) == zlib.crc32(xs.astype("<f8").tobytes()),
+          "3: system/x carries the CRC-32 of its bytes (zlib's)")
+    spec_text = f["spec_resolved"][()]
+    spec_text = spec_text.encode() if isinstance(spec_text, str) else spec_text
+    check(int(f["spec_resolved"].attrs.get("crc32", -1)) == zlib.crc32(spec_text),
+          "3: spec_resolved carries the CRC-32 of its text")
+    x_offset = x.id.get_offset()
+flipped = copy_of(stopped, "flipped")
+with open(os.path.join(flipped, "checkpoint.h5"), "r+b") as f:
+    f.seek(x_offset + 3)
+    b = f.read(1)
+    f.seek(x_offset + 3)
+    f.write(bytes([b[0] ^ 0x10]))
+before = digest(flipped)
+rc, err = run(spec, flipped, "--resume")
+check(rc == 2 and "/system/x" in err and "damaged" in err,
+      f"3: a flipped byte in system/x refused, exit 2 naming it (got {rc}: {err.strip()[-300:]})")
+check(digest(flipped) == before, "3: folder unchanged")
+scaled = copy_of(stopped, "scaled")
+with h5py.File(os.path.join(scaled, "checkpoint.h5"), "r+") as f:
+    v = f["system/v"]
+    v[0] = v[0] * 1.01
+before = digest(scaled)
+rc, err = run(spec, scaled, "--resume")
+check(rc == 2 and "/system/v" in err and "damaged" in err,
+      f"3: system/v[0] x 1.01 refused, exit 2 naming it (got {rc}: {err.strip()[-300:]})")
+check(digest(scaled) == before, "3: folder unchanged")
 
 if failures:
     print(f"{len(failures)} FAILED")
