@@ -706,3 +706,102 @@ int lub_ckpt_close(lub_ckpt *c, char *why, size_t len)
     free_ckpt(c);
     return rc;
 }
+
+/* Sets root text attribute name = text of file (replacing one of that name); 0 or -1. */
+static int set_note(hid_t file, const char *name, const char *text)
+{
+    if (H5Aexists(file, name) > 0 && H5Adelete(file, name) < 0)
+        return -1;
+    hid_t t = text_type(H5T_CSET_UTF8);
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(file, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
+    const herr_t rc = a < 0 ? -1 : H5Awrite(a, t, &text);
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(sp);
+    H5Tclose(t);
+    return rc < 0 ? -1 : 0;
+}
+
+int lub_ckpt_set_notes(const char *path, int n, const char *const *names, const char *const *texts,
+                       char *why, size_t len)
+{
+    char dummy[8];
+    if (!why || len == 0) {
+        why = dummy;
+        len = sizeof dummy;
+    }
+    why[0] = '\0';
+    H5dont_atexit();
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    char reason[160];
+    errno = 0;
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (file < 0) {
+        failure_reason(errno, reason);
+        snprintf(why, len, "checkpoint: cannot open %s to note the build: %s", path, reason);
+        return -1;
+    }
+    int rc = 0;
+    for (int i = 0; i < n && rc == 0; ++i) {
+        errno = 0;
+        if (set_note(file, names[i], texts[i]) < 0) {
+            failure_reason(errno, reason);
+            snprintf(why, len, "checkpoint: cannot write the note \"%s\" of %s: %s", names[i], path,
+                     reason);
+            rc = -1;
+        }
+    }
+    errno = 0;
+    if (rc == 0 && H5Fflush(file, H5F_SCOPE_LOCAL) < 0) {
+        failure_reason(errno, reason);
+        snprintf(why, len, "checkpoint: cannot flush %s: %s", path, reason);
+        rc = -1;
+    }
+    errno = 0;
+    if (H5Fclose(file) < 0 && rc == 0) {
+        failure_reason(errno, reason);
+        snprintf(why, len, "checkpoint: cannot close %s: %s", path, reason);
+        rc = -1;
+    }
+    return rc;
+}
+
+char *lub_ckpt_get_note(lub_ckpt *c, const char *name)
+{
+    if (!c || !name || H5Aexists(c->file, name) <= 0)
+        return NULL;
+    hid_t a = H5Aopen(c->file, name, H5P_DEFAULT);
+    hid_t ft = a >= 0 ? H5Aget_type(a) : H5I_INVALID_HID;
+    hid_t sp = a >= 0 ? H5Aget_space(a) : H5I_INVALID_HID;
+    char *out = NULL;
+    if (ft >= 0 && sp >= 0 && H5Tget_class(ft) == H5T_STRING &&
+        H5Sget_simple_extent_npoints(sp) == 1) {
+        if (H5Tis_variable_str(ft) > 0) {
+            hid_t mt = text_type(H5Tget_cset(ft));
+            char *v = NULL;
+            if (H5Aread(a, mt, &v) >= 0 && v)
+                out = strdup(v);
+            if (v)
+                H5free_memory(v);
+            H5Tclose(mt);
+        } else {
+            const size_t size = H5Tget_size(ft);
+            hid_t mt = H5Tcopy(ft);
+            H5Tset_strpad(mt, H5T_STR_NULLPAD);
+            out = calloc(size + 1, 1);
+            if (out && H5Aread(a, mt, out) < 0) {
+                free(out);
+                out = NULL;
+            }
+            H5Tclose(mt);
+        }
+    }
+    if (sp >= 0)
+        H5Sclose(sp);
+    if (ft >= 0)
+        H5Tclose(ft);
+    if (a >= 0)
+        H5Aclose(a);
+    return out;
+}

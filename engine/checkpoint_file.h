@@ -76,6 +76,17 @@ int lub_ckpt_get_i64(lub_ckpt *c, const char *name, int64_t *v);
 int lub_ckpt_put_text(lub_ckpt *c, const char *name, const char *text);
 char *lub_ckpt_get_text(lub_ckpt *c, const char *name);
 
+/* Notes: root text attributes of a checkpoint, outside its datasets (and their CRCs): what the
+ * run driver records of the builds that ran the run (run_driver.c). lub_ckpt_set_notes opens
+ * the closed checkpoint at path (written by lub_ckpt_create ... lub_ckpt_close) for writing and
+ * sets n notes names[i] = texts[i] (UTF-8, replacing notes of those names); 0, or -1 with
+ * why[len] (may be NULL) the reason (the file is then not to be published). lub_ckpt_get_note
+ * returns a malloc'd copy of note `name` (caller frees; variable- or fixed-length text), NULL
+ * when the checkpoint has none (no error set) or it is not text. */
+int lub_ckpt_set_notes(const char *path, int n, const char *const *names, const char *const *texts,
+                       char *why, size_t len);
+char *lub_ckpt_get_note(lub_ckpt *c, const char *name);
+
 /* The last error message ("" when none). */
 const char *lub_ckpt_error(const lub_ckpt *c);
 

@@ -6,6 +6,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "checkpoint_file.h"
 #include "file_copy.h"
 #include "progress.h"
 
@@ -64,7 +65,12 @@ int lub_periodic_copy_output(lub_periodic_ckpt *pc, lub_h5 *out)
 
 int lub_periodic_publish(lub_periodic_ckpt *pc)
 {
-    char why[300];
+    char why[600];
+    if (pc->notes > 0 && lub_ckpt_set_notes(pc->ckpt_tmp, pc->notes, pc->note_names, pc->note_texts,
+                                            why, sizeof why) != 0) {
+        lub_periodic_failed(pc, why);
+        return -1;
+    }
     /* the checkpoint on disk before it replaces the last one (the copy of result.h5 was synced
      * by lub_file_copy): until 2026-12-07 it was only flushed to the kernel, so that a crash of
      * the machine could leave an empty or partial checkpoint.h5 where the last good one was */

@@ -35,8 +35,11 @@ typedef struct lub_periodic_ckpt {
     const char *live_path;           /* the result.h5 being written (its temporary name) */
     const char *copy_tmp, *copy_dst; /* DIR/.checkpoint-result.h5.tmp, DIR/checkpoint-result.h5 */
     const char *ckpt_tmp, *ckpt_dst; /* DIR/.checkpoint.h5.tmp, DIR/checkpoint.h5 */
-    long written;                    /* checkpoints published by this run */
-    char failure[400];               /* the first failure, "" when none */
+    int notes;                       /* notes set on each checkpoint before it is published */
+    const char *const *note_names;   /* (lub_ckpt_set_notes: the builds of the run; borrowed) */
+    const char *const *note_texts;
+    long written;      /* checkpoints published by this run */
+    char failure[400]; /* the first failure, "" when none */
 } lub_periodic_ckpt;
 
 /* Sets the paths and the first due time (now + every_s). */
@@ -51,7 +54,8 @@ int lub_periodic_due(lub_periodic_ckpt *pc, int64_t step);
  * the failure recorded (also when `out` has been given up, lub_h5_output_lost). */
 int lub_periodic_copy_output(lub_periodic_ckpt *pc, lub_h5 *out);
 
-/* Last part, once the scene has written ckpt_tmp: puts it on disk (fsync), renames the copy,
+/* Last part, once the scene has written ckpt_tmp: sets its notes (if any), puts it on disk
+ * (fsync), renames the copy,
  * then the checkpoint, puts the folder's new names on disk (fsync of DIR) and schedules the
  * next. 0 when the checkpoint is in place (a failed fsync of DIR is recorded all the same), or
  * -1 with the failure recorded. */

@@ -408,10 +408,82 @@ typedef struct {
     const char *stop_advice; /* a stopped run's --resume advice, added if its checkpoint is kept */
     int h5_failed, h5_room;  /* result.h5 lost; the loss is one of room, not of its name */
     char h5_reason[400];
-    int renamed;                   /* result.h5 took its name */
-    int checkpoint_kept;           /* a checkpoint.h5 in DIR continues this run */
+    int renamed;         /* result.h5 took its name */
+    int checkpoint_kept; /* a checkpoint.h5 in DIR continues this run */
+    /* the builds that ran parts of the run (run_builds_init): the summary's "builds", and the
+     * notes each checkpoint carries (BUILD_NOTES names, note_texts their texts) */
+    json_t *builds;
+    char *earlier_builds; /* JSON: the builds before this one's part */
+    char build_from[24];  /* the step this build's part began at */
+    const char *note_texts[4];
+    char build_warning[1024];      /* a continuation by another build: its warning */
     unsigned char made[MKDIR_MAX]; /* the folders of DIR this run created (mkdir_p) */
 } run_state;
+
+/* The checkpoint notes (lub_ckpt_set_notes) that say which builds ran the run: the build that
+ * wrote it, the step its part of the run began at, and the builds before it (a JSON array of
+ * {"lubdem_version", "git_commit", "from_step"}, oldest first). */
+static const char *const BUILD_NOTES[4] = {"lubdem_version", "git_commit", "build_from_step",
+                                           "earlier_builds"};
+
+static json_t *build_entry(const char *version, const char *commit, long long from_step)
+{
+    return json_pack("{s:s, s:s, s:I}", "lubdem_version", version, "git_commit", commit,
+                     "from_step", (json_int_t)from_step);
+}
+
+/* s->builds and the notes of this run's checkpoints: this build from step 0 for a fresh run;
+ * for a continuation, the checkpoint's builds, then this one from the checkpoint's step when
+ * it is another build than the one that wrote the checkpoint (with a warning: until 2026-12-07
+ * a checkpoint did not say which build wrote it, and a continuation by another build went
+ * unnoticed). A checkpoint written before then counts as of an "unknown" build. */
+static void run_builds_init(run_state *s)
+{
+    const char *version = lub_build_version(), *commit = lub_build_git();
+    json_t *earlier = json_array();
+    long long from = 0;
+    s->builds = json_array();
+    if (s->resuming) {
+        lub_ckpt *c = lub_ckpt_open(s->ckpt_dst, NULL, 0);
+        char *notes[4] = {NULL, NULL, NULL, NULL};
+        int64_t step = 0;
+        for (int i = 0; i < 4 && c; ++i)
+            notes[i] = lub_ckpt_get_note(c, BUILD_NOTES[i]);
+        if (c && lub_ckpt_get_i64_or(c, "step", 0, &step) != 0)
+            step = 0;
+        lub_ckpt_close(c, NULL, 0);
+        json_t *list = notes[3] ? json_loads(notes[3], 0, NULL) : NULL;
+        if (json_is_array(list))
+            json_array_extend(s->builds, list);
+        json_decref(list);
+        const char *v = notes[0] ? notes[0] : "unknown", *g = notes[1] ? notes[1] : "unknown";
+        const long long v_from = notes[2] ? strtoll(notes[2], NULL, 10) : 0;
+        if (strcmp(v, version) == 0 && strcmp(g, commit) == 0) { /* the same build goes on */
+            json_array_extend(earlier, s->builds);
+            from = v_from;
+        } else {
+            json_array_append_new(s->builds, build_entry(v, g, v_from));
+            json_array_extend(earlier, s->builds);
+            from = (long long)step;
+            snprintf(s->build_warning, sizeof s->build_warning,
+                     "the checkpoint this run continued was written by another build (lubdem "
+                     "%.100s, git %.100s) than this one (lubdem %.100s, git %.100s): the run's "
+                     "steps before %lld and after come from different builds (summary builds), "
+                     "whose results may differ by more than round-off",
+                     v, g, version, commit, from);
+        }
+        for (int i = 0; i < 4; ++i)
+            free(notes[i]);
+    }
+    json_array_append_new(s->builds, build_entry(version, commit, from));
+    s->earlier_builds = json_dumps(earlier, JSON_COMPACT);
+    json_decref(earlier);
+    snprintf(s->build_from, sizeof s->build_from, "%lld", from);
+    s->note_texts[0] = version;
+    s->note_texts[1] = commit;
+    s->note_texts[2] = s->build_from;
+    s->note_texts[3] = s->earlier_builds ? s->earlier_builds : "[]";
+}
 
 /* The files' paths in DIR. */
 static void run_paths(run_state *s)
@@ -488,6 +560,9 @@ static void run_context_init(run_state *s)
     if (s->scene->resumable && req->checkpoint_every_s > 0.0) {
         lub_periodic_init(&s->periodic, req->checkpoint_every_s, s->h5_tmp, s->copy_tmp,
                           s->copy_dst, s->ckpt_tmp, s->ckpt_dst);
+        s->periodic.notes = 4;
+        s->periodic.note_names = BUILD_NOTES;
+        s->periodic.note_texts = s->note_texts;
         ctx->periodic = &s->periodic;
     }
     /* more threads than processors only slow a run down (every OpenMP barrier waits for a
@@ -582,10 +657,13 @@ static void run_stop_reason(run_state *s)
     s->stop_advice = "; lubdem run --resume continues the run";
 }
 
-/* The driver's warnings: fewer threads than asked for, particle snapshots not written. */
+/* The driver's warnings: a continuation by another build, fewer threads than asked for,
+ * particle snapshots not written. */
 static void run_driver_warnings(run_state *s)
 {
     lub_run_ctx *ctx = &s->ctx;
+    if (s->build_warning[0])
+        append_warning(ctx, s->build_warning);
     if (ctx->threads < s->threads_requested && s->processors <= s->thread_limit) {
         char text[256];
         snprintf(text, sizeof text,
@@ -666,13 +744,18 @@ static void run_finish_result_h5(run_state *s)
 static void run_settle_checkpoint(run_state *s)
 {
     lub_run_ctx *ctx = &s->ctx;
-    if (ctx->checkpoint_written && s->renamed && lub_sync_path(s->ckpt_tmp) == 0 &&
-        rename(s->ckpt_tmp, s->ckpt_dst) == 0) {
+    char notes_why[600] = "";
+    if (ctx->checkpoint_written && s->renamed &&
+        lub_ckpt_set_notes(s->ckpt_tmp, 4, BUILD_NOTES, s->note_texts, notes_why,
+                           sizeof notes_why) == 0 &&
+        lub_sync_path(s->ckpt_tmp) == 0 && rename(s->ckpt_tmp, s->ckpt_dst) == 0) {
         s->checkpoint_kept = 1;
         unlink(s->copy_dst);
         return;
     }
-    const char *reason = s->renamed ? strerror(errno) : "result.h5 could not be written";
+    const char *reason = !s->renamed    ? "result.h5 could not be written"
+                         : notes_why[0] ? notes_why
+                                        : strerror(errno);
     /* The checkpoint this run continued from, or the last periodic one, still goes with the
      * file holding its rows when the run was stopped, or when it lost its result.h5: --resume
      * continues from it once the run has room. */
@@ -749,6 +832,8 @@ static int run_write_summary(run_state *s, int *failed_errno)
         json_object_set_new(summary, "diagnostic", json_string(ctx->diagnostic));
     json_object_set_new(summary, "lubdem_version", json_string(lub_build_version()));
     json_object_set_new(summary, "git_commit", json_string(lub_build_git()));
+    if (s->builds)
+        json_object_set(summary, "builds", s->builds);
     /* results at 10 significant digits; the spec exact, so that a continuation built from it
      * is the same run (until 2026-12-06 it was rounded too: 1/30 came back as 0.03333333333,
      * and --resume refused the default resuspension spec taken from its own summary) */
@@ -909,6 +994,8 @@ int lub_run_spec(const lub_run_request *req)
     } else {
         run_paths(s);
         s->rc = run_check_checkpoint(s);
+        if (s->rc == LUB_EXIT_OK)
+            run_builds_init(s);
     }
     if (s->rc == LUB_EXIT_OK) {
         char errbuf[4400];
@@ -923,6 +1010,8 @@ int lub_run_spec(const lub_run_request *req)
         remove_made(req->out_dir, s->made);
         const int rc = s->rc;
         json_decref(s->resolved);
+        json_decref(s->builds);
+        free(s->earlier_builds);
         free(s);
         return rc;
     }
@@ -937,6 +1026,8 @@ int lub_run_spec(const lub_run_request *req)
     json_decref(s->ctx.summary_results);
     json_decref(s->ctx.summary_extra);
     json_decref(s->resolved);
+    json_decref(s->builds);
+    free(s->earlier_builds);
     free(s);
     return rc;
 }

@@ -14,6 +14,9 @@ about 30 s). On a small simple_shear run (250 particles, 3 strain):
  3. damaged checkpoint data: one byte flipped inside system/x, or system/v[0] multiplied by
     1.01 in place, is refused with exit 2 naming the dataset, the folder unchanged (both used
     to be continued silently); the CRC-32 stored with each dataset is zlib's of its bytes;
+ 4. provenance: a checkpoint written by another build (its git_commit note edited) is
+    continued with a warning naming both builds (summary and stderr), and the summary's builds
+    lists both with the step each began at; the same build adds none;
 Usage: test_resume_safety.py LUBDEM WORKDIR SHIM [--sanitized] (the sanitizer build skips 1:
 the LD_PRELOAD library cannot come before its runtime)
 """
@@ -205,6 +208,38 @@ rc, err = run(spec, scaled, "--resume")
 check(rc == 2 and "/system/v" in err and "damaged" in err,
       f"3: system/v[0] x 1.01 refused, exit 2 naming it (got {rc}: {err.strip()[-300:]})")
 check(digest(scaled) == before, "3: folder unchanged")
+
+# ---- 4. the builds that ran the run ----
+with h5py.File(os.path.join(stopped, "checkpoint.h5"), "r") as f:
+    commit = f.attrs.get("git_commit")
+    commit = commit.decode() if isinstance(commit, bytes) else commit
+    stop_step = int(f["step"][0])
+this = summary(stopped)
+check(commit == this["git_commit"] and this.get("builds") == [
+    {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"], "from_step": 0}],
+      f"4: the checkpoint notes the build that wrote it ({commit}); the summary one build")
+other = copy_of(stopped, "other_build")
+with h5py.File(os.path.join(other, "checkpoint.h5"), "r+") as f:
+    f.attrs["git_commit"] = "0123abc-other"
+rc, err = run(spec, other, "--resume")
+s = summary(other)
+warned = [w for w in s.get("warnings", []) if "0123abc-other" in w and this["git_commit"] in w]
+check(rc == 0 and warned and "0123abc-other" in err,
+      f"4: a checkpoint of another build continued with a warning naming both (exit {rc}; "
+      f"{warned[:1]})")
+check(s.get("builds") == [
+    {"lubdem_version": this["lubdem_version"], "git_commit": "0123abc-other", "from_step": 0},
+    {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"],
+     "from_step": stop_step}], f"4: summary builds lists both ({s.get('builds')})")
+same = copy_of(stopped, "same_build")
+rc, err = run(spec, same, "--resume", "--keep-checkpoint")
+s = summary(same)
+check(rc == 0 and len(s.get("builds", [])) == 1 and "another build" not in err,
+      f"4: the same build continues without a warning, one build ({s.get('builds')})")
+with h5py.File(os.path.join(same, "checkpoint.h5"), "r") as f:
+    notes = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
+check(notes.get("git_commit") == this["git_commit"] and notes.get("build_from_step") == "0"
+      and notes.get("earlier_builds") == "[]", f"4: its kept checkpoint's notes ({notes})")
 
 if failures:
     print(f"{len(failures)} FAILED")
