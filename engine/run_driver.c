@@ -664,6 +664,14 @@ static void run_driver_warnings(run_state *s)
     lub_run_ctx *ctx = &s->ctx;
     if (s->build_warning[0])
         append_warning(ctx, s->build_warning);
+    if (s->req->checkpoint_every_s > 0.0 && !s->scene->resumable) {
+        char text[512]; /* until 2026-12-07 it was ignored without a word */
+        snprintf(text, sizeof text,
+                 "--checkpoint-every was ignored: a %s run takes no checkpoints (--resume "
+                 "continues simple_shear and resuspension runs)",
+                 s->scene->name);
+        append_warning(ctx, text);
+    }
     if (ctx->threads < s->threads_requested && s->processors <= s->thread_limit) {
         char text[256];
         snprintf(text, sizeof text,
@@ -795,8 +803,10 @@ static void run_report_stop(run_state *s)
         }
         fprintf(s->req->diag, "note: %s\n", ctx->diagnostic);
     }
+    /* this run's copy of result.h5 not published, or one a killed run left (until 2026-12-07
+     * it was removed only by a run taking periodic checkpoints too) */
+    unlink(s->copy_tmp);
     if (ctx->periodic) {
-        unlink(s->copy_tmp);
         if (ctx->periodic->failure[0]) {
             char text[600];
             snprintf(text, sizeof text,

@@ -17,6 +17,9 @@ about 30 s). On a small simple_shear run (250 particles, 3 strain):
  4. provenance: a checkpoint written by another build (its git_commit note edited) is
     continued with a warning naming both builds (summary and stderr), and the summary's builds
     lists both with the step each began at; the same build adds none;
+ 5. a leftover .checkpoint-result.h5.tmp (of a kill during a periodic checkpoint) is removed by
+    a continuation without --checkpoint-every (it stayed); --checkpoint-every on a scene that
+    takes no checkpoints warns on stderr and in the summary (it was ignored without a word).
 Usage: test_resume_safety.py LUBDEM WORKDIR SHIM [--sanitized] (the sanitizer build skips 1:
 the LD_PRELOAD library cannot come before its runtime)
 """
@@ -240,6 +243,23 @@ with h5py.File(os.path.join(same, "checkpoint.h5"), "r") as f:
     notes = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
 check(notes.get("git_commit") == this["git_commit"] and notes.get("build_from_step") == "0"
       and notes.get("earlier_builds") == "[]", f"4: its kept checkpoint's notes ({notes})")
+
+# ---- 5. leftovers of a kill; --checkpoint-every where it does nothing ----
+leftover = copy_of(stopped, "leftover")
+with open(os.path.join(leftover, ".checkpoint-result.h5.tmp"), "wb") as f:
+    f.write(b"part of a copy")
+rc, err = run(spec, leftover, "--resume")
+check(rc == 0 and not [n for n in os.listdir(leftover) if n.startswith(".")],
+      f"5: a leftover .checkpoint-result.h5.tmp removed by the continuation (exit {rc}; "
+      f"{sorted(os.listdir(leftover))})")
+two = os.path.join(WORK, "two.json")
+with open(two, "w") as f:
+    json.dump({"scene": "two_spheres_shear"}, f)
+two_out = fresh("two")
+rc, err = run(two, two_out, "--checkpoint-every", "1")
+check(rc == 0 and "--checkpoint-every was ignored" in err
+      and any("--checkpoint-every" in w for w in summary(two_out).get("warnings", [])),
+      f"5: --checkpoint-every on two_spheres_shear warns (exit {rc}: {err.strip()[-200:]})")
 
 if failures:
     print(f"{len(failures)} FAILED")
