@@ -630,7 +630,9 @@ static void set_engine_options(job_attempt *a)
                                .fsize_mb = cfg->fsize_mb,
                                .threads = cfg->engine_threads,
                                .resume = a->resume,
-                               .checkpoint_s = cfg->checkpoint_s,
+                               /* only a scene that takes checkpoints is given the option
+                                * (the engine warns that it ignores it otherwise) */
+                               .checkpoint_s = scene && scene->resumable ? cfg->checkpoint_s : 0,
                                .keep_checkpoint = cfg->keep_checkpoints && scene &&
                                                   scene->resume_may_differ != NULL};
 }
