@@ -209,8 +209,7 @@ static int placement_is_free(const placement_grid *g, const lub_cell *cell, cons
     return 1;
 }
 
-/* the clip of the drawn radii (lub_packing_radius_bounds) */
-static void radius_clip(double radius_std, double *lo, double *hi)
+void lub_packing_radius_clip(double radius_std, double *lo, double *hi)
 {
     *lo = fmax(1.0 - 3.0 * radius_std, 0.2);
     *hi = 1.0 + 3.0 * radius_std;
@@ -219,7 +218,7 @@ static void radius_clip(double radius_std, double *lo, double *hi)
 void lub_packing_radius_bounds(double radius_std, double *lo, double *hi)
 {
     double c_lo, c_hi;
-    radius_clip(radius_std, &c_lo, &c_hi);
+    lub_packing_radius_clip(radius_std, &c_lo, &c_hi);
     *lo = c_lo / c_hi;
     *hi = c_hi / c_lo;
 }
@@ -230,7 +229,7 @@ static double draw_radii(const lub_packing_params *p, lub_rng *rng, double *radi
 {
     const int n = p->n;
     double lo, hi;
-    radius_clip(p->radius_std, &lo, &hi);
+    lub_packing_radius_clip(p->radius_std, &lo, &hi);
     double mean = 0.0;
     for (int i = 0; i < n; ++i) {
         double r = 1.0 + p->radius_std * lub_rng_gauss(rng);
@@ -290,7 +289,7 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
     lub_rng rng;
     lub_rng_seed(&rng, p->seed);
     double lo, hi;
-    radius_clip(p->radius_std, &lo, &hi);
+    lub_packing_radius_clip(p->radius_std, &lo, &hi);
     const double mean = draw_radii(p, &rng, radius);
     double vs = sphere_volume_sum(radius, n);
 
@@ -302,6 +301,10 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
     if (grid_init(&grid, side, 2.0 * hi / mean * (1.0 + p->margin), p->placement_all_pairs, n))
         return -1;
     for (int i = 0; i < n; ++i) {
+        if ((i & 4095) == 4095 && p->stop && *p->stop) {
+            grid_free(&grid);
+            return -3;
+        }
         for (long attempt = 0;; ++attempt) {
             vec3 x = v3(side * lub_rng_uniform(&rng), side * lub_rng_uniform(&rng),
                         side * lub_rng_uniform(&rng));

@@ -38,7 +38,8 @@ typedef struct {
                                 spheres, 1 always, -1 never. Same packing to round-off either way (tests
                                 compare them), not bit for bit */
     const volatile sig_atomic_t *stop; /* optional (NULL: never): once *stop is non-zero the
-                                          compression gives up at its next relaxation sweep
+                                          placement gives up within 4096 spheres, the
+                                          compression at its next relaxation sweep
                                           (SIGTERM during a large packing) */
 } lub_packing_params;
 
@@ -61,6 +62,9 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
  * of the cube it packs them into, cbrt(sum of volumes / p->phi): what a caller checks before
  * paying for the packing. Pure; no allocation. */
 double lub_packing_radii(const lub_packing_params *p, double *radius);
+/* The clip [*lo, *hi] = [max(1 - 3 radius_std, 0.2), 1 + 3 radius_std] of the radii
+ * lub_packing_generate draws, before it divides them by their mean. Pure. */
+void lub_packing_radius_clip(double radius_std, double *lo, double *hi);
 /* Every radius lub_packing_generate gives lies in [*lo, *hi]: it draws radii from a normal of
  * mean 1 and standard deviation radius_std clipped to [c_lo, c_hi] = [max(1 - 3 radius_std,
  * 0.2), 1 + 3 radius_std] and divides them by their mean (itself in [c_lo, c_hi]), so

@@ -3,6 +3,7 @@
 
 #include "bond_order.h"
 #include "pair_eval.h"
+#include "packing.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -312,14 +313,16 @@ double lub_shear_list_range(double cutoff, double radius_std, int delaunay)
 {
     if (!delaunay)
         return cutoff;
-    const double r_lo = fmax(1.0 - 3.0 * radius_std, 0.2), r_hi = 1.0 + 3.0 * radius_std;
+    double r_lo, r_hi;
+    lub_packing_radius_clip(radius_std, &r_lo, &r_hi);
     /* mean-size pairs (centre distance 2 + range) are listed to the reach */
     return fmax(cutoff, lub_topology_reach(r_lo, r_hi, cutoff) - 2.0);
 }
 
 double lub_shear_listing_distance(double cutoff, double radius_std, double skin, int delaunay)
 {
-    const double r_lo = fmax(1.0 - 3.0 * radius_std, 0.2), r_hi = 1.0 + 3.0 * radius_std;
+    double r_lo, r_hi;
+    lub_packing_radius_clip(radius_std, &r_lo, &r_hi);
     const double d = 2.0 * r_hi * (1.0 + 0.5 * cutoff);
     return (delaunay ? fmax(d, lub_topology_reach(r_lo, r_hi, cutoff)) : d) + skin;
 }

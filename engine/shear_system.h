@@ -151,11 +151,11 @@ void lub_shear_free(lub_shear_system *s);
  * twice that listing distance. Call after lub_shear_init, before the first step. */
 void lub_shear_use_delaunay(lub_shear_system *s, int interval, double guard);
 
-/* For packings of radius_std (lub_packing_generate's radius bounds before their
- * normalisation): the listing range of mean-size pairs in units of a (they are listed at u_n <
- * range a + skin: the cut-off, or the Delaunay set's reach), for the memory estimate; and the
- * largest listing distance (length, skin included), which half the cell's width must exceed.
- * Pure. */
+/* For packings of radius_std (their radii taken in lub_packing_radius_clip's bounds,
+ * before the packing divides them by their mean): the listing range of mean-size pairs in units of
+ * a (they are listed at u_n < range a + skin: the cut-off, or the Delaunay set's reach), for the
+ * memory estimate; and the largest listing distance (length, skin included), which half the cell's
+ * width must exceed. Pure. */
 double lub_shear_list_range(double cutoff, double radius_std, int delaunay);
 double lub_shear_listing_distance(double cutoff, double radius_std, double skin, int delaunay);
 

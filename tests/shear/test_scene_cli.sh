@@ -519,9 +519,9 @@ echo '{"scene":"simple_shear","n_particles":100000,"phi":0.55,"strain":1}' > "$W
 "$LUBDEM" run "$W/bigpack.json" --out "$W/bigpack" --quiet 2>"$W/bigpack.err" & pid=$!
 sleep 0.5
 kill -TERM $pid
-for _ in $(seq 50); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
+for _ in $(seq 150); do kill -0 $pid 2>/dev/null || break; sleep 0.1; done
 if kill -0 $pid 2>/dev/null; then
-  check "false" "SIGTERM during the packing: still running 5 s later"
+  check "false" "SIGTERM during the packing: still running 15 s later"
   kill -9 $pid
 fi
 wait $pid; rc=$?
