@@ -10,10 +10,14 @@ contacts kept by the guard), then the mean, smallest and largest missed fraction
 
 usage: /usr/bin/python3 tests/shear/delaunay_missed.py RUN_DIR/result.h5 [--cutoff 2]
        [--skip N] (frames to leave out at the start, default 0)
+       [--max-mean F] [--max-frame F] (exit 1 if the mean / the largest missed fraction
+       exceeds F; ctest shear.delaunay_qhull)
+Prints delaunay_missed_mean=, delaunay_missed_max= and delaunay_frames= lines at the end.
 Exact degeneracies (lattices) are not handled: Qhull splits them arbitrarily.
 """
 import argparse
 import itertools
+import sys
 
 import h5py
 import numpy as np
@@ -30,20 +34,21 @@ def delaunay_edges(x, r, box):
     image = np.repeat(shifts, n, axis=0)
     lift = np.einsum("ij,ij->i", pts, pts) - r[owner] ** 2
     hull = ConvexHull(np.column_stack([pts, lift]), qhull_options="Qt Qbb")
-    edges = {}
-    for simplex in hull.simplices[hull.equations[:, 3] < 0]:  # the lower hull
-        for p, q in itertools.combinations(simplex, 2):
-            if image[p].any() and image[q].any():
-                continue  # both images: the same edge appears once with a home sphere
-            i, j = owner[p], owner[q]
-            shift = image[q] - image[p]
-            if i > j or (i == j and tuple(shift) < (0, 0, 0)):
-                i, j, shift = j, i, -shift
-            key = (int(i), int(j)) + tuple(int(v) for v in shift)
-            if key not in edges:
-                gap = np.linalg.norm(pts[q] - pts[p]) - r[i] - r[j]
-                edges[key] = gap / (0.5 * (r[i] + r[j]))
-    return edges
+    simplices = hull.simplices[hull.equations[:, 3] < 0]  # the lower hull
+    p = np.concatenate([simplices[:, a] for a, b in itertools.combinations(range(4), 2)])
+    q = np.concatenate([simplices[:, b] for a, b in itertools.combinations(range(4), 2)])
+    home = ~(image[p].any(axis=1) & image[q].any(axis=1))  # both images: seen with a home sphere
+    p, q = p[home], q[home]
+    i, j, shift = owner[p], owner[q], image[q] - image[p]
+    # the canonical orientation: i < j, or i == j with the shift's first non-zero component > 0
+    first = np.take_along_axis(shift, np.argmax(shift != 0, axis=1)[:, None], axis=1)[:, 0]
+    flip = (i > j) | ((i == j) & (first < 0))
+    i, j = np.where(flip, j, i), np.where(flip, i, j)
+    shift = np.where(flip[:, None], -shift, shift)
+    keys, first_row = np.unique(np.column_stack([i, j, shift]), axis=0, return_index=True)
+    gap = np.linalg.norm(pts[q] - pts[p], axis=1) - r[owner[p]] - r[owner[q]]
+    reduced = gap / (0.5 * (r[owner[p]] + r[owner[q]]))
+    return {tuple(int(v) for v in k): float(reduced[row]) for k, row in zip(keys, first_row)}
 
 
 def main():
@@ -51,6 +56,8 @@ def main():
     ap.add_argument("h5")
     ap.add_argument("--cutoff", type=float, default=2.0)
     ap.add_argument("--skip", type=int, default=0)
+    ap.add_argument("--max-mean", type=float, default=None)
+    ap.add_argument("--max-frame", type=float, default=None)
     args = ap.parse_args()
     fractions = []
     with h5py.File(args.h5, "r") as f:
@@ -77,6 +84,16 @@ def main():
     fr = np.array(fractions)
     print("missed fraction over %d frames: mean %.4f, min %.4f, max %.4f"
           % (len(fr), fr.mean(), fr.min(), fr.max()))
+    print("delaunay_frames=%d\ndelaunay_missed_mean=%.6f\ndelaunay_missed_max=%.6f"
+          % (len(fr), fr.mean(), fr.max()))
+    bad = []
+    if args.max_mean is not None and not fr.mean() <= args.max_mean:
+        bad.append("mean missed fraction %.4f above %g" % (fr.mean(), args.max_mean))
+    if args.max_frame is not None and not fr.max() <= args.max_frame:
+        bad.append("largest missed fraction %.4f above %g" % (fr.max(), args.max_frame))
+    for b in bad:
+        print("FAIL " + b, file=sys.stderr)
+    sys.exit(1 if bad else 0)
 
 
 if __name__ == "__main__":
