@@ -13,7 +13,9 @@
  * (servo on the gradient-direction cell size, see servo_step()).
  * Observables: virial stress split NC/SC/NL/SL/kinetic (stress.h), phi, P = -sigma_yy,
  * mu = sigma_xy/P, eta_r = sigma_xy/(eta gd), Iv = eta gd/P, eta_ii = -sigma_ii/(eta gd),
- * sigma_11/sigma_22, sigma_33/sigma_22, coordination Z and contact number Z_c (2 x pairs / N),
+ * sigma_11/sigma_22, sigma_33/sigma_22, the interaction number Z (2 x interacting pairs / N: the
+ * pairs inside the cut-off, or the Delaunay set's, so it grows with the cut-off; not a contact
+ * coordination) and the contact number Z_c (2 x contacts / N, rattlers counted),
  * the global bond order Q6 of the first neighbour shell (bond_order.h: 0.05-0.09 in sheared
  * disordered packings, 0.57 for fcc; a rise flags ordering of the cell), optional microstructure
  * (microstructure.h). Steady state and error bars: stats.h. Optional `drag_viscosity` eta_d: a
