@@ -993,6 +993,15 @@ static void ss_put_results(ss_run_state *r, const lub_ss_steady_stats *st,
         } else {
             lub_summary_put(ctx, lub_ss_obs_names[k], st->mean[k], st->sem[k], unit);
         }
+        /* a ratio's own window (simple_shear_series.h): its first strain and its sample count,
+         * so that the value can be recomputed from result.h5 */
+        json_t *e = json_object_get(ctx->summary_results, lub_ss_obs_names[k]);
+        if (e && lub_ss_obs_is_ratio(k)) {
+            const size_t from = st->from[k];
+            const double x = from < r->ser.n ? r->ser.strain[from] : NAN;
+            json_object_set_new(e, "from_strain", isfinite(x) ? json_real(x) : json_null());
+            json_object_set_new(e, "samples", json_integer((json_int_t)(r->ser.n - from)));
+        }
     }
 }
 

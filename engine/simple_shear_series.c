@@ -118,6 +118,11 @@ static size_t ss_ratio_stat(lub_ss_series *ser, int num, int den, size_t min_sta
     return d;
 }
 
+int lub_ss_obs_is_ratio(int k)
+{
+    return k == SS_OBS_MU || k == SS_OBS_L1 || k == SS_OBS_L3 || k == SS_OBS_IV;
+}
+
 /* The summary's verdict on the window from start: no drift beyond 3 standard errors in any
  * watched series (watch[] as lub_ss_steady_start writes it); the largest |z| into *worst_z. */
 static int ss_window_steady(lub_ss_series *ser, size_t start, const int watch[3], double *worst_z)
@@ -190,19 +195,24 @@ void lub_ss_series_statistics(const lub_ss_params *p, double gd, double s0, lub_
          * (before 2026-12-06 each from the later of that and its own MSER truncation, so
          * that the parts of a stress, averaged over other windows, did not add up to it) */
         lub_stats_result sr;
+        size_t from = start;
         if (k == SS_OBS_MU) {
-            ss_ratio_stat(ser, SS_OBS_SXY, SS_OBS_P, start, &sr);
+            from = ss_ratio_stat(ser, SS_OBS_SXY, SS_OBS_P, start, &sr);
         } else if (k == SS_OBS_L1) {
-            ss_ratio_stat(ser, SS_OBS_ETA11, SS_OBS_ETA22, start, &sr);
+            from = ss_ratio_stat(ser, SS_OBS_ETA11, SS_OBS_ETA22, start, &sr);
         } else if (k == SS_OBS_L3) {
-            ss_ratio_stat(ser, SS_OBS_ETA33, SS_OBS_ETA22, start, &sr);
+            from = ss_ratio_stat(ser, SS_OBS_ETA33, SS_OBS_ETA22, start, &sr);
         } else if (k == SS_OBS_IV) { /* gd/<P>, P = s0 * SS_OBS_P */
             lub_stats_analyse(ser->v[SS_OBS_P], ser->n, start, ser->scratch, &sr);
+            from = sr.start;
             sr.sem = gd * sr.sem / (s0 * sr.mean * sr.mean);
             sr.mean = gd / (s0 * sr.mean);
         } else { /* one window for all: the stress parts add up to their totals */
             lub_stats_analyse_window(ser->v[k], ser->n, start, ser->scratch, &sr);
         }
+        /* the summary states it (from_strain, samples): without it a ratio could not be
+         * recomputed from result.h5 where its window starts after steady_from_strain */
+        st->from[k] = from < ser->n ? from : ser->n;
         /* an imposed phi has no error: its series moves by round-off only (its error bar
          * was 1.7e-16 until 2026-12-06) */
         if (k == SS_OBS_PHI && !p->pressure)

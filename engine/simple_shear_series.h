@@ -95,13 +95,20 @@ typedef struct {
 int lub_ss_target_reached(const lub_ss_params *p, lub_ss_series *ser, int *zero_mean,
                           lub_ss_target_check *chk);
 
-/* The steady-state statistics of every observable over one window (the summary's). */
+/* The steady-state statistics of every observable over the summary's window, and of the ratio
+ * observables (mu, sigma11/sigma22, sigma33/sigma22, Iv) over theirs: from[k] is the first
+ * sample observable k is averaged from (start, or for a ratio the later of start and its two
+ * series' own MSER-5 truncations; n when nothing is left). */
 typedef struct {
     size_t start;         /* first sample of the steady window */
     int steady;           /* no significant drift of the watched series after start */
     double worst_drift_z; /* largest |z| of the drift tests */
     double mean[SS_OBS_COUNT], sem[SS_OBS_COUNT];
+    size_t from[SS_OBS_COUNT];
 } lub_ss_steady_stats;
+
+/* 1 for the ratio observables, whose window may start after the summary's (from[k]). */
+int lub_ss_obs_is_ratio(int k);
 
 /* gd: the shear rate, s0: the stress unit (eta gd or P) in scene units. */
 void lub_ss_series_statistics(const lub_ss_params *p, double gd, double s0, lub_ss_series *ser,

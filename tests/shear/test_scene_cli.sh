@@ -28,6 +28,10 @@
 #  3b. target relative error stops the run early; not on a mean of 0 +- 0 (a warning names
 #      /target_rel_error); a /sample_strain longer than the run: the warning names it;
 #  3d. /microstructure/start_strain beyond /strain: a warning names it;
+#  3e. the ratio observables' own windows: each of mu, Iv, sigma11/sigma22, sigma33/sigma22
+#      states the strain its window starts at and its sample count (from_strain, samples),
+#      and <num>/<den> of the HDF5 stress series over that window is the summary's value to
+#      1e-9 (its 10 printed digits), where over steady_from_strain it is 1.5-23 % away;
 #  3c. a servo gain far outside the studied range: the summary says the pressure was not
 #      held, or the diagnostic of the squeezed cell names the servo; a servo that would move
 #      L_y by half of itself in one step is refused, and one below that names the servo; the
@@ -344,6 +348,52 @@ if any("servo oscillates" in w for w in s.get("warnings", [])):
     ok = False
     print("FAIL: the default servo at Iv 1 said it oscillates", file=sys.stderr)
 sys.exit(0 if ok else 1)
+PYEOF
+
+# 3e. a ratio's own window: mu, Iv, sigma11/sigma22 and sigma33/sigma22 are averaged from the
+# later of their two series' own MSER-5 truncations where that is after steady_from_strain
+# (here seed 2: the summary's window from strain 0.32, the ratios' from 1.52). Each entry states
+# its window (from_strain, samples); the value recomputed over it from result.h5 must match to
+# the summary's 10 printed digits, and over the summary's window it must not (until 2026-12-07
+# the window was written nowhere: mu 2.1 % away over steady_from_strain here).
+echo '{"scene":"simple_shear","n_particles":300,"control":"pressure","Iv":1,"phi":0.3,"strain":3,"transient_strain":0.3,"snapshots":0,"seed":2}' \
+  | "$LUBDEM" run - --out "$W/ratio_win" --quiet 2>/dev/null; rc=$?
+check "[ $rc -eq 0 ]" "ratio-window run exit $rc"
+"$PY" - "$W/ratio_win" "$(dirname "$0")/../../schema/summary.schema.json" <<'PYEOF' || fail=1
+import json, sys, h5py, numpy as np, jsonschema
+s = json.load(open(sys.argv[1] + "/summary.json"))
+bad = []
+try:
+    jsonschema.validate(s, json.load(open(sys.argv[2])))
+except jsonschema.ValidationError as e:
+    bad.append("summary.schema.json: " + e.message[:300])
+r = s["results"]
+o = h5py.File(sys.argv[1] + "/result.h5", "r")["observables"]
+g = o["strain/value"][:]
+S = o["stress/total/value"][:]
+gd = s["spec"]["Iv"]  # stress unit P: Iv = gd/<P>
+common = int(np.argmin(np.abs(g - r["steady_from_strain"]["value"])))
+later = 0
+for key, num, den in (("mu", S[:, 0, 1], -S[:, 1, 1]), ("Iv", np.full(len(g), gd), -S[:, 1, 1]),
+                      ("sigma11_over_sigma22", S[:, 0, 0], S[:, 1, 1]),
+                      ("sigma33_over_sigma22", S[:, 2, 2], S[:, 1, 1])):
+    e = r[key]
+    if "from_strain" not in e or "samples" not in e:
+        bad.append(f"{key}: no from_strain/samples in the summary entry {e}")
+        continue
+    w = int(np.argmin(np.abs(g - e["from_strain"])))
+    if abs(g[w] - e["from_strain"]) > 1e-9 * max(1.0, g[w]) or len(g) - w != e["samples"]:
+        bad.append(f"{key}: from_strain {e['from_strain']} / samples {e['samples']} is no window of result.h5")
+    if w < common: bad.append(f"{key} window starts before steady_from_strain")
+    m = abs(num[w:].mean() / den[w:].mean() / e["value"] - 1)
+    m_common = abs(num[common:].mean() / den[common:].mean() / e["value"] - 1)
+    print(f"ratio_window {key} from_strain={e['from_strain']:.4f} samples={e['samples']} "
+          f"mismatch={m:.1e} (over steady_from_strain {g[common]:.4f}: {m_common:.1e})")
+    if m > 1e-9: bad.append(f"{key} is not <num>/<den> over its reported window (mismatch {m:.1e})")
+    if w > common and m_common > 1e-6: later += 1
+if later == 0: bad.append("no ratio window starts after steady_from_strain here: no test")
+for b in bad: print("FAIL:", b, file=sys.stderr)
+sys.exit(1 if bad else 0)
 PYEOF
 
 # 3c. a servo far outside the studied gains (0.25-4): gain 100 with a 1e-4 filter samples a

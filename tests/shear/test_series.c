@@ -175,6 +175,13 @@ int main(void)
                  st.mean[SS_OBS_MU], mx / my);
         ST_CHECK(fabs(st.sem[SS_OBS_MU] - mu_sem) <= 1e-12 * mu_sem,
                  "mu's error %.17g against the delta method's %.17g", st.sem[SS_OBS_MU], mu_sem);
+        /* the windows the summary states (from_strain, samples): mu's and Iv's own, the
+         * others the common one (these series put all at the common start; shear.scene_cli's
+         * case 3e has a run whose ratios start later) */
+        ST_CHECK(st.from[SS_OBS_MU] == dm && st.from[SS_OBS_IV] == dp &&
+                     st.from[SS_OBS_SXY] == st.start && st.from[SS_OBS_P] == st.start,
+                 "windows from %zu (mu), %zu (Iv), %zu (sigma_xy): want %zu, %zu, %zu",
+                 st.from[SS_OBS_MU], st.from[SS_OBS_IV], st.from[SS_OBS_SXY], dm, dp, st.start);
     }
 
     /* the stop tests the 90 % upper bound of mu's relative error, not the estimate: a target
