@@ -7,7 +7,7 @@ five parts (normal contact NC, tangential contact SC, normal lubrication NL, tan
 lubrication SL, kinetic KIN; all 9 components, F_i l_j) and the pair counts. This script
 computes them independently with numpy from the law as written in the project's notes
 (shared/spec/lubricated-contact-notes.md §1, §2.6, §2.9, §2.10, §3, §6, §9) and the README's
-conventions where the engine states its own (README "The contact law": eps is the physical
+conventions where the engine states its own (README "Contact law", Conventions: eps is the physical
 roughness, contact when u < eps a; the quasi-static law at eta = 0 with its static floor
 e^-700; a new pair starts at u_n, or at the quasi-static gap when u_n <= 0; the consistent
 slip split). It calls no engine code.
