@@ -75,6 +75,22 @@ static double relax_sweep(const lub_nlist *nl, const lub_cell *cell, vec3 *pos, 
     return worst;
 }
 
+/* The largest relative overlap of the inflated radii over the listed pairs, as relax_sweep
+ * measures it, without moving anything. */
+static double largest_overlap(const lub_nlist *nl, const lub_cell *cell, const vec3 *pos,
+                              const double *r, double infl)
+{
+    double worst = 0.0;
+    for (size_t k = 0; k < nl->npairs; ++k) {
+        const int i = nl->pi[k], j = nl->pj[k];
+        const vec3 d = v3_sub(v3_add(pos[j], lub_cell_shift(cell, &nl->pc[3 * k])), pos[i]);
+        const double rel = ((r[i] + r[j]) * infl - v3_norm(d)) / (r[i] + r[j]);
+        if (rel > worst)
+            worst = rel;
+    }
+    return worst;
+}
+
 /* Renumbers the spheres along bins of ~2.5 a (x fastest, then y, then z) so that neighbours have
  * close indices (memory locality of the pair loops). Stable counting sort; uses the two work
  * arrays (n vec3 each) as scratch. */
@@ -282,10 +298,64 @@ static double final_min_gap(lub_nlist *nl, const lub_cell *cell, const vec3 *pos
     }
 }
 
+int lub_packing_gap_census(const lub_cell *cell, const vec3 *pos, const double *radius, int n,
+                           double below, lub_packing_gaps *out)
+{
+    out->min_gap_a = INFINITY;
+    out->below = 0;
+    lub_nlist nl;
+    lub_nlist_init(&nl, 0.0, 0.0);
+    int rc = 0;
+    /* a pair with u_n < range a_ij is listed: the count at the first range (> below), the
+     * smallest gap once one is below the range (otherwise the range grows 4-fold) */
+    for (double range = fmax(0.2, 2.0 * below);; range *= 4.0) {
+        nl.range = range;
+        const int b = lub_nlist_build(&nl, cell, pos, radius, n);
+        if (b == LUB_NLIST_NOMEM) {
+            rc = -1;
+            break;
+        }
+        long long count = 0;
+        double g = INFINITY;
+        if (b != LUB_NLIST_OK) { /* a cell too small for the list: every pair, nearest image */
+            for (int i = 0; i < n; ++i)
+                for (int j = i + 1; j < n; ++j) {
+                    const double u =
+                        v3_norm(min_image(cell, v3_sub(pos[j], pos[i]))) - radius[i] - radius[j];
+                    const double ua = u / (0.5 * (radius[i] + radius[j]));
+                    count += ua < below;
+                    g = fmin(g, ua);
+                }
+        } else {
+            for (size_t k = 0; k < nl.npairs; ++k) {
+                const int i = nl.pi[k], j = nl.pj[k];
+                const vec3 d = v3_sub(v3_add(pos[j], lub_cell_shift(cell, &nl.pc[3 * k])), pos[i]);
+                const double ua =
+                    (v3_norm(d) - radius[i] - radius[j]) / (0.5 * (radius[i] + radius[j]));
+                count += ua < below;
+                g = fmin(g, ua);
+            }
+        }
+        if (range == fmax(0.2, 2.0 * below))
+            out->below = count;
+        if (b != LUB_NLIST_OK || g < range) {
+            out->min_gap_a = g;
+            break;
+        }
+    }
+    lub_nlist_free(&nl);
+    return rc;
+}
+
 int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos, lub_cell *cell,
                          lub_packing_info *info)
 {
     const int n = p->n;
+    if (info) /* what a failure before any sweep reports */
+        *info = (lub_packing_info){.phi = 0.0, .min_gap = NAN, .sweeps = 0};
+    /* the spheres grown by margin/2 must not overlap: beyond every random packing's fraction */
+    if (p->phi * pow(1.0 + 0.5 * p->margin, 3) > LUB_PACKING_GROWN_PHI_MAX)
+        return -2;
     lub_rng rng;
     lub_rng_seed(&rng, p->seed);
     double lo, hi;
@@ -352,8 +422,14 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
         phi = new_phi;
         int need_build = 1;
         double worst = INFINITY;
-        while (worst > 0.5 * p->margin) {
-            if (need_build) {
+        /* the stage's smallest worst overlap, and its value at the last stall check */
+        double best = INFINITY, best_checked = INFINITY;
+        int stage_sweeps = 0;
+        for (;;) {
+            const int relaxed = !(worst > 0.5 * p->margin);
+            if (relaxed && phi < p->phi)
+                break;
+            if (need_build || relaxed) {
                 for (int i = 0; i < n; ++i)
                     lub_cell_wrap(cell, &pos[i], NULL, NULL);
                 int b = lub_nlist_build(&nl, cell, pos, radius, n);
@@ -376,11 +452,28 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
                 memcpy(ref, pos, (size_t)n * sizeof *ref);
                 need_build = 0;
             }
+            if (relaxed) {
+                /* the last sweep measured the overlaps before its displacement: the packing is
+                 * done when they hold after it too (they always did on the packings tried;
+                 * otherwise the sweeps go on) */
+                worst = largest_overlap(&nl, cell, pos, radius, infl);
+                if (!(worst > 0.5 * p->margin))
+                    break;
+            }
             worst = relax_sweep(&nl, cell, pos, radius, infl, disp, n);
             ++sweeps;
             if (sweeps > p->max_sweeps) {
                 rc = -2;
                 goto done;
+            }
+            /* stalled: a jammed packing keeps its worst overlap above margin/2 for good */
+            best = fmin(best, worst);
+            if (++stage_sweeps % LUB_PACKING_STALL_SWEEPS == 0) {
+                if (!(best < best_checked * (1.0 - LUB_PACKING_STALL_GAIN))) {
+                    rc = -2;
+                    goto done;
+                }
+                best_checked = best;
             }
             if (p->stop && *p->stop) {
                 rc = -3;
@@ -412,6 +505,16 @@ int lub_packing_generate(const lub_packing_params *p, double *radius, vec3 *pos,
             rc = -2;
     }
 done:
+    if (rc && rc != -1 && info) {
+        info->phi = phi;
+        info->sweeps = sweeps;
+        info->min_gap = NAN;
+        if (rc == -2) { /* the overlap left (a negative gap); not when asked to stop */
+            for (int i = 0; i < n; ++i)
+                lub_cell_wrap(cell, &pos[i], NULL, NULL);
+            info->min_gap = final_min_gap(&nl, cell, pos, radius, n);
+        }
+    }
     lub_nlist_free(&nl);
     free(disp);
     free(ref);

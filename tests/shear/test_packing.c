@@ -6,6 +6,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "packing.h"
 #include "shear_test.h"
@@ -221,6 +222,82 @@ int main(void)
         lub_packing_params p = packing(m, 0.3, 0.05, 7);
         const int rc = lub_packing_generate(&p, rr, xx, &cell, NULL);
         ST_CHECK(rc == (m <= 5 ? -4 : 0), "n %d at phi 0.3: rc %d", m, rc);
+    }
+    /* an impossible fraction fails at once: phi (1 + margin/2)^3 above LUB_PACKING_GROWN_PHI_MAX
+     * is refused before packing (until 2026-12-08 phi 0.66 ran the 2e6 sweeps, 45-63 s at n
+     * 300), with info filled (no sweep, no fraction reached) */
+    {
+        double rr[300];
+        vec3 xx[300];
+        lub_cell cell;
+        lub_packing_info info = {-1.0, -1.0, -1};
+        lub_packing_params p = packing(300, 0.66, 0.05, 1);
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        const int rc = lub_packing_generate(&p, rr, xx, &cell, &info);
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        const double s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        ST_CHECK(rc == -2 && s < 2.0 && info.sweeps == 0 && info.phi == 0.0 && isnan(info.min_gap),
+                 "phi 0.66: rc %d after %.2f s, info sweeps %d phi %g min_gap %g (expected -2 at "
+                 "once)",
+                 rc, s, info.sweeps, info.phi, info.min_gap);
+    }
+    /* a compression that jams below the bound (phi 0.64, margin 0.01: 0.6497) stops once its
+     * worst overlap stalls (LUB_PACKING_STALL_SWEEPS), far below the 2e6 sweeps of max_sweeps,
+     * and says where: the stage's fraction, its sweeps, its smallest gap (until 2026-12-08: rc -2
+     * after 2e6 sweeps and info untouched) */
+    for (uint64_t seed = 1; seed <= 2; ++seed) {
+        double rr[60];
+        vec3 xx[60];
+        lub_cell cell;
+        lub_packing_info info = {-1.0, NAN, -1};
+        lub_packing_params p = packing(60, 0.64, 0.05, seed);
+        const int rc = lub_packing_generate(&p, rr, xx, &cell, &info);
+        ST_CHECK(rc == -2 && info.sweeps > LUB_PACKING_STALL_SWEEPS &&
+                     info.sweeps < 4 * LUB_PACKING_STALL_SWEEPS && info.phi > 0.6 &&
+                     info.phi < 0.64 && isfinite(info.min_gap) && info.min_gap < 0.01,
+                 "jammed seed %d: rc %d, info sweeps %d phi %g min_gap %g", (int)seed, rc,
+                 info.sweeps, info.phi, info.min_gap);
+    }
+    /* the margin holds for real: every gap >= margin/2 (r_i + r_j) (to round-off), the default
+     * margin and a wider one (the scene's /initial_gap), up to phi 0.6; and the gap census
+     * (smallest gap over a_ij, pairs below a threshold) agrees with brute force */
+    {
+        static double rr[1000];
+        static vec3 xx[1000];
+        const struct {
+            int n;
+            double phi, margin;
+        } cases[4] = {{300, 0.55, 0.01}, {300, 0.6, 0.01}, {1000, 0.6, 0.01}, {300, 0.6, 0.022}};
+        for (int c = 0; c < 4; ++c)
+            for (uint64_t seed = 1; seed <= 2; ++seed) {
+                lub_packing_params p = packing(cases[c].n, cases[c].phi, 0.05, seed);
+                p.margin = cases[c].margin;
+                lub_cell cell;
+                const int rc = lub_packing_generate(&p, rr, xx, &cell, NULL);
+                double worst = INFINITY; /* smallest u_n / a_ij, nearest images */
+                long long below = 0;     /* pairs with u_n < 0.02 a_ij */
+                for (int i = 0; i < p.n; ++i)
+                    for (int j = i + 1; j < p.n; ++j) {
+                        vec3 f = lub_cell_to_frac(&cell, v3_sub(xx[j], xx[i]));
+                        f = v3(f.x - nearbyint(f.x), f.y - nearbyint(f.y), f.z - nearbyint(f.z));
+                        const double u = v3_norm(lub_cell_to_cart(&cell, f)) - rr[i] - rr[j];
+                        const double ua = u / (0.5 * (rr[i] + rr[j]));
+                        worst = fmin(worst, ua);
+                        below += ua < 0.02;
+                    }
+                ST_CHECK(rc == 0 && worst >= p.margin * (1.0 - 1e-9),
+                         "n %d phi %g margin %g seed %d: rc %d, smallest gap %.9g a_ij", p.n, p.phi,
+                         p.margin, (int)seed, rc, worst);
+                lub_packing_gaps gaps;
+                const int crc = lub_packing_gap_census(&cell, xx, rr, p.n, 0.02, &gaps);
+                ST_CHECK(crc == 0 && gaps.below == below && fabs(gaps.min_gap_a - worst) < 1e-12,
+                         "census: %lld pairs below 0.02 a_ij (brute force %lld), smallest %.12g "
+                         "(%.12g)",
+                         gaps.below, below, gaps.min_gap_a, worst);
+                ST_CHECK(cases[c].margin < 0.02 ? below > 0 : below == 0,
+                         "margin %g: %lld pairs below 0.02 a_ij", p.margin, below);
+            }
     }
     ST_DONE();
 }
