@@ -165,6 +165,10 @@ typedef struct {
                                    spacing of the end and was left to the end's snapshot (which a
                                    longer run, extending this one, takes at once), -1 none */
     double packing_min_gap;
+    /* the packing's pairs closer than /law/eps a_ij (contacts from the first step) and its
+     * smallest gap over a_ij; -1 and NaN from a checkpoint older than them (2026-12-08) */
+    int64_t packing_contacts;
+    double packing_min_gap_aij;
     lub_step_control ctl;
     lub_schedule sched;
 } ss_loop;
@@ -189,6 +193,8 @@ static int ss_checkpoint_write(const char *path, const json_t *resolved, const s
                    lub_ckpt_put_i64(c, "run/frames_in_file", frames_in_file) ||
                    lub_ckpt_put_i64(c, "run/network_frames_in_file", network_frames_in_file) ||
                    lub_ckpt_put_f64(c, "run/packing_min_gap", lp->packing_min_gap) ||
+                   lub_ckpt_put_i64(c, "run/packing_contacts", lp->packing_contacts) ||
+                   lub_ckpt_put_f64(c, "run/packing_min_gap_aij", lp->packing_min_gap_aij) ||
                    lub_ckpt_put_i64(c, "run/last_snapshot_step", lp->last_snapshot_step) ||
                    lub_ckpt_put_i64(c, "run/snapshot_owed_step", lp->snap_owed_step) ||
                    lub_step_control_save(c, "run/step_control", &lp->ctl) ||
@@ -227,7 +233,14 @@ static int ss_checkpoint_read_loop(lub_ckpt *c, ss_loop *lp, int64_t *rows, int6
     /* none in a checkpoint older than the frames, or than the snapshot steps (2026-12-07) */
     if (lub_ckpt_get_i64_or(c, "run/network_frames_in_file", 0, network_frames_in_file) ||
         lub_ckpt_get_i64_or(c, "run/last_snapshot_step", -1, &lp->last_snapshot_step) ||
-        lub_ckpt_get_i64_or(c, "run/snapshot_owed_step", -1, &lp->snap_owed_step)) {
+        lub_ckpt_get_i64_or(c, "run/snapshot_owed_step", -1, &lp->snap_owed_step) ||
+        lub_ckpt_get_i64_or(c, "run/packing_contacts", -1, &lp->packing_contacts)) {
+        snprintf(why, len, "%s", lub_ckpt_error(c));
+        return -1;
+    }
+    lp->packing_min_gap_aij = NAN;
+    if (lub_ckpt_has(c, "run/packing_min_gap_aij") &&
+        lub_ckpt_get_f64(c, "run/packing_min_gap_aij", &lp->packing_min_gap_aij)) {
         snprintf(why, len, "%s", lub_ckpt_error(c));
         return -1;
     }
@@ -323,7 +336,7 @@ static int ss_pack(ss_run_state *r, vec3 **pos, lub_cell *cell)
                              .phi = p->phi,
                              .radius_std = p->radius_std,
                              .seed = (uint64_t)p->seed,
-                             .margin = 0.01,
+                             .margin = p->initial_gap, /* gaps >= margin a_ij */
                              .max_sweeps = 2000000,
                              .stop = ctx->stop_requested};
     lub_packing_info pinfo;
@@ -349,6 +362,13 @@ static int ss_pack(ss_run_state *r, vec3 **pos, lub_cell *cell)
         return LUB_EXIT_INTERNAL;
     }
     r->lp.packing_min_gap = pinfo.min_gap;
+    lub_packing_gaps gaps;
+    if (lub_packing_gap_census(cell, *pos, r->radius, n, p->law.params.eps, &gaps)) {
+        lub_diagnostic_out_of_memory(ctx, "packing", n, 0.0, "/n_particles");
+        return LUB_EXIT_INTERNAL;
+    }
+    r->lp.packing_contacts = gaps.below;
+    r->lp.packing_min_gap_aij = gaps.min_gap_a;
     return LUB_EXIT_OK;
 }
 
@@ -464,6 +484,8 @@ static int ss_setup_system(ss_run_state *r)
                             &r->resume_network_frames, &r->radius, &pos))
             return LUB_EXIT_BAD_SPEC;
         r->lp.packing_min_gap = resumed.packing_min_gap;
+        r->lp.packing_contacts = resumed.packing_contacts;
+        r->lp.packing_min_gap_aij = resumed.packing_min_gap_aij;
     } else {
         const int rc = ss_pack(r, &pos, &cell);
         if (rc != LUB_EXIT_OK) {
@@ -1028,6 +1050,9 @@ static void ss_put_counters(ss_run_state *r, const lub_ss_steady_stats *st)
     lub_summary_put(ctx, "cell_flips", (double)sys->flips, NAN, "1");
     lub_summary_put(ctx, "lost_pairs", (double)sys->lost_pairs, NAN, "1");
     lub_summary_put(ctx, "packing_min_gap", lp->packing_min_gap, NAN, "a");
+    lub_summary_put(ctx, "packing_min_gap_aij", lp->packing_min_gap_aij, NAN, "a_ij");
+    lub_summary_put(ctx, "initial_contacts",
+                    lp->packing_contacts < 0 ? NAN : (double)lp->packing_contacts, NAN, "1");
     const int steady_detected = st->steady && start < ser->n;
     json_object_set_new(ctx->summary_extra, "steady_state_detected", json_boolean(steady_detected));
     json_object_set_new(ctx->summary_extra, "stopped_on_target_error",

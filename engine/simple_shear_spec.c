@@ -186,6 +186,7 @@ int lub_ss_read(json_t *spec, lub_ss_params *p, lub_error *err)
                                  "drag_viscosity",
                                  "lubrication_pairs",
                                  "delaunay_update_strain",
+                                 "initial_gap",
                                  NULL};
     static const char *controls[] = {"volume", "pressure", NULL};
     static const char *pair_sets[] = {"cutoff", "delaunay", NULL};
@@ -208,8 +209,22 @@ int lub_ss_read(json_t *spec, lub_ss_params *p, lub_error *err)
     if (lub_spec_integer(spec, "", "n_particles", 2, 10000000, 1, 1000, &p->n, err) ||
         lub_spec_integer(spec, "", "seed", 0, 4294967295LL, 1, 1, &p->seed, err) ||
         lub_spec_number(spec, "", "radius_std", std_r, 1, 0.05, &p->radius_std, err) ||
-        lub_spec_number(spec, "", "phi", phi_r, 1, 0.5, &p->phi, err))
+        lub_spec_number(spec, "", "phi", phi_r, 1, 0.5, &p->phi, err) ||
+        lub_spec_number(spec, "", "initial_gap", (lub_range){0.001, 0.2, 0, 0}, 1, 0.01,
+                        &p->initial_gap, err))
         return -1;
+    /* the packing must reach /phi with every gap >= /initial_gap a_ij (packing.h) */
+    const double grown = p->phi * pow(1.0 + 0.5 * p->initial_gap, 3);
+    if (grown > LUB_SS_GROWN_PHI_MAX)
+        return lub_fail(err, "/initial_gap",
+                        "the packing cannot promise gaps of %g a_ij at /phi %g: the spheres grown "
+                        "by half that gap would fill phi (1 + initial_gap/2)^3 = %.4g, above the "
+                        "%g the packing reaches reliably; lower /initial_gap to at most %g or "
+                        "/phi to at most %g",
+                        p->initial_gap, p->phi, grown, LUB_SS_GROWN_PHI_MAX,
+                        floor(2e5 * (cbrt(LUB_SS_GROWN_PHI_MAX / p->phi) - 1.0)) / 1e5,
+                        floor(1e4 * LUB_SS_GROWN_PHI_MAX / pow(1.0 + 0.5 * p->initial_gap, 3)) /
+                            1e4);
     if (p->pressure) {
         if (lub_spec_number(spec, "", "Iv", iv_r, 1, SS_DEFAULT_IV, &p->Iv, err))
             return -1;

@@ -21,6 +21,7 @@
 
 typedef struct {
     long long n, seed, snapshots;
+    double initial_gap; /* the packing's smallest gap, units of a_ij (its margin, packing.h) */
     double radius_std, phi, Iv, St, stiffness, cutoff, skin, dt, dt_safety, strain;
     double dt_stiffness_safety; /* largest dt / lub_pairs_stiffness_dt of the automatic step */
     double target_rel_error, target_min_strain, transient_strain, sample_strain;
@@ -47,6 +48,11 @@ typedef struct {
 /* Largest change of L_y, as a fraction of itself, the pressure servo may make in one step (its
  * gain times the shear rate times the step); see lub_ss_read. */
 #define LUB_SS_SERVO_STEP_MAX 0.5
+
+/* Largest phi (1 + initial_gap/2)^3 a spec may ask for: the fraction of the spheres grown by
+ * half the gap, which the packing reaches for every seed tried up to here (packing.h); the
+ * defaults at /phi 0.6 give 0.609. */
+#define LUB_SS_GROWN_PHI_MAX 0.62
 
 /* Reads and checks spec (a JSON object, the "scene" member included), inserting every default
  * into it, so that it becomes the resolved spec; fills *p. */

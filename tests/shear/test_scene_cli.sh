@@ -159,6 +159,39 @@ for other in '{"scene":"continuum_rheometer"}' '{"scene":"continuum_steady_curve
     "--resume of $other on a simple_shear checkpoint: rc=$rc $(cat "$W/other.err"); $(ls "$W/kept")"
 done
 
+# 1c. the initial gaps (/initial_gap): the default 0.01 a_ij is below the default roughness
+#     law.eps 0.02, so the packing starts with contacts (667 pairs at N 300, phi 0.55), which the
+#     summary counts (initial_contacts); 0.022 (1.1 eps) gives none, every gap >= 0.022 a_ij
+#     (packing_min_gap_aij); a gap the packing cannot promise at /phi is refused naming the
+#     member (until 2026-12-08 the margin was fixed and nothing reported the contacts)
+for g in default 0.022; do
+  extra=""; [ $g = default ] || extra=",\"initial_gap\":$g"
+  echo "{\"scene\":\"simple_shear\",\"n_particles\":300,\"phi\":0.55,\"strain\":0.001,\"sample_strain\":0.0005,\"transient_strain\":0,\"snapshots\":0$extra}" \
+    | "$LUBDEM" run - --out "$W/gap_$g" --quiet 2>"$W/gap_$g.err"; rc=$?
+  check "[ $rc -eq 0 ]" "initial_gap $g: exit $rc, $(cat "$W/gap_$g.err")"
+done
+"$PY" - "$W" <<'PYEOF' || fail=1
+import json, sys
+r = {g: json.load(open(f"{sys.argv[1]}/gap_{g}/summary.json"))["results"] for g in ("default", "0.022")}
+bad = []
+c, m = r["default"]["initial_contacts"]["value"], r["default"]["packing_min_gap_aij"]["value"]
+if not (c is not None and c > 0 and 0.01 * (1 - 1e-9) <= m < 0.02):
+    bad.append(f"default: {c} initial contacts (expected > 0), smallest gap {m} a_ij")
+c, m = r["0.022"]["initial_contacts"]["value"], r["0.022"]["packing_min_gap_aij"]["value"]
+if not (c == 0 and m >= 0.022 * (1 - 1e-9)):
+    bad.append(f"initial_gap 0.022: {c} initial contacts (expected 0), smallest gap {m} a_ij")
+if r["0.022"]["packing_min_gap_aij"]["unit"] != "a_ij" or r["0.022"]["initial_contacts"]["unit"] != "1":
+    bad.append("units")
+if bad:
+    print("FAIL: " + "; ".join(bad), file=sys.stderr)
+    sys.exit(1)
+print(f"initial gaps: default {r['default']['initial_contacts']['value']:.0f} contacts, "
+      f"0.022 smallest gap {r['0.022']['packing_min_gap_aij']['value']:.5f} a_ij")
+PYEOF
+echo '{"scene":"simple_shear","phi":0.6,"initial_gap":0.03}' | "$LUBDEM" validate - 2>"$W/gap_bad.err"; rc=$?
+check "[ $rc -eq 2 ] && grep -q '^error: /initial_gap: the packing cannot promise gaps of 0.03 a_ij at /phi 0.6.*lower /initial_gap to at most 0.02197' $W/gap_bad.err" \
+  "initial_gap 0.03 at phi 0.6 not refused at /initial_gap: rc=$rc, $(cat $W/gap_bad.err)"
+
 # 2. robustness run
 echo '{"scene":"simple_shear","n_particles":300,"phi":0.55,"stiffness":1e4,"strain":0.6,"transient_strain":0.1,"sample_strain":0.01,"snapshots":2,"microstructure":{"enabled":true,"start_strain":0.2}}' \
   | "$LUBDEM" run - --out "$W/run" --quiet 2>"$W/run.err"; rc=$?
