@@ -309,6 +309,17 @@ static int check_resume(const char *ckpt_path, const char *out_dir, const json_t
     free(output);
     char *text = lub_ckpt_get_text(c, "spec_resolved");
     json_t *saved = text ? json_loads(text, 0, NULL) : NULL;
+    /* resolved again by this build, so that a member added since the checkpoint was written
+     * takes its default, which is defined to be the behaviour before it existed (a stopped run
+     * from before /initial_gap continues); the spec as saved when it no longer resolves, so that
+     * the comparison names what differs */
+    json_t *saved_now = NULL;
+    lub_error resolve_err;
+    memset(&resolve_err, 0, sizeof resolve_err);
+    if (saved && lub_spec_resolve(saved, &saved_now, &resolve_err) == 0) {
+        json_decref(saved);
+        saved = saved_now;
+    }
     int rc = 0;
     char differ[600];
     if (!saved) {

@@ -244,6 +244,34 @@ with h5py.File(os.path.join(same, "checkpoint.h5"), "r") as f:
 check(notes.get("git_commit") == this["git_commit"] and notes.get("build_from_step") == "0"
       and notes.get("earlier_builds") == "[]", f"4: its kept checkpoint's notes ({notes})")
 
+# ---- 4b. a checkpoint of a build before a spec member existed ----
+# its saved spec lacks the member (/initial_gap, 2026-12-07); this build resolves that spec
+# again, so the member takes its default (the behaviour before it), and the run continues to
+# the uninterrupted run's results. Until 2026-12-07 such a continuation was refused with
+# "/initial_gap: 0.01 here, absent in the stopped run's spec".
+older = copy_of(stopped, "older_spec")
+with h5py.File(os.path.join(older, "checkpoint.h5"), "r+") as f:
+    d = f["spec_resolved"]
+    text = d[()]
+    text = text.decode() if isinstance(text, bytes) else text
+    saved = json.loads(text)
+    check("initial_gap" in saved, "4b: the resolved spec holds /initial_gap")
+    saved.pop("initial_gap", None)
+    new_text = json.dumps(saved).encode()
+    dtype, attrs = d.dtype, dict(d.attrs)
+    del f["spec_resolved"]
+    nd = f.create_dataset("spec_resolved", data=new_text, dtype=h5py.string_dtype(
+        "utf-8" if h5py.check_string_dtype(dtype) and h5py.check_string_dtype(dtype).encoding
+        == "utf-8" else "ascii", None if h5py.check_string_dtype(dtype) and
+        h5py.check_string_dtype(dtype).length is None else len(new_text)))
+    for k, v in attrs.items():
+        nd.attrs[k] = v
+    nd.attrs["crc32"] = np.uint32(zlib.crc32(new_text))
+rc, err = run(spec, older, "--resume")
+check(rc == 0 and same_results(ref, older),
+      f"4b: a checkpoint whose spec lacks /initial_gap continued to the uninterrupted run's "
+      f"results (exit {rc}: {err.strip()[-300:]})")
+
 # ---- 5. leftovers of a kill; --checkpoint-every where it does nothing ----
 leftover = copy_of(stopped, "leftover")
 with open(os.path.join(leftover, ".checkpoint-result.h5.tmp"), "wb") as f:
