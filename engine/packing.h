@@ -11,7 +11,7 @@
  *     measured both before and after the last sweep's displacement: so every true gap is
  *     >= margin/2 * (r_i + r_j) = margin * a_ij, a_ij = (r_i + r_j)/2 (to round-off, ~1e-15 a,
  *     from the final wrapping; the smallest ratio over ~100 packings at phi 0.5-0.62 was
- *     0.50002 margin (r_i + r_j)). Until 2026-12-08 the overlaps were measured only before the
+ *     0.50002 margin (r_i + r_j)). Until 2026-12-07 the overlaps were measured only before the
  *     displacement and the end checked only that every gap was positive.
  * Finally the spheres are renumbered along spatial bins (memory locality of pair loops); above
  * LUB_PACKING_SORT_MIN_N spheres also before step 3 (its sweeps' locality).
@@ -69,7 +69,7 @@ typedef struct {
  * (-2). At n 300, phi 0.62, margin 0.01 (24 seeds) checks every 50 000 sweeps would have
  * stopped 2 of the 13 successes, every 100 000 none, and they stop the 11 failures after
  * 207 000-309 000 sweeps (5-8 s); packings at phi <= 0.6 never went 4000 sweeps without such a
- * gain. Until 2026-12-08 a jammed compression went on to max_sweeps (2e6 in the scenes: 45-63 s
+ * gain. Until 2026-12-07 a jammed compression went on to max_sweeps (2e6 in the scenes: 45-63 s
  * at n 300, phi 0.62-0.66). */
 #define LUB_PACKING_GROWN_PHI_MAX 0.66
 #define LUB_PACKING_STALL_SWEEPS 100000

@@ -166,7 +166,7 @@ typedef struct {
                                    longer run, extending this one, takes at once), -1 none */
     double packing_min_gap;
     /* the packing's pairs closer than /law/eps a_ij (contacts from the first step) and its
-     * smallest gap over a_ij; -1 and NaN from a checkpoint older than them (2026-12-08) */
+     * smallest gap over a_ij; -1 and NaN from a checkpoint older than them (2026-12-07) */
     int64_t packing_contacts;
     double packing_min_gap_aij;
     lub_step_control ctl;

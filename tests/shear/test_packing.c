@@ -224,7 +224,7 @@ int main(void)
         ST_CHECK(rc == (m <= 5 ? -4 : 0), "n %d at phi 0.3: rc %d", m, rc);
     }
     /* an impossible fraction fails at once: phi (1 + margin/2)^3 above LUB_PACKING_GROWN_PHI_MAX
-     * is refused before packing (until 2026-12-08 phi 0.66 ran the 2e6 sweeps, 45-63 s at n
+     * is refused before packing (until 2026-12-07 phi 0.66 ran the 2e6 sweeps, 45-63 s at n
      * 300), with info filled (no sweep, no fraction reached) */
     {
         double rr[300];
@@ -244,7 +244,7 @@ int main(void)
     }
     /* a compression that jams below the bound (phi 0.64, margin 0.01: 0.6497) stops once its
      * worst overlap stalls (LUB_PACKING_STALL_SWEEPS), far below the 2e6 sweeps of max_sweeps,
-     * and says where: the stage's fraction, its sweeps, its smallest gap (until 2026-12-08: rc -2
+     * and says where: the stage's fraction, its sweeps, its smallest gap (until 2026-12-07: rc -2
      * after 2e6 sweeps and info untouched) */
     for (uint64_t seed = 1; seed <= 2; ++seed) {
         double rr[60];

@@ -163,7 +163,7 @@ done
 #     law.eps 0.02, so the packing starts with contacts (667 pairs at N 300, phi 0.55), which the
 #     summary counts (initial_contacts); 0.022 (1.1 eps) gives none, every gap >= 0.022 a_ij
 #     (packing_min_gap_aij); a gap the packing cannot promise at /phi is refused naming the
-#     member (until 2026-12-08 the margin was fixed and nothing reported the contacts)
+#     member (until 2026-12-07 the margin was fixed and nothing reported the contacts)
 for g in default 0.022; do
   extra=""; [ $g = default ] || extra=",\"initial_gap\":$g"
   echo "{\"scene\":\"simple_shear\",\"n_particles\":300,\"phi\":0.55,\"strain\":0.001,\"sample_strain\":0.0005,\"transient_strain\":0,\"snapshots\":0$extra}" \
