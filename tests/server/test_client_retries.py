@@ -72,8 +72,10 @@ def run():
         # extend of a running job: the client says it has not ended
         rc, out = sh(srv, tok, sys.executable, os.path.join(ce, "lubdem_client.py"), "extend",
                      blocker, "{}")
+        # "404" looked for with the job ID taken out: a random ID holds "404" about once in
+        # 140 jobs (ce750360932b233f8f4049f93bc3b763 failed the 2026-12-07 clean-clone run)
         T.check(rc == 1 and "is running: a job can be continued once it has ended" in out and
-                "404" not in out, "extend of a running job:\n" + out)
+                "404" not in out.replace(blocker, "JOBID"), "extend of a running job:\n" + out)
         # ci_submit.sh times out while its job waits behind the blocker: the job stays
         inputs = '{"duration": 30.0}'
         key = {"LUBDEM_IDEMPOTENCY_KEY": "ci-retry-1"}
