@@ -6,8 +6,8 @@
 #include <stdlib.h>
 
 int lub_h5_continue_table(lub_h5_reader *from, lub_h5_table *to, int nseries,
-                          const char *const *names, const int *ncomp, int64_t rows, char *err,
-                          size_t len)
+                          const char *const *names, const int *ncomp, int64_t rows,
+                          const double *expect_first, char *err, size_t len)
 {
     int width = 0;
     for (int s = 0; s < nseries; ++s)
@@ -36,6 +36,15 @@ int lub_h5_continue_table(lub_h5_reader *from, lub_h5_table *to, int nseries,
             }
             offset += (size_t)ncomp[s];
         }
+        /* values[0, count) is the first series of this chunk */
+        for (int64_t k = 0; k < count && rc == 0 && expect_first && ncomp[0] == 1; ++k)
+            if (values[k] != expect_first[row0 + k]) {
+                snprintf(err, len,
+                         "row %lld of %s is %.17g in the file and %.17g in the checkpoint: it is "
+                         "not the file the checkpoint was taken with",
+                         (long long)(row0 + k), names[0], values[k], expect_first[row0 + k]);
+                rc = -1;
+            }
         for (int64_t k = 0; k < count && rc == 0; ++k) {
             size_t col = 0, base = 0;
             for (int s = 0; s < nseries; ++s) {
@@ -106,8 +115,9 @@ int lub_h5_continue_snapshots(lub_h5_reader *from, lub_h5 *to, int64_t n, int64_
 }
 
 int lub_h5_continue_output(const char *path, lub_h5_table *to_table, int nseries,
-                           const char *const *names, const int *ncomp, int64_t rows, lub_h5 *to,
-                           int64_t n, int64_t frames, char *err, size_t len)
+                           const char *const *names, const int *ncomp, int64_t rows,
+                           const double *expect_first, lub_h5 *to, int64_t n, int64_t frames,
+                           char *err, size_t len)
 {
     lub_h5_reader *from = lub_h5r_open(path, err, len);
     if (!from)
@@ -120,7 +130,8 @@ int lub_h5_continue_output(const char *path, lub_h5_table *to_table, int nseries
         rc = -1;
     }
     if (rc == 0)
-        rc = lub_h5_continue_table(from, to_table, nseries, names, ncomp, rows, err, len);
+        rc = lub_h5_continue_table(from, to_table, nseries, names, ncomp, rows, expect_first, err,
+                                   len);
     if (rc == 0)
         rc = lub_h5_continue_snapshots(from, to, n, frames, err, len);
     lub_h5r_close(from);

@@ -671,10 +671,10 @@ static int rs_continue_stopped_run(rs_run_state *r)
                 if (!no_room) /* a memory refusal is not a refused continuation: below */
                     snprintf(why, sizeof why, "%s",
                              lub_ckpt_error(ck)[0] ? lub_ckpt_error(ck) : "unreadable samples");
-            } else if (lub_h5_continue_output(ctx->resume_result, r->tab, RS_NSERIES,
-                                              rs_series_names, rs_series_ncomp, saved.nh, ctx->out,
-                                              r->N, p->snapshots > 0 ? saved.frames_in_file : 0,
-                                              why, sizeof why) == 0 &&
+            } else if (lub_h5_continue_output(
+                           ctx->resume_result, r->tab, RS_NSERIES, rs_series_names, rs_series_ncomp,
+                           saved.nh, r->B.series_h, ctx->out, r->N,
+                           p->snapshots > 0 ? saved.frames_in_file : 0, why, sizeof why) == 0 &&
                        (!r->network || lub_h5_continue_frames(ctx->resume_result, r->network,
                                                               saved.network_frames_in_file, why,
                                                               sizeof why) == 0)) {

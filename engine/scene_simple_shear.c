@@ -597,10 +597,10 @@ static int ss_open_outputs(ss_run_state *r)
                                  (ss_stopped_has_image(ctx->resume_result, r->resume_frames) &&
                                   lub_h5_particles_define_image(ctx->out))))
             snprintf(why, sizeof why, "%s", lub_h5_last_error(ctx->out));
-        else if (lub_h5_continue_output(ctx->resume_result, r->tab, SS_TABLE_COLUMNS,
-                                        ss_table_names, ss_table_widths, r->resume_rows, ctx->out,
-                                        r->n, p->snapshots > 0 ? r->resume_frames : 0, why,
-                                        sizeof why) == 0 &&
+        else if (lub_h5_continue_output(
+                     ctx->resume_result, r->tab, SS_TABLE_COLUMNS, ss_table_names, ss_table_widths,
+                     r->resume_rows, r->ser.strain, ctx->out, r->n,
+                     p->snapshots > 0 ? r->resume_frames : 0, why, sizeof why) == 0 &&
                  r->network)
             lub_h5_continue_frames(ctx->resume_result, r->network, r->resume_network_frames, why,
                                    sizeof why);

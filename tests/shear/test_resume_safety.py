@@ -212,6 +212,24 @@ check(rc == 2 and "/system/v" in err and "damaged" in err,
       f"3: system/v[0] x 1.01 refused, exit 2 naming it (got {rc}: {err.strip()[-300:]})")
 check(digest(scaled) == before, "3: folder unchanged")
 
+# ---- 3b. a result.h5 that is not the one the checkpoint was taken with ----
+# (another seed's complete run: enough rows, other values). The checkpoint's copy of the strain
+# series is compared with the file's first rows bit for bit; until 2026-12-07 only the row count
+# was checked, and the continuation carried the other run's rows into its result.h5.
+other_spec = os.path.join(WORK, "other_seed.json")
+with open(other_spec, "w") as f:
+    json.dump(dict(base, seed=99), f)
+other_run = fresh("other_seed")
+rc, err = run(other_spec, other_run)
+swapped = copy_of(stopped, "swapped")
+shutil.copyfile(os.path.join(other_run, "result.h5"), os.path.join(swapped, "result.h5"))
+before = digest(swapped)
+rc, err = run(spec, swapped, "--resume")
+check(rc == 2 and "not the file the checkpoint was taken with" in err and "row 0 of strain" in err,
+      f"3b: another run's result.h5 refused, exit 2 naming the row (got {rc}: "
+      f"{err.strip()[-300:]})")
+check(digest(swapped) == before, "3b: folder unchanged")
+
 # ---- 4. the builds that ran the run ----
 with h5py.File(os.path.join(stopped, "checkpoint.h5"), "r") as f:
     commit = f.attrs.get("git_commit")
