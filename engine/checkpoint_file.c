@@ -334,6 +334,20 @@ static int put_begin(lub_ckpt *c, const char *name)
 /* Creates dataset name of file type ftype and space sp (intermediate groups created); writes
  * data (memory type mtype) unless data is NULL. 0, or -1 (the checkpoint void) with the message
  * naming the dataset and the reason. what: the content, for the message. */
+/* Attribute `name` of object obj: one value of file type ftype, read from *value as mtype; 0 or
+ * -1 (HDF5's error stack as it leaves it). */
+static int write_scalar_attr(hid_t obj, const char *name, hid_t ftype, hid_t mtype,
+                             const void *value)
+{
+    hid_t sp = H5Screate(H5S_SCALAR);
+    hid_t a = H5Acreate2(obj, name, ftype, sp, H5P_DEFAULT, H5P_DEFAULT);
+    const herr_t rc = a < 0 ? -1 : H5Awrite(a, mtype, value);
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(sp);
+    return rc < 0 ? -1 : 0;
+}
+
 static int put_dataset(lub_ckpt *c, const char *name, hid_t ftype, hid_t mtype, hid_t sp,
                        const void *data, const char *what, uint32_t crc)
 {
@@ -354,16 +368,11 @@ static int put_dataset(lub_ckpt *c, const char *name, hid_t ftype, hid_t mtype, 
         }
     }
     if (d >= 0 && rc == 0) { /* the data's CRC-32, which lub_ckpt_get checks */
-        hid_t asp = H5Screate(H5S_SCALAR);
         errno = 0;
-        hid_t a = H5Acreate2(d, CRC_ATTR, H5T_STD_U32LE, asp, H5P_DEFAULT, H5P_DEFAULT);
-        if (a < 0 || H5Awrite(a, H5T_NATIVE_UINT32, &crc) < 0) {
+        if (write_scalar_attr(d, CRC_ATTR, H5T_STD_U32LE, H5T_NATIVE_UINT32, &crc)) {
             failure_reason(errno, reason);
             rc = fail(c, name, "cannot be written (its CRC-32): %s", reason);
         }
-        if (a >= 0)
-            H5Aclose(a);
-        H5Sclose(asp);
     }
     if (d >= 0)
         H5Dclose(d);
@@ -647,13 +656,7 @@ char *lub_ckpt_get_text(lub_ckpt *c, const char *name)
 /* A root attribute of one int32. */
 static int write_root_i32(hid_t file, const char *name, int32_t v)
 {
-    hid_t sp = H5Screate(H5S_SCALAR);
-    hid_t a = H5Acreate2(file, name, H5T_STD_I32LE, sp, H5P_DEFAULT, H5P_DEFAULT);
-    const herr_t rc = a < 0 ? -1 : H5Awrite(a, H5T_NATIVE_INT32, &v);
-    if (a >= 0)
-        H5Aclose(a);
-    H5Sclose(sp);
-    return rc < 0 ? -1 : 0;
+    return write_scalar_attr(file, name, H5T_STD_I32LE, H5T_NATIVE_INT32, &v);
 }
 
 /* The root attributes that make the file a checkpoint, the format last: every dataset carries
@@ -713,14 +716,9 @@ static int set_note(hid_t file, const char *name, const char *text)
     if (H5Aexists(file, name) > 0 && H5Adelete(file, name) < 0)
         return -1;
     hid_t t = text_type(H5T_CSET_UTF8);
-    hid_t sp = H5Screate(H5S_SCALAR);
-    hid_t a = H5Acreate2(file, name, t, sp, H5P_DEFAULT, H5P_DEFAULT);
-    const herr_t rc = a < 0 ? -1 : H5Awrite(a, t, &text);
-    if (a >= 0)
-        H5Aclose(a);
-    H5Sclose(sp);
+    const int rc = write_scalar_attr(file, name, t, t, &text);
     H5Tclose(t);
-    return rc < 0 ? -1 : 0;
+    return rc;
 }
 
 int lub_ckpt_set_notes(const char *path, int n, const char *const *names, const char *const *texts,

@@ -30,17 +30,49 @@ static vec3 min_image(const lub_cell *cell, vec3 d)
     return lub_cell_to_cart(cell, s);
 }
 
+/* The gaps of a set of pairs: the smallest u_n = |d| - r_i - r_j (length), the smallest u_n/a_ij
+ * (a_ij = (r_i + r_j)/2) and how many have u_n/a_ij < below. */
+typedef struct {
+    double min_u, min_ua;
+    long long below;
+} gap_tally;
+
+static void tally_pair(gap_tally *t, vec3 d, double ri, double rj, double below)
+{
+    const double u = v3_norm(d) - ri - rj;
+    const double ua = u / (0.5 * (ri + rj));
+    t->min_u = fmin(t->min_u, u);
+    t->min_ua = fmin(t->min_ua, ua);
+    t->below += ua < below;
+}
+
+/* Over every pair, nearest images (O(n^2)). */
+static gap_tally all_pair_gaps(const lub_cell *cell, const vec3 *pos, const double *radius, int n,
+                               double below)
+{
+    gap_tally t = {INFINITY, INFINITY, 0};
+    for (int i = 0; i < n; ++i)
+        for (int j = i + 1; j < n; ++j)
+            tally_pair(&t, min_image(cell, v3_sub(pos[j], pos[i])), radius[i], radius[j], below);
+    return t;
+}
+
+/* Over the pairs of a built list. */
+static gap_tally listed_pair_gaps(const lub_nlist *nl, const lub_cell *cell, const vec3 *pos,
+                                  const double *radius, double below)
+{
+    gap_tally t = {INFINITY, INFINITY, 0};
+    for (size_t k = 0; k < nl->npairs; ++k) {
+        const int i = nl->pi[k], j = nl->pj[k];
+        tally_pair(&t, v3_sub(v3_add(pos[j], lub_cell_shift(cell, &nl->pc[3 * k])), pos[i]),
+                   radius[i], radius[j], below);
+    }
+    return t;
+}
+
 double lub_packing_min_gap(const lub_cell *cell, const vec3 *pos, const double *radius, int n)
 {
-    double g = INFINITY;
-    for (int i = 0; i < n; ++i)
-        for (int j = i + 1; j < n; ++j) {
-            vec3 d = min_image(cell, v3_sub(pos[j], pos[i]));
-            double u = v3_norm(d) - radius[i] - radius[j];
-            if (u < g)
-                g = u;
-        }
-    return g;
+    return all_pair_gaps(cell, pos, radius, n, 0.0).min_u;
 }
 
 /* One relaxation pass over the candidate pairs; returns the largest relative overlap
@@ -285,14 +317,7 @@ static double final_min_gap(lub_nlist *nl, const lub_cell *cell, const vec3 *pos
         nl->range = range;
         if (lub_nlist_build(nl, cell, pos, radius, n) != LUB_NLIST_OK)
             return lub_packing_min_gap(cell, pos, radius, n);
-        double g = INFINITY;
-        for (size_t k = 0; k < nl->npairs; ++k) {
-            const int i = nl->pi[k], j = nl->pj[k];
-            const vec3 d = v3_sub(v3_add(pos[j], lub_cell_shift(cell, &nl->pc[3 * k])), pos[i]);
-            const double u = v3_norm(d) - radius[i] - radius[j];
-            if (u < g)
-                g = u;
-        }
+        const double g = listed_pair_gaps(nl, cell, pos, radius, 0.0).min_u;
         if (g < range * rmin)
             return g;
     }
@@ -315,31 +340,13 @@ int lub_packing_gap_census(const lub_cell *cell, const vec3 *pos, const double *
             rc = -1;
             break;
         }
-        long long count = 0;
-        double g = INFINITY;
-        if (b != LUB_NLIST_OK) { /* a cell too small for the list: every pair, nearest image */
-            for (int i = 0; i < n; ++i)
-                for (int j = i + 1; j < n; ++j) {
-                    const double u =
-                        v3_norm(min_image(cell, v3_sub(pos[j], pos[i]))) - radius[i] - radius[j];
-                    const double ua = u / (0.5 * (radius[i] + radius[j]));
-                    count += ua < below;
-                    g = fmin(g, ua);
-                }
-        } else {
-            for (size_t k = 0; k < nl.npairs; ++k) {
-                const int i = nl.pi[k], j = nl.pj[k];
-                const vec3 d = v3_sub(v3_add(pos[j], lub_cell_shift(cell, &nl.pc[3 * k])), pos[i]);
-                const double ua =
-                    (v3_norm(d) - radius[i] - radius[j]) / (0.5 * (radius[i] + radius[j]));
-                count += ua < below;
-                g = fmin(g, ua);
-            }
-        }
+        /* a cell too small for the list: every pair, nearest image */
+        const gap_tally t = b != LUB_NLIST_OK ? all_pair_gaps(cell, pos, radius, n, below)
+                                              : listed_pair_gaps(&nl, cell, pos, radius, below);
         if (range == fmax(0.2, 2.0 * below))
-            out->below = count;
-        if (b != LUB_NLIST_OK || g < range) {
-            out->min_gap_a = g;
+            out->below = t.below;
+        if (b != LUB_NLIST_OK || t.min_ua < range) {
+            out->min_gap_a = t.min_ua;
             break;
         }
     }
