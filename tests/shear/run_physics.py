@@ -587,7 +587,8 @@ KNOWN_MISSES = {
     "mu_delaunay_mu1_iv_0.1": 0.30,
     # mu_m = 0 at Iv = 0.1: phi 0.041 (ref) and 0.029 (delaunay) above phi_m(0)/(1 + Iv^0.5);
     # 0.008-0.012 below it at Iv <= 1e-3: the frictionless dilatancy is too weak
-    # (+0.027-0.029 in both at N = 1000; the ref N = 300 cell partly orders in some packing
+    # (+0.027-0.029 in both at N = 1000, delaunay with the set before 2026-12-07; the ref
+    # N = 300 cell partly orders in some packing
     # seeds, tests/shear/README.md)
     "phi_ref_mu0_iv_0.1": 0.055, "phi_delaunay_mu0_iv_0.1": 0.045,
     # delaunay: phi right down to Iv = 0.1, mu 16-22 % high at Iv = 1 and 0.1 and +11.8 % at
@@ -600,8 +601,8 @@ KNOWN_MISSES = {
     # phi = 0.55 = 0.96 phi_m: +64 / +68 % in the table (ref / delaunay, stiffness 8e6, N = 300,
     # standard errors 21 / 12 %; delaunay +80 % with the set before 2026-12-07; +75 / +74 % at
     # 4e6); at 4e6, N = 1000 gives +48 % (ref) and +50 % (delaunay, old set), four 30-strain
-    # N = 300 seeds +53 % and +78 %; the 1e6 runs (+17-30 %) were not rigid
-    # (tests/shear/README.md): phi_m 0.005 below the law's
+    # N = 300 seeds +53 % and +78 % (delaunay: old set); the 1e6 runs (+17-30 %; old set) were
+    # not rigid (tests/shear/README.md): phi_m 0.005 below the law's
     "eta_r_ref_phi_0.55": 1.2, "eta_r_delaunay_phi_0.55": 1.2,
 }
 
