@@ -135,8 +135,9 @@ typedef struct {
  *   the law as `ref`, but the law was fitted with the seed article's set (Delaunay
  *   lubrication, no roll/twist torque; README "Where we disagree" 7). With the defaults
  *   (cut-off 2 a, roll/twist) eta_r(0.45) is 28.0 +- 0.9 against the law's 13.1 (N = 300,
- *   10 strain; 22.2 without roll/twist; the article's set: 14.6) and mu is 17-31 % high: a
- *   user comparing `value` with `ref` should know which set the law speaks for. Fires when the
+ *   10 strain; 22.2 without roll/twist; the article's set: 14.0 in the committed table, 14.6
+ *   with its set before 2026-12-07) and mu is 17-31 % high: a user comparing `value` with
+ *   `ref` should know which set the law speaks for. Fires when the
  *   steady headline (mu, or eta_r) is off by more than the issue's tolerance (10 %, 15 %) or
  *   phi by more than 0.015; the article's set's own misses (eta_r at 0.55, mu at Iv = 1) are
  *   listed in the README and not warned (there is no member to change).
