@@ -397,6 +397,8 @@ static const char *status_of(int rc)
 /* One run, in phases over one state (lub_run_spec at the end orchestrates them). */
 
 #define RUN_PATH_LEN 4200
+/* the checkpoint notes of the parts that ran the run (BUILD_NOTES) */
+enum { BUILD_NOTE_COUNT = 5 };
 
 typedef struct {
     const lub_run_request *req;
@@ -421,44 +423,57 @@ typedef struct {
     char h5_reason[400];
     int renamed;         /* result.h5 took its name */
     int checkpoint_kept; /* a checkpoint.h5 in DIR continues this run */
-    /* the builds that ran parts of the run (run_builds_init): the summary's "builds", and the
-     * notes each checkpoint carries (BUILD_NOTES names, note_texts their texts) */
+    /* the builds and thread counts that ran parts of the run (run_builds_init): the summary's
+     * "builds", and the notes each checkpoint carries (BUILD_NOTES names, note_texts their
+     * texts) */
     json_t *builds;
-    char *earlier_builds; /* JSON: the builds before this one's part */
-    char build_from[24];  /* the step this build's part began at */
-    const char *note_texts[4];
+    char *earlier_builds;  /* JSON: the parts before this one */
+    char build_from[24];   /* the step this part began at */
+    char part_threads[16]; /* the threads of this part */
+    const char *note_texts[BUILD_NOTE_COUNT];
     char build_warning[1024];      /* a continuation by another build: its warning */
     unsigned char made[MKDIR_MAX]; /* the folders of DIR this run created (mkdir_p) */
 } run_state;
 
-/* The checkpoint notes (lub_ckpt_set_notes) that say which builds ran the run: the build that
- * wrote it, the step its part of the run began at, and the builds before it (a JSON array of
- * {"lubdem_version", "git_commit", "from_step"}, oldest first). */
-static const char *const BUILD_NOTES[4] = {"lubdem_version", "git_commit", "build_from_step",
-                                           "earlier_builds"};
+/* The checkpoint notes (lub_ckpt_set_notes) that say which builds, on how many threads, ran
+ * the run: the build that wrote it, the step its part of the run began at, the parts before it
+ * (a JSON array of {"lubdem_version", "git_commit", "threads", "from_step"}, oldest first),
+ * and the threads of its part (since 2026-12-07; a checkpoint without that note is of a part
+ * whose thread count is not known, and its entry has no "threads"). */
+static const char *const BUILD_NOTES[BUILD_NOTE_COUNT] = {
+    "lubdem_version", "git_commit", "build_from_step", "earlier_builds", "threads"};
 
-static json_t *build_entry(const char *version, const char *commit, long long from_step)
+/* One part of the run: threads <= 0 when not known (omitted). */
+static json_t *build_entry(const char *version, const char *commit, int threads,
+                           long long from_step)
 {
-    return json_pack("{s:s, s:s, s:I}", "lubdem_version", version, "git_commit", commit,
-                     "from_step", (json_int_t)from_step);
+    json_t *e = json_pack("{s:s, s:s}", "lubdem_version", version, "git_commit", commit);
+    if (e && threads > 0)
+        json_object_set_new(e, "threads", json_integer(threads));
+    if (e)
+        json_object_set_new(e, "from_step", json_integer((json_int_t)from_step));
+    return e;
 }
 
-/* s->builds and the notes of this run's checkpoints: this build from step 0 for a fresh run;
- * for a continuation, the checkpoint's builds, then this one from the checkpoint's step when
- * it is another build than the one that wrote the checkpoint (with a warning: until 2026-12-07
- * a checkpoint did not say which build wrote it, and a continuation by another build went
- * unnoticed). A checkpoint written before then counts as of an "unknown" build. */
+/* s->builds and the notes of this run's checkpoints: this build and thread count from step 0
+ * for a fresh run; for a continuation, the checkpoint's parts, then this one from the
+ * checkpoint's step when it is another build than the one that wrote the checkpoint (with a
+ * warning: until 2026-12-07 a checkpoint did not say which build wrote it, and a continuation
+ * by another build went unnoticed) or runs on another number of threads (no warning: the run
+ * is then the same to round-off, not bit for bit; until 2026-12-07 only the last part's
+ * threads were reported). A checkpoint written before then counts as of an "unknown" build. */
 static void run_builds_init(run_state *s)
 {
     const char *version = lub_build_version(), *commit = lub_build_git();
+    const int threads = lub_threads_usable(s->req->threads > 0 ? s->req->threads : 1);
     json_t *earlier = json_array();
     long long from = 0;
     s->builds = json_array();
     if (s->resuming) {
         lub_ckpt *c = lub_ckpt_open(s->ckpt_dst, NULL, 0);
-        char *notes[4] = {NULL, NULL, NULL, NULL};
+        char *notes[BUILD_NOTE_COUNT] = {NULL};
         int64_t step = 0;
-        for (int i = 0; i < 4 && c; ++i)
+        for (int i = 0; i < BUILD_NOTE_COUNT && c; ++i)
             notes[i] = lub_ckpt_get_note(c, BUILD_NOTES[i]);
         if (c && lub_ckpt_get_i64_or(c, "step", 0, &step) != 0)
             step = 0;
@@ -469,24 +484,27 @@ static void run_builds_init(run_state *s)
         json_decref(list);
         const char *v = notes[0] ? notes[0] : "unknown", *g = notes[1] ? notes[1] : "unknown";
         const long long v_from = notes[2] ? strtoll(notes[2], NULL, 10) : 0;
-        if (strcmp(v, version) == 0 && strcmp(g, commit) == 0) { /* the same build goes on */
+        const int v_threads = notes[4] ? atoi(notes[4]) : 0; /* 0: not known */
+        const int same_build = strcmp(v, version) == 0 && strcmp(g, commit) == 0;
+        if (same_build && v_threads == threads) { /* the same part goes on */
             json_array_extend(earlier, s->builds);
             from = v_from;
         } else {
-            json_array_append_new(s->builds, build_entry(v, g, v_from));
+            json_array_append_new(s->builds, build_entry(v, g, v_threads, v_from));
             json_array_extend(earlier, s->builds);
             from = (long long)step;
+        }
+        if (!same_build)
             snprintf(s->build_warning, sizeof s->build_warning,
                      "the checkpoint this run continued was written by another build (lubdem "
                      "%.100s, git %.100s) than this one (lubdem %.100s, git %.100s): the run's "
                      "steps before %lld and after come from different builds (summary builds), "
                      "whose results may differ by more than round-off",
                      v, g, version, commit, from);
-        }
-        for (int i = 0; i < 4; ++i)
+        for (int i = 0; i < BUILD_NOTE_COUNT; ++i)
             free(notes[i]);
     }
-    json_array_append_new(s->builds, build_entry(version, commit, from));
+    json_array_append_new(s->builds, build_entry(version, commit, threads, from));
     s->earlier_builds = json_dumps(earlier, JSON_COMPACT);
     json_decref(earlier);
     snprintf(s->build_from, sizeof s->build_from, "%lld", from);
@@ -494,6 +512,8 @@ static void run_builds_init(run_state *s)
     s->note_texts[1] = commit;
     s->note_texts[2] = s->build_from;
     s->note_texts[3] = s->earlier_builds ? s->earlier_builds : "[]";
+    snprintf(s->part_threads, sizeof s->part_threads, "%d", threads);
+    s->note_texts[4] = s->part_threads;
 }
 
 /* The files' paths in DIR. */
@@ -571,7 +591,7 @@ static void run_context_init(run_state *s)
     if (s->scene->resumable && req->checkpoint_every_s > 0.0) {
         lub_periodic_init(&s->periodic, req->checkpoint_every_s, s->h5_tmp, s->copy_tmp,
                           s->copy_dst, s->ckpt_tmp, s->ckpt_dst);
-        s->periodic.notes = 4;
+        s->periodic.notes = BUILD_NOTE_COUNT;
         s->periodic.note_names = BUILD_NOTES;
         s->periodic.note_texts = s->note_texts;
         ctx->periodic = &s->periodic;
@@ -765,7 +785,7 @@ static void run_settle_checkpoint(run_state *s)
     lub_run_ctx *ctx = &s->ctx;
     char notes_why[600] = "";
     if (ctx->checkpoint_written && s->renamed &&
-        lub_ckpt_set_notes(s->ckpt_tmp, 4, BUILD_NOTES, s->note_texts, notes_why,
+        lub_ckpt_set_notes(s->ckpt_tmp, BUILD_NOTE_COUNT, BUILD_NOTES, s->note_texts, notes_why,
                            sizeof notes_why) == 0 &&
         lub_sync_path(s->ckpt_tmp) == 0 && rename(s->ckpt_tmp, s->ckpt_dst) == 0) {
         s->checkpoint_kept = 1;

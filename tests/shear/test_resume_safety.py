@@ -16,7 +16,10 @@ about 30 s). On a small simple_shear run (250 particles, 3 strain):
     to be continued silently); the CRC-32 stored with each dataset is zlib's of its bytes;
  4. provenance: a checkpoint written by another build (its git_commit note edited) is
     continued with a warning naming both builds (summary and stderr), and the summary's builds
-    lists both with the step each began at; the same build adds none;
+    lists both with the step each began at; the same build adds none; the same build on 2
+    threads adds a part of 2 threads (no warning), and a checkpoint without the threads note
+    (written before 2026-12-07) gives its part no threads (until then only the last part's
+    threads were reported);
  5. a leftover .checkpoint-result.h5.tmp (of a kill during a periodic checkpoint) is removed by
     a continuation without --checkpoint-every (it stayed); --checkpoint-every on a scene that
     takes no checkpoints warns on stderr and in the summary (it was ignored without a word).
@@ -237,7 +240,8 @@ with h5py.File(os.path.join(stopped, "checkpoint.h5"), "r") as f:
     stop_step = int(f["step"][0])
 this = summary(stopped)
 check(commit == this["git_commit"] and this.get("builds") == [
-    {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"], "from_step": 0}],
+    {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"], "threads": 1,
+     "from_step": 0}],
       f"4: the checkpoint notes the build that wrote it ({commit}); the summary one build")
 other = copy_of(stopped, "other_build")
 with h5py.File(os.path.join(other, "checkpoint.h5"), "r+") as f:
@@ -249,8 +253,9 @@ check(rc == 0 and warned and "0123abc-other" in err,
       f"4: a checkpoint of another build continued with a warning naming both (exit {rc}; "
       f"{warned[:1]})")
 check(s.get("builds") == [
-    {"lubdem_version": this["lubdem_version"], "git_commit": "0123abc-other", "from_step": 0},
-    {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"],
+    {"lubdem_version": this["lubdem_version"], "git_commit": "0123abc-other", "threads": 1,
+     "from_step": 0},
+    {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"], "threads": 1,
      "from_step": stop_step}], f"4: summary builds lists both ({s.get('builds')})")
 same = copy_of(stopped, "same_build")
 rc, err = run(spec, same, "--resume", "--keep-checkpoint")
@@ -260,7 +265,38 @@ check(rc == 0 and len(s.get("builds", [])) == 1 and "another build" not in err,
 with h5py.File(os.path.join(same, "checkpoint.h5"), "r") as f:
     notes = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
 check(notes.get("git_commit") == this["git_commit"] and notes.get("build_from_step") == "0"
-      and notes.get("earlier_builds") == "[]", f"4: its kept checkpoint's notes ({notes})")
+      and notes.get("earlier_builds") == "[]" and notes.get("threads") == "1",
+      f"4: its kept checkpoint's notes ({notes})")
+# the same build on another thread count: a part of its own, no warning (the summary's threads
+# alone said 2 for a run whose first part ran on 1). Needs 2 usable processors.
+if len(os.sched_getaffinity(0)) >= 2:
+    two = copy_of(stopped, "two_threads")
+    rc, err = run(spec, two, "--resume", "--threads", "2", "--keep-checkpoint")
+    s = summary(two)
+    check(rc == 0 and s.get("threads") == 2 and s.get("builds") == [
+        {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"], "threads": 1,
+         "from_step": 0},
+        {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"], "threads": 2,
+         "from_step": stop_step}] and "another build" not in err,
+          f"4: continued on 2 threads, two parts (exit {rc}; {s.get('builds')})")
+    with h5py.File(os.path.join(two, "checkpoint.h5"), "r") as f:
+        notes = {k: (v.decode() if isinstance(v, bytes) else v) for k, v in f.attrs.items()}
+    check(notes.get("threads") == "2" and notes.get("build_from_step") == str(stop_step)
+          and json.loads(notes.get("earlier_builds", "[]")) == s.get("builds", [])[:1],
+          f"4: its kept checkpoint notes the 2-thread part and the 1-thread one before ({notes})")
+else:
+    print("4: one processor: the 2-thread continuation is skipped")
+# a checkpoint without the threads note: its part's thread count is not known
+unnoted = copy_of(stopped, "no_threads_note")
+with h5py.File(os.path.join(unnoted, "checkpoint.h5"), "r+") as f:
+    del f.attrs["threads"]
+rc, err = run(spec, unnoted, "--resume")
+s = summary(unnoted)
+check(rc == 0 and s.get("builds") == [
+    {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"], "from_step": 0},
+    {"lubdem_version": this["lubdem_version"], "git_commit": this["git_commit"], "threads": 1,
+     "from_step": stop_step}] and "another build" not in err,
+      f"4: a checkpoint without the threads note: its part has no threads ({s.get('builds')})")
 
 # ---- 4b. a checkpoint of a build before a spec member existed ----
 # its saved spec lacks the member (/initial_gap, 2026-12-07); this build resolves that spec
