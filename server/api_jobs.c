@@ -10,6 +10,7 @@
 #include "deletion.h"
 #include "fsutil.h"
 #include "queue.h"
+#include "scene.h"
 #include "sha256.h"
 #include "spec_reader.h"
 #include "status_json.h"
@@ -149,6 +150,23 @@ static enum MHD_Result bad_parameter(lubd_request *r, const char *fmt, const cha
     return lubd_reply_fault(r, &f);
 }
 
+/* processID names no process: a 400 naming the value and the known process ids (a typo is not
+ * "no jobs"; until 2026-12-07 it listed nothing with a 200). */
+static enum MHD_Result unknown_process(lubd_request *r, const char *value)
+{
+    char known[512] = "";
+    size_t used = 0;
+    for (const lub_scene *const *s = lub_scene_list(); *s && used < sizeof known; ++s)
+        used += (size_t)snprintf(known + used, sizeof known - used, "%s%s", used ? ", " : "",
+                                 (*s)->name);
+    char quoted[104];
+    lub_text_one_line(value, quoted, sizeof quoted);
+    lubd_fault f;
+    lubd_fail(&f, 400, LUBD_PT_BASE "invalid-parameter", "Invalid query parameter", NULL,
+              "processID: unknown process \"%s\" (the processes: %s)", quoted, known);
+    return lubd_reply_fault(r, &f);
+}
+
 /* datetime (OGC API - Processes job list): an instant, or an interval start/end whose either
  * end may be open ("" or ".."), matched against the jobs' created times. 0, or -1. */
 static int parse_datetime(const char *v, lubd_list_query *q)
@@ -251,9 +269,15 @@ enum MHD_Result lubd_api_jobs(lubd_request *r)
             return bad_parameter(r, "cursor: \"%s\" is not a cursor from a 'next' link", cur);
         q.before_seq = val;
     }
-    /* processID (or process): repeated and comma-separated, any of them */
+    /* processID (or process): repeated and comma-separated, any of them; each a process */
     list_acc procs = {"processID", "process", json_array()};
     MHD_get_connection_values(r->conn, MHD_GET_ARGUMENT_KIND, collect_list, &procs);
+    json_array_foreach (procs.values, i, v)
+        if (!lub_scene_find(json_string_value(v))) {
+            enum MHD_Result bad = unknown_process(r, json_string_value(v));
+            json_decref(procs.values);
+            return bad;
+        }
     char *proc_json = json_array_size(procs.values) ? json_dumps(procs.values, JSON_COMPACT) : NULL;
     q.process_ids = proc_json;
     lubd_job *jobs = NULL;

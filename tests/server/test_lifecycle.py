@@ -191,7 +191,8 @@ def check_job_list_filters(srv, tok, jobs):
     """GET /jobs's OGC API - Processes job-list parameters, on the user's two finished jobs
     (jobs: {process id: job id}). Until 2026-12-07 only the first processID counted
     (a=..&processID=b listed a's jobs, processID=a,b none), and type, datetime, minDuration
-    and maxDuration were ignored."""
+    and maxDuration were ignored; and until 2026-12-07 an unknown processID (a typo such as
+    simple_sheer) listed no jobs with a 200 instead of a 400."""
     both = sorted(jobs.values())
 
     def listed(query, want_status=200):
@@ -200,12 +201,23 @@ def check_job_list_filters(srv, tok, jobs):
         return sorted(j["jobID"] for j in lst["jobs"]) if st == 200 else lst
 
     for q in ("processID=falling_sphere&processID=two_spheres_shear",
-              "processID=falling_sphere,two_spheres_shear", "processID=two_spheres_shear,nope",
+              "processID=falling_sphere,two_spheres_shear",
               "processID=falling_sphere&process=two_spheres_shear", "type=process",
               "type=process&processID=falling_sphere,two_spheres_shear"):
-        want = both if "nope" not in q else [jobs["two_spheres_shear"]]
-        T.check(listed(q) == want, "%s: %s (want %s)" % (q, listed(q), want))
-    T.check(listed("processID=nope") == [], "processID=nope")
+        T.check(listed(q) == both, "%s: %s (want %s)" % (q, listed(q), both))
+    T.check(listed("processID=simple_shear") == [], "processID=simple_shear (a process, no job)")
+    # a process id that is none (each value of a list, under either name) is a 400 naming the
+    # parameter, the value and the processes there are
+    for q, bad in (("processID=simple_sheer", "simple_sheer"),
+                   ("processID=two_spheres_shear,nope", "nope"),
+                   ("processID=falling_sphere&processID=nope", "nope"),
+                   ("process=nope", "nope"), ("processID[]=nope", "nope")):
+        lst = listed(q, 400)
+        T.check(lst.get("type", "").endswith("invalid-parameter") and
+                lst["detail"].startswith('processID: unknown process "%s"' % bad) and
+                all(p in lst["detail"] for p in ("falling_sphere", "two_spheres_shear",
+                                                 "simple_shear")),
+                "%s: %s" % (q, lst))
     # the next link keeps every filter
     st, _, lst = srv.request("GET", "/jobs?limit=1&processID=falling_sphere,two_spheres_shear"
                              "&type=process&minDuration=0", tok)
