@@ -350,11 +350,14 @@ enum MHD_Result lubd_api_dismiss(lubd_request *r, const char *id)
 {
     lubd_fault f;
     lubd_job j, after;
+    /* j: who may see the job; its state is not used (a worker may change it before the
+     * dismissal: what is done below follows `was`, read in the dismissal's transaction) */
     if (lubd_load_visible_job(r, id, &j, &f, 0) != 0)
         return lubd_reply_fault(r, &f);
     int purge = 0;
+    char was[16] = "";
     sqlite3 *db = lubd_db_acquire_writer(&r->srv->pool);
-    int rc = lubd_queue_dismiss(db, id, &after, &purge);
+    int rc = lubd_queue_dismiss(db, id, &after, was, &purge);
     lubd_db_release_writer(&r->srv->pool, db);
     if (rc == 1) {
         lubd_fail(&f, 410, LUBD_PT_BASE "job-purged", "Job purged", NULL,
@@ -373,11 +376,11 @@ enum MHD_Result lubd_api_dismiss(lubd_request *r, const char *id)
     sqlite3 *rdb = lubd_db_acquire(&r->srv->pool);
     if (purge)
         left = lubd_deletion_free(rdb, r->srv->cfg->jobs_dir, id, why, sizeof why);
-    else if (strcmp(j.state, "accepted") == 0) { /* a running one is tidied by its worker */
+    else if (strcmp(was, "accepted") == 0) { /* a running one is tidied by its worker */
         left = lubd_deletion_tidy_ended(r->srv->cfg->jobs_dir, &after, why, sizeof why) < 0;
-        if (!left && j.continue_from[0])
-            left = lubd_deletion_continuation_ended(rdb, r->srv->cfg->jobs_dir, id, j.continue_from,
-                                                    why, sizeof why);
+        if (!left && after.continue_from[0])
+            left = lubd_deletion_continuation_ended(rdb, r->srv->cfg->jobs_dir, id,
+                                                    after.continue_from, why, sizeof why);
     }
     lubd_db_release(&r->srv->pool, rdb);
     if (left != 0)

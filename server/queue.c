@@ -336,9 +336,11 @@ static int exec_bound(sqlite3 *db, const char *sql, const char *id)
     return 0;
 }
 
-int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_files)
+int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, char *was, int *purge_files)
 {
     *purge_files = 0;
+    if (was)
+        was[0] = '\0';
     if (lubd_db_begin(db) != 0)
         return -1;
     lubd_job j;
@@ -391,6 +393,8 @@ int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_
         *purge_files = 0;
         return -1;
     }
+    if (was)
+        snprintf(was, sizeof j.state, "%s", j.state);
     return 0;
 }
 

@@ -86,8 +86,13 @@ int lubd_queue_list(sqlite3 *db, const lubd_list_query *q, lubd_job **jobs, int 
 /* DELETE /jobs/{id}: accepted -> dismissed; running -> dismissed (the worker holding the lease
  * notices at its next heartbeat and stops the engine); finished -> purged (tombstone).
  * Returns 0 and the job after the change, with *purge_files = 1 when the caller must delete
- * the job directory; 1 if the job is already purged; -1 error. */
-int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, int *purge_files);
+ * the job directory and, in `was` (16 bytes; NULL: not wanted), the state the job was dismissed
+ * from; 1 if the job is already purged; -1 error. The state is read in the transaction that
+ * changes it: what the caller does to the job's files must follow `was`, never a state read
+ * before the call, which a worker may have changed meanwhile (until 2026-12-07 the request
+ * tidied a job it had seen queued as a queued one, removing the files of the engine a worker
+ * had started for it in between). */
+int lubd_queue_dismiss(sqlite3 *db, const char *id, lubd_job *after, char *was, int *purge_files);
 
 /* Requeues running jobs whose lease expired (attempt < max_attempts) and fails the others,
  * each with its job_events row ('requeued' / 'failed'), in one transaction. Returns 0, or -1

@@ -2,7 +2,10 @@
 with an Idempotency-Key; a fifth of them are retried with the same key (sequentially and
 racing from two threads). Expect exactly 500 distinct jobs, every retry mapped to its
 original job, 409 for a key reused with another body, and 429 + Retry-After over the
-per-user cap."""
+per-user cap. Last, a DELETE that races a worker's claim of the job acts on the state the job is
+in when it is dismissed, not on the one the request read first (dismiss_racing_claim)."""
+import os
+import sqlite3
 import threading
 import time
 
@@ -10,6 +13,50 @@ import lubd_testlib as T
 
 CLIENTS = 8
 TOTAL = 500
+
+
+def dismiss_racing_claim(srv, tok):
+    """A DELETE that the request reads queued while a worker claims it and its engine writes
+    into attempt-1/out, before the dismissal's transaction (the test stands in for the worker:
+    it holds the queue's write lock, so that the request reads the job queued and then waits
+    for the lock until the claim is committed). The job is dismissed as the running job it is
+    by then, and the files of its engine are left to its worker, which frees them once it has
+    stopped the engine. Until 2026-12-07 the request acted on the state it had read before the
+    dismissal and removed the files as those of a job taken out of the queue, under the running
+    engine."""
+    st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", tok,
+                             {"inputs": {"duration": 3.0}})
+    T.check(st == 201, "submit for the race: %s %s" % (st, doc))
+    jid = doc["jobID"]
+    out = os.path.join(srv.run, "jobs", jid, "attempt-1", "out")
+    db = sqlite3.connect(os.path.join(srv.run, "queue.db"), timeout=30, isolation_level=None)
+    answer = []
+    try:
+        db.execute("BEGIN IMMEDIATE")
+        now = "((julianday('now') - 2440587.5) * 86400.0)"
+        db.execute("UPDATE jobs SET state = 'running', worker = 'test-worker', lease_token = "
+                   "'0123456789abcdef0123456789abcdef', attempt = attempt + 1, started = %s, "
+                   "lease_until = %s + 600, heartbeat = %s, updated = %s, message = 'running' "
+                   "WHERE id = ?" % (now, now, now, now), (jid,))
+        deleter = threading.Thread(
+            target=lambda: answer.append(srv.request("DELETE", "/jobs/" + jid, tok)))
+        deleter.start()
+        time.sleep(1.5)  # the request has read the job (queued) and waits for the lock
+        T.check(deleter.is_alive(), "the DELETE did not wait for the claim: %s" % answer)
+        os.makedirs(out)
+        with open(os.path.join(out, "result.h5"), "w") as f:
+            f.write("rows the engine is writing\n")
+        db.execute("COMMIT")
+        deleter.join(30)
+    finally:
+        db.close()
+    T.check(answer and answer[0][0] == 200 and answer[0][2]["status"] == "dismissed" and
+            answer[0][2]["message"].startswith("stopped while it ran"),
+            "DELETE racing the claim: %s" % (answer,))
+    T.check(os.path.exists(os.path.join(out, "result.h5")),
+            "the running engine's files were removed by the DELETE that raced its claim: "
+            "%s holds %s" % (os.path.dirname(out), os.listdir(os.path.dirname(out))
+                             if os.path.isdir(os.path.dirname(out)) else "nothing"))
 
 
 def run():
@@ -124,6 +171,7 @@ def run():
         st, _, doc = srv.request("POST", "/processes/falling_sphere/execution", capped,
                                  {"inputs": {}})
         T.check(st == 201, "after dismiss -> %s" % st)
+        dismiss_racing_claim(srv, tokens[1])
         print("submitted=%d clients=%d seconds=%.2f" % (TOTAL, CLIENTS, elapsed))
     finally:
         srv.stop()

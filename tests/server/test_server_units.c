@@ -315,7 +315,7 @@ static void test_queue(const char *dir)
         CHECK(sqlite3_exec(db, "PRAGMA max_page_count = 1073741823", NULL, NULL, NULL) ==
               SQLITE_OK);
         CHECK(lubd_queue_submit(db, &s, id_full, &rep, &f) == 0 && !rep);
-        CHECK(lubd_queue_dismiss(db, id_full, &j, &rep) == 0); /* back to the counts above */
+        CHECK(lubd_queue_dismiss(db, id_full, &j, NULL, &rep) == 0); /* back to the counts above */
     }
     /* Idempotency: same key + same fingerprint -> same job; other fingerprint -> 409. */
     {
@@ -392,11 +392,41 @@ static void test_queue(const char *dir)
         lubd_lease_clear(&ca);
         lubd_lease_clear(&cb);
     }
-    /* Dismissing the running job makes its holder's heartbeat fail. */
+    /* A job read queued and claimed by a worker before it is dismissed: the dismissal says
+     * it dismissed a running job (the state read in its own transaction, what the request acts
+     * on), not the queued one read before it. */
     int purge;
     lubd_job after;
-    CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 0 && !purge &&
-          strcmp(after.state, "dismissed") == 0);
+    char was[16];
+    {
+        lubd_submit s = {u.id, 10, "falling_sphere", "{}", "{}", "fp-race", NULL, 10, 3, NULL};
+        char rid[33];
+        int rep;
+        lubd_fault f;
+        CHECK(lubd_queue_submit(db, &s, rid, &rep, &f) == 0);
+        lubd_job seen;
+        CHECK(lubd_queue_get(db, rid, &seen) == 1 && strcmp(seen.state, "accepted") == 0);
+        lubd_claim cr; /* the jobs queued before it are claimed first */
+        int claimed = 0;
+        for (int k = 0; k < 8 && !claimed; ++k) {
+            CHECK(lubd_lease_claim(db, "racer", 60, &cr) == 1);
+            claimed = strcmp(cr.id, rid) == 0;
+            if (!claimed)
+                lubd_lease_clear(&cr);
+        }
+        CHECK(claimed);
+        CHECK(lubd_queue_dismiss(db, rid, &after, was, &purge) == 0 && !purge &&
+              strcmp(was, "running") == 0 && strcmp(after.state, "dismissed") == 0 &&
+              strncmp(after.message, "stopped while it ran", 20) == 0);
+        /* ... and one that ended in between is deleted as the ended job it is */
+        CHECK(lubd_queue_dismiss(db, rid, &after, was, &purge) == 0 && purge &&
+              strcmp(was, "dismissed") == 0 && after.purged);
+        CHECK(lubd_queue_dismiss(db, rid, &after, was, &purge) == 1 && was[0] == '\0');
+        lubd_lease_clear(&cr);
+    }
+    /* Dismissing the running job makes its holder's heartbeat fail. */
+    CHECK(lubd_queue_dismiss(db, ids[1], &after, was, &purge) == 0 && !purge &&
+          strcmp(was, "running") == 0 && strcmp(after.state, "dismissed") == 0);
     CHECK(lubd_lease_heartbeat(db, &c1, 60, 30, NULL, 0) == 0);
     /* ... and the failure its holder then reports is not recorded, but drops the lease the
      * dismissal kept (it stayed set until 2026-12-06) */
@@ -414,8 +444,8 @@ static void test_queue(const char *dir)
               strcmp((const char *)sqlite3_column_text(st, 3), "cancelled") == 0);
         sqlite3_finalize(st);
     }
-    CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 0 && purge && after.purged);
-    CHECK(lubd_queue_dismiss(db, ids[1], &after, &purge) == 1);
+    CHECK(lubd_queue_dismiss(db, ids[1], &after, NULL, &purge) == 0 && purge && after.purged);
+    CHECK(lubd_queue_dismiss(db, ids[1], &after, NULL, &purge) == 1);
     lubd_lease_clear(&c1);
     lubd_lease_clear(&c2);
     lubd_db_close(db);
@@ -609,7 +639,7 @@ static void test_hand_over(const char *dir)
     CHECK(access(g, F_OK) != 0);
     /* once the source is purged, or for an unknown job, a continuation is refused */
     lubd_job j;
-    CHECK(lubd_queue_dismiss(db, src, &j, &rep) == 0 && rep == 1);
+    CHECK(lubd_queue_dismiss(db, src, &j, NULL, &rep) == 0 && rep == 1);
     s.continue_from = src;
     s.fingerprint = "fp-late";
     memset(&fault, 0, sizeof fault);
@@ -711,8 +741,8 @@ static void test_deletion_sweep(const char *dir)
     put_file("", jobs, "notes/readme.txt");                            /* not a job's folder */
     put_file(jobs, "0123456789abcdef0123456789abcdef", "result/x.h5"); /* no such job */
     lubd_job j;
-    CHECK(lubd_queue_dismiss(db, cut, &j, &rep) == 0 && rep == 1);
-    CHECK(lubd_queue_dismiss(db, nockpt, &j, &rep) == 0 && rep == 1);
+    CHECK(lubd_queue_dismiss(db, cut, &j, NULL, &rep) == 0 && rep == 1);
+    CHECK(lubd_queue_dismiss(db, nockpt, &j, NULL, &rep) == 0 && rep == 1);
     /* nockpt's deletion: the hand-over fails, the folder is kept for q_nockpt */
     char why[1400] = "";
     CHECK(lubd_deletion_free(db, jobs, nockpt, why, sizeof why) == 1 &&
@@ -808,7 +838,7 @@ static void test_deletion_free_serialised(const char *dir)
     snprintf(sql, sizeof sql, "UPDATE jobs SET state = 'successful' WHERE id = '%s'", src);
     CHECK(sqlite3_exec(db, sql, NULL, NULL, NULL) == SQLITE_OK);
     lubd_job j;
-    CHECK(lubd_queue_dismiss(db, src, &j, &rep) == 0 && rep == 1);
+    CHECK(lubd_queue_dismiss(db, src, &j, NULL, &rep) == 0 && rep == 1);
     const struct timespec pause = {0, 300000000L};
     for (int other_frees = 0; other_frees <= 1; ++other_frees) {
         put_file(jobs, src, "result/checkpoint.h5");
