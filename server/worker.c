@@ -1099,10 +1099,14 @@ static int keep_orphan_checkpoint(worker_ctx *w, lubd_claim *c, double claimed_a
     return done;
 }
 
-/* The jobs on their last attempt leased to `worker` (NULL: to any worker) whose engines left
- * checkpoints fail with them (keep_orphan_checkpoint, `cause` in their messages). */
-static int keep_checkpoints_of(const lubd_config *cfg, sqlite3 *db, const char *worker,
-                               const char *cause)
+/* the jobs keep_checkpoints_of reads at a time (it reads the next ones after handling these) */
+#define ORPHAN_BATCH 256
+
+/* The next at most ORPHAN_BATCH jobs on their last attempt leased to `worker` (NULL: to any
+ * worker), in the order of their ids, after the id `after` ("" from the first), into claims and
+ * claimed_at. Returns how many, or -1 on a database error. */
+static int orphan_batch(sqlite3 *db, const char *worker, const char *after, lubd_claim *claims,
+                        double *claimed_at)
 {
     sqlite3_stmt *st;
     if (lubd_db_prepare(db,
@@ -1110,17 +1114,18 @@ static int keep_checkpoints_of(const lubd_config *cfg, sqlite3 *db, const char *
                         "j.max_attempts, (SELECT max(e.at) FROM job_events e WHERE e.job_id = "
                         "j.id AND e.token = j.lease_token AND e.event = 'claimed') FROM jobs j "
                         "WHERE j.state = 'running' AND j.attempt >= j.max_attempts AND "
-                        "j.lease_token IS NOT NULL AND (?1 IS NULL OR j.worker = ?1)",
+                        "j.lease_token IS NOT NULL AND (?1 IS NULL OR j.worker = ?1) AND "
+                        "j.id > ?2 ORDER BY j.id LIMIT ?3",
                         &st) != 0)
         return -1;
     if (worker)
         sqlite3_bind_text(st, 1, worker, -1, SQLITE_TRANSIENT);
-    enum { MAX_ORPHANS = 256 };
-    lubd_claim *claims = calloc(MAX_ORPHANS, sizeof *claims);
-    double *claimed_at = calloc(MAX_ORPHANS, sizeof *claimed_at);
+    sqlite3_bind_text(st, 2, after, -1, SQLITE_TRANSIENT);
+    sqlite3_bind_int(st, 3, ORPHAN_BATCH);
     int n = 0, rc;
-    while (claims && claimed_at && n < MAX_ORPHANS && (rc = sqlite3_step(st)) == SQLITE_ROW) {
+    while ((rc = sqlite3_step(st)) == SQLITE_ROW) {
         lubd_claim *c = &claims[n];
+        memset(c, 0, sizeof *c);
         snprintf(c->id, sizeof c->id, "%s", (const char *)sqlite3_column_text(st, 0));
         snprintf(c->token, sizeof c->token, "%s", (const char *)sqlite3_column_text(st, 1));
         snprintf(c->worker, sizeof c->worker, "%s", (const char *)sqlite3_column_text(st, 2));
@@ -1130,19 +1135,40 @@ static int keep_checkpoints_of(const lubd_config *cfg, sqlite3 *db, const char *
                               ? 0.0 /* no claim recorded: nothing counts as earlier */
                               : sqlite3_column_double(st, 5);
     }
-    sqlite3_finalize(st);
-    int kept = 0;
-    worker_ctx w = {cfg, db, "lubdemd", &worker_stop_flag};
-    for (int i = 0; i < n; ++i) {
-        const int done = keep_orphan_checkpoint(&w, &claims[i], claimed_at[i], cause);
-        if (done < 0)
-            fprintf(stderr, "lubdemd: job %s: cannot keep the checkpoint its engine left\n",
-                    claims[i].id);
-        kept += done > 0;
+    if (rc != SQLITE_DONE) {
+        fprintf(stderr, "lubdemd: sqlite: %s\n", sqlite3_errmsg(db));
+        n = -1;
     }
+    sqlite3_finalize(st);
+    return n;
+}
+
+/* The jobs on their last attempt leased to `worker` (NULL: to any worker) whose engines left
+ * checkpoints fail with them (keep_orphan_checkpoint, `cause` in their messages): every one of
+ * them, read in batches of ORPHAN_BATCH (until 2026-12-07 the first 256 only; those beyond
+ * were failed by the reaper without their checkpoints). */
+static int keep_checkpoints_of(const lubd_config *cfg, sqlite3 *db, const char *worker,
+                               const char *cause)
+{
+    lubd_claim *claims = calloc(ORPHAN_BATCH, sizeof *claims);
+    double *claimed_at = calloc(ORPHAN_BATCH, sizeof *claimed_at);
+    int kept = 0, n = 0;
+    char after[33] = ""; /* the ids are read in order: the next batch follows the last one */
+    worker_ctx w = {cfg, db, "lubdemd", &worker_stop_flag};
+    while (claims && claimed_at && (n = orphan_batch(db, worker, after, claims, claimed_at)) > 0) {
+        for (int i = 0; i < n; ++i) {
+            const int done = keep_orphan_checkpoint(&w, &claims[i], claimed_at[i], cause);
+            if (done < 0)
+                fprintf(stderr, "lubdemd: job %s: cannot keep the checkpoint its engine left\n",
+                        claims[i].id);
+            kept += done > 0;
+        }
+        snprintf(after, sizeof after, "%s", claims[n - 1].id);
+    }
+    const int failed = !claims || !claimed_at || n < 0;
     free(claims);
     free(claimed_at);
-    return kept;
+    return failed ? -1 : kept;
 }
 
 int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db)

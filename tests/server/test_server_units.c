@@ -33,6 +33,7 @@
 #include "sha256.h"
 #include "status_json.h"
 #include "tokens.h"
+#include "worker.h"
 
 static int failures = 0;
 #define CHECK(c)                                                                                   \
@@ -872,6 +873,57 @@ static void test_deletion_free_serialised(const char *dir)
 }
 
 /* draft-07 text in, the expected OpenAPI 3.0 text out (NULL: an error naming `why`) */
+/* More than 256 jobs left running on their last attempt by a service that died, each with
+ * the checkpoint its engine left in attempt-1/out: at the next start every one of them fails
+ * with its checkpoint kept as its files (until 2026-12-07 the first 256 only: the others were
+ * failed by the reaper, their checkpoints left behind). */
+static void test_many_orphans(const char *dir)
+{
+    enum { N_ORPHANS = 300 };
+    char path[1024], jobs[1024];
+    lubd_user u;
+    sqlite3 *db = scratch_queue(dir, "orphans", path, jobs, &u);
+    if (!db)
+        return;
+    lubd_config cfg;
+    lubd_config_defaults(&cfg, "lubdemd");
+    snprintf(cfg.jobs_dir, sizeof cfg.jobs_dir, "%s", jobs);
+    snprintf(cfg.db_path, sizeof cfg.db_path, "%s", path);
+    cfg.lease_s = 60;
+    for (int k = 0; k < N_ORPHANS; ++k) {
+        char fp[32], id[33];
+        snprintf(fp, sizeof fp, "fp-orphan-%d", k);
+        lubd_submit s = {u.id, N_ORPHANS, "simple_shear", "{}", "{}", fp, NULL, 0, 1, NULL};
+        int rep;
+        lubd_fault f;
+        CHECK(lubd_queue_submit(db, &s, id, &rep, &f) == 0);
+    }
+    for (int k = 0; k < N_ORPHANS; ++k) {
+        lubd_claim c;
+        CHECK(lubd_lease_claim(db, "w0-pid1", 60, &c) == 1 && c.attempt == 1 &&
+              c.max_attempts == 1);
+        char rel[64];
+        snprintf(rel, sizeof rel, "attempt-%d/out/checkpoint.h5", c.attempt);
+        put_file(jobs, c.id, rel);
+        lubd_lease_clear(&c);
+    }
+    CHECK(lubd_worker_keep_orphan_checkpoints(&cfg, db) == N_ORPHANS);
+    sqlite3_stmt *st;
+    CHECK(lubd_db_prepare(db,
+                          "SELECT count(*), sum(state = 'failed' AND failure_kind = 'system' AND "
+                          "EXISTS (SELECT 1 FROM results r WHERE r.job_id = jobs.id AND "
+                          "r.name = 'checkpoint.h5')) FROM jobs",
+                          &st) == 0);
+    CHECK(sqlite3_step(st) == SQLITE_ROW && sqlite3_column_int(st, 0) == N_ORPHANS &&
+          sqlite3_column_int(st, 1) == N_ORPHANS);
+    sqlite3_finalize(st);
+    int rq = -1, fl = -1; /* the reaper that follows at the start finds none left */
+    CHECK(lubd_queue_reap_orphans(db, &rq, &fl) == 0 && rq == 0 && fl == 0);
+    lubd_db_close(db);
+    lubd_rm_rf(jobs);
+    unlink(path);
+}
+
 static void oas_case(const char *in, const char *want, const char *why)
 {
     json_t *draft = json_loads(in, JSON_DECODE_ANY, NULL), *before = json_deep_copy(draft);
@@ -1010,6 +1062,7 @@ int main(int argc, char **argv)
     test_deletion_sweep(argc > 1 ? argv[1] : ".");
     test_deletion_free_serialised(argc > 1 ? argv[1] : ".");
     test_results_step_error(argc > 1 ? argv[1] : ".");
+    test_many_orphans(argc > 1 ? argv[1] : ".");
     if (failures)
         fprintf(stderr, "%d check(s) failed\n", failures);
     else
