@@ -347,3 +347,19 @@ int lubd_lease_drop(sqlite3 *db, const lubd_claim *c)
                        "NULL WHERE id = ?1 AND lease_token = ?2 AND state <> 'running'");
     return n < 0 ? -1 : 0;
 }
+
+int lubd_lease_extend_last_attempts(sqlite3 *db, const char *worker, int lease_s)
+{
+    sqlite3_stmt *st;
+    if (lubd_db_prepare(db,
+                        "UPDATE jobs SET lease_until = max(lease_until, " LUBD_SQL_NOW
+                        " + ?2) WHERE worker = ?1 AND state = 'running' AND lease_token IS NOT "
+                        "NULL AND attempt >= max_attempts",
+                        &st) != 0)
+        return -1;
+    sqlite3_bind_text(st, 1, worker, -1, SQLITE_STATIC);
+    sqlite3_bind_int(st, 2, lease_s);
+    const int rc = sqlite3_step(st);
+    sqlite3_finalize(st);
+    return rc == SQLITE_DONE ? sqlite3_changes(db) : sql_err(db);
+}

@@ -65,5 +65,10 @@ int lubd_lease_requeue(sqlite3 *db, const lubd_claim *c, const char *message);
 int lubd_lease_release(sqlite3 *db, const lubd_claim *c);
 /* After a dismissal: drops the lease fields if the job still carries our token. */
 int lubd_lease_drop(sqlite3 *db, const lubd_claim *c);
+/* After the worker process `worker` died (its name as the jobs' worker column holds it): extends
+ * the leases of its jobs on their last attempt to lease_s from now (never shortens one), so that
+ * the reaper leaves them to the process that keeps their checkpoints until it heartbeats them
+ * (lubd_worker_keep_main). A single UPDATE. Returns how many jobs, or -1 on an error. */
+int lubd_lease_extend_last_attempts(sqlite3 *db, const char *worker, int lease_s);
 
 #endif

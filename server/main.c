@@ -1,4 +1,5 @@
-/* main.c — `lubdemd`: the service, its admin commands and the internal worker entry. */
+/* main.c — `lubdemd`: the service, its admin commands and the internal worker entries (`worker`,
+ * `keep-checkpoints`). */
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
@@ -268,6 +269,13 @@ int main(int argc, char **argv)
         if (lubd_config_parse(&cfg, argc, argv, first) != 0)
             return 2;
         return lubd_worker_main(&cfg, name);
+    }
+    /* internal: keeps the checkpoints of a dead worker's jobs (supervisor.c) */
+    if (argc > 5 && strcmp(argv[1], "keep-checkpoints") == 0 && strcmp(argv[2], "--worker") == 0 &&
+        strcmp(argv[4], "--how") == 0) {
+        if (lubd_config_parse(&cfg, argc, argv, 6) != 0)
+            return 2;
+        return lubd_worker_keep_main(&cfg, argv[3], argv[5]);
     }
     if (argc > 1 && (strcmp(argv[1], "token") == 0 || strcmp(argv[1], "user") == 0))
         return cmd_token(&cfg, argc, argv);

@@ -1185,6 +1185,27 @@ int lubd_worker_keep_dead_worker_checkpoints(const lubd_config *cfg, sqlite3 *db
     return keep_checkpoints_of(cfg, db, worker, cause);
 }
 
+int lubd_worker_keep_main(const lubd_config *cfg, const char *worker, const char *how)
+{
+    prctl(PR_SET_PDEATHSIG, SIGKILL); /* the service died: its next start takes the jobs up */
+    if (getppid() == 1)
+        return 1;
+    signal(SIGPIPE, SIG_IGN);
+    sqlite3 *db = lubd_db_open(cfg->db_path, 0);
+    if (!db)
+        return 1;
+    const int kept = lubd_worker_keep_dead_worker_checkpoints(cfg, db, worker, how);
+    lubd_db_close(db);
+    if (kept < 0)
+        fprintf(stderr, "lubdemd: cannot keep the checkpoints of the jobs of worker %s\n", worker);
+    else if (kept > 0 && !cfg->quiet)
+        fprintf(stderr,
+                "lubdemd: %d job(s) of worker %s on their last attempt failed with the "
+                "checkpoint their engine left\n",
+                kept, worker);
+    return kept < 0;
+}
+
 int lubd_worker_main(const lubd_config *cfg, const char *name)
 {
     prctl(PR_SET_PDEATHSIG, SIGKILL); /* the service died: so do we (and our engine) */

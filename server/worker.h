@@ -32,4 +32,14 @@ int lubd_worker_keep_orphan_checkpoints(const lubd_config *cfg, sqlite3 *db);
 int lubd_worker_keep_dead_worker_checkpoints(const lubd_config *cfg, sqlite3 *db,
                                              const char *worker, const char *how);
 
+/* `lubdemd keep-checkpoints --worker NAME --how HOW <worker options>` (internal): the process
+ * the supervisor starts when a worker process died holding jobs on their last attempt, so that
+ * it does not itself wait while their files are checksummed (supervisor.h). Opens its own
+ * connection to cfg->db_path, runs lubd_worker_keep_dead_worker_checkpoints for NAME (which
+ * heartbeats each lease while it checksums, and records the files' sha256 in the transaction
+ * that fails the job: a job's files are listed only once checksummed), prints how many jobs
+ * failed with their checkpoint unless cfg->quiet, and dies with the service
+ * (PR_SET_PDEATHSIG). Returns the exit code: 0, or 1 when the database cannot be used. */
+int lubd_worker_keep_main(const lubd_config *cfg, const char *worker, const char *how);
+
 #endif

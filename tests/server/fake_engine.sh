@@ -23,6 +23,8 @@
 #         run with --resume it crashes (SIGSEGV) without a word
 #   25 -> writes a periodic checkpoint (checkpoint.h5, checkpoint-result.h5) and a temporary
 #         .result.h5.tmp, then runs until it is stopped (a service killed meanwhile)
+#   28 -> as 25, but its checkpoint-result.h5 is of 1200 MiB (sparse: cheap to write, as slow
+#         to checksum as any, 7 s here)
 #   24 -> as 23, but writes a result.h5 too, and on SIGTERM a summary.json (status
 #         "interrupted", its diagnostic saying --resume continues the run) as lubdem does;
 #         run with --resume it crashes (SIGSEGV) without a word
@@ -105,6 +107,11 @@ case $(tr -d ' \n' < "$spec") in
     printf 'state of the fake engine\n' > "$out/checkpoint.h5"
     printf 'rows up to the checkpoint\n' > "$out/checkpoint-result.h5"
     printf 'half-written\n' > "$out/.result.h5.tmp"
+    echo "fake engine: checkpoint written"
+    while :; do sleep 0.1; done ;;
+  *'"duration":28'[,}]*)
+    printf 'state of the fake engine\n' > "$out/checkpoint.h5"
+    truncate -s 1200M "$out/checkpoint-result.h5"
     echo "fake engine: checkpoint written"
     while :; do sleep 0.1; done ;;
   *'"duration":9'[,}]*)

@@ -28,7 +28,8 @@ stop and crashes silently is not given its first run's last error line
 (silent_crash_after_restart), nor served its first run's summary (stale_summary_after_restart);
 a job whose service was killed on its last attempt keeps its engine's checkpoint
 (service_killed_on_last_attempt), and so does one whose worker process was killed
-(worker_killed_on_last_attempt)."""
+(worker_killed_on_last_attempt), also a large one, whose checksumming does not hold up the
+service meanwhile (worker_killed_with_large_checkpoint)."""
 import hashlib
 import os
 import resource
@@ -147,6 +148,7 @@ def run():
     stale_summary_after_restart(a)
     service_killed_on_last_attempt(a)
     worker_killed_on_last_attempt(a)
+    worker_killed_with_large_checkpoint(a)
     unkeepable_checkpoint(a)
 
 
@@ -196,6 +198,58 @@ def worker_killed_on_last_attempt(a):
         quick = submit(srv, tok, 22)  # the restarted worker takes the next job
         final = T.wait_final(srv, tok, quick, timeout=30)
         T.check(final["status"] == "successful", "job after the worker's restart: %s" % final)
+    finally:
+        srv.stop()
+
+
+def worker_killed_with_large_checkpoint(a):
+    """As worker_killed_on_last_attempt, but the engine's periodic checkpoint comes with a
+    1200 MiB checkpoint-result.h5 (sparse), seconds to checksum: the job fails with both files
+    kept and listed with their sha256, and meanwhile the service goes on: the dead worker is
+    restarted at once and runs the next job, which ends before the killed job's files are
+    recorded. Until 2026-12-07 the supervisor checksummed them in its own loop, restarting no
+    worker (and reaping no lease) until it was done, so the next job ended after them."""
+    srv = T.Server(a, "engine_failures_worker_killed_large", workers=1,
+                   extra=["--lease-s", "60", "--max-attempts", "1"]).fresh()
+    tok = srv.token("ines")
+    srv.start()
+    big = 1200 << 20
+    try:
+        job = submit(srv, tok, 28)
+        wait_running(srv, tok, job)
+        log = wait_log(srv, tok, job, b"checkpoint written", 10)
+        T.check(b"checkpoint written" in log, "the engine's log: %s" % log)
+        with sqlite3.connect(os.path.join(srv.run, "queue.db")) as db:
+            worker = db.execute("SELECT worker FROM jobs WHERE id = ?", (job,)).fetchone()[0]
+        os.kill(int(worker.split("-pid")[1]), signal.SIGKILL)
+        quick = submit(srv, tok, 22)  # for the restarted worker
+        done = T.wait_final(srv, tok, quick, timeout=60)
+        final = T.wait_final(srv, tok, job, timeout=120)
+        T.check(done["status"] == "successful", "job after the worker's restart: %s" % done)
+        T.check(final["status"] == "failed" and
+                final["message"].startswith("failed: its worker process died (signal 9) during "
+                                            "attempt 1, the last of 1; the checkpoint"),
+                "job of the killed worker: %s" % final)
+        with sqlite3.connect(os.path.join(srv.run, "queue.db")) as db:
+            (quick_end,), (job_end,) = (db.execute("SELECT finished FROM jobs WHERE id = ?",
+                                                   (j,)).fetchone() for j in (quick, job))
+        T.check(quick_end < job_end,
+                "the next job ended %.2f s after the killed job's files were recorded: the "
+                "service waited for their checksums before restarting the worker"
+                % (quick_end - job_end))
+        st, _, res = srv.request("GET", "/jobs/%s/results" % job, tok)
+        outs = res.get("outputs") or {}
+        zeros, left = hashlib.sha256(), big
+        block = bytes(1 << 20)
+        while left:
+            zeros.update(block)
+            left -= len(block)
+        T.check(st == 500 and sorted(outs) == ["checkpoint-result.h5", "checkpoint.h5"] and
+                outs["checkpoint-result.h5"]["size"] == big and
+                outs["checkpoint-result.h5"]["sha256"] == zeros.hexdigest() and
+                outs["checkpoint.h5"]["sha256"] ==
+                hashlib.sha256(b"state of the fake engine\n").hexdigest(),
+                "results of the job of the killed worker: %s %s" % (st, res))
     finally:
         srv.stop()
 
