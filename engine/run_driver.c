@@ -365,7 +365,7 @@ static void other_scene_refusal(const char *ckpt_path, const lub_scene *scene, c
     if (name)
         snprintf(saved_scene, sizeof saved_scene, "\"%s\" in the stopped run's spec", name);
     else
-        snprintf(saved_scene, sizeof saved_scene, "a checkpoint whose spec cannot be read (%s)",
+        snprintf(saved_scene, sizeof saved_scene, "a checkpoint whose spec cannot be read (%.100s)",
                  c ? (text ? "invalid JSON" : lub_ckpt_error(c)) : err);
     json_decref(saved);
     free(text);
@@ -809,10 +809,10 @@ static void run_settle_checkpoint(run_state *s)
     const char *then = s->checkpoint_kept ? "--resume continues from the last one kept"
                                           : "--resume will start this run afresh";
     if (ctx->checkpoint_written)
-        snprintf(text, sizeof text, "no checkpoint was kept (%s): %s", reason, then);
+        snprintf(text, sizeof text, "no checkpoint was kept (%.400s): %s", reason, then);
     else if (ctx->checkpoint_failure[0])
-        snprintf(text, sizeof text, "no checkpoint was written (%s): %s", ctx->checkpoint_failure,
-                 then);
+        snprintf(text, sizeof text, "no checkpoint was written (%.400s): %s",
+                 ctx->checkpoint_failure, then);
     unlink(s->ckpt_tmp);
     if (text[0])
         append_warning(ctx, text);
