@@ -102,31 +102,74 @@ static double sinc(double x)
     return sin(x) / x;
 }
 
+/* The forced response of the linear system to a unit g_xy source from g = 0 (s = +1):
+ *   *ic = int_0^gamma e^{-delta1 t} cos(w t) dt,  *is = int_0^gamma e^{-delta1 t} sin(w t)/w dt,
+ * w = sqrt(1 - a^2) (so that g_xy = ic, g_xx = (1 + a) is, g_yy = -(1 - a) is). Both are computed
+ * without cancellation for every delta1 > 0, w in [0, 1), gamma > 0: by the power series of
+ * (1 - e^{-z gamma})/z, z = delta1 - i w, when |z| gamma <= 1, and otherwise by the closed form
+ * with 1 - e^{-x} cos y written as -expm1(-x) cos y + 2 sin^2(y/2). (Until 2026-12-07 the solution
+ * was the steady state plus a decaying deviation, which at a = 1 subtracts numbers of size
+ * 2/delta1^2 to get an O(gamma^2) g_xx: at delta1 = 1e-8 g_xx came out 0 instead of 0.25.) */
+static void forced(const lub_texture_params *p, double gamma, double *ic, double *is)
+{
+    const double w = sqrt((1.0 - p->a) * (1.0 + p->a)), x = p->delta1 * gamma, y = w * gamma;
+    if (hypot(x, y) <= 1.0) {
+        /* (-x + i y)^k = C_k + i y S_k; ic = gamma sum C_k/(k+1)!, is = gamma^2 sum S_k/(k+1)! */
+        double C = 1.0, S = 0.0, f = 1.0, sc = 0.0, ss = 0.0;
+        for (int k = 0; k < 24; ++k) {
+            f /= (double)(k + 1);
+            sc += C * f;
+            ss += S * f;
+            const double Cn = -x * C - y * y * S;
+            S = C - x * S;
+            C = Cn;
+        }
+        *ic = gamma * sc;
+        *is = gamma * gamma * ss;
+        return;
+    }
+    double r, q;
+    inv_delta(p, &r, &q); /* r = delta1/(w^2 + delta1^2), q = 1/(w^2 + delta1^2) */
+    const double E = exp(-x), h = sin(0.5 * y);
+    const double N = -expm1(-x) * cos(y) + 2.0 * h * h; /* 1 - E cos y */
+    *ic = r * N + (E > 0.0 ? q * w * E * sin(y) : 0.0);
+    *is = q * (N - (E > 0.0 ? x * E * sinc(y) : 0.0));
+}
+
+lub_texture_state lub_texture_free(const lub_texture_params *p, int s, lub_texture_state d0,
+                                   double dgamma)
+{
+    if (!(dgamma > 0.0))
+        return d0;
+    const double a = p->a, sg = s >= 0 ? 1.0 : -1.0, e = exp(-p->delta1 * dgamma);
+    lub_texture_state d = {0.0, 0.0, 0.0};
+    if (e == 0.0)
+        return d;
+    /* mirror map (xx, yy, xy) -> (xx, yy, -xy) turns s = -1 into s = +1 */
+    const double X0 = d0.xx, Y0 = d0.yy, Z0 = sg * d0.xy;
+    const double w = sqrt((1.0 - a) * (1.0 + a)), u = w * dgamma;
+    const double Bw = -0.5 * (1.0 - a) * X0 + 0.5 * (1.0 + a) * Y0;
+    const double sc = sinc(u), sh = sinc(0.5 * u);
+    /* S = Z0 sin(u)/w + Bw (1 - cos u)/w^2, written with sinc so that w -> 0 is exact */
+    const double S = Z0 * dgamma * sc + Bw * 0.5 * dgamma * dgamma * sh * sh;
+    const double Zh = Z0 * cos(u) + Bw * dgamma * sc;
+    d.xx = e * (X0 + (1.0 + a) * S);
+    d.yy = e * (Y0 - (1.0 - a) * S);
+    d.xy = sg * e * Zh;
+    return d;
+}
+
 lub_texture_state lub_texture_advance(const lub_texture_params *p, int s, lub_texture_state g0,
                                       double dgamma)
 {
     if (!(dgamma > 0.0))
         return g0;
     const double a = p->a, sg = s >= 0 ? 1.0 : -1.0;
-    /* mirror map (xx, yy, xy) -> (xx, yy, -xy) turns s = -1 into s = +1 */
-    lub_texture_state bar = lub_texture_steady_state(p, +1);
-    double X0 = g0.xx - bar.xx, Y0 = g0.yy - bar.yy, Z0 = sg * g0.xy - bar.xy;
-    double e = exp(-p->delta1 * dgamma);
-    if (e == 0.0) {
-        bar.xy *= sg;
-        return bar;
-    }
-    double w = sqrt((1.0 - a) * (1.0 + a));
-    double u = w * dgamma;
-    double Bw = -0.5 * (1.0 - a) * X0 + 0.5 * (1.0 + a) * Y0;
-    double sc = sinc(u), sh = sinc(0.5 * u);
-    /* S = Z0 sin(u)/w + Bw (1 - cos u)/w^2, written with sinc so that w -> 0 is exact */
-    double S = Z0 * dgamma * sc + Bw * 0.5 * dgamma * dgamma * sh * sh;
-    double Zh = Z0 * cos(u) + Bw * dgamma * sc;
-    lub_texture_state g;
-    g.xx = bar.xx + e * (X0 + (1.0 + a) * S);
-    g.yy = bar.yy + e * (Y0 - (1.0 - a) * S);
-    g.xy = sg * (bar.xy + e * Zh);
+    /* the free decay of g0 plus the forced response from 0, each without cancellation */
+    double ic, is;
+    forced(p, dgamma, &ic, &is);
+    lub_texture_state f = lub_texture_free(p, s, g0, dgamma);
+    lub_texture_state g = {f.xx + (1.0 + a) * is, f.yy - (1.0 - a) * is, f.xy + sg * ic};
     return g;
 }
 

@@ -77,9 +77,19 @@ lub_texture_state lub_texture_rhs(const lub_texture_params *p, int s, lub_textur
 
 /* Exact state after a strain increment dgamma >= 0 at constant sign s, from g0 (closed form of
  * the linear system: eigenvalues -delta1 and -delta1 +- i sqrt(1-a^2); the a -> 1 limit is the
- * chapter-3 Jordan-block solution, evaluated without cancellation). */
+ * chapter-3 Jordan-block solution). Evaluated as the free decay of g0 (lub_texture_free) plus the
+ * response from 0, the latter by a power series when sqrt(delta1^2 + 1 - a^2) dgamma <= 1 and by
+ * expm1-type closed forms otherwise: no cancellation for any delta1 > 0 and a in ]0,1] (until
+ * 2026-12-07 it was steady state + decaying deviation, which lost every digit of the O(gamma^2)
+ * g_xx at a = 1, delta1 = 1e-8, where the steady g_xx is 2e16). */
 lub_texture_state lub_texture_advance(const lub_texture_params *p, int s, lub_texture_state g0,
                                       double dgamma);
+
+/* The homogeneous part of the same system (the source 1 of d g_xy/d gamma removed): the
+ * evolution of the difference d0 between two solutions over dgamma >= 0 at sign s. Linear in
+ * d0; 0 once e^{-delta1 dgamma} underflows. */
+lub_texture_state lub_texture_free(const lub_texture_params *p, int s, lub_texture_state d0,
+                                   double dgamma);
 
 /* Stresses per |gd| in state g when shearing with sign s (4.5); for a pause report with the
  * sign of the last motion (the values the stress jumps back to on restart). */

@@ -384,6 +384,83 @@ static void section_robust(void)
                1e-12);
 }
 
+/* Taylor series of the linear system g' = rhs(g) about g0 (80 terms): an evaluation of the exact
+ * solution that shares nothing with lub_texture_advance but the right-hand side */
+static lub_texture_state taylor(const lub_texture_params *p, lub_texture_state g0, double gamma)
+{
+    const lub_texture_state z = {0, 0, 0}, f = lub_texture_rhs(p, +1, z);
+    lub_texture_state d = lub_texture_rhs(p, +1, g0), g = g0;
+    double c = 1.0;
+    for (int k = 1; k < 80; ++k) {
+        c *= gamma / k;
+        g.xx += c * d.xx;
+        g.yy += c * d.yy;
+        g.xy += c * d.xy;
+        lub_texture_state n = lub_texture_rhs(p, +1, d);
+        d = (lub_texture_state){n.xx - f.xx, n.yy - f.yy, n.xy - f.xy};
+    }
+    return g;
+}
+
+/* componentwise relative error (norm-wise: relative to the largest component of b) */
+static double rel_err(lub_texture_state a, lub_texture_state b, int normwise)
+{
+    const double x[3][2] = {{a.xx, b.xx}, {a.yy, b.yy}, {a.xy, b.xy}};
+    const double n = fmax(fabs(b.xx), fmax(fabs(b.yy), fabs(b.xy)));
+    double e = 0.0;
+    for (int i = 0; i < 3; ++i)
+        if (x[i][1] != 0.0 || x[i][0] != 0.0)
+            e = fmax(e, fabs(x[i][0] - x[i][1]) / (normwise ? n : fabs(x[i][1])));
+    return e;
+}
+
+static void section_small_delta(void)
+{
+    /* M3 start-up from rest with alpha -> 0 against (3.14) at gamma_e(0) = 0, [L1707]:
+     * g_xy = (1 - e^{-x})/alpha, g_xx = 2 (1 - e^{-x} - x e^{-x})/alpha^2, x = alpha gamma, the
+     * bracket summed as its series sum_{m>=2} (-1)^m (m-1) x^m/m!. Until 2026-12-07 the advance
+     * was steady state (g_xx = 2/alpha^2) plus a decaying deviation: relative error 7e-8 at
+     * alpha = 1e-4, g_xx = 0 instead of 0.25 at alpha = 1e-8, gamma = 0.5 */
+    const double alphas[3] = {1e-8, 1e-4, 1e-2};
+    char name[96];
+    for (int j = 0; j < 3; ++j) {
+        const double al = alphas[j];
+        lub_texture_params p = lub_texture_m3(al, 1.0, 1.0, 1.0);
+        double worst = 0.0;
+        for (int i = 1; i <= 10; ++i) {
+            const double gm = 0.5 * i, x = al * gm;
+            double br = 0.0, t = 1.0;
+            for (int m = 1; m < 30; ++m) {
+                t *= -x / m; /* (-x)^m/m! */
+                br += (m - 1) * t;
+            }
+            lub_texture_state ref = {2.0 * br / (al * al), 0.0, -expm1(-x) / al};
+            lub_texture_state g = lub_texture_advance(&p, +1, (lub_texture_state){0, 0, 0}, gm);
+            worst = fmax(worst, rel_err(g, ref, 0));
+            if (i == 1 && j == 0)
+                check_near("small_delta.alpha1e-8.gxx_at_0.5", g.xx, 0.25 * (1.0 - 2.0 * x / 3.0),
+                           1e-10 * 0.25);
+        }
+        snprintf(name, sizeof name, "small_delta.alpha%.0e.startup_rel_err_vs_3.14", al);
+        check_near(name, worst, 0.0, 1e-12);
+    }
+    /* every a, rest and reversal (from the steady state of the other sign), against the Taylor
+     * series of the same linear system (error relative to the largest component: after a
+     * reversal at a < 1 g_xy is 1e-8 next to g_xx = 2 and carries the latter's rounding) */
+    const double as[4] = {1.0, 0.999999, 0.99, 0.5}, ds[3] = {1e-8, 1e-4, 0.3};
+    double worst = 0.0;
+    for (int i = 0; i < 4; ++i)
+        for (int j = 0; j < 3; ++j) {
+            lub_texture_params p = {.a = as[i], .delta1 = ds[j], .eta = 1, .eta_e = 1};
+            lub_texture_state starts[2] = {{0, 0, 0}, lub_texture_steady_state(&p, -1)};
+            for (int k = 0; k < 2; ++k)
+                for (double gm = 0.25; gm <= 3.0; gm += 0.25)
+                    worst = fmax(worst, rel_err(lub_texture_advance(&p, +1, starts[k], gm),
+                                                taylor(&p, starts[k], gm), 1));
+        }
+    check_near("small_delta.all_a_vs_taylor_rel_err", worst, 0.0, 1e-10);
+}
+
 int main(void)
 {
     section_A();
@@ -393,5 +470,6 @@ int main(void)
     section_D4_B4_F();
     section_P();
     section_robust();
+    section_small_delta();
     return check_report();
 }
