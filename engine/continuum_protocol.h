@@ -6,15 +6,19 @@
  * sign change (event location is exact). Imposed rate: t = gamma/|gd|. Imposed stress sigma:
  * sgn(gd) = sgn(sigma) and gd = sigma/eta_app (generalised (3.20)); the curve eta_app(gamma) is
  * the imposed-rate one and only the time map changes, t(gamma) = int eta_app(gamma')/|sigma|
- * dgamma', evaluated with composite 5-point Gauss–Legendre quadrature on sub-intervals of strain
- * 0.1/max(1, delta1) (relative error < 1e-12), switching to the exact linear map once the
- * transient has decayed (delta1 * gamma > 40). A segment that ends after a duration under
- * imposed stress finds its strain by Newton iteration on that map. sigma = 0 freezes the state
- * (like a pause). OSCILLATION (LAOS at imposed rate): the sign changes at every half period
- * t = k/(2f) are located exactly; within half period k the strain is (A/omega)(1 - cos omega tau)
- * and the state is again the exact strain solution. If eta_app <= 0 is met under imposed stress
- * (possible for strongly non-steady gamma_e with negative beta3, delta2; note §5 N2) the run stops
- * with an error.
+ * dgamma', evaluated with composite 5-point Gauss–Legendre quadrature on panels of strain
+ * 0.1/max(delta1, sqrt(1 - a^2)) (the solution's own decay and oscillation scales; relative error
+ * < 1e-12), switching to the exact linear map once the transient has decayed (delta1 * gamma >
+ * 40). Where the transient outlives 4096 panels (sqrt(1 - a^2) > 10 delta1) the panels are summed
+ * by doubling (the deviation from the steady state is a free linear evolution and eta_app is
+ * quadratic in it), so that the work per call is bounded: at most ~4400 panels and O(log^2) 3 x 3
+ * products, whatever the strain or delta1. A segment that ends after a duration under imposed
+ * stress finds its strain by binary lifting on the doubled panels, then Newton in one panel. sigma
+ * = 0 freezes the state (like a pause). OSCILLATION (LAOS at imposed rate): the sign changes at
+ * every half period t = k/(2f) are located exactly; within half period k the strain is (A/omega)(1
+ * - cos omega tau) and the state is again the exact strain solution. If eta_app <= 0 is met under
+ * imposed stress (possible for strongly non-steady gamma_e with negative beta3, delta2; note §5 N2)
+ * the run stops with an error.
  *
  * Pure: no allocation; samples go to a caller-supplied sink.
  */

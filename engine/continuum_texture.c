@@ -151,7 +151,8 @@ lub_texture_state lub_texture_free(const lub_texture_params *p, int s, lub_textu
     const double Bw = -0.5 * (1.0 - a) * X0 + 0.5 * (1.0 + a) * Y0;
     const double sc = sinc(u), sh = sinc(0.5 * u);
     /* S = Z0 sin(u)/w + Bw (1 - cos u)/w^2, written with sinc so that w -> 0 is exact */
-    const double S = Z0 * dgamma * sc + Bw * 0.5 * dgamma * dgamma * sh * sh;
+    const double hs = dgamma * sh; /* (not dgamma^2 sh^2: inf x 0 for a huge dgamma) */
+    const double S = Z0 * dgamma * sc + Bw * 0.5 * hs * hs;
     const double Zh = Z0 * cos(u) + Bw * dgamma * sc;
     d.xx = e * (X0 + (1.0 + a) * S);
     d.yy = e * (Y0 - (1.0 - a) * S);

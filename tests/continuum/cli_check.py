@@ -294,6 +294,19 @@ if r:
     check_near("cli.rheo_beta_1e300.eta_app_steady_rel", e / 1e100 if e is not None else None, 1.0,
                1e-12)
     check_near("cli.rheo_beta_1e300.N1_steady", r["N1_steady_per_rate"], 2.0, 1e-12)
+# imposed stress over a long transient: the time map's work is bounded (until 2026-12-07 panels of
+# 0.1 strain through the whole transient: 25 s for this run, with SIGTERM heard only at the end).
+# M3 beta = 0 from rest: eta_app = 2 - e^{-alpha gamma}, t = 2 G + expm1(-alpha G)/alpha
+t0 = time.time()
+r, h = run("rheo_stress_alpha1e-6", {"scene": "continuum_rheometer", "parameters": {
+    "set": "m3", "alpha": 1e-6, "beta": 0, "eta": 1, "eta_e": 1},
+    "protocol": [{"mode": "stress", "stress": 1, "strain": 1e7}], "samples_per_segment": 2})
+took = time.time() - t0
+if r:
+    import math
+    check_near("cli.rheo_stress_alpha1e-6.time_total_rel",
+               r["time_total"] / (2e7 + math.expm1(-10.0) / 1e-6) - 1.0, 0.0, 1e-9)
+    check_near("cli.rheo_stress_alpha1e-6.under_5s", 1.0 if took < 5.0 else 0.0, 1.0, 0.0)
 # steady values beyond the doubles: reported null with a warning naming the member
 out = os.path.join(WORK, "rheo_overflow_warning")
 shutil.rmtree(out, ignore_errors=True)
@@ -447,12 +460,18 @@ if r:
     check_near("cli.channel_dem_rcp0.2.area_mean", r["psi_area_mean"], 0.5, 1e-9)
 
 # SIGTERM stops every continuum scene at once: exit 5, status partial, a diagnostic saying that
-# the output is computed whole. These ran to their end through SIGTERM and Ctrl-C (1 to 9 s here).
+# the output is computed whole (the rheometer: the rows so far). These ran to their end through SIGTERM and Ctrl-C (1 to 9 s here).
 # A run that ended before the signal came (the steady curves of 1e6 points compute in 0.4 s on a
 # fast machine) is tried again with the signal sooner.
 for name, spec in [("stop_resusp", {"scene": "sbm_resuspension", "points": 1000000}),
                    ("stop_channel", {"scene": "sbm_channel", "cells": 1000000}),
-                   ("stop_steady", {"scene": "continuum_steady_curves", "points": 1000000})]:
+                   ("stop_steady", {"scene": "continuum_steady_curves", "points": 1000000}),
+                   # a slowly damped M4 transient under imposed stress, 1e5 samples (6 s whole)
+                   ("stop_rheo", {"scene": "continuum_rheometer", "parameters": {
+                       "set": "m4", "a": 0.5, "delta1": 1e-6, "delta2": 0, "beta1": 1, "beta2": 0.5,
+                       "beta3": 0.2, "eta": 1, "eta_e": 1},
+                       "protocol": [{"mode": "stress", "stress": 1, "strain": 1e9}],
+                       "samples_per_segment": 100000})]:
     out = os.path.join(WORK, name)
     for delay in (0.4, 0.2, 0.1, 0.05, 0.02):
         shutil.rmtree(out, ignore_errors=True)

@@ -4,6 +4,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <time.h>
 
 #include "check.h"
 #include "continuum_protocol.h"
@@ -258,6 +259,86 @@ static void negative_viscosity(void)
     check_true("eta_negative.strain_reported", err.strain > 0 && err.strain < 5.0);
 }
 
+/* int_0^G eta_app(gamma) dgamma / sigma by composite 3-point Gauss-Legendre on panels of
+ * 0.02/max(1, delta1) strain, the state from lub_texture_advance at every node (a reference
+ * independent of the time map's panels, doubling and steady tail) */
+static double time_ref(const lub_texture_params *p, int s, lub_texture_state g0, double sigma,
+                       double G)
+{
+    const double x3 = sqrt(0.6);
+    long n = (long)ceil(G / (0.02 / fmax(1.0, p->delta1)));
+    double h = G / n, acc = 0.0;
+    for (long i = 0; i < n; ++i) {
+        double c = (i + 0.5) * h, e[3];
+        const double at[3] = {c - 0.5 * h * x3, c, c + 0.5 * h * x3};
+        for (int k = 0; k < 3; ++k)
+            e[k] = lub_texture_stress_of(p, s, lub_texture_advance(p, s, g0, at[k])).eta_app;
+        acc += 0.5 * h * (5.0 * e[0] + 8.0 * e[1] + 5.0 * e[2]) / 9.0;
+    }
+    return acc / sigma;
+}
+
+/* the time map's panel length (a GL node may sit that far past the first eta_app <= 0) */
+static double sub_panel_strain(const lub_texture_params *p)
+{
+    return 0.1 / fmax(p->delta1, sqrt((1.0 - p->a) * (1.0 + p->a)));
+}
+
+static void time_map_bounded(void)
+{
+    /* M3, alpha = 1e-6, beta = 0: eta_app = 2 - e^{-alpha gamma} from rest, so the time to strain
+     * G at sigma = 1 is 2 G + expm1(-alpha G)/alpha. Until 2026-12-07 the time map took panels
+     * of 0.1 strain until alpha gamma > 40 (1e8 panels here: 25 s, SIGTERM unheard) */
+    lub_texture_params m3 = lub_texture_m3(1e-6, 0.0, 1.0, 1.0);
+    lub_segment seg[1] = {{LUB_SEG_STRESS, 1.0, 1e7, 0, 0}};
+    lub_rheo_error err;
+    clock_t c0 = clock();
+    check_true("bounded.m3_alpha1e-6.run",
+               run(&m3, (lub_texture_state){0, 0, 0}, 1, seg, 1, 2, &err) == 0);
+    double took = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    printf("bounded.m3_alpha1e-6.strain1e7.cpu_s=%.3f\n", took);
+    check_true("bounded.m3_alpha1e-6.strain1e7.under_1s", took < 1.0);
+    double want = 2e7 + expm1(-10.0) / 1e-6;
+    check_near("bounded.m3_alpha1e-6.strain1e7.time_rel", buf[1].time / want - 1.0, 0.0, 1e-13);
+    /* M4 with a slowly damped oscillation (sqrt(1 - a^2) = 8660 delta1): the transient is
+     * integrated by panel doubling; against panel-by-panel quadrature */
+    lub_texture_params p = {.a = 0.5,
+                            .delta1 = 1e-4,
+                            .delta2 = -0.5,
+                            .beta1 = 1.0,
+                            .beta2 = 0.5,
+                            .beta3 = 0.2,
+                            .eta = 1.0,
+                            .eta_e = 1.0};
+    lub_texture_state g0 = lub_texture_steady_state(&p, -1);
+    double t, dg, bad;
+    c0 = clock();
+    check_true("bounded.m4_doubling.time",
+               lub_rheo_time_for_strain(&p, +1, g0, 2.0, 1e4, &t, &bad) == 0);
+    took = (double)(clock() - c0) / CLOCKS_PER_SEC;
+    double ref = time_ref(&p, +1, g0, 2.0, 1e4);
+    check_near("bounded.m4_doubling.time_vs_panels_rel", t / ref - 1.0, 0.0, 1e-12);
+    printf("bounded.m4_doubling.time=%.15g ref=%.15g cpu_s=%.4f\n", t, ref, took);
+    check_true("bounded.m4_doubling.strain_for_time",
+               lub_rheo_strain_for_time(&p, +1, g0, 2.0, t, &dg, &bad) == 0);
+    check_near("bounded.m4_doubling.roundtrip_strain", dg, 1e4, 1e-9);
+    /* a strain of 1e12, far past the transient (alpha gamma = 1e8): steady tail */
+    check_true("bounded.m4_doubling.huge",
+               lub_rheo_time_for_strain(&p, +1, g0, 2.0, 1e12, &t, &bad) == 0);
+    double ss = lub_texture_steady_stress(&p).eta_app;
+    check_near("bounded.m4_doubling.huge_rate", t * 2.0 / (1e12 * ss), 1.0, 1e-6);
+    /* eta_app <= 0 found in the doubling regime (delta2 = -50: eta_ss < 0) */
+    p.delta2 = -50.0;
+    int rc = lub_rheo_time_for_strain(&p, +1, (lub_texture_state){0, 0, 0}, 1.0, 1e4, &t, &bad);
+    check_true("bounded.m4_doubling.eta_negative_error", rc == -1);
+    double scan = 0.0; /* first eta_app <= 0 on a grid of 1e-3 */
+    while (lub_texture_stress_of(&p, +1,
+                                 lub_texture_advance(&p, +1, (lub_texture_state){0, 0, 0}, scan))
+               .eta_app > 0.0)
+        scan += 1e-3;
+    check_near("bounded.m4_doubling.eta_negative_at", bad, scan, sub_panel_strain(&p));
+}
+
 int main(void)
 {
     pauses_and_reversal();
@@ -265,5 +346,6 @@ int main(void)
     rate_independence_and_signs();
     oscillation();
     negative_viscosity();
+    time_map_bounded();
     return check_report();
 }
