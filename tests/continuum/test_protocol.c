@@ -339,6 +339,22 @@ static void time_map_bounded(void)
     check_near("bounded.m4_doubling.eta_negative_at", bad, scan, sub_panel_strain(&p));
 }
 
+/* a long segment with 2 samples: the panel size matters (samples 0.01 strain apart never
+ * exercised it; panels 80 times coarser passed the 1e-6 check above) */
+static void time_map_long_segment(void)
+{
+    lub_texture_params p;
+    const char *why;
+    lub_m4_table42(0.40, &p, NULL, &why);
+    lub_texture_state g0 = lub_texture_steady_state(&p, -1);
+    lub_segment seg[1] = {{LUB_SEG_STRESS, 3.0, 8.0, 0, 0}};
+    lub_rheo_error err;
+    check_true("long_segment.run", run(&p, g0, -1, seg, 1, 2, &err) == 0);
+    double ref = time_ref(&p, +1, g0, 3.0, 8.0);
+    check_near("long_segment.time_vs_panels_rel", buf[1].time / ref - 1.0, 0.0, 1e-10);
+    printf("long_segment.phi0.40.time=%.15g ref=%.15g\n", buf[1].time, ref);
+}
+
 int main(void)
 {
     pauses_and_reversal();
@@ -347,5 +363,6 @@ int main(void)
     oscillation();
     negative_viscosity();
     time_map_bounded();
+    time_map_long_segment();
     return check_report();
 }
