@@ -294,6 +294,16 @@ if r:
     check_near("cli.rheo_beta_1e300.eta_app_steady_rel", e / 1e100 if e is not None else None, 1.0,
                1e-12)
     check_near("cli.rheo_beta_1e300.N1_steady", r["N1_steady_per_rate"], 2.0, 1e-12)
+# a pause after steady shear at a negative rate reports eta_app for the negative direction (the
+# steady value); the positive direction would give the reversal value 9.697 (Table 4.2 phi 0.40)
+r, h = run("rheo_pause_after_negative", {"scene": "continuum_rheometer",
+                                         "parameters": {"set": "m4_table", "phi": 0.4},
+                                         "initial_state": "steady_negative",
+                                         "protocol": [{"mode": "pause", "duration": 1}],
+                                         "samples_per_segment": 2})
+if r:
+    eta = h["observables/apparent_viscosity/value"][:]
+    check_near("cli.rheo_pause_after_negative.eta_app", float(eta[0]), 11.297, 5e-4)
 # imposed stress over a long transient: the time map's work is bounded (until 2026-12-07 panels of
 # 0.1 strain through the whole transient: 25 s for this run, with SIGTERM heard only at the end).
 # M3 beta = 0 from rest: eta_app = 2 - e^{-alpha gamma}, t = 2 G + expm1(-alpha G)/alpha

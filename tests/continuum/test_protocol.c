@@ -355,6 +355,39 @@ static void time_map_long_segment(void)
     printf("long_segment.phi0.40.time=%.15g ref=%.15g\n", buf[1].time, ref);
 }
 
+/* signs at a negative rate: sigma_xy = gd eta_app < 0 while N1, N2 and p_p scale with |gd|
+ * (steady closed forms (4.7) times |gd|), and a pause after steady shear at gd < 0 reports
+ * eta_app for the negative direction (s0 = -1). Mutants S.pp = gd * st.pp and S.n2 = gd * st.n2
+ * passed every test until 2026-12-07. */
+static void negative_rate_signs(void)
+{
+    lub_texture_params p;
+    const char *why;
+    lub_m4_table42(0.40, &p, NULL, &why);
+    lub_texture_stress ss = lub_texture_steady_stress(&p);
+    lub_texture_state gm = lub_texture_steady_state(&p, -1);
+    const double gd = -2.5;
+    lub_segment seg[2] = {{LUB_SEG_RATE, gd, 1.0, 0, 0}, {LUB_SEG_PAUSE, 0, 0, 1.0, 0}};
+    lub_rheo_error err;
+    check_true("negative_rate.run", run(&p, gm, -1, seg, 2, 3, &err) == 0);
+    const lub_rheo_sample *m = &buf[1], *pz = &buf[4];
+    check_near("negative_rate.sigma_xy", m->sigma_xy, gd * ss.eta_app,
+               1e-12 * fabs(gd * ss.eta_app));
+    check_near("negative_rate.N1", m->n1, fabs(gd) * ss.n1, 1e-12 * fabs(gd * ss.n1));
+    check_near("negative_rate.N2", m->n2, fabs(gd) * ss.n2, 1e-12 * fabs(gd * ss.n2));
+    check_near("negative_rate.pp", m->pp, fabs(gd) * ss.pp, 1e-12 * fabs(gd * ss.pp));
+    check_true("negative_rate.N2_pp_nonzero(test_has_power)",
+               fabs(ss.n2) > 0.1 && fabs(ss.pp) > 0.1);
+    check_near("negative_rate.pause_eta_app_negative_direction", pz->eta_app, ss.eta_app,
+               1e-12 * ss.eta_app);
+    /* from the steady state at gd < 0 with nothing before the pause: s0 = -1 is reported */
+    lub_segment pause[1] = {{LUB_SEG_PAUSE, 0, 0, 1.0, 0}};
+    check_true("negative_rate.pause_only.run", run(&p, gm, -1, pause, 1, 2, &err) == 0);
+    check_near("negative_rate.pause_only.eta_app", buf[0].eta_app, ss.eta_app, 1e-12 * ss.eta_app);
+    check_true("negative_rate.pause_only.differs_from_plus",
+               fabs(lub_texture_stress_of(&p, +1, gm).eta_app - ss.eta_app) > 1.0);
+}
+
 int main(void)
 {
     pauses_and_reversal();
@@ -364,5 +397,6 @@ int main(void)
     negative_viscosity();
     time_map_bounded();
     time_map_long_segment();
+    negative_rate_signs();
     return check_report();
 }
