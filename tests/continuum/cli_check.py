@@ -383,6 +383,10 @@ r, h = run("resusp_dem", {"scene": "sbm_resuspension", "shields": 0.05, "invento
 if r:
     check_near("cli.resusp_dem.height", r["height"], 38.314459, 1e-5)  # test_sbm (same kernel)
     check_near("cli.resusp_dem.mass_rel_error", r["mass_trapezoid_rel_error"], 0.0, 1e-3)
+    # Acrivos number A = 4.5 Sh/h0, h0 = inventory/phi0 (seed 000 L1541); until 2026-12-07
+    # untested (a factor 9 passed)
+    check_near("cli.resusp_dem.h0", r["h0"], 20 / 0.55, 1e-9 * 20 / 0.55)
+    check_near("cli.resusp_dem.acrivos", r["acrivos"], 4.5 * 0.05 * 0.55 / 20, 1e-12)
 # pipe: continuum-check.py case H (bulk psi = 0.5, psi* = 0.95, n = 400 midpoints)
 r, h = run("pipe_H", {"scene": "sbm_channel", "psi_mean": 0.5, "cells": 400})
 if r:
@@ -392,6 +396,14 @@ if r:
     psi = h["profiles/psi"][:]
     check_near("cli.pipe_H.psi_r0.99875", float(psi[399]), 0.338, 5e-4)
     check_near("cli.pipe_H.psi_r0.50125", float(psi[200]), 0.539, 5e-4)
+    # contact pressure: linear in the plug with p_c(edge) = 0, its axis value in the summary
+    x = h["profiles/x"][:]
+    pcp = h["profiles/p_c"][:]
+    edge, pc0 = r["plug_edge"], r["p_c_centre"]
+    inplug = x < edge
+    check_near("cli.pipe_H.p_c_linear_in_plug",
+               float(numpy.max(numpy.abs(pcp[inplug] - pc0 * (1 - x[inplug] / edge)))) / pc0, 0.0, 1e-8)
+    check_near("cli.pipe_H.p_c_zero_outside", float(numpy.max(numpy.abs(pcp[~inplug]))), 0.0, 0.0)
 
 # sbm_resuspension bounds its quadratures (2^20 panels plus 64 per profile interval): where the
 # law's values underflow it gives up within seconds, exit 3, status failed, naming the member.

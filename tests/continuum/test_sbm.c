@@ -127,6 +127,27 @@ static void resuspension(void)
                                        isfinite(r.height) && r.height > 0);
 }
 
+/* contact pressure in the plug (seed 003 ch. 5): pipe dp_c/dr = G (A_r* - A_th* / 2), channel
+ * dp_c/dy = G A_r* (< 0), p_c = 0 at the plug edge and beyond. Until 2026-12-07 untested: dp_c/dr
+ * with A_th* instead of A_th* / 2 and an extra factor edge on p_c at the axis passed. */
+static void check_pc(const char *tag, const lub_closure *c, const lub_channel_setup *S,
+                     const double *x, const double *pc, const lub_channel_result *R)
+{
+    char name[128];
+    double ar, ath, e, wpc = 0.0;
+    lub_closure_eval(c, S->psi_star, &ar, &ath, &e);
+    const double slope = S->geom == LUB_GEOM_PIPE ? R->G * (ar - 0.5 * ath) : R->G * ar;
+    snprintf(name, sizeof name, "%s.pc_centre", tag);
+    check_near(name, R->pc_centre, -slope * R->x_plug, 1e-12 * fabs(slope));
+    snprintf(name, sizeof name, "%s.pc_centre_positive", tag);
+    check_true(name, R->pc_centre > 0.0 && R->x_plug > 0.0);
+    for (int i = 0; i < S->n; ++i)
+        wpc = fmax(wpc, fabs(pc[i] - (x[i] < R->x_plug ? slope * (x[i] - R->x_plug) : 0.0)));
+    snprintf(name, sizeof name, "%s.pc_profile_linear", tag);
+    check_near(name, wpc, 0.0, 1e-12 * R->pc_centre);
+    printf("%s.A_r_star=%.6g A_th_star=%.6g\n", tag, ar, ath);
+}
+
 static void pipe_H(void)
 {
     static double x[400], psi[400], u[400], pc[400], er[400];
@@ -165,6 +186,8 @@ static void pipe_H(void)
             }
         snprintf(name, sizeof name, "H.bulk%.2f.alpha2_r2_const", ref[k][0]);
         check_near(name, worst, 0.0, 1e-9);
+        snprintf(name, sizeof name, "H.bulk%.2f", ref[k][0]);
+        check_pc(name, &c, &S, x, pc, &R);
     }
 }
 
@@ -187,11 +210,13 @@ static void other_closures(void)
         }
     check_near("MM.pipe.Ar_r^(2-k)_const", worst, 0.0, 1e-9);
     printf("MM.pipe.psi_mean0.5.plug=%.4f psi_wall=%.4f\n", R.x_plug, R.psi_wall);
+    check_pc("MM.pipe", &mm, &S, x, pc, &R); /* A_th* != 0 (M4's is 0) */
     /* DEM closure: variable lambda_33, RK4; check with the exact ODE residual d ln|Q|/d ln r */
     lub_closure dem = {
         .kind = LUB_CLOSURE_DEM, .dem_phi_m = lub_dem_phi_m(0.5), .dem_phi_rcp = 0.64};
     check_true("DEM.pipe.solve", lub_channel_solve(&dem, &S, x, psi, u, pc, er, &R, &why) == 0);
     check_near("DEM.pipe.area_mean", R.psi_area, 0.5, 1e-10);
+    check_pc("DEM.pipe", &dem, &S, x, pc, &R);
     double res = 0;
     for (int i = 600; i < 798; ++i) {
         double a1, t1, e1, a2, t2, e2, a0, t0, e0;
@@ -224,6 +249,7 @@ static void other_closures(void)
         }
     check_near("M4.channel.alpha2_y_const", worst, 0.0, 1e-9);
     check_near("M4.channel.G_newtonian", R.G_newtonian, 3.0, 0);
+    check_pc("M4.channel", &m4, &S, x, pc, &R);
     printf("M4.channel.psi_mean0.5.plug=%.4f psi_wall=%.4f\n", R.x_plug, R.psi_wall);
     /* flux-weighted inventory */
     S.flux_weighted = 1;
