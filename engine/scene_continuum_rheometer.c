@@ -176,6 +176,14 @@ static int read_protocol(json_t *spec, lub_segment *segs, int *nseg, lub_error *
                 return -1;
             if (!(2.0 * s->frequency * s->duration <= 1e7))
                 return lub_fail(err, P, "at most 1e7 half periods (2 frequency x duration)");
+            /* the strain of a half period 2A/omega and the total strain ~ (2/pi) A duration
+             * (until 2026-12-07 an overflow here exited 3 with "/protocol/k: non-finite ... at
+             * strain -nan") */
+            if (!isfinite(s->value / (3.14159265358979323846 * s->frequency)) ||
+                !isfinite(s->value * s->duration))
+                return lub_fail(err, lub_pointer_join(p2, sizeof p2, P, "rate_amplitude"),
+                                "rate_amplitude / frequency (the strain 2A/omega of a half period) "
+                                "and rate_amplitude x duration must stay finite doubles");
             continue;
         }
         int rate = strcmp(mode, "rate") == 0;

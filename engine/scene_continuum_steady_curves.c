@@ -45,7 +45,10 @@ static int sc_read(json_t *spec, sc_params *p, lub_error *err)
         lub_spec_integer(spec, "", "points", 2, 1000000, 1, 19, &p->points, err) ||
         lub_spec_number(spec, "", "report_psi", OPEN01, 1, 0.8, &p->report_psi, err) ||
         lub_spec_number(spec, "", "m4_phi_m", OPEN01, 1, 0.58, &p->m4_phi_m, err) ||
-        lub_spec_number(spec, "", "m3_eta0", LUB_POSITIVE, 1, 1.03, &p->m3_eta0, err) ||
+        /* >= 1e-100: the laws' eta0 x (small factors near psi -> 1) must stay normal doubles
+         * (until 2026-12-07 > 0: 1e-320 exited 3 naming /psi_min) */
+        lub_spec_number(spec, "", "m3_eta0", (lub_range){1e-100, INFINITY, 0, 0}, 1, 1.03,
+                        &p->m3_eta0, err) ||
         lub_spec_number(spec, "", "dem_mu_m", LUB_NONNEGATIVE, 1, 0.5, &p->dem_mu_m, err) ||
         lub_spec_number(spec, "", "dem_phi_rcp", OPEN01, 1, 0.64, &p->dem_phi_rcp, err))
         return -1;

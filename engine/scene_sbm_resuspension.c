@@ -108,6 +108,11 @@ static int rs_read(json_t *spec, rs_params *p, lub_error *err)
         lub_spec_number(spec, "", "phi0", OPEN01, 1, 0.55, &p->phi0, err) ||
         lub_spec_integer(spec, "", "points", 2, 1000000, 1, 401, &p->points, err))
         return -1;
+    /* the normal viscosity at the bottom (until 2026-12-07 its overflow exited 3 blaming /law) */
+    if (!isfinite(p->inventory / p->shields))
+        return lub_fail(err, "/shields",
+                        "inventory / shields (the normal viscosity at the bottom) overflows a "
+                        "double: raise /shields or lower /inventory");
     return 0;
 }
 

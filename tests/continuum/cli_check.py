@@ -144,6 +144,12 @@ CASES = [
     ({"scene": "sbm_resuspension", "shields": 1, "inventory": -2}, "/inventory"),
     ({"scene": "sbm_resuspension"}, None),
     ({"scene": "continuum_rheometer"}, None),
+    # accepted by validation until 2026-12-07, then exit 3 naming another member
+    ({"scene": "continuum_rheometer", "protocol": [{"mode": "oscillation", "rate_amplitude": 1e308,
+                                                   "frequency": 1e-3, "duration": 1000}]},
+     "/protocol/0/rate_amplitude"),
+    ({"scene": "continuum_steady_curves", "m3_eta0": 1e-320}, "/m3_eta0"),
+    ({"scene": "sbm_resuspension", "shields": 1e-300, "inventory": 1e12}, "/shields"),
     ({"scene": "sbm_channel", "psi_mean": 0.5}, None),
     ({"scene": "sbm_channel", "psi_mean": 0.5, "geometry": "channel", "inventory": "flux",
       "closure": {"kind": "morris_miller", "K_s": 0.2}}, None),
@@ -165,7 +171,8 @@ def pointer_ok(err_line, want):
 
 # constraints that draft-07 cannot express (documented in each schema's description)
 CROSS_FIELD = {("sbm_channel", "/psi_mean"), ("continuum_rheometer", "/protocol/0/duration"),
-               ("continuum_rheometer", "/protocol/1/duration")}
+               ("continuum_rheometer", "/protocol/1/duration"),
+               ("continuum_rheometer", "/protocol/0/rate_amplitude"), ("sbm_resuspension", "/shields")}
 
 for spec, want in CASES:
     sc = spec["scene"]
