@@ -37,6 +37,13 @@ lub_m4_laws lub_m4_laws_thesis(void); /* Table 4.1 */
 /* alpha(phi) = tan(2 theta_e(phi)) from (3.10). Requires 0 <= phi < phi_m. */
 double lub_m3_alpha(const lub_m3_laws *L, double phi);
 
+/* The range of phi on which the thesis fitted the M3 laws (3.10), (3.16): its Table 3.2 rows
+ * 0.30 ... 0.50 (Fig. 3.11). Outside they are an extrapolation, and a poor one towards phi -> 0:
+ * beta(0) = beta_bar while alpha -> 0, so eta_app - eta ~ eta_e beta/alpha^2 ~ 1/phi^2 and the
+ * steady eta_app is not monotone in phi (58.4 eta0 at psi = 0.01, 1.80 at 0.21, 2.13 at 0.31). */
+#define LUB_M3_LAWS_PHI_FIT_MIN 0.30
+#define LUB_M3_LAWS_PHI_FIT_MAX 0.50
+
 /* M3 parameters at phi (0 < phi < phi_m), eta0 in Pa.s. */
 int lub_m3_from_laws(const lub_m3_laws *L, double phi, double eta0, lub_texture_params *out,
                      const char **why);

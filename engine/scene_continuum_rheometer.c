@@ -272,6 +272,17 @@ static int rheo_sink(void *user, const lub_rheo_sample *s)
     return (st->ctx->stop_requested && *st->ctx->stop_requested) ? 1 : 0;
 }
 
+/* appends text to the summary's warnings (created on the first) */
+static void rheo_warn(lub_run_ctx *ctx, const char *text)
+{
+    json_t *warnings = json_object_get(ctx->summary_extra, "warnings");
+    if (!warnings) {
+        warnings = json_array();
+        json_object_set_new(ctx->summary_extra, "warnings", warnings);
+    }
+    json_array_append_new(warnings, json_string(text));
+}
+
 static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
 {
     lub_segment segs[RHEO_MAX_SEGMENTS];
@@ -302,6 +313,7 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
         json_pack("{s:s, s:f, s:f, s:f, s:f, s:f, s:f, s:f, s:f}", "set", set, "a", tp.a, "delta1",
                   tp.delta1, "delta2", tp.delta2, "beta1", tp.beta1, "beta2", tp.beta2, "beta3",
                   tp.beta3, "eta", tp.eta, "eta_e", tp.eta_e);
+    const int m3_laws = strcmp(set, "m3_laws") == 0; /* set points into spec */
     json_decref(spec);
 
     static const char *names[14] = {"strain",
@@ -360,19 +372,27 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
         return LUB_EXIT_NUMERICAL;
     }
     lub_texture_stress ss = lub_texture_steady_stress(&tp);
+    if (m3_laws) {
+        /* the M3 laws outside the range of their fit (since 2026-12-07) */
+        double phi =
+            json_number_value(json_object_get(json_object_get(resolved, "parameters"), "phi"));
+        if (phi < LUB_M3_LAWS_PHI_FIT_MIN || phi > LUB_M3_LAWS_PHI_FIT_MAX) {
+            char w[400], v[40];
+            snprintf(w, sizeof w,
+                     "/parameters/phi: %s is outside 0.30 ... 0.50, the range on which the "
+                     "thesis fitted the M3 laws (3.10), (3.16) (Table 3.2, Fig. 3.11): the "
+                     "parameters are extrapolated; towards phi -> 0 the stresses diverge like "
+                     "1/phi^2 (beta -> beta_bar while alpha -> 0)",
+                     lub_real_text(phi, v));
+            rheo_warn(ctx, w);
+        }
+    }
     if (!isfinite(ss.eta_app) || !isfinite(ss.n1) || !isfinite(ss.n2) || !isfinite(ss.pp)) {
         /* beyond the doubles (they are computed without intermediate overflow) */
-        json_t *warnings = json_object_get(ctx->summary_extra, "warnings");
-        if (!warnings) {
-            warnings = json_array();
-            json_object_set_new(ctx->summary_extra, "warnings", warnings);
-        }
-        json_array_append_new(
-            warnings,
-            json_string("/parameters/eta_e: the closed-form steady values (eta_app_steady, "
-                        "N1/N2/pp_steady_per_rate) exceed the largest double and are reported "
-                        "null: they scale with eta_e, times the beta terms over Delta^2 "
-                        "(Delta = 1 - a^2 + delta1^2); lower /parameters/eta_e or the betas"));
+        rheo_warn(ctx, "/parameters/eta_e: the closed-form steady values (eta_app_steady, "
+                       "N1/N2/pp_steady_per_rate) exceed the largest double and are reported "
+                       "null: they scale with eta_e, times the beta terms over Delta^2 "
+                       "(Delta = 1 - a^2 + delta1^2); lower /parameters/eta_e or the betas");
     }
     lub_summary_put(ctx, "eta_app_steady", ss.eta_app, NAN, "Pa.s");
     lub_summary_put(ctx, "N1_steady_per_rate", ss.n1, NAN, "Pa.s");

@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "continuum_steady_curves.h"
+#include "continuum_texture_laws.h"
 #include "json_text.h"
 #include "run_context.h"
 #include "scene.h"
@@ -96,6 +97,37 @@ static int sc_resolve(json_t *spec, lub_error *err)
 }
 
 enum { NQ = 22 };
+
+/* The M3 columns outside the phi range of the laws' fit (LUB_M3_LAWS_PHI_FIT_MIN/MAX) are
+ * extrapolated: a warning naming the member that takes them there (since 2026-12-07) */
+static void sc_warn_m3_range(lub_run_ctx *ctx, const sc_params *p, double phi_m)
+{
+    const double lo = LUB_M3_LAWS_PHI_FIT_MIN / phi_m, hi = LUB_M3_LAWS_PHI_FIT_MAX / phi_m;
+    const char *member = p->psi_min < lo ? "/psi_min" : (p->psi_max > hi ? "/psi_max" : NULL);
+    char w[2][480];
+    int n = 0;
+    if (member)
+        snprintf(w[n++], sizeof w[0],
+                 "%s: the M3 columns (m3_*) outside psi = %.3f ... %.3f (phi = 0.30 ... 0.50, "
+                 "the range on which the thesis fitted the M3 laws (3.10), (3.16): Table 3.2, "
+                 "Fig. 3.11) are extrapolated; towards psi -> 0 m3_eta_rel diverges like 1/psi^2 "
+                 "(beta -> beta_bar while alpha -> 0) and is not monotone in psi",
+                 member, lo, hi);
+    if (p->report_psi < lo || p->report_psi > hi)
+        snprintf(w[n++], sizeof w[0],
+                 "/report_psi: the M3 headline numbers (m3_*) at psi = %.6g are extrapolated "
+                 "outside psi = %.3f ... %.3f, the range of the M3 laws' fit (phi = 0.30 ... 0.50)",
+                 p->report_psi, lo, hi);
+    if (n == 0)
+        return;
+    json_t *warnings = json_object_get(ctx->summary_extra, "warnings");
+    if (!warnings) {
+        warnings = json_array();
+        json_object_set_new(ctx->summary_extra, "warnings", warnings);
+    }
+    for (int i = 0; i < n; ++i)
+        json_array_append_new(warnings, json_string(w[i]));
+}
 
 static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
 {
@@ -218,6 +250,7 @@ static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
                      rp);
             return LUB_EXIT_NUMERICAL;
         }
+    sc_warn_m3_range(ctx, &p, L3.phi_m);
     lub_summary_put(ctx, "m4_eta_rel", a.eta_rel, NAN, "1");
     lub_summary_put(ctx, "m4_alpha1", a.alpha1, NAN, "1");
     lub_summary_put(ctx, "m4_alpha2", a.alpha2, NAN, "1");

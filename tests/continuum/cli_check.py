@@ -311,6 +311,24 @@ r, h = run("rheo_pause_after_negative", {"scene": "continuum_rheometer",
 if r:
     eta = h["observables/apparent_viscosity/value"][:]
     check_near("cli.rheo_pause_after_negative.eta_app", float(eta[0]), 11.297, 5e-4)
+# the M3 laws outside phi = 0.30 ... 0.50 (the thesis fit): a warning naming the member
+for name, spec, want in [
+        ("m3_laws_phi0.1", {"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.1}},
+         "/parameters/phi"),
+        ("m3_laws_phi0.4", {"scene": "continuum_rheometer", "parameters": {"set": "m3_laws", "phi": 0.4}},
+         None),
+        ("steady_default", {"scene": "continuum_steady_curves"}, "/psi_min"),
+        ("steady_m3_fit_range", {"scene": "continuum_steady_curves", "psi_min": 0.55, "psi_max": 0.85,
+                                 "report_psi": 0.8}, None)]:
+    r, h = run(name, spec)
+    if r is not None:
+        with open(os.path.join(WORK, name, "summary.json")) as f:
+            ws = [w for w in json.load(f).get("warnings", []) if "M3 laws" in w]
+        got = ws[0].split(":", 1)[0] if ws else None
+        ok = got == want and len(ws) <= 1
+        print("cli.%s.m3_range_warning=%s want %s %s" % (name, got, want, "ok" if ok else "FAIL"))
+        if not ok:
+            fail("cli.%s.m3_range_warning" % name)
 # imposed stress over a long transient: the time map's work is bounded (until 2026-12-07 panels of
 # 0.1 strain through the whole transient: 25 s for this run, with SIGTERM heard only at the end).
 # M3 beta = 0 from rest: eta_app = 2 - e^{-alpha gamma}, t = 2 G + expm1(-alpha G)/alpha
