@@ -35,7 +35,7 @@ Iv = 0.01, phi over 2-20 strain, R 1.62 for 16 seeds where 32 seeds of the same 
 1.16); beyond MAX_OPTIMISM times it, in 1.2e-4 / 5.7e-5. Error bars halved from R = 0.9 fail a
 window with probability 0.25 (16 seeds) / 0.55 (32), hence 32 seeds in the physics ctest.
 Too-small error bars within MAX_OPTIMISM and too-large ones within MAX_CONSERVATISM are
-reported in the verdict column, not failed (measured: 1.5-2x too large for mu at delaunay
+reported in the verdict column, not failed (measured: 1.4-2.1x too large for mu at delaunay
 Iv = 0.1, README "Steady state and error bars"). Prints name=value lines; writes
 OUT/calibration.md and OUT/calibration.csv (one row per point, seed, window and observable, plus
 each run's strain reached and stop flag), from which --from-csv rebuilds the table without
