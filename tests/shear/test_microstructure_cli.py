@@ -14,7 +14,12 @@ engine/microstructure.h) through the CLI, against an independent recomputation (
     with the batched law) equal bit for bit those of the same run without it;
  3. the first snapshot is at /microstructure/start_strain in both control modes, also when the
     strain summed step by step falls short of it by round-off (imposed pressure, Iv 0.1, dt
-    0.002: 0.04999999999999981 at the step of 0.05, whose snapshot was skipped).
+    0.002: 0.04999999999999981 at the step of 0.05, whose snapshot was skipped);
+ 4. the averaging warning end to end: maps averaged from strain 0 while the steady state is
+    detected later warn, naming /microstructure/start_strain, the first map's strain and the
+    summary's steady_from_strain; the same run with start_strain in the second half (after any
+    steady start the run can detect) does not (the check itself is unit-tested in
+    shear.run_checks; nothing ran it through a run before 2026-12-07).
 Usage: test_microstructure_cli.py LUBDEM WORKDIR"""
 import json
 import math
@@ -234,6 +239,27 @@ for name, spec in [
     if not (abs(first - 0.05) < 1e-9 and abs(last - 0.06) < 1e-9 and snaps == 2):
         bad.append(f"{name}: snapshots {snaps}, first at {first!r}, last {last!r} "
                    "(want 2, from 0.05 to 0.06)")
+
+# 4. the averaging warning, end to end (250 particles, soft contacts: about 1.3 s a run)
+WARN = "the microstructure (/profiles) is averaged from strain"
+for name, start, want in [("early_maps", 0.0, True), ("late_maps", 1.6, False)]:
+    spec = {"scene": "simple_shear", "n_particles": 250, "phi": 0.40, "stiffness": 1e4,
+            "strain": 2.0, "transient_strain": 0.3,
+            "microstructure": {"enabled": True, "start_strain": start, "interval_strain": 0.1,
+                               "n_theta": 9, "n_phi": 9}}
+    s = summary(run(name, spec))
+    steady = (s["results"].get("steady_from_strain") or {}).get("value")
+    got = [w for w in s.get("warnings", []) if w.startswith(WARN)]
+    print(f"{name}: steady from {steady}, averaging warning {bool(got)}")
+    if steady is None or not 0.3 <= steady < 1.0:
+        bad.append(f"{name}: steady state from {steady}, wanted one between 0.3 and 1 (test set-up)")
+    elif want and not (len(got) == 1 and f"from strain {start:.4g}," in got[0]
+                       and f"from strain {steady:.4g}:" in got[0]
+                       and "/microstructure/start_strain" in got[0]):
+        bad.append(f"{name}: no averaging warning naming /microstructure/start_strain, {start:.4g} "
+                   f"and {steady:.4g} ({s.get('warnings')})")
+    elif not want and got:
+        bad.append(f"{name}: averaging warning although the maps start at {start} ({got})")
 
 for m in bad:
     print("FAIL", m)
