@@ -22,6 +22,16 @@ void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double st
     json_object_set_new(ctx->summary_results, name, e);
 }
 
+void lub_summary_warn(lub_run_ctx *ctx, const char *text)
+{
+    json_t *list = json_object_get(ctx->summary_extra, "warnings");
+    if (!json_is_array(list)) {
+        list = json_array();
+        json_object_set_new(ctx->summary_extra, "warnings", list);
+    }
+    json_array_append_new(list, json_string(text));
+}
+
 void lub_fixed_dt_warning(char *out, size_t len, double ratio, const char *bound_name)
 {
     snprintf(out, len,

@@ -59,6 +59,8 @@ typedef struct lub_run_ctx {
 /* Helpers for summary entries. stderr_value < 0 or NaN means "no error bar" (null). */
 void lub_summary_put(lub_run_ctx *ctx, const char *name, double value, double stderr_value,
                      const char *unit);
+/* Appends text (copied) to the summary's "warnings" array, created when absent. */
+void lub_summary_warn(lub_run_ctx *ctx, const char *text);
 
 /* The warning for a time step fixed by /dt at `ratio` times the scene's stability bound
  * `bound_name` (simple_shear: dt_elastic; resuspension and the two-sphere scenes: dt_critical)

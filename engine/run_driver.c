@@ -215,15 +215,7 @@ static int write_file_atomic(const char *dir, const char *name, const char *text
 }
 
 /* appends text to the summary's "warnings" array (created when absent) */
-static void append_warning(lub_run_ctx *ctx, const char *text)
-{
-    json_t *list = json_object_get(ctx->summary_extra, "warnings");
-    if (!json_is_array(list)) {
-        list = json_array();
-        json_object_set_new(ctx->summary_extra, "warnings", list);
-    }
-    json_array_append_new(list, json_string(text));
-}
+static void append_warning(lub_run_ctx *ctx, const char *text) { lub_summary_warn(ctx, text); }
 
 /* 1 when the scene's lower bound of its memory fits in what this process may still take
  * (memory_budget.h); 0 with the diagnostic set otherwise, before anything is allocated. */

@@ -272,17 +272,6 @@ static int rheo_sink(void *user, const lub_rheo_sample *s)
     return (st->ctx->stop_requested && *st->ctx->stop_requested) ? 1 : 0;
 }
 
-/* appends text to the summary's warnings (created on the first) */
-static void rheo_warn(lub_run_ctx *ctx, const char *text)
-{
-    json_t *warnings = json_object_get(ctx->summary_extra, "warnings");
-    if (!warnings) {
-        warnings = json_array();
-        json_object_set_new(ctx->summary_extra, "warnings", warnings);
-    }
-    json_array_append_new(warnings, json_string(text));
-}
-
 static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
 {
     lub_segment segs[RHEO_MAX_SEGMENTS];
@@ -384,15 +373,16 @@ static int rheo_run(const json_t *resolved, lub_run_ctx *ctx)
                      "parameters are extrapolated; towards phi -> 0 the stresses diverge like "
                      "1/phi^2 (beta -> beta_bar while alpha -> 0)",
                      lub_real_text(phi, v));
-            rheo_warn(ctx, w);
+            lub_summary_warn(ctx, w);
         }
     }
     if (!isfinite(ss.eta_app) || !isfinite(ss.n1) || !isfinite(ss.n2) || !isfinite(ss.pp)) {
         /* beyond the doubles (they are computed without intermediate overflow) */
-        rheo_warn(ctx, "/parameters/eta_e: the closed-form steady values (eta_app_steady, "
-                       "N1/N2/pp_steady_per_rate) exceed the largest double and are reported "
-                       "null: they scale with eta_e, times the beta terms over Delta^2 "
-                       "(Delta = 1 - a^2 + delta1^2); lower /parameters/eta_e or the betas");
+        lub_summary_warn(ctx,
+                         "/parameters/eta_e: the closed-form steady values (eta_app_steady, "
+                         "N1/N2/pp_steady_per_rate) exceed the largest double and are reported "
+                         "null: they scale with eta_e, times the beta terms over Delta^2 "
+                         "(Delta = 1 - a^2 + delta1^2); lower /parameters/eta_e or the betas");
     }
     lub_summary_put(ctx, "eta_app_steady", ss.eta_app, NAN, "Pa.s");
     lub_summary_put(ctx, "N1_steady_per_rate", ss.n1, NAN, "Pa.s");

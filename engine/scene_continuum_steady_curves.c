@@ -118,15 +118,8 @@ static void sc_warn_m3_range(lub_run_ctx *ctx, const sc_params *p, double phi_m)
                  "/report_psi: the M3 headline numbers (m3_*) at psi = %.6g are extrapolated "
                  "outside psi = %.3f ... %.3f, the range of the M3 laws' fit (phi = 0.30 ... 0.50)",
                  p->report_psi, lo, hi);
-    if (n == 0)
-        return;
-    json_t *warnings = json_object_get(ctx->summary_extra, "warnings");
-    if (!warnings) {
-        warnings = json_array();
-        json_object_set_new(ctx->summary_extra, "warnings", warnings);
-    }
     for (int i = 0; i < n; ++i)
-        json_array_append_new(warnings, json_string(w[i]));
+        lub_summary_warn(ctx, w[i]);
 }
 
 static int sc_run(const json_t *resolved, lub_run_ctx *ctx)
