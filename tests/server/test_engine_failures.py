@@ -165,6 +165,19 @@ def plant_unremovable(path, depth=24):
     os.close(fd)
 
 
+def kill_worker_after_checkpoint(srv, tok, duration):
+    """Submits a fake-engine job of `duration`, waits until its engine has written its periodic
+    checkpoint, and kills the worker process that runs it (SIGKILL). The job's ID."""
+    job = submit(srv, tok, duration)
+    wait_running(srv, tok, job)
+    log = wait_log(srv, tok, job, b"checkpoint written", 10)
+    T.check(b"checkpoint written" in log, "the engine's log: %s" % log)
+    with sqlite3.connect(os.path.join(srv.run, "queue.db")) as db:
+        worker = db.execute("SELECT worker FROM jobs WHERE id = ?", (job,)).fetchone()[0]
+    os.kill(int(worker.split("-pid")[1]), signal.SIGKILL)
+    return job
+
+
 def worker_killed_on_last_attempt(a):
     """A worker process killed (SIGKILL) while the service runs, during a job's last attempt
     (--max-attempts 1), after its engine wrote a periodic checkpoint: the engine dies with it,
@@ -176,13 +189,7 @@ def worker_killed_on_last_attempt(a):
     tok = srv.token("hana")
     srv.start()
     try:
-        job = submit(srv, tok, 25)
-        wait_running(srv, tok, job)
-        log = wait_log(srv, tok, job, b"checkpoint written", 10)
-        T.check(b"checkpoint written" in log, "the engine's log: %s" % log)
-        with sqlite3.connect(os.path.join(srv.run, "queue.db")) as db:
-            worker = db.execute("SELECT worker FROM jobs WHERE id = ?", (job,)).fetchone()[0]
-        os.kill(int(worker.split("-pid")[1]), signal.SIGKILL)
+        job = kill_worker_after_checkpoint(srv, tok, 25)
         final = T.wait_final(srv, tok, job, timeout=20)
         T.check(final["status"] == "failed" and final["attempt"] == 1 and
                 final["message"].startswith("failed: its worker process died (signal 9) during "
@@ -216,13 +223,7 @@ def worker_killed_with_large_checkpoint(a):
     srv.start()
     duration, big = (29, 120 << 20) if a.sanitized else (28, 1200 << 20)
     try:
-        job = submit(srv, tok, duration)
-        wait_running(srv, tok, job)
-        log = wait_log(srv, tok, job, b"checkpoint written", 10)
-        T.check(b"checkpoint written" in log, "the engine's log: %s" % log)
-        with sqlite3.connect(os.path.join(srv.run, "queue.db")) as db:
-            worker = db.execute("SELECT worker FROM jobs WHERE id = ?", (job,)).fetchone()[0]
-        os.kill(int(worker.split("-pid")[1]), signal.SIGKILL)
+        job = kill_worker_after_checkpoint(srv, tok, duration)
         quick = submit(srv, tok, 22)  # for the restarted worker
         done = T.wait_final(srv, tok, quick, timeout=60)
         final = T.wait_final(srv, tok, job, timeout=120)
