@@ -506,6 +506,13 @@ static int ss_setup_system(ss_run_state *r)
     int rc = ss_schedule(r);
     if (rc == LUB_EXIT_OK && r->resume)
         rc = ss_continue(r, &resumed);
+    /* the bond list of bond_order_q6, where the pair list cannot hold the bonds, allocated
+     * here rather than at the first sample that needs it (no allocation in the time loop) */
+    if (rc == LUB_EXIT_OK &&
+        lub_shear_bond_order_prepare(&r->sys, SS_BOND_FACTOR) == LUB_NLIST_NOMEM) {
+        lub_diagnostic_out_of_memory(ctx, "bond list", r->n, 0.0, "/n_particles");
+        rc = LUB_EXIT_INTERNAL;
+    }
     return rc;
 }
 

@@ -223,24 +223,42 @@ static double bond_order_brute(const lub_shear_system *s, double bond_factor, lo
     return lub_q6_value(&acc);
 }
 
-double lub_shear_bond_order_q6(lub_shear_system *s, double bond_factor, long *bonds)
+/* Whether the pair list holds every bond with skin_left of its skin unspent: it holds every
+ * pair closer than (r_i + r_j)(1 + cutoff/2) + skin_left (skin rule; also right after a step
+ * that found the skin used up), enough when that covers bond_factor (r_i + r_j) for the
+ * largest pair. */
+static int pair_list_holds_bonds(const lub_shear_system *s, double bond_factor, double skin_left)
 {
-    /* the pair list holds every pair closer than (r_i + r_j)(1 + cutoff/2) + skin - skin_used
-     * (skin rule; also right after a step that found the skin used up): enough when that
-     * covers bond_factor (r_i + r_j) for the largest pair */
     double rmax = 0.0;
     for (int i = 0; i < s->n; ++i)
         rmax = fmax(rmax, s->r[i]);
-    const int list_covers =
-        s->nl.skin - s->skin_used >= 2.0 * rmax * (bond_factor - 1.0 - 0.5 * s->nl.range);
+    return skin_left >= 2.0 * rmax * (bond_factor - 1.0 - 0.5 * s->nl.range);
+}
+
+/* The bond list from the current positions: every pair closer than bond_factor (r_i + r_j),
+ * no skin. Returns lub_nlist_build's code. */
+static int build_bond_list(lub_shear_system *s, double bond_factor)
+{
+    lub_nlist *bl = &s->bond_nl;
+    bl->range = fmax(0.0, 2.0 * (bond_factor - 1.0));
+    bl->skin = 0.0;
+    return lub_nlist_build(bl, &s->cell, s->x, s->r, s->n);
+}
+
+int lub_shear_bond_order_prepare(lub_shear_system *s, double bond_factor)
+{
+    if (pair_list_holds_bonds(s, bond_factor, 0.0))
+        return LUB_NLIST_OK;
+    return build_bond_list(s, bond_factor);
+}
+
+double lub_shear_bond_order_q6(lub_shear_system *s, double bond_factor, long *bonds)
+{
     const int32_t *pi = s->pairs.i, *pj = s->pairs.j, *pc = s->pairs.c;
     size_t np = s->pairs.n;
-    if (!list_covers) {
-        /* a list of its own: every pair closer than bond_factor (r_i + r_j), no skin */
-        lub_nlist *bl = &s->bond_nl;
-        bl->range = fmax(0.0, 2.0 * (bond_factor - 1.0));
-        bl->skin = 0.0;
-        if (lub_nlist_build(bl, &s->cell, s->x, s->r, s->n) != LUB_NLIST_OK)
+    if (!pair_list_holds_bonds(s, bond_factor, s->nl.skin - s->skin_used)) {
+        const lub_nlist *bl = &s->bond_nl;
+        if (build_bond_list(s, bond_factor) != LUB_NLIST_OK)
             return bond_order_brute(s, bond_factor, bonds);
         pi = bl->pi;
         pj = bl->pj;

@@ -219,11 +219,19 @@ double lub_shear_phi(const lub_shear_system *s);
  * holds them all, i.e. when its guaranteed reach (2 + cutoff) a_ij + skin - skin_used covers
  * bond_factor (r_i + r_j) for the largest pair (at cut-off >= 2 (bond_factor - 1), 0.4 a for
  * the scene's 1.2, whenever the skin is not overspent); otherwise a list of its own is built
- * (bond_nl: range 2 (bond_factor - 1), no skin; it allocates at its first build and grows with its
- * pairs), or, where that cannot be built (cell narrower than twice its listing distance, no
- * memory), every pair is searched (O(n^2)). Until 2026-12-07 only the pair list was read, which at
- * small cut-off and skin misses bonds (cut-off 0.1, skin 0.05: 803 of 1081 bonds at N 300, phi
- * 0.5). Serial; the physical state is unchanged. */
+ * (bond_nl: range 2 (bond_factor - 1), no skin; it allocates at its first build, made before the
+ * time loop by lub_shear_bond_order_prepare, and later only if its pairs outgrow the first
+ * build's headroom), or, where that cannot be built (cell narrower than twice its listing
+ * distance, no memory), every pair is searched (O(n^2)). Until 2026-12-07 only the pair list was
+ * read, which at small cut-off and skin misses bonds (cut-off 0.1, skin 0.05: 803 of 1081 bonds
+ * at N 300, phi 0.5). Serial; the physical state is unchanged. */
 double lub_shear_bond_order_q6(lub_shear_system *s, double bond_factor, long *bonds);
+
+/* Builds bond_nl now (so that it allocates before the time loop, not at the first sample of
+ * lub_shear_bond_order_q6 that needs it) when the pair list cannot hold every bond once its skin
+ * is spent (cut-off below 2 (bond_factor - 1) r_max); otherwise does nothing. Returns
+ * LUB_NLIST_OK, LUB_NLIST_NOMEM or LUB_NLIST_CELL_TOO_SMALL (then lub_shear_bond_order_q6
+ * searches every pair, without allocating). */
+int lub_shear_bond_order_prepare(lub_shear_system *s, double bond_factor);
 
 #endif

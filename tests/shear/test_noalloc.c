@@ -11,7 +11,10 @@
  * scene's step control after each rebuild (lub_shear_step_control) are inside the measured
  * window. Cases: cut-off 2a at phi 0.50 on 1 and 2 threads; the Delaunay set on
  * 2 threads; a cell whose gradient dimension breathes by +-2 % (a stand-in for the imposed-
- * pressure servo, which moves L_yy), so the bin grid and the pair count change.
+ * pressure servo, which moves L_yy), so the bin grid and the pair count change; cut-off 0.1a
+ * with the scene's bond order (lub_shear_bond_order_q6) at each full stress sample of the
+ * measured steps, whose own bond list (the pair list does not reach 1.2 (r_i + r_j) once the
+ * skin is partly spent) must have been built before them (lub_shear_bond_order_prepare).
  *
  * Under AddressSanitizer the allocator is the sanitizer's, which these definitions would
  * bypass: the sanitizer build does not build this test (tests/shear/CMakeLists.txt). */
@@ -51,7 +54,10 @@ void *realloc(void *p, size_t n)
     return __libc_realloc(p, n);
 }
 
-enum { CASE_CUTOFF, CASE_DELAUNAY, CASE_BREATHING };
+enum { CASE_CUTOFF, CASE_DELAUNAY, CASE_BREATHING, CASE_BOND_LIST };
+
+/* the scene's bond factor of bond_order_q6 (scene_simple_shear.c) */
+#define BOND_FACTOR 1.2
 
 /* One case; its failures are recorded by ST_CHECK (a set-up or step failure ends it). */
 static void run_case(const char *name, int kind, int threads)
@@ -59,9 +65,11 @@ static void run_case(const char *name, int kind, int threads)
     const lub_law_params law = shear_fixture_law(1e4);
     lub_shear_system s;
     const long at_start = atomic_load(&alloc_calls);
-    /* N = 400 at phi 0.50, cut-off 2a, packing seed 3, St 1e-2, microstructure accumulators
-     * of 13 x 9 bins (the scene's default) */
-    const int rc = shear_fixture_make_pdf(&s, 400, 0.50, &law, 2.0, threads, 3, 1e-2, 13, 9);
+    /* N = 400 at phi 0.50, cut-off 2a (the bond-list case: 0.1a, below the bonds' 0.4a),
+     * packing seed 3, St 1e-2, microstructure accumulators of 13 x 9 bins (the scene's
+     * default) */
+    const double cutoff = kind == CASE_BOND_LIST ? 0.1 : 2.0;
+    const int rc = shear_fixture_make_pdf(&s, 400, 0.50, &law, cutoff, threads, 3, 1e-2, 13, 9);
     /* the counter sees the allocations of the set-up: the interposition works */
     ST_CHECK(atomic_load(&alloc_calls) - at_start >= 10, "%s: set-up counted %ld allocations", name,
              atomic_load(&alloc_calls) - at_start);
@@ -70,6 +78,10 @@ static void run_case(const char *name, int kind, int threads)
         return;
     if (kind == CASE_DELAUNAY)
         lub_shear_use_delaunay(&s, 10, 0.0);
+    /* as the scene does before its time loop */
+    ST_CHECK(lub_shear_bond_order_prepare(&s, BOND_FACTOR) == LUB_NLIST_OK, "%s: bond list", name);
+    long bond_list_builds = 0; /* samples whose bond list differs from the previous one */
+    size_t bond_pairs_before = s.bond_nl.npairs;
     ST_CHECK(s.tpdf != NULL, "%s: microstructure accumulators off", name);
     const int warm = 1500, measured = 3000;
     long before = 0, rebuilds0 = 0;
@@ -102,6 +114,15 @@ static void run_case(const char *name, int kind, int threads)
             ST_CHECK(src == LUB_SHEAR_OK, "%s: step %d rc %d (%s)", name, k, src, s.fail_msg);
             failed = 1;
         }
+        /* the scene's bond order at each full stress sample, first in the measured steps, so
+         * that a bond list built there for the first time would be counted */
+        if (kind == CASE_BOND_LIST && k >= warm && (flags & LUB_SAMPLE_STRESS)) {
+            long bonds = 0;
+            const double q6 = lub_shear_bond_order_q6(&s, BOND_FACTOR, &bonds);
+            ST_CHECK(bonds > 0 && q6 > 0.0 && q6 < 1.0, "%s: q6 %g of %ld bonds", name, q6, bonds);
+            bond_list_builds += s.bond_nl.npairs != bond_pairs_before;
+            bond_pairs_before = s.bond_nl.npairs;
+        }
         /* the scene's step control at each rebuild (step_stiffness.h; here it keeps the step) */
         (void)lub_shear_step_control(&s, &control);
     }
@@ -111,6 +132,12 @@ static void run_case(const char *name, int kind, int threads)
     printf("noalloc_%s_allocations=%ld\n", name, allocs);
     printf("noalloc_%s_rebuilds=%ld\n", name, rebuilds);
     printf("noalloc_%s_pairs=%zu\n", name, s.pairs.n);
+    if (kind == CASE_BOND_LIST) {
+        printf("noalloc_%s_bond_list_builds=%ld\n", name, bond_list_builds);
+        /* the pair list stopped holding the bonds at some samples: the bond list was rebuilt */
+        ST_CHECK(bond_list_builds >= 3, "%s: the bond list was rebuilt at %ld samples", name,
+                 bond_list_builds);
+    }
     ST_CHECK(rebuilds >= 10, "%s: only %ld rebuilds in the measured steps", name, rebuilds);
     ST_CHECK(allocs == 0, "%s: %ld allocations in %d steps", name, allocs, measured);
     lub_shear_free(&s);
@@ -122,5 +149,6 @@ int main(void)
     run_case("cutoff_t2", CASE_CUTOFF, 2);
     run_case("delaunay_t2", CASE_DELAUNAY, 2);
     run_case("breathing_t1", CASE_BREATHING, 1);
+    run_case("bond_list_t1", CASE_BOND_LIST, 1);
     ST_DONE();
 }
