@@ -203,6 +203,15 @@ static int fs_read(json_t *spec, fs_params *p, lub_error *err)
     }
     if (eps > 0.0)
         p->K = alpha * p->G * eps;
+    /* the sphere starts at gap u0 a and touches below eps a: eps >= u0 starts it inside the
+     * roughness (eps 2 "bounced", eps 1e3 ended "damped" at gap 1e8 a, eps 1e300 exited 3) */
+    if (!(eps < p->u0)) {
+        char e[40], u[40];
+        return lub_fail(err, "/law/eps",
+                        "must be below /u0 (%s): the sphere starts at the gap u0 a and touches "
+                        "the fixed one at u < eps a, so it would start in contact (got %s)",
+                        lub_real_text(p->u0, u), lub_real_text(eps, e));
+    }
     return fs_check_steps(p, jK != NULL, err);
 }
 

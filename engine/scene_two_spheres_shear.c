@@ -78,9 +78,12 @@ static int ts_read(json_t *spec, ts_params *p, lub_error *err)
     const lub_range unit_interval = {0.0, 1.0, 1, 0};
     const lub_range angle = {0.0, 180.0, 0, 0};
     const lub_range x0r = {2.0, 1e6, 1, 0};
+    /* d0 capped like x0: far beyond the cut-off the spheres never meet, and an offset near
+     * DBL_MAX overflowed the step's arithmetic (d0 1e308 failed at step 179) */
+    const lub_range d0r = {0.0, 1e6, 0, 0};
     if (lub_spec_number(spec, "", "St", LUB_POSITIVE, 1, TS_DEFAULT_ST, &p->St, err) ||
         lub_spec_number(spec, "", "Ca", LUB_POSITIVE, 1, TS_DEFAULT_CA, &p->Ca, err) ||
-        lub_spec_number(spec, "", "d0", LUB_NONNEGATIVE, 1, 0.5, &p->d0, err) ||
+        lub_spec_number(spec, "", "d0", d0r, 1, 0.5, &p->d0, err) ||
         lub_spec_number(spec, "", "theta_deg", angle, 1, 90.0, &p->theta_deg, err) ||
         lub_spec_number(spec, "", "x0", x0r, 1, 10.0, &p->x0, err) ||
         lub_spec_number(spec, "", "cutoff", LUB_POSITIVE, 1, 4.0, &p->cutoff, err) ||
@@ -97,7 +100,8 @@ static int ts_read(json_t *spec, ts_params *p, lub_error *err)
         lub_spec_bool(spec, "", "rotation", 1, 1, &p->rotation, err))
         return -1;
     json_t *law = lub_spec_object(spec, "", "law", err);
-    if (!law || lub_law_spec_resolve(law, "/law", &ts_law_opts, &p->law, err))
+    if (!law || lub_law_spec_resolve(law, "/law", &ts_law_opts, &p->law, err) ||
+        lub_law_spec_check_cutoff(&p->law, "/law", p->cutoff, err))
         return -1;
     return ts_check_steps(p, err);
 }

@@ -186,6 +186,14 @@ with tempfile.TemporaryDirectory() as tmp:
     # created its folder and failed with exit 1; or was infinite and left out of the spec)
     refused({"scene": fs, "K": 1e-300, "law": {"eps": 1e300}}, "/K", ("positive and finite",))
     refused({"scene": fs, "K": 1e300, "law": {"eps": 1e-300}}, "/K", ("positive and finite",))
+    # eps must be below the starting gap u0 (falling_sphere) and the cut-off (two spheres), d0
+    # at most 1e6 like x0 (until 2026-12-07 accepted: eps 2 "bounced" from inside the
+    # roughness, eps 1e300 and d0 1e308 validated and then exited 3, eps 5 in shear gave
+    # min_gap 4.49)
+    refused({"scene": fs, "law": {"eps": 2}}, "/law/eps", ("below /u0 (1)", "got 2"))
+    refused({"scene": fs, "law": {"eps": 1e300}}, "/law/eps", ("below /u0",))
+    refused({"scene": ts, "d0": 0.1, "law": {"eps": 5}}, "/law/eps", ("below /cutoff (4)",))
+    refused({"scene": ts, "d0": 1e308}, "/d0", ("must be <= 1000000",))
     # the bounds themselves are allowed: one whole step, and 1e12 steps
     for spec in ({"scene": fs, "dt": 10}, {"scene": fs, "dt": 1e-11},
                  {"scene": ts, "dt": 1e-7, "duration": 1e5}):

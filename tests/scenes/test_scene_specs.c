@@ -30,6 +30,16 @@ static void expect_error(const char *text, const char *pointer)
     json_decref(r);
 }
 
+static void expect_ok(const char *text)
+{
+    lub_error err;
+    memset(&err, 0, sizeof err);
+    json_t *r = resolve(text, &err);
+    printf("%s accept %s%s%s\n", r ? "ok  " : "FAIL", text, r ? "" : " -> ", r ? "" : err.message);
+    fails += !r;
+    json_decref(r);
+}
+
 static double num(const json_t *o, const char *path)
 {
     char buf[128];
@@ -97,6 +107,12 @@ int main(void)
     expect_error("{\"scene\":\"falling_sphere\",\"law\":{\"terms\":{\"roll\":true}}}",
                  "/law/terms/roll");
     expect_error("{\"scene\":\"falling_sphere\",\"sample_spacing\":\"cubic\"}", "/sample_spacing");
+    /* eps >= u0 starts the sphere inside the roughness (until 2026-12-07 accepted: eps 2 ran
+     * "bouncing" at gap 1.9999, eps 1e300 validated and then exited 3) */
+    expect_error("{\"scene\":\"falling_sphere\",\"law\":{\"eps\":2}}", "/law/eps");
+    expect_error("{\"scene\":\"falling_sphere\",\"u0\":0.5,\"law\":{\"eps\":0.5}}", "/law/eps");
+    expect_error("{\"scene\":\"falling_sphere\",\"law\":{\"eps\":1e300}}", "/law/eps");
+    expect_ok("{\"scene\":\"falling_sphere\",\"u0\":0.5,\"law\":{\"eps\":0.4}}");
 
     r = resolve("{\"scene\":\"two_spheres_shear\"}", &err);
     if (!r) {
@@ -124,6 +140,14 @@ int main(void)
     expect_error("{\"scene\":\"two_spheres_shear\",\"law\":{\"terms\":{\"shear\":false}}}",
                  "/law/terms/shear");
     expect_error("{\"scene\":\"two_spheres_shear\",\"rotation\":1}", "/rotation");
+    /* eps must be below the cut-off, as in simple_shear and resuspension (until 2026-12-07
+     * eps 5 ran to min_gap 4.49), and d0 at most 1e6 like x0 (d0 1e308 exited 3) */
+    expect_error("{\"scene\":\"two_spheres_shear\",\"d0\":0.1,\"law\":{\"eps\":5}}", "/law/eps");
+    expect_error("{\"scene\":\"two_spheres_shear\",\"cutoff\":2,\"law\":{\"eps\":2}}", "/law/eps");
+    expect_ok("{\"scene\":\"two_spheres_shear\",\"cutoff\":2,\"law\":{\"eps\":1.9}}");
+    expect_error("{\"scene\":\"two_spheres_shear\",\"d0\":1e308}", "/d0");
+    expect_error("{\"scene\":\"two_spheres_shear\",\"d0\":1.000001e6}", "/d0");
+    expect_ok("{\"scene\":\"two_spheres_shear\",\"d0\":1e6}");
     printf("%d failure(s)\n", fails);
     return fails != 0;
 }
