@@ -436,7 +436,9 @@ static int fs_run(const json_t *resolved, lub_run_ctx *ctx)
     lub_summary_put(ctx, "min_center_gap", min_un, NAN, "a");
     lub_summary_put(ctx, "final_gap", o->gap, NAN, "a");
     lub_summary_put(ctx, "final_log10_gap", o->delta / log(10.0), NAN, "1");
-    lub_summary_put_ref(ctx, "equilibrium_gap", o->gap, "a", u_eq);
+    /* a static equilibrium exists only for rough spheres with K > 1 (physics-reference §1a):
+     * elsewhere the entry is null, not the final gap of a film still draining */
+    lub_summary_put_ref(ctx, "equilibrium_gap", isnan(u_eq) ? NAN : o->gap, "a", u_eq);
     lub_summary_put(ctx, "equilibrium_gap_rel_error", fabs(o->gap / u_eq - 1.0), NAN, "1");
     lub_summary_put(ctx, "final_contact", o->contact, NAN, "1");
     lub_summary_put(ctx, "bounces", rb.bounces, NAN, "1");

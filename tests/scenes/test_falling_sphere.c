@@ -52,6 +52,9 @@ int main(void)
                          scene_value(&o, "equilibrium_gap_rel_error"), 1e-6);
     fails += scene_check(scene_value(&o, "exp_max_rel_dev") < 1e-3, "exponential before contact",
                          scene_value(&o, "exp_max_rel_dev"), 1e-3);
+    fails +=
+        scene_check(fabs(scene_value(&o, "equilibrium_gap") / 0.0099 - 1) < 1e-6,
+                    "equilibrium_gap reported (K > 1)", scene_value(&o, "equilibrium_gap"), 0.0099);
     scene_outcome_free(&o);
     /* alpha != 1: u_eq = eps - 1/(alpha G) = 0.01 - 1/(2 * 2500) = 0.0098 */
     run("rough eps=0.01 alpha=2 stiffness=2500",
@@ -74,6 +77,9 @@ int main(void)
         fails +=
             scene_check(fabs(r / want - 1) < 1e-3, "contact rate vs (8/9)(1-K) = 0.4444", r, want);
     }
+    /* no equilibrium, so no equilibrium gap: null (until 2026-12-07 the final gap) */
+    fails += scene_check(isnan(scene_value(&o, "equilibrium_gap")), "equilibrium_gap null (K < 1)",
+                         scene_value(&o, "equilibrium_gap"), NAN);
     scene_outcome_free(&o);
 
     /* 3. smooth spheres to gaps < 1e-12 a: no NaN (rc 0), gap > 0, rate kept */
@@ -86,6 +92,9 @@ int main(void)
                          scene_value(&o, "exp_rate_rel_error"), 1e-3);
     fails += scene_check(scene_value(&o, "exp_max_rel_dev") < 2e-3, "max |u/u_exp - 1|",
                          scene_value(&o, "exp_max_rel_dev"), 2e-3);
+    fails += scene_check(isnan(scene_value(&o, "equilibrium_gap")),
+                         "equilibrium_gap null (smooth: eps 0)", scene_value(&o, "equilibrium_gap"),
+                         NAN);
     scene_outcome_free(&o);
 
     /* 4. negative test: without normal lubrication the sphere falls freely, no exponential */
