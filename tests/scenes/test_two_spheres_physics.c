@@ -1,6 +1,7 @@
-/* test_two_spheres_physics.c (label physics) — minimum gap of smooth rigid spheres versus
- * the initial offset d0 and the lubrication cut-off (seed fig. 9), checked against an
- * independent quasi-static model, plus the reversibility of the trajectory.
+/* test_two_spheres_physics.c (ctest scenes.two_spheres_min_gap, in the default suite since
+ * 2026-12-07) — minimum gap of smooth rigid spheres versus the initial offset d0 and the
+ * lubrication cut-off (seed fig. 9), checked against an independent quasi-static model, plus
+ * the reversibility of the trajectory.
  *
  * 1. The minimum gap of each (cut-off, d0) run at the scene's defaults (St 1e-3, Ca 1e-6,
  *    dt_safety 0.5) must match the quasi-static rigid-sphere value of
