@@ -150,6 +150,27 @@ static const char *json_type_name(const json_t *v)
     return "unknown";
 }
 
+/* 1 when name is one of the NULL-terminated list, 0 otherwise. */
+static int name_listed(const char *const *list, const char *name)
+{
+    for (const char *const *a = list; *a; ++a)
+        if (strcmp(*a, name) == 0)
+            return 1;
+    return 0;
+}
+
+/* The names of the NULL-terminated list into out[size] (size > 40), separated by ", ", each in
+ * double quotes when quoted: for an error message. Names stop being added once fewer than 40
+ * bytes are left; snprintf cuts the last one added at the end of out. */
+static void list_names(const char *const *list, int quoted, char *out, size_t size)
+{
+    size_t n = 0;
+    out[0] = '\0';
+    for (const char *const *a = list; *a && n < size - 40; ++a)
+        n += (size_t)snprintf(out + n, size - n, quoted ? "%s\"%s\"" : "%s%s",
+                              a == list ? "" : ", ", *a);
+}
+
 int lub_spec_only_keys(const json_t *obj, const char *ptr, const char *const *allowed,
                        lub_error *err)
 {
@@ -157,20 +178,10 @@ int lub_spec_only_keys(const json_t *obj, const char *ptr, const char *const *al
     const json_t *value;
     char buf[256];
     json_object_foreach ((json_t *)obj, key, value) {
-        int ok = 0;
-        for (const char *const *a = allowed; *a; ++a)
-            if (strcmp(*a, key) == 0) {
-                ok = 1;
-                break;
-            }
-        if (!ok) {
+        if (!name_listed(allowed, key)) {
             /* list the allowed names so the user sees the typo */
             char names[400];
-            size_t n = 0;
-            names[0] = '\0';
-            for (const char *const *a = allowed; *a && n < sizeof names - 40; ++a)
-                n += (size_t)snprintf(names + n, sizeof names - n, "%s%s", a == allowed ? "" : ", ",
-                                      *a);
+            list_names(allowed, 0, names, sizeof names);
             return lub_fail(err, lub_pointer_join(buf, sizeof buf, ptr, key),
                             "unknown field (allowed: %s)", names);
         }
@@ -290,23 +301,11 @@ int lub_spec_enum(json_t *obj, const char *ptr, const char *key, const char *con
     if (!json_is_string(v))
         return lub_fail(err, p, "must be a string (got %s)", json_type_name(v));
     const char *s = json_string_value(v);
-    if (choices) {
-        int ok = 0;
-        for (const char *const *c = choices; *c; ++c)
-            if (strcmp(*c, s) == 0) {
-                ok = 1;
-                break;
-            }
-        if (!ok) {
-            char names[400];
-            size_t n = 0;
-            names[0] = '\0';
-            for (const char *const *c = choices; *c && n < sizeof names - 40; ++c)
-                n += (size_t)snprintf(names + n, sizeof names - n, "%s\"%s\"",
-                                      c == choices ? "" : ", ", *c);
-            return lub_fail(err, p, "must be one of %s (got \"%.*s\")", names,
-                            lub_utf8_prefix(s, 80), s);
-        }
+    if (choices && !name_listed(choices, s)) {
+        char names[400];
+        list_names(choices, 1, names, sizeof names);
+        return lub_fail(err, p, "must be one of %s (got \"%.*s\")", names, lub_utf8_prefix(s, 80),
+                        s);
     }
     *out = s; /* borrowed from obj: valid while obj lives */
     return 0;
