@@ -396,6 +396,19 @@ static int table_flush(lub_h5_table *t)
     return 0;
 }
 
+/* Frees the buffers of t (those not allocated yet are NULL) and t itself; its datasets are the
+ * caller's to close. */
+static void table_release(lub_h5_table *t)
+{
+    free(t->ncomp);
+    free(t->value_ds);
+    free(t->step_buf);
+    free(t->time_buf);
+    free(t->row_buf);
+    free(t->col_buf);
+    free(t);
+}
+
 lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *names,
                                   const int *ncomp, const char *const *units)
 {
@@ -413,9 +426,7 @@ lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *nam
     for (int s = 0; s < nseries; ++s) {
         if (ncomp[s] != 1 && ncomp[s] != 3 && ncomp[s] != 9) {
             set_err(f, "create series with ncomp not in {1,3,9}:", names[s]);
-            free(t->ncomp);
-            free(t->value_ds);
-            free(t);
+            table_release(t);
             return NULL;
         }
         t->ncomp[s] = ncomp[s];
@@ -456,13 +467,7 @@ lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *nam
     }
     if (!ok) {
         set_err(f, "create observables table starting with", names[0]);
-        free(t->ncomp);
-        free(t->value_ds);
-        free(t->step_buf);
-        free(t->time_buf);
-        free(t->row_buf);
-        free(t->col_buf);
-        free(t);
+        table_release(t);
         return NULL;
     }
     f->tables[f->ntables++] = t;
@@ -487,13 +492,7 @@ static void table_free(lub_h5_table *t)
     H5Dclose(t->time_ds);
     for (int s = 0; s < t->nseries; ++s)
         H5Dclose(t->value_ds[s]);
-    free(t->ncomp);
-    free(t->value_ds);
-    free(t->step_buf);
-    free(t->time_buf);
-    free(t->row_buf);
-    free(t->col_buf);
-    free(t);
+    table_release(t);
 }
 
 int lub_h5_particles_define(lub_h5 *f, int64_t n, const double *radius, const char *const *boundary)
