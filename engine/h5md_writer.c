@@ -423,6 +423,11 @@ lub_h5_table *lub_h5_table_create(lub_h5 *f, int nseries, const char *const *nam
     t->nseries = nseries;
     t->ncomp = malloc(sizeof(int) * (size_t)nseries);
     t->value_ds = malloc(sizeof(hid_t) * (size_t)nseries);
+    if (nseries > 0 && (!t->ncomp || !t->value_ds)) { /* (until 2026-12-07 written unchecked) */
+        set_err(f, "out of memory creating observables table starting with", names[0]);
+        table_release(t);
+        return NULL;
+    }
     for (int s = 0; s < nseries; ++s) {
         if (ncomp[s] != 1 && ncomp[s] != 3 && ncomp[s] != 9) {
             set_err(f, "create series with ncomp not in {1,3,9}:", names[s]);
