@@ -53,6 +53,22 @@ double lub_profile_height(const double *phi, int n, double y0, double dy, double
     return NAN;
 }
 
+double lub_profile_base(const double *phi, int n, double y0, double dy, double phi_level)
+{
+    for (int i = 0; i < n; ++i) {
+        if (phi[i] >= phi_level) {
+            const double yc = y0 + (i + 0.5) * dy;
+            if (i == 0)
+                return yc; /* profile already at the level in the bottom bin */
+            /* between centre i - 1 (< level) and centre i (>= level), as
+             * resuspension_consistency.py's half_max_crossings writes it */
+            const double yl = y0 + (i - 0.5) * dy;
+            return yl + (phi_level - phi[i - 1]) / (phi[i] - phi[i - 1]) * (yc - yl);
+        }
+    }
+    return NAN;
+}
+
 int lub_profile_select_bulk(const double *phi, int n, double y0, double dy, double interface_width,
                             double floor_skip, double phi_min, int *keep)
 {

@@ -37,6 +37,14 @@ double lub_profile_inventory(const double *phi, int n, double dy);
  * (linear interpolation between bin centres). NAN if phi never reaches phi_level. */
 double lub_profile_height(const double *phi, int n, double y0, double dy, double phi_level);
 
+/* Base of the bed: the lowest y at which phi crosses `phi_level` going up (linear interpolation
+ * between the centres of the bins below and at the first bin with phi >= phi_level; the centre
+ * of bin 0 if that bin is already at the level). NAN if phi never reaches phi_level. With
+ * phi_level = max(phi)/2 it is the y_b of tests/resuspension/resuspension_consistency.py
+ * (half_max_crossings), the same arithmetic: the spheres rest on the floor's, whose centres are
+ * at y0, so the bed starts ~1.1 a above y0. */
+double lub_profile_base(const double *phi, int n, double y0, double dy, double phi_level);
+
 /* The interface-discarding rule (documented in README, "Resuspension analysis"): the
  * interface is at y_int = lub_profile_height(phi, ..., phi_level = phi_half) with
  * phi_half = 0.5 * max(phi); bins whose centre is above y_int - interface_width (default 5a,

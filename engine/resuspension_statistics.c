@@ -71,40 +71,85 @@ static int rs_derived_errors(const lub_rs_stats_input *in, const lub_rs_stats_pr
     return batch_means;
 }
 
-/* The standard error of the suspension height, the half-maximum crossing h(phi) of the averaged
- * profile: its first-order change with every sample's deviation from that profile (delta method,
- * as lub_stats_ratio) forms a series whose standard error is taken as phi_err's (rs_series_sem).
- * h = y_i + dy (phi_i - L)/(phi_i - phi_{i+1}) with L = phi_m/2 (m the bin of the maximum)
- * depends on phi_i, phi_{i+1} and phi_m only. So the value and its error describe the same
- * quantity over the same samples (the whole averaging window). NaN when the crossing is not
- * interpolated (no crossing, or the top bin still above half the maximum). */
-static double rs_height_error(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
-                              double max_phi)
+/* The first-order change of the linearly interpolated crossing y = y_lo + dy (L - phi_lo) /
+ * (phi_hi - phi_lo) of the level L = phi_m/2 (m the bin of the maximum) between the bins lo and
+ * hi = lo + 1 with phi_lo, phi_hi and phi_m: the coefficients of the three bins. */
+typedef struct {
+    int lo, hi, m;
+    double g_lo, g_hi, g_m;
+} rs_crossing_grad;
+
+static rs_crossing_grad rs_crossing(const double *phi, int lo, int m, double level, double dy)
+{
+    const double d = phi[lo + 1] - phi[lo];
+    rs_crossing_grad g = {lo, lo + 1, m, 0.0, 0.0, 0.0};
+    g.g_lo = dy * (level - phi[lo + 1]) / (d * d);
+    g.g_hi = -dy * (level - phi[lo]) / (d * d);
+    g.g_m = 0.5 * dy / d;
+    return g;
+}
+
+static double rs_crossing_change(const rs_crossing_grad *g, const double *s, const double *phi)
+{
+    return g->g_lo * (s[g->lo] - phi[g->lo]) + g->g_hi * (s[g->hi] - phi[g->hi]) +
+           g->g_m * (s[g->m] - phi[g->m]);
+}
+
+/* The standard errors of the suspension height (the top half-maximum crossing h of the averaged
+ * profile), of the bed's base (its bottom crossing y_b) and of their difference h - y_b: the
+ * first-order change of each with every sample's deviation from the averaged profile (delta
+ * method, as lub_stats_ratio) forms a series whose standard error is taken as phi_err's
+ * (rs_series_sem). Each crossing depends on the two bins around it and on the bin of the
+ * maximum only, so the value and its error describe the same quantity over the same samples
+ * (the whole averaging window). A crossing that is not interpolated (the top bin still above
+ * half the maximum, or the bottom bin already at it) has a NaN error and, in the difference,
+ * no first-order change (it sits at a bin centre). */
+static void rs_crossing_errors(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
+                               double max_phi, lub_rs_stats *st)
 {
     const int nb = in->nb;
     const double dy = in->dy, level = 0.5 * max_phi;
-    int m = 0, i = -1;
+    int m = 0, top = -1, bot = -1;
+    st->height_err = st->bed_base_err = st->thickness_err = NAN;
+    if (!(max_phi > 0.0))
+        return;
     for (int j = 0; j < nb; ++j)
         if (out->phi[j] > out->phi[m])
             m = j;
     for (int j = nb - 1; j >= 0; --j)
         if (out->phi[j] >= level) {
-            i = j;
+            top = j;
             break;
         }
-    if (i < 0 || i == nb - 1 || !(max_phi > 0.0))
-        return NAN;
-    const double d = out->phi[i] - out->phi[i + 1];
-    const double gi = dy * (level - out->phi[i + 1]) / (d * d);
-    const double gi1 = dy * (out->phi[i] - level) / (d * d);
-    const double gm = -0.5 * dy / d;
-    for (int64_t k = 0; k < in->navg; ++k) {
-        const double *s = in->samples + k * nb;
-        out->scratch[k] = gi * (s[i] - out->phi[i]) + gi1 * (s[i + 1] - out->phi[i + 1]) +
-                          gm * (s[m] - out->phi[m]);
-    }
+    for (int j = 0; j < nb; ++j)
+        if (out->phi[j] >= level) {
+            bot = j;
+            break;
+        }
+    const int has_top = top >= 0 && top<nb - 1, has_bot = bot> 0;
+    rs_crossing_grad gt = {0, 0, 0, 0.0, 0.0, 0.0}, gb = gt;
+    if (has_top) /* the bins top (>= L) and top + 1 (< L) */
+        gt = rs_crossing(out->phi, top, m, level, dy);
+    if (has_bot) /* the bins bot - 1 (< L) and bot (>= L) */
+        gb = rs_crossing(out->phi, bot - 1, m, level, dy);
     int batch_means = 1;
-    return rs_series_sem(out->scratch, in->navg, out->scratch2, &batch_means);
+    for (int pass = 0; pass < 3; ++pass) {
+        if ((pass == 0 && !has_top) || (pass == 1 && !has_bot))
+            continue;
+        for (int64_t k = 0; k < in->navg; ++k) {
+            const double *s = in->samples + k * nb;
+            const double ct = has_top ? rs_crossing_change(&gt, s, out->phi) : 0.0;
+            const double cb = has_bot ? rs_crossing_change(&gb, s, out->phi) : 0.0;
+            out->scratch[k] = pass == 0 ? ct : pass == 1 ? cb : ct - cb;
+        }
+        const double e = rs_series_sem(out->scratch, in->navg, out->scratch2, &batch_means);
+        if (pass == 0)
+            st->height_err = e;
+        else if (pass == 1)
+            st->bed_base_err = e;
+        else
+            st->thickness_err = e;
+    }
 }
 
 /* Whether the suspension height is steady over the averaging window (the last navg of the nh
@@ -198,6 +243,13 @@ void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles
     st->sem_batch_means = rs_average_profile(in, out);
     st->height = NAN;
     st->height_err = NAN;
+    st->bed_base = NAN;
+    st->bed_base_err = NAN;
+    st->thickness_err = NAN;
+    st->relative_height_increase = NAN;
+    st->relative_height_increase_err = NAN;
+    st->relative_height_increase_floor_plane = NAN;
+    st->relative_height_increase_floor_plane_err = NAN;
     st->inventory = NAN;
     st->max_phi = NAN;
     st->bulk_bins = -1;
@@ -211,8 +263,16 @@ void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles
         st->max_phi = fmax(st->max_phi, out->phi[i]);
     st->steady = rs_height_steady(in, out, &st->window_cut);
     st->height = lub_profile_height(out->phi, nb, 0.0, dy, 0.5 * st->max_phi);
-    st->height_err = rs_height_error(in, out, st->max_phi);
+    st->bed_base = lub_profile_base(out->phi, nb, 0.0, dy, 0.5 * st->max_phi);
+    rs_crossing_errors(in, out, st->max_phi, st);
     st->inventory = lub_profile_inventory(out->phi, nb, dy);
+    /* (h - y_b - h0)/h0 with h0 = inventory/phi_m: the bed's rise above its own base, not above
+     * the floor centre plane (y_b ~1.1 a there, the spheres resting on the floor's) */
+    const double h0 = st->inventory / in->phi_m;
+    st->relative_height_increase = (st->height - st->bed_base - h0) / h0;
+    st->relative_height_increase_err = st->thickness_err / h0;
+    st->relative_height_increase_floor_plane = (st->height - h0) / h0;
+    st->relative_height_increase_floor_plane_err = st->height_err / h0;
     lub_profile_normal_viscosity(out->phi, NULL, nb, dy, in->shields, out->eta, NULL);
     st->bulk_bins = lub_profile_select_bulk(out->phi, nb, 0.0, dy, in->interface_width,
                                             in->floor_skip, in->phi_min, out->bulk);

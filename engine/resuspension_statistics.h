@@ -9,8 +9,10 @@
  * of the bulk points from them, and the mean flow-direction velocity per bin with its
  * least-squares slope over the bulk bins. Whether the height is steady: MSER-5 and the drift
  * test over the averaging window; the end of its transient: MSER-5 on the whole height series.
- * The height is the half-maximum crossing of the averaged profile and its error the SEM of its
- * first-order change with each sample's profile (delta method), both over the whole window.
+ * The height is the top half-maximum crossing of the averaged profile and its error the SEM of
+ * its first-order change with each sample's profile (delta method), both over the whole window;
+ * the bed's base y_b is the bottom crossing, with its error by the same rule, and the relative
+ * height increase (h - y_b - h0)/h0 (h0 = inventory/phi_m) has the error of h - y_b.
  *
  * Units: those of the scene (length a, time 1/gd, viscosity eta; velocities in a gd; phi and
  * eta_ii/eta dimensionless); y is measured from the floor centre plane.
@@ -76,6 +78,18 @@ typedef struct {
     int eta_vs_phi_rows;        /* rows of eta_vs_phi */
     double law_log_rms;         /* rms of log(eta / law) over the bulk bins */
     double bulk_velocity_slope; /* d<v_x>/dy over the bulk bins (gd; NaN below 3 bins) */
+    /* the bed's base y_b, the bottom half-maximum crossing of the averaged profile
+     * (lub_profile_base), and its error (a; the delta method of height_err; NaN when the
+     * crossing is not interpolated) */
+    double bed_base, bed_base_err;
+    /* the error of height - bed_base (the same delta method; a crossing that is not
+     * interpolated contributes no change) */
+    double thickness_err;
+    /* (h - y_b - h0)/h0 with h0 = inventory/phi_m, and thickness_err/h0 (since 2026-12-07) */
+    double relative_height_increase, relative_height_increase_err;
+    /* (h - h0)/h0 and height_err/h0: h from the floor centre plane (before 2026-12-07 the
+     * summary's relative_height_increase) */
+    double relative_height_increase_floor_plane, relative_height_increase_floor_plane_err;
 } lub_rs_stats;
 
 void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,

@@ -75,7 +75,13 @@ static void rs_put_results(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_
     lub_summary_put(ctx, "stokes_number", sc->stokes, NAN, "1");
     lub_summary_put(ctx, "suspension_height", hs_mean, hs_sem, "a");
     lub_summary_put(ctx, "settled_height", h0, NAN, "a");
-    lub_summary_put(ctx, "relative_height_increase", (hs_mean - h0) / h0, hs_sem / h0, "1");
+    lub_summary_put(ctx, "bed_base_height", st->bed_base, st->bed_base_err, "a");
+    /* from the bed's base since 2026-12-07; the floor-plane value is the earlier definition */
+    lub_summary_put(ctx, "relative_height_increase", st->relative_height_increase,
+                    st->relative_height_increase_err, "1");
+    lub_summary_put(ctx, "relative_height_increase_floor_plane",
+                    st->relative_height_increase_floor_plane,
+                    st->relative_height_increase_floor_plane_err, "1");
     lub_summary_put(ctx, "inventory", st->inventory, NAN, "a");
     lub_summary_put(ctx, "max_phi", st->max_phi, NAN, "1");
     lub_summary_put(ctx, "bulk_bins", st->bulk_bins >= 0 ? st->bulk_bins : NAN, NAN, "1");

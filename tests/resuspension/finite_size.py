@@ -26,8 +26,9 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from resuspension_consistency import (bulk_pairs, eta_at, half_max_crossings, law_spec,  # noqa
-                                      run, summary, val)
+from resuspension_consistency import (bulk_pairs, check_bed_base, eta_at,  # noqa
+                                      floor_plane_rel, half_max_crossings, law_spec, run,
+                                      summary, val)
 
 
 def spec_for(n, args):
@@ -68,7 +69,8 @@ def main():
         h, herr = val(s, "suspension_height")
         h0 = val(s, "settled_height")[0]
         yb, _ = half_max_crossings(y, phi)
-        r = dict(n=n, width=spec["width"], rel=val(s, "relative_height_increase")[0], err=herr / h0,
+        check_bed_base(s, yb, h, h0)
+        r = dict(n=n, width=spec["width"], rel=floor_plane_rel(s)[0], err=herr / h0,
                  rel_c=(h - yb - h0) / h0, h0=h0, wall=s["wall_time_s"],
                  steps=s.get("steps", float("nan")), steady=s.get("height_steady"),
                  crushed=val(s, "crushed_contact_fraction")[0], y=y, phi=phi, perr=perr,

@@ -160,6 +160,29 @@ def half_max_crossings(y, phi):
     return float(yb), float(yt)
 
 
+def floor_plane_rel(s):
+    """(h - h0)/h0 with h from the floor centre plane, the "summary" column of the Acrivos
+    tables: the summary's relative_height_increase_floor_plane since 2026-12-07, its
+    relative_height_increase before (which is now the floor-corrected (h - y_b - h0)/h0)"""
+    r = s["results"]
+    return val(s, "relative_height_increase_floor_plane" if "relative_height_increase_floor_plane"
+               in r else "relative_height_increase")
+
+
+def check_bed_base(s, yb, h, h0):
+    """the engine's bed_base_height and relative_height_increase (since 2026-12-07) against y_b
+    of half_max_crossings and (h - y_b - h0)/h0 here (the summary keeps 10 significant
+    digits)"""
+    r = s["results"]
+    if r.get("bed_base_height", {}).get("value") is None:
+        return
+    eb, er = r["bed_base_height"]["value"], r["relative_height_increase"]["value"]
+    rel_c = (h - yb - h0) / h0
+    if abs(eb - yb) > 1e-9 * abs(yb) + 1e-12 or abs(er - rel_c) > 1e-9 * (h / h0) + 1e-12:
+        raise RuntimeError(f"engine bed_base_height {eb!r} / relative_height_increase {er!r} "
+                           f"differ from half_max_crossings' y_b {yb!r} / {rel_c!r}")
+
+
 def coarse_grain(phi, err, dy, width):
     """phi averaged over a centred window of total width `width` (a), bins weighted by their
     overlap with it, the window cut at the ends; error of that mean for independent bins (an
@@ -314,10 +337,11 @@ def main():
         A, _ = val(s, "acrivos")
         h, herr = val(s, "suspension_height")
         h0, _ = val(s, "settled_height")
-        rhi, rhi_err = val(s, "relative_height_increase")
+        rhi, rhi_err = floor_plane_rel(s)
         inv, _ = val(s, "inventory")
         yb, yt = half_max_crossings(y, phi)
         rel_c = (h - yb - h0) / h0
+        check_bed_base(s, yb, h, h0)
         refs = {}
         for law in ("zarraga", "dem_seed"):
             o = run(args.lubdem, sbm_spec(law, sh, inv),
@@ -356,8 +380,11 @@ def main():
         fh.write(f"Vorticity orientation, N = {cfg['n']}, cell {cfg['width']:g} a, strain "
                  f"{cfg['vort_strain']:g} averaged from {cfg['vort_avg']:g}, I = "
                  f"{args.inertial_number:g}, density_ratio {args.density_ratio:g}, eps 0.002, "
-                 f"mu 0.5, stiffness {args.stiffness:g}. h0 = inventory/0.58. (h-h0)/h0: summary value "
-                 f"(height from the floor-centre plane) and floor-corrected (height from the "
+                 f"mu 0.5, stiffness {args.stiffness:g}. h0 = inventory/0.58. (h-h0)/h0: "
+                 f"floor-plane value (height from the floor-centre plane: the summary's "
+                 f"relative_height_increase_floor_plane, its relative_height_increase before "
+                 f"2026-12-07) and floor-corrected (the summary's relative_height_increase since "
+                 f"2026-12-07: height from the "
                  f"bottom half-max crossing y_b). References: SBM (sbm_resuspension) with "
                  f"Zarraga's eta_33 (fitted to the Couette data of Acrivos, Mauri & Fan 1993) "
                  f"and with the seed's eq. 10, same estimator (phi = max/2; in brackets: the "

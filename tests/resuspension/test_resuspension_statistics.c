@@ -16,7 +16,11 @@
  *     noise it is the naive SEM of the per-sample half-maximum heights to 1 %;
  *  5. height_steady judges the averaging window: a transient before it does not matter, a drift
  *     inside it does, and a transient of the whole series that outlasts the window's start is
- *     flagged (transient_in_window). */
+ *     flagged (transient_in_window);
+ *  6. the bed's base and the relative height increase on a constructed profile, by hand:
+ *     y_b = 11/12 a (bottom half-maximum crossing), h = 6.5 a, h0 = 2.95/0.6 a, so
+ *     (h - y_b - h0)/h0 = 8/59 (the floor-plane (h - h0)/h0 is 19/59); with a small noise
+ *     the errors of y_b and of h - y_b are the naive SEMs of the per-sample values to 1 %. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -287,6 +291,62 @@ int main(void)
             h[k] = 8.0 + (k >= 200 ? 0.004 * (k - 200) : 0.0) + 0.05 * gauss();
         run_h(s, 200, h, NH, &r);
         CHECK(r.st.steady == 0, "a drift through the averaging window judged steady");
+        release(&r);
+    }
+    /* 6. bed base and relative height increase: phi 0, 0.2, then 0.5 over bins 2-11 but 0.6 in
+     * bin 5, 0.4, 0.2, then 0; maximum 0.6, level 0.3 */
+    {
+        enum { N = 24 };
+        static double s[N * NB], bk[N], tk[N];
+        static const double prof[NB] = {0.0, 0.2, 0.5, 0.5, 0.5, 0.6, 0.5,
+                                        0.5, 0.5, 0.5, 0.5, 0.5, 0.4, 0.2};
+        for (int k = 0; k < N; ++k)
+            for (int i = 0; i < NB; ++i)
+                s[k * NB + i] = prof[i];
+        result r;
+        run(s, N, &r);
+        /* y_b between the centres 0.75 (0.2) and 1.25 (0.5): 0.75 + 0.1/0.3 x 0.5 = 11/12;
+         * h between 6.25 (0.4) and 6.75 (0.2): 6.25 + 0.1/0.2 x 0.5 = 6.5; inventory
+         * 0.5 x 5.9 = 2.95, h0 = 2.95/0.6 = 59/12; (h - y_b - h0)/h0 = (2/3)/(59/12) = 8/59 */
+        const double yb = 11.0 / 12.0, h = 6.5, h0 = 2.95 / 0.6;
+        CHECK(fabs(r.st.bed_base - yb) < 1e-12, "bed base %.15g, expected %.15g", r.st.bed_base,
+              yb);
+        CHECK(fabs(r.st.height - h) < 1e-12, "height %.15g, expected %.15g", r.st.height, h);
+        CHECK(fabs(r.st.relative_height_increase - 8.0 / 59.0) < 1e-12,
+              "relative height increase %.15g, expected (h - y_b - h0)/h0 = 8/59 (the floor "
+              "plane's (h - h0)/h0 is %.6g)",
+              r.st.relative_height_increase, (h - h0) / h0);
+        CHECK(fabs(r.st.relative_height_increase_floor_plane - 19.0 / 59.0) < 1e-12,
+              "floor-plane relative height increase %.15g, expected %.15g",
+              r.st.relative_height_increase_floor_plane, 19.0 / 59.0);
+        CHECK(fabs(r.st.bed_base_err) < 1e-15 && fabs(r.st.relative_height_increase_err) < 1e-15,
+              "identical samples: bed base error %.3g, relative error %.3g, expected 0",
+              r.st.bed_base_err, r.st.relative_height_increase_err);
+        release(&r);
+        /* a small noise: the delta-method errors against the per-sample crossings' SEM */
+        double bm = 0.0, dm = 0.0, bv = 0.0, dv = 0.0;
+        for (int k = 0; k < N; ++k) {
+            for (int i = 0; i < NB; ++i)
+                s[k * NB + i] = prof[i] + (prof[i] > 0 ? 1e-4 * gauss() : 0.0);
+            double mx = 0.0;
+            for (int i = 0; i < NB; ++i)
+                mx = fmax(mx, s[k * NB + i]);
+            bk[k] = lub_profile_base(s + k * NB, NB, 0.0, DY, 0.5 * mx);
+            tk[k] = lub_profile_height(s + k * NB, NB, 0.0, DY, 0.5 * mx) - bk[k];
+            bm += bk[k] / N;
+            dm += tk[k] / N;
+        }
+        for (int k = 0; k < N; ++k) {
+            bv += (bk[k] - bm) * (bk[k] - bm) / (N - 1);
+            dv += (tk[k] - dm) * (tk[k] - dm) / (N - 1);
+        }
+        run(s, N, &r);
+        const double h0n = r.st.inventory / 0.6;
+        CHECK(fabs(r.st.bed_base_err / sqrt(bv / N) - 1.0) < 0.01,
+              "bed_base_err %.6g, SEM of the samples' %.6g", r.st.bed_base_err, sqrt(bv / N));
+        CHECK(fabs(r.st.relative_height_increase_err * h0n / sqrt(dv / N) - 1.0) < 0.01,
+              "relative_height_increase_err x h0 %.6g, SEM of the samples' h - y_b %.6g",
+              r.st.relative_height_increase_err * h0n, sqrt(dv / N));
         release(&r);
     }
     if (failures)
