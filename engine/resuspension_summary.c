@@ -35,9 +35,12 @@ int lub_rs_write_profiles(lub_h5 *out, int nb, const lub_rs_stats_profiles *pr, 
              write_profiles(out, "bulk_mask", nb, pr->bulk_mask, "1") ||
              write_profiles(out, "eta_normal_law", nb, pr->law, "1") ||
              write_profiles(out, "velocity_x", nb, pr->velocity_x, "a gd");
-    if (!wr && rows > 0) {
+    if (!wr) { /* also without a bulk bin: (0, 4), so that readers find it */
         int64_t dims[2] = {rows, 4};
-        wr = lub_h5_write_array(out, "eta_vs_phi", 2, dims, pr->eta_vs_phi, "1");
+        wr = lub_h5_write_array(out, "eta_vs_phi", 2, dims, pr->eta_vs_phi, "1") ||
+             lub_h5_profile_note(out, "eta_vs_phi", "columns",
+                                 "phi_coarse, phi_coarse_err, eta_normal, eta_normal_err (one "
+                                 "row per bulk bin, bottom to top)");
     }
     return wr ? -1 : 0;
 }
@@ -154,6 +157,19 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
                  "%.4g, after /average_from (%.4g): the averages include part of it; raise "
                  "/average_from (see height_transient_end_strain)",
                  o->transient_end_strain, p->average_from);
+        json_array_append_new(warn, json_string(msg));
+    }
+    if (o->averaged_samples > 0 && st->bulk_bins >= 0 && st->bulk_bins < 3) {
+        char msg[640];
+        snprintf(msg, sizeof msg,
+                 "%d bulk bin%s (bulk_bins; fewer than 3): bulk_velocity_slope is null%s; the "
+                 "bulk bins are those at least /analysis/interface_width below the interface, "
+                 "/analysis/floor_skip above the floor and at phi >= /analysis/phi_min: lower "
+                 "these, or make the bed thicker (/n) or the run longer (/strain)",
+                 st->bulk_bins, st->bulk_bins == 1 ? "" : "s",
+                 st->bulk_bins == 0 ? ", and so is eta_vs_law_log_rms; /profiles/eta_vs_phi has "
+                                      "no rows"
+                                    : "");
         json_array_append_new(warn, json_string(msg));
     }
     if (p->orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) && fabs(bulk_rate - gd) > 0.2 * gd)

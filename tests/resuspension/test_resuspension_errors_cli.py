@@ -96,7 +96,23 @@ def check(lubdem, work, name, spec):
         fails.append(f"{name}: eta_normal_err of the bottom bin {P['eta_normal_err'][0]:.3g}, "
                      f"expected ~0 (eta {P['eta_normal'][0]:.4g})")
     m = P["bulk_mask"] > 0
-    ev = P["eta_vs_phi"]
+    ev = P["eta_vs_phi"]  # written with no rows too (since 2026-12-07), shape (0, 4)
+    if ev.ndim != 2 or ev.shape != (int(m.sum()), 4):
+        fails.append(f"{name}: eta_vs_phi shape {ev.shape}, {int(m.sum())} bulk bins")
+        ev = np.zeros((0, 4)) if ev.size == 0 else ev
+    if int(R["bulk_bins"]["value"]) < 3:
+        # fewer than 3 bulk bins: the null members and the spec fields are named (2026-12-07)
+        nulls = ["bulk_velocity_slope"] + (["eta_vs_law_log_rms"] if not m.any() else [])
+        warn = [w for w in S["warnings"] if "bulk bin" in w]
+        for k in nulls:
+            if R[k]["value"] is not None:
+                fails.append(f"{name}: {k} = {R[k]['value']} with {int(m.sum())} bulk bins")
+        want = nulls + ["/analysis/interface_width", "/analysis/floor_skip",
+                        "/analysis/phi_min", "/n", "/strain"]
+        if not m.any():
+            want.append("/profiles/eta_vs_phi")
+        if len(warn) != 1 or not all(k in warn[0] for k in want):
+            fails.append(f"{name}: no warning naming {want}: {S['warnings']}")
     if not (np.array_equal(ev[:, 1], P["phi_coarse_err"][m])
             and np.array_equal(ev[:, 3], P["eta_normal_err"][m])):
         fails.append(f"{name}: eta_vs_phi error columns are not the bulk bins' errors")
@@ -119,8 +135,9 @@ def check(lubdem, work, name, spec):
         print(f"{name}: shear drag carries {100 * share:.2f} % of the weight, warning {warned}")
     elif "shear_drag_weight_share" in R:
         fails.append(f"{name}: shear_drag_weight_share in the vorticity orientation")
+    ratio = np.median(P['eta_normal_err'][m] / es[m]) if m.any() else float("nan")
     print(f"{name}: {navg} samples, bottom eta_err {P['eta_normal_err'][0]:.3g}, "
-          f"bulk eta_err / series SEM {np.median(P['eta_normal_err'][m] / es[m]):.3f}")
+          f"bulk eta_err / series SEM {ratio:.3f}, {int(m.sum())} bulk bins")
     return fails
 
 
@@ -136,6 +153,11 @@ def main():
     fails += check(lubdem, work, "vorticity", dict(base, orientation="vorticity", strain=0.5,
                                                    average_from=0.1, sample_strain=0.01,
                                                    snapshots=51, shear_drag_viscosity=0))
+    # the audit's bed too thin for a bulk bin (N 40, Sh 0.05): bulk_bins 0, eta_vs_phi (0, 4)
+    fails += check(lubdem, work, "nobulk", dict(base, orientation="vorticity", n=40, strain=0.6,
+                                                average_from=0.1, sample_strain=0.01,
+                                                shields=0.05, snapshots=61,
+                                                shear_drag_viscosity=0))
     for x in fails:
         print("FAIL:", x, file=sys.stderr)
     return 1 if fails else 0
