@@ -20,12 +20,16 @@
  *  6. the bed's base and the relative height increase on a constructed profile, by hand:
  *     y_b = 11/12 a (bottom half-maximum crossing), h = 6.5 a, h0 = 2.95/0.6 a, so
  *     (h - y_b - h0)/h0 = 8/59 (the floor-plane (h - h0)/h0 is 19/59); with a small noise
- *     the errors of y_b and of h - y_b are the naive SEMs of the per-sample values to 1 %. */
+ *     the errors of y_b and of h - y_b are the naive SEMs of the per-sample values to 1 %;
+ *  7. the law columns: law[i] is lub_dem_eta22(phi_coarse/phi_m), times
+ *     lub_dem_lambda33(phi_coarse, 0.64) in the vorticity orientation, and law_log_rms the rms
+ *     of ln(eta/law) over the bulk bins with eta_ii summed here by hand (eq. 6). */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "continuum_normal_laws.h"
 #include "resuspension_statistics.h"
 #include "resuspension_analysis.h"
 #include "stats.h"
@@ -56,6 +60,7 @@ static double gauss(void)
 
 enum { NB = 24 };
 static const double DY = 0.5, SH = 0.5, WINDOW = 2.0;
+static int vorticity = 0; /* the orientation run_h passes */
 
 typedef struct {
     double y[NB], phi[NB], phi_err[NB], cg[NB], cg_err[NB], eta[NB], eta_err[NB], law[NB];
@@ -91,7 +96,8 @@ static void run_h(const double *samples, int64_t navg, const double *heights, in
                                    .floor_skip = 1.0,
                                    .phi_min = 0.05,
                                    .phi_m = 0.6,
-                                   .phi_window = WINDOW};
+                                   .phi_window = WINDOW,
+                                   .vorticity = vorticity};
     const lub_rs_stats_profiles out = {.y = r->y,
                                        .phi = r->phi,
                                        .phi_err = r->phi_err,
@@ -349,6 +355,50 @@ int main(void)
               r.st.relative_height_increase_err * h0n, sqrt(dv / N));
         release(&r);
     }
+    /* 7. the law columns on the profile of case 6 (bulk bins 2-8: interface 6.5 - 2, floor
+     * skip 1), both orientations */
+    for (vorticity = 0; vorticity <= 1; ++vorticity) {
+        enum { N = 4 };
+        static double s[N * NB];
+        static const double prof[NB] = {0.0, 0.2, 0.5, 0.5, 0.5, 0.6, 0.5,
+                                        0.5, 0.5, 0.5, 0.5, 0.5, 0.4, 0.2};
+        for (int k = 0; k < N; ++k)
+            for (int i = 0; i < NB; ++i)
+                s[k * NB + i] = prof[i];
+        result r;
+        run(s, N, &r);
+        double s2 = 0.0;
+        int nl = 0, bulk = 0;
+        for (int i = 0; i < NB; ++i) {
+            const double psi = r.cg[i] / 0.6;
+            double want = psi < 1.0 ? lub_dem_eta22(psi) : NAN;
+            if (vorticity)
+                want *= lub_dem_lambda33(r.cg[i], 0.64);
+            CHECK(isnan(want) ? isnan(r.law[i]) : fabs(r.law[i] - want) <= 1e-14 * want,
+                  "vorticity %d: law[%d] %.15g, expected %.15g (phi_coarse %.6g)", vorticity, i,
+                  r.law[i], want, r.cg[i]);
+            const int k = i >= 2 && i <= 8;
+            CHECK(r.bulk[i] == k, "vorticity %d: bin %d bulk %d, expected %d", vorticity, i,
+                  r.bulk[i], k);
+            bulk += k;
+            if (k) {
+                double eta = 0.5 * prof[i];
+                for (int j = i + 1; j < NB; ++j)
+                    eta += prof[j];
+                eta *= DY / SH;
+                const double d = log(eta / want);
+                s2 += d * d;
+                ++nl;
+            }
+        }
+        const double rms = sqrt(s2 / nl);
+        CHECK(bulk == 7 && r.st.bulk_bins == 7, "vorticity %d: %d bulk bins, expected 7", vorticity,
+              r.st.bulk_bins);
+        CHECK(fabs(r.st.law_log_rms - rms) <= 1e-12 * rms,
+              "vorticity %d: law_log_rms %.15g, by hand %.15g", vorticity, r.st.law_log_rms, rms);
+        release(&r);
+    }
+    vorticity = 0;
     if (failures)
         fprintf(stderr, "%d failure(s)\n", failures);
     return failures ? 1 : 0;
