@@ -5,8 +5,9 @@
  * so the front (phi = 0) is at y_f = lambda Sh ((1 - psi0)^-2 - 1)/phi_m.
  * Eq. 6 applied to the binned exact profile must return eta(phi) bin by bin: the check
  * fails if the 1/Sh factor, the integration direction or the half-bin term is wrong.
- * Also: inventory, height, bulk selection, dimensionless groups, and the coarse graining of a
- * layered profile (lub_profile_coarse_grain). */
+ * Also: inventory, height, the bed's base, the bulk selection (keep[i] equals the rule for every
+ * bin, and a step profile where only the interface width excludes bins), dimensionless groups,
+ * and the coarse graining of a layered profile (lub_profile_coarse_grain). */
 #include <math.h>
 #include <stdio.h>
 
@@ -89,13 +90,40 @@ int main(void)
     /* bulk selection: interface bins and floor bins excluded */
     int keep[N];
     int kept = lub_profile_select_bulk(phi, N, 0.0, dy, 5.0, 1.0, 0.05, keep);
-    double y_half = lub_profile_height(phi, N, 0.0, dy, 0.5 * phi[0]);
+    double y_half = lub_profile_height(phi, N, 0.0, dy, 0.5 * phi[0]); /* phi[0] the maximum */
+    int kept_rule = 0;
     for (int i = 0; i < N; ++i) {
         double y = (i + 0.5) * dy;
-        if (keep[i])
-            CHECK(y <= y_half - 5.0 && y >= 1.0 && phi[i] >= 0.05, "bin %d kept wrongly", i);
+        const int rule = y <= y_half - 5.0 && y >= 1.0 && phi[i] >= 0.05;
+        CHECK(keep[i] == rule, "bin %d (y %.3f, phi %.4f): keep %d, the rule says %d", i, y, phi[i],
+              keep[i], rule);
+        kept_rule += rule;
     }
-    CHECK(kept > 0, "no bulk bins kept");
+    CHECK(kept > 0 && kept == kept_rule, "%d bulk bins kept, the rule keeps %d", kept, kept_rule);
+
+    /* only the interface width excludes bins: a step profile phi = 0.5 over bins 0-39 (bins
+     * of 0.5 a, so the half-maximum crossing is at y_int = 20), no floor skip, phi_min 0: the
+     * bins with centre at or below y_int - 5 = 15 are kept, 0-29, and no other */
+    {
+        enum { M = 60 };
+        double st[M];
+        int kp[M];
+        for (int i = 0; i < M; ++i)
+            st[i] = i < 40 ? 0.5 : 0.0;
+        CHECK(fabs(lub_profile_height(st, M, 0.0, 0.5, 0.25) - 20.0) < 1e-12, "step height");
+        const int k = lub_profile_select_bulk(st, M, 0.0, 0.5, 5.0, 0.0, 0.0, kp);
+        CHECK(k == 30, "step profile: %d bulk bins kept, expected 30 (centres <= 15)", k);
+        for (int i = 0; i < M; ++i)
+            CHECK(kp[i] == (i <= 29), "step profile: bin %d (centre %.2f) keep %d", i,
+                  (i + 0.5) * 0.5, kp[i]);
+        /* the bed's base: the bottom bin already at the level gives its centre; a level never
+         * reached NAN; a rise from 0.1 at centre 0.25 to 0.5 at 0.75 crosses 0.25 at 0.4375 */
+        CHECK(lub_profile_base(st, M, 0.0, 0.5, 0.25) == 0.25, "base of the step");
+        CHECK(isnan(lub_profile_base(st, M, 0.0, 0.5, 0.6)), "base above the profile -> NAN");
+        st[0] = 0.1;
+        CHECK(fabs(lub_profile_base(st, M, 0.0, 0.5, 0.25) - 0.4375) < 1e-15, "base %.17g",
+              lub_profile_base(st, M, 0.0, 0.5, 0.25));
+    }
 
     /* coarse graining over one diameter (2 a, bins of 0.5 a): a layered profile (mean 0.48,
      * +-0.05 with the period of one diameter) becomes its mean away from the ends, exactly
