@@ -45,7 +45,8 @@ double lub_profile_height(const double *phi, int n, double y0, double dy, double
  * at y0, so the bed starts ~1.1 a above y0. */
 double lub_profile_base(const double *phi, int n, double y0, double dy, double phi_level);
 
-/* The interface-discarding rule (documented in README, "Resuspension analysis"): the
+/* The interface-discarding rule (documented in README, Scene `resuspension`, *Observables*,
+ * `bulk_mask`; the scene's defaults: spec /analysis): the
  * interface is at y_int = lub_profile_height(phi, ..., phi_level = phi_half) with
  * phi_half = 0.5 * max(phi); bins whose centre is above y_int - interface_width (default 5a,
  * the width over which the seed's profiles fall from ~0.5 to 0) are flagged as interface

@@ -163,7 +163,7 @@ static int rs_height_steady(const lub_rs_stats_input *in, const lub_rs_stats_pro
     const double *h = in->height + (in->nh - in->navg);
     int mser_steady = 0;
     *cut = 0;
-    if (n < 10)
+    if (n < LUB_RS_STEADY_MIN_SAMPLES)
         return 0;
     *cut = lub_stats_mser(h, n, 5, &mser_steady);
     const double z = lub_stats_drift_z(h + *cut, n - *cut, out->scratch2);

@@ -27,6 +27,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* Averaged samples MSER-5 needs to judge whether the height is steady (below: never steady). */
+#define LUB_RS_STEADY_MIN_SAMPLES 10
+
 typedef struct {
     int nb;                /* bins; bin i covers [i dy, (i + 1) dy) above the floor centre plane */
     double dy;             /* bin width (a) */

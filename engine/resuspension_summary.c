@@ -139,7 +139,20 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
     if (gd * sqrt(a / grav) > 5e-2)
         json_array_append_new(warn, json_string("inertial number gd sqrt(a/g) above 5e-2: "
                                                 "inertia enhances resuspension (seed 000 §IV.C)"));
-    if (!st->steady) {
+    if (!st->steady && o->averaged_samples > 0 && o->averaged_samples < LUB_RS_STEADY_MIN_SAMPLES) {
+        /* MSER-5 and the drift test never ran: not "not steady", but not judged */
+        char msg[400];
+        snprintf(msg, sizeof msg,
+                 "too few samples to judge whether the suspension height is steady (%lld "
+                 "averaged, MSER-5 and the drift test need %d; height_steady is false): %s",
+                 (long long)o->averaged_samples, LUB_RS_STEADY_MIN_SAMPLES,
+                 !o->stopped ? "increase /strain, or lower /average_from or /sample_strain"
+                 : lub_run_resumable(ctx)
+                     ? "the run was stopped by a signal: " LUB_RESUME_ADVICE
+                     : "the run was stopped by a signal and its checkpoint could not be "
+                       "written: run it again");
+        json_array_append_new(warn, json_string(msg));
+    } else if (!st->steady) {
         const char *why = !o->stopped ? "suspension height not steady over the averaging "
                                         "window (MSER-5, drift test): increase /strain"
                           : lub_run_resumable(ctx)
@@ -198,13 +211,20 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
                                           "(crushed_contact_fraction; u_n < -alpha eps a): "
                                           "contact forces exceed alpha stiffness eps, the "
                                           "results depend on /stiffness: raise it"));
-    if (o->averaged_samples <= 0)
-        json_array_append_new(warn,
-                              json_string("no profile was averaged (the run ended before "
-                                          "/average_from): the profiles and what the averaging "
-                                          "window measures (suspension_height, max_phi, "
-                                          "crushed_contact_fraction, bulk_bins, inventory) are "
-                                          "null, and whether asperities are crushed is unknown"));
+    if (o->averaged_samples <= 0) {
+        /* every member rs_put_results takes from the averaged profiles (README lists the same) */
+        char msg[640];
+        snprintf(msg, sizeof msg,
+                 "no profile was averaged (the run ended before /average_from): the profiles "
+                 "and what the averaging window measures (suspension_height, bed_base_height, "
+                 "settled_height, relative_height_increase, "
+                 "relative_height_increase_floor_plane, inventory, acrivos, max_phi, "
+                 "bulk_bins, bulk_velocity_slope, eta_vs_law_log_rms, "
+                 "crushed_contact_fraction%s) are null, and whether asperities are crushed "
+                 "is unknown",
+                 p->orientation == LUB_RS_GRADIENT ? ", shear_drag_weight_share" : "");
+        json_array_append_new(warn, json_string(msg));
+    }
     lub_network_warn_skipped(o->network, warn);
     return warn;
 }

@@ -160,6 +160,19 @@ def main():
                                                 average_from=0.1, sample_strain=0.01,
                                                 shields=0.05, snapshots=61,
                                                 shear_drag_viscosity=0))
+    # 9 averaged samples, fewer than the 10 MSER-5 needs: "too few samples to judge", not
+    # "not steady (MSER-5, drift test)" (2026-12-07)
+    d, path = os.path.join(work, "few"), os.path.join(work, "few.json")
+    json.dump(dict(base, orientation="vorticity", n=40, strain=0.6, average_from=0.2,
+                   sample_strain=0.05, shields=0.05, snapshots=0, shear_drag_viscosity=0),
+              open(path, "w"))
+    subprocess.run([lubdem, "run", path, "--out", d, "--threads", "1", "--quiet"], check=True)
+    S = json.load(open(d + "/summary.json"))
+    w = S["warnings"]
+    if not (S["results"]["averaged_samples"]["value"] < 10 and not S["height_steady"]
+            and any("too few samples to judge" in x for x in w)
+            and not any("not steady" in x for x in w)):
+        fails.append(f"few: {S['results']['averaged_samples']['value']} samples, warnings {w}")
     for x in fails:
         print("FAIL:", x, file=sys.stderr)
     return 1 if fails else 0
