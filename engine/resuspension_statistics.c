@@ -126,7 +126,8 @@ static void rs_crossing_errors(const lub_rs_stats_input *in, const lub_rs_stats_
             bot = j;
             break;
         }
-    const int has_top = top >= 0 && top<nb - 1, has_bot = bot> 0;
+    const int has_top = top >= 0 && top < nb - 1; /* interpolated: a bin above it */
+    const int has_bot = bot > 0;                  /* interpolated: a bin below it */
     rs_crossing_grad gt = {0, 0, 0, 0.0, 0.0, 0.0}, gb = gt;
     if (has_top) /* the bins top (>= L) and top + 1 (< L) */
         gt = rs_crossing(out->phi, top, m, level, dy);
