@@ -146,6 +146,19 @@ static double coarse_weight_factor(int i)
 
 static double base(int i) { return i < 16 ? 0.5 : 0.0; }
 
+/* The bed profile of cases 6 and 7: phi 0, 0.2, then 0.5 over bins 2-11 but 0.6 in bin 5, 0.4,
+ * 0.2, then 0 */
+static const double bed_profile[NB] = {0.0, 0.2, 0.5, 0.5, 0.5, 0.6, 0.5,
+                                       0.5, 0.5, 0.5, 0.5, 0.5, 0.4, 0.2};
+
+/* n samples, each equal to prof, into s[n * NB] */
+static void fill_samples(double *s, int n, const double *prof)
+{
+    for (int k = 0; k < n; ++k)
+        for (int i = 0; i < NB; ++i)
+            s[k * NB + i] = prof[i];
+}
+
 int main(void)
 {
     /* 1. fixed inventory, bottom bin fixed, the rest shuffled between pairs of bins */
@@ -304,11 +317,8 @@ int main(void)
     {
         enum { N = 24 };
         static double s[N * NB], bk[N], tk[N];
-        static const double prof[NB] = {0.0, 0.2, 0.5, 0.5, 0.5, 0.6, 0.5,
-                                        0.5, 0.5, 0.5, 0.5, 0.5, 0.4, 0.2};
-        for (int k = 0; k < N; ++k)
-            for (int i = 0; i < NB; ++i)
-                s[k * NB + i] = prof[i];
+        const double *prof = bed_profile;
+        fill_samples(s, N, prof);
         result r;
         run(s, N, &r);
         /* y_b between the centres 0.75 (0.2) and 1.25 (0.5): 0.75 + 0.1/0.3 x 0.5 = 11/12;
@@ -360,11 +370,8 @@ int main(void)
     for (vorticity = 0; vorticity <= 1; ++vorticity) {
         enum { N = 4 };
         static double s[N * NB];
-        static const double prof[NB] = {0.0, 0.2, 0.5, 0.5, 0.5, 0.6, 0.5,
-                                        0.5, 0.5, 0.5, 0.5, 0.5, 0.4, 0.2};
-        for (int k = 0; k < N; ++k)
-            for (int i = 0; i < NB; ++i)
-                s[k * NB + i] = prof[i];
+        const double *prof = bed_profile;
+        fill_samples(s, N, prof);
         result r;
         run(s, N, &r);
         double s2 = 0.0;
