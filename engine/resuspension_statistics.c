@@ -95,6 +95,20 @@ static double rs_crossing_change(const rs_crossing_grad *g, const double *s, con
            g->g_m * (s[g->m] - phi[g->m]);
 }
 
+/* The standard error (rs_series_sem) of the first-order change of the crossing `plus` minus that
+ * of `minus` over the averaging window's samples; a NULL crossing contributes no change. */
+static double rs_crossings_sem(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
+                               const rs_crossing_grad *plus, const rs_crossing_grad *minus)
+{
+    for (int64_t k = 0; k < in->navg; ++k) {
+        const double *s = in->samples + k * in->nb;
+        out->scratch[k] = (plus ? rs_crossing_change(plus, s, out->phi) : 0.0) -
+                          (minus ? rs_crossing_change(minus, s, out->phi) : 0.0);
+    }
+    int batch_means = 1;
+    return rs_series_sem(out->scratch, in->navg, out->scratch2, &batch_means);
+}
+
 /* The standard errors of the suspension height (the top half-maximum crossing h of the averaged
  * profile), of the bed's base (its bottom crossing y_b) and of their difference h - y_b: the
  * first-order change of each with every sample's deviation from the averaged profile (delta
@@ -126,31 +140,22 @@ static void rs_crossing_errors(const lub_rs_stats_input *in, const lub_rs_stats_
             bot = j;
             break;
         }
-    const int has_top = top >= 0 && top < nb - 1; /* interpolated: a bin above it */
-    const int has_bot = bot > 0;                  /* interpolated: a bin below it */
-    rs_crossing_grad gt = {0, 0, 0, 0.0, 0.0, 0.0}, gb = gt;
-    if (has_top) /* the bins top (>= L) and top + 1 (< L) */
+    /* the interpolated crossings (NULL: none, or at a bin centre) */
+    rs_crossing_grad gt, gb;
+    const rs_crossing_grad *t = NULL, *b = NULL;
+    if (top >= 0 && top < nb - 1) { /* the bins top (>= L) and top + 1 (< L) */
         gt = rs_crossing(out->phi, top, m, level, dy);
-    if (has_bot) /* the bins bot - 1 (< L) and bot (>= L) */
-        gb = rs_crossing(out->phi, bot - 1, m, level, dy);
-    int batch_means = 1;
-    for (int pass = 0; pass < 3; ++pass) {
-        if ((pass == 0 && !has_top) || (pass == 1 && !has_bot))
-            continue;
-        for (int64_t k = 0; k < in->navg; ++k) {
-            const double *s = in->samples + k * nb;
-            const double ct = has_top ? rs_crossing_change(&gt, s, out->phi) : 0.0;
-            const double cb = has_bot ? rs_crossing_change(&gb, s, out->phi) : 0.0;
-            out->scratch[k] = pass == 0 ? ct : pass == 1 ? cb : ct - cb;
-        }
-        const double e = rs_series_sem(out->scratch, in->navg, out->scratch2, &batch_means);
-        if (pass == 0)
-            st->height_err = e;
-        else if (pass == 1)
-            st->bed_base_err = e;
-        else
-            st->thickness_err = e;
+        t = &gt;
     }
+    if (bot > 0) { /* the bins bot - 1 (< L) and bot (>= L) */
+        gb = rs_crossing(out->phi, bot - 1, m, level, dy);
+        b = &gb;
+    }
+    if (t)
+        st->height_err = rs_crossings_sem(in, out, t, NULL);
+    if (b)
+        st->bed_base_err = rs_crossings_sem(in, out, b, NULL);
+    st->thickness_err = rs_crossings_sem(in, out, t, b);
 }
 
 /* Whether the suspension height is steady over the averaging window (the last navg of the nh
