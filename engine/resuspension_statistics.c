@@ -209,13 +209,21 @@ static void rs_compare_law(const lub_rs_stats_input *in, const lub_rs_stats_prof
     st->law_log_rms = nl > 0 ? sqrt(s2 / nl) : NAN;
 }
 
-/* The mean flow-direction velocity per bin and its least-squares slope over the bulk bins
- * (NaN below three). */
-static double rs_velocity_profile(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out)
+/* The mean flow-direction velocity per bin, its least-squares slope over the bulk bins (NaN
+ * below three) and that slope's standard error (st). The slope is b = sum_i c_i v_i over the n
+ * bulk bins a sphere crossed, c_i = (n y_i - sum y)/(n sum y^2 - (sum y)^2) and v_i = S_i/V_i
+ * the ratio of the window's velocity sum and volume. A sample k moves S_i by s_ik and V_i by
+ * vol_ik, so to first order b by its change
+ *     d_k = sum_i c_i (s_ik - v_i vol_ik) / (V_i / navg)
+ * (delta method, as lub_stats_ratio), whose mean over the window is 0 (sum_k s_ik = S_i =
+ * v_i V_i); the error is the standard error of the series d_k (rs_series_sem). */
+static void rs_velocity_profile(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
+                                lub_rs_stats *st)
 {
-    double bulk_rate = NAN;
+    const int nb = in->nb;
     double sw = 0, sy = 0, sv = 0, syy = 0, syv = 0;
-    for (int i = 0; i < in->nb; ++i) {
+    st->bulk_velocity_slope = st->bulk_velocity_slope_err = NAN;
+    for (int i = 0; i < nb; ++i) {
         out->velocity_x[i] = in->vx_volume[i] > 0.0 ? in->vx_sum[i] / in->vx_volume[i] : NAN;
         if (out->bulk[i] && isfinite(out->velocity_x[i])) {
             sw += 1.0;
@@ -225,9 +233,39 @@ static double rs_velocity_profile(const lub_rs_stats_input *in, const lub_rs_sta
             syv += out->y[i] * out->velocity_x[i];
         }
     }
-    if (sw >= 3.0)
-        bulk_rate = (sw * syv - sy * sv) / (sw * syy - sy * sy);
-    return bulk_rate;
+    if (sw < 3.0)
+        return;
+    const double den = sw * syy - sy * sy;
+    st->bulk_velocity_slope = (sw * syv - sy * sv) / den;
+    if (!in->vx_samples)
+        return;
+    for (int64_t k = 0; k < in->navg; ++k) {
+        const double *s = in->vx_samples + k * nb, *phi = in->samples + k * nb;
+        double d = 0.0;
+        for (int i = 0; i < nb; ++i)
+            if (out->bulk[i] && isfinite(out->velocity_x[i])) {
+                const double c = (sw * out->y[i] - sy) / den;
+                const double vol = phi[i] * in->bin_volume;
+                d += c * (s[i] - out->velocity_x[i] * vol) / (in->vx_volume[i] / (double)in->navg);
+            }
+        out->scratch[k] = d;
+    }
+    int batch_means = 1;
+    st->bulk_velocity_slope_err =
+        rs_series_sem(out->scratch, in->navg, out->scratch2, &batch_means);
+}
+
+/* The mean share of the buoyant weight the shear drag carries over the samples and its standard
+ * error (rs_series_sem), from the per-sample series (NaN without it). */
+static void rs_drag_share(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
+                          lub_rs_stats *st)
+{
+    int batch_means = 1;
+    st->drag_share = st->drag_share_err = NAN;
+    if (!in->drag_share || in->navg <= 0)
+        return;
+    st->drag_share = lub_stats_mean(in->drag_share, (size_t)in->navg);
+    st->drag_share_err = rs_series_sem(in->drag_share, in->navg, out->scratch2, &batch_means);
 }
 
 void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles *out,
@@ -262,6 +300,8 @@ void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles
     st->eta_vs_phi_rows = 0;
     st->law_log_rms = NAN;
     st->bulk_velocity_slope = NAN;
+    st->bulk_velocity_slope_err = NAN;
+    rs_drag_share(in, out, st);
     if (in->navg <= 0)
         return;
     st->max_phi = 0.0;
@@ -287,5 +327,5 @@ void lub_rs_statistics(const lub_rs_stats_input *in, const lub_rs_stats_profiles
     if (!rs_derived_errors(in, out))
         st->sem_batch_means = 0;
     rs_compare_law(in, out, st);
-    st->bulk_velocity_slope = rs_velocity_profile(in, out);
+    rs_velocity_profile(in, out, st);
 }

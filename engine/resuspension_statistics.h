@@ -12,7 +12,11 @@
  * The height is the top half-maximum crossing of the averaged profile and its error the SEM of
  * its first-order change with each sample's profile (delta method), both over the whole window;
  * the bed's base y_b is the bottom crossing, with its error by the same rule, and the relative
- * height increase (h - y_b - h0)/h0 (h0 = inventory/phi_m) has the error of h - y_b.
+ * height increase (h - y_b - h0)/h0 (h0 = inventory/phi_m) has the error of h - y_b. The
+ * velocity slope's error is the SEM of its first-order change with each sample's per-bin
+ * velocity sums and volumes (delta method, as the height's); the gradient orientation's share
+ * of the buoyant weight the shear drag carries is the mean of its per-sample series, with that
+ * series' SEM (both since 2026-12-08; null before).
  *
  * Units: those of the scene (length a, time 1/gd, viscosity eta; velocities in a gd; phi and
  * eta_ii/eta dimensionless); y is measured from the floor centre plane.
@@ -40,7 +44,16 @@ typedef struct {
     const double *vx_volume; /* per bin, summed over the averaged samples: the spheres' volume */
     const double *vx_sum;    /* ... and their volume-weighted v_x relative to the floor-plane
                                 mean flow */
-    double shields;          /* Sh of eta_ii = (1/Sh) int phi */
+    /* navg profiles of nb, one after the other: each averaged sample's own vx_sum terms (NULL:
+     * none, and bulk_velocity_slope_err is NaN). The sample's sphere volume in a bin is not
+     * stored: it is samples[k nb + i] x bin_volume (lub_profile_normalise divides it by that) */
+    const double *vx_samples;
+    double bin_volume; /* the cell's cross-section times dy (a^3) */
+    /* gradient: navg per-sample shares of the buoyant weight the shear drag carries (NULL:
+     * none, the vorticity orientation or a run continued from a checkpoint without them; then
+     * drag_share and its error are NaN) */
+    const double *drag_share;
+    double shields;                              /* Sh of eta_ii = (1/Sh) int phi */
     double interface_width, floor_skip, phi_min; /* the bulk selection */
     double phi_m;                                /* the eta_22 law's jamming fraction */
     double phi_window;                           /* coarse graining of phi in eta_ii(phi) (a) */
@@ -81,6 +94,14 @@ typedef struct {
     int eta_vs_phi_rows;        /* rows of eta_vs_phi */
     double law_log_rms;         /* rms of log(eta / law) over the bulk bins */
     double bulk_velocity_slope; /* d<v_x>/dy over the bulk bins (gd; NaN below 3 bins) */
+    /* its error: the SEM (rs_series_sem's rule) of the series over the samples k of its
+     * first-order change sum_i c_i (s_ik - v_i vol_ik) / (V_i / navg), c_i the least-squares
+     * coefficients of the bulk bins, s_ik and vol_ik the sample's velocity sum and volume in
+     * bin i, V_i the window's volume and v_i its mean velocity (gd; NaN with the slope or
+     * without vx_samples) */
+    double bulk_velocity_slope_err;
+    /* the mean of the per-sample drag shares and its SEM (1; NaN without drag_share) */
+    double drag_share, drag_share_err;
     /* the bed's base y_b, the bottom half-maximum crossing of the averaged profile
      * (lub_profile_base), and its error (a; the delta method of height_err; NaN when the
      * crossing is not interpolated) */

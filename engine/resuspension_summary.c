@@ -55,11 +55,26 @@ static double rs_crushed_fraction(const lub_rs_outcome *o)
 }
 
 /* Gradient orientation: the mean share of the buoyant weight the shear drag carries over the
- * averaged samples (NaN without one, or from an older checkpoint). eta_ii(y) = (1/Sh) int phi
- * takes the whole weight as pair stress, so it overstates that stress by this share. */
-static double rs_drag_share(const lub_rs_outcome *o)
+ * averaged samples, the mean of their series (lub_rs_stats.drag_share; its error
+ * drag_share_err); a run continued from a checkpoint without the series (before 2026-12-08) has
+ * only their sum, and no error (NaN without a sample, or from a checkpoint older than the sum).
+ * eta_ii(y) = (1/Sh) int phi takes the whole weight as pair stress, so it overstates that stress
+ * by this share. */
+static double rs_drag_share(const lub_rs_stats *st, const lub_rs_outcome *o)
 {
-    return o->averaged_samples > 0 ? o->drag_share_sum / (double)o->averaged_samples : NAN;
+    if (o->averaged_samples <= 0)
+        return NAN;
+    return o->drag_share_series ? st->drag_share : o->drag_share_sum / (double)o->averaged_samples;
+}
+
+/* " ± err" of a value in a warning (err in the value's scale), or "" without an error. */
+static const char *rs_pm(char *buf, size_t len, double err)
+{
+    if (isfinite(err))
+        snprintf(buf, len, " ± %.2g", err);
+    else
+        buf[0] = '\0';
+    return buf;
 }
 
 /* The headline numbers and what the run did (ctx->summary_results). */
@@ -88,7 +103,8 @@ static void rs_put_results(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_
     lub_summary_put(ctx, "inventory", st->inventory, NAN, "a");
     lub_summary_put(ctx, "max_phi", st->max_phi, NAN, "1");
     lub_summary_put(ctx, "bulk_bins", st->bulk_bins >= 0 ? st->bulk_bins : NAN, NAN, "1");
-    lub_summary_put(ctx, "bulk_velocity_slope", st->bulk_velocity_slope, NAN, "gd");
+    lub_summary_put(ctx, "bulk_velocity_slope", st->bulk_velocity_slope,
+                    st->bulk_velocity_slope_err, "gd");
     lub_summary_put(ctx, "eta_vs_law_log_rms", st->law_log_rms, NAN, "1");
     lub_summary_put(ctx, "averaged_samples", (double)o->averaged_samples, NAN, "1");
     lub_summary_put(ctx, "min_clearance_above_floor", o->min_clearance, NAN, "a");
@@ -96,7 +112,8 @@ static void rs_put_results(lub_run_ctx *ctx, const lub_rs_spec *p, const lub_rs_
     lub_summary_put(ctx, "lid_reflections", (double)S->lid_hits, NAN, "1");
     lub_summary_put(ctx, "crushed_contact_fraction", rs_crushed_fraction(o), NAN, "1");
     if (p->orientation == LUB_RS_GRADIENT)
-        lub_summary_put(ctx, "shear_drag_weight_share", rs_drag_share(o), NAN, "1");
+        lub_summary_put(ctx, "shear_drag_weight_share", rs_drag_share(st, o), st->drag_share_err,
+                        "1");
     lub_summary_put(ctx, "max_kinetic_energy", o->max_kinetic_energy, NAN, "eta gd a^3");
     lub_summary_put(ctx, "cell_width", o->cell_width, NAN, "a");
     lub_summary_put(ctx, "floor_radius", o->floor_radius, NAN, "a");
@@ -185,19 +202,26 @@ static json_t *rs_warnings(const lub_run_ctx *ctx, const lub_rs_spec *p, const l
                                     : "");
         json_array_append_new(warn, json_string(msg));
     }
-    if (p->orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) && fabs(bulk_rate - gd) > 0.2 * gd)
-        json_array_append_new(warn, json_string("the bed is not sheared homogeneously (bulk "
-                                                "dv_x/dy differs from gd by more than 20 %, see "
-                                                "results/bulk_velocity_slope): raise "
-                                                "/shear_drag_viscosity"));
-    if (p->orientation == LUB_RS_GRADIENT && fabs(rs_drag_share(o)) > RS_DRAG_SHARE_MAX) {
-        char msg[400];
+    if (p->orientation == LUB_RS_GRADIENT && isfinite(bulk_rate) &&
+        fabs(bulk_rate - gd) > 0.2 * gd) {
+        char msg[400], pm[40];
         snprintf(msg, sizeof msg,
-                 "the shear drag carries %.3g %% of the buoyant weight over the averaging window "
-                 "(shear_drag_weight_share; the bed %s): eta_normal = (1/Sh) int phi takes the "
-                 "whole weight as pair stress and is off by that share; raise /average_from or "
-                 "/strain so that the bed is at rest on average",
-                 100.0 * rs_drag_share(o), rs_drag_share(o) > 0 ? "sinks" : "rises");
+                 "the bed is not sheared homogeneously (bulk dv_x/dy = %.3g%s gd differs from gd "
+                 "by more than 20 %%, see results/bulk_velocity_slope): raise "
+                 "/shear_drag_viscosity",
+                 bulk_rate / gd, rs_pm(pm, sizeof pm, st->bulk_velocity_slope_err / gd));
+        json_array_append_new(warn, json_string(msg));
+    }
+    const double share = rs_drag_share(st, o);
+    if (p->orientation == LUB_RS_GRADIENT && fabs(share) > RS_DRAG_SHARE_MAX) {
+        char msg[440], pm[40];
+        snprintf(msg, sizeof msg,
+                 "the shear drag carries %.3g%s %% of the buoyant weight over the averaging "
+                 "window (shear_drag_weight_share; the bed %s): eta_normal = (1/Sh) int phi "
+                 "takes the whole weight as pair stress and is off by that share; raise "
+                 "/average_from or /strain so that the bed is at rest on average",
+                 100.0 * share, rs_pm(pm, sizeof pm, 100.0 * st->drag_share_err),
+                 share > 0 ? "sinks" : "rises");
         json_array_append_new(warn, json_string(msg));
     }
     if (o->system->lid_hits > 0)

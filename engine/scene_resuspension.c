@@ -67,6 +67,9 @@ typedef struct {
     double *series_t; /* the time of each height sample (1/gd) */
     double *phi, *phi_err, *eta, *eta_err, *ybin, *keepd, *law, *pairs_out, *scratch2, *scratch3,
         *vx_vol, *vx_sum, *vx_inst, *phi_cg, *phi_cg_err;
+    /* per averaged sample, as samples: its per-bin volume-weighted v_x (vx_inst; its volume per
+     * bin is its phi profile times area dy, not stored) and its drag share (gradient) */
+    double *vx_samples, *drag_share;
     vec3 *pos, *floor_pos;
     int *keep;
     double *snap_x, *snap_v, *snap_w;
@@ -74,11 +77,12 @@ typedef struct {
 
 static void rs_buffers_free(rs_buffers *b)
 {
-    double *d[] = {b->radius,   b->floor_r, b->samples,   b->scratch,  b->series_h, b->phi_inst,
-                   b->vol,      b->phi,     b->phi_err,   b->eta,      b->eta_err,  b->ybin,
-                   b->keepd,    b->law,     b->pairs_out, b->scratch2, b->vx_vol,   b->vx_sum,
-                   b->vx_inst,  b->snap_x,  b->snap_v,    b->snap_w,   b->phi_cg,   b->phi_cg_err,
-                   b->scratch3, b->series_t};
+    double *d[] = {b->radius,   b->floor_r,    b->samples,   b->scratch,    b->series_h,
+                   b->phi_inst, b->vol,        b->phi,       b->phi_err,    b->eta,
+                   b->eta_err,  b->ybin,       b->keepd,     b->law,        b->pairs_out,
+                   b->scratch2, b->vx_vol,     b->vx_sum,    b->vx_inst,    b->snap_x,
+                   b->snap_v,   b->snap_w,     b->phi_cg,    b->phi_cg_err, b->scratch3,
+                   b->series_t, b->vx_samples, b->drag_share};
     for (size_t i = 0; i < sizeof d / sizeof d[0]; ++i)
         free(d[i]);
     free(b->pos);
@@ -101,9 +105,10 @@ static int rs_samples_reserve(lub_run_ctx *ctx, rs_buffers *b, int nb, int64_t t
     const int64_t new_total = total > *nsamp_total ? total : *nsamp_total;
     const int64_t new_avg = avg > *nsamp_avg ? avg : *nsamp_avg;
     const int64_t new_scratch = (new_avg > new_total ? new_avg : new_total) + 1;
-    const double growth = (double)sizeof(double) * (2.0 * (double)(new_total - *nsamp_total) +
-                                                    (double)(new_avg - *nsamp_avg) * nb +
-                                                    3.0 * (double)(new_scratch - old_scratch));
+    const double growth =
+        (double)sizeof(double) * (2.0 * (double)(new_total - *nsamp_total) +
+                                  (double)(new_avg - *nsamp_avg) * (2.0 * nb + 1.0) +
+                                  3.0 * (double)(new_scratch - old_scratch));
     if (growth > 0.0) {
         char what[160];
         snprintf(what, sizeof what,
@@ -128,6 +133,14 @@ static int rs_samples_reserve(lub_run_ctx *ctx, rs_buffers *b, int nb, int64_t t
         if (!sm)
             return -1;
         b->samples = sm;
+        double *vs = realloc(b->vx_samples, (size_t)(avg * nb) * sizeof *vs);
+        if (!vs)
+            return -1;
+        b->vx_samples = vs;
+        double *ds = realloc(b->drag_share, (size_t)avg * sizeof *ds);
+        if (!ds)
+            return -1;
+        b->drag_share = ds;
         *nsamp_avg = avg;
     }
     const size_t scratch = (size_t)(*nsamp_avg > *nsamp_total ? *nsamp_avg : *nsamp_total) + 1;
@@ -160,6 +173,9 @@ typedef struct {
     double max_ke, min_lowest, contacts_sum, crushed_sum;
     double drag_share_sum; /* gradient: the shear drag's vertical force over the buoyant weight,
                               summed over the averaged samples (NaN: an older checkpoint) */
+    int sample_series;     /* 1: the buffers' vx_samples and drag_share hold every averaged
+                              sample's; 0: the run continues a checkpoint written without them
+                              (before 2026-12-08), and the two errors they give are NaN */
     double y_floor, y_lid; /* the geometry the bed gave (checked on resuming) */
     lub_step_control ctl;
     lub_schedule sched;
@@ -191,6 +207,10 @@ static int rs_checkpoint_write(const char *path, const json_t *resolved, const r
         lub_ckpt_put(c, "profiles/samples", LUB_CKPT_F64, (size_t)(lp->navg * nb), b->samples) ||
         lub_ckpt_put(c, "profiles/vx_volume", LUB_CKPT_F64, (size_t)nb, b->vx_vol) ||
         lub_ckpt_put(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum) ||
+        (lp->sample_series &&
+         (lub_ckpt_put(c, "profiles/vx_samples", LUB_CKPT_F64, (size_t)(lp->navg * nb),
+                       b->vx_samples) ||
+          lub_ckpt_put(c, "series/drag_share", LUB_CKPT_F64, (size_t)lp->navg, b->drag_share))) ||
         lub_rs_save(c, S);
     return lub_run_checkpoint_close(c, rc, why, len);
 }
@@ -228,6 +248,10 @@ static int rs_checkpoint_read_loop(lub_ckpt *c, rs_loop *lp, char *why, size_t l
         snprintf(why, len, "%s", lub_ckpt_error(c));
         return -1;
     }
+    /* the per-sample velocity sums and drag shares: none in a checkpoint older than them (also
+     * none missing when nothing was averaged) */
+    lp->sample_series = lp->navg == 0 || (lub_ckpt_has(c, "profiles/vx_samples") &&
+                                          lub_ckpt_has(c, "series/drag_share"));
     /* none in a checkpoint older than the frames */
     if (lub_ckpt_get_i64_or(c, "run/network_frames_in_file", 0, &lp->network_frames_in_file)) {
         snprintf(why, len, "%s", lub_ckpt_error(c));
@@ -243,7 +267,8 @@ static int rs_checkpoint_read_loop(lub_ckpt *c, rs_loop *lp, char *why, size_t l
 }
 
 /* The samples of checkpoint c into b (room reserved). 0 or -1. A checkpoint older than the
- * samples' times (2026-12-07) gets the nominal ones, index x /sample_strain / gd. */
+ * samples' times (2026-12-07) gets the nominal ones, index x /sample_strain / gd; one without
+ * the per-sample velocity sums and drag shares (lp->sample_series 0) leaves them out. */
 static int rs_checkpoint_read_samples(lub_ckpt *c, const rs_loop *lp, rs_buffers *b, int nb,
                                       double nominal_spacing)
 {
@@ -256,7 +281,11 @@ static int rs_checkpoint_read_samples(lub_ckpt *c, const rs_loop *lp, rs_buffers
                    lub_ckpt_get(c, "profiles/samples", LUB_CKPT_F64, (size_t)(lp->navg * nb),
                                 b->samples) ||
                    lub_ckpt_get(c, "profiles/vx_volume", LUB_CKPT_F64, (size_t)nb, b->vx_vol) ||
-                   lub_ckpt_get(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum)
+                   lub_ckpt_get(c, "profiles/vx_sum", LUB_CKPT_F64, (size_t)nb, b->vx_sum) ||
+                   (lp->sample_series && (lub_ckpt_get(c, "profiles/vx_samples", LUB_CKPT_F64,
+                                                       (size_t)(lp->navg * nb), b->vx_samples) ||
+                                          lub_ckpt_get(c, "series/drag_share", LUB_CKPT_F64,
+                                                       (size_t)lp->navg, b->drag_share)))
                ? -1
                : 0;
 }
@@ -526,13 +555,15 @@ static int rs_allocate_samples(rs_run_state *r)
     r->nsamp_avg = lub_schedule_most_occurrences(&lp->sched, r->ev_sample,
                                                  fmax(0.0, p->average_from / gd - dt_max), dt_max);
     lp->min_lowest = INFINITY;
+    lp->sample_series = 1;
     lp->y_floor = r->y_floor;
     lp->y_lid = r->y_lid;
     const int64_t nsamp_avg = r->nsamp_avg, nsamp_total = r->nsamp_total;
     const size_t scratch = (size_t)(nsamp_avg > nsamp_total ? nsamp_avg : nsamp_total) + 1;
-    /* what grows with the run's length: the profiles, the height series and the statistics'
-     * three scratch arrays (the per-bin arrays and the snapshots are small beside them) */
-    const double profile_bytes = (double)nsamp_avg * nb * sizeof *B->samples;
+    /* what grows with the run's length: the profiles (phi and velocity sums, and the drag
+     * share, of every averaged sample), the height series and the statistics' three scratch
+     * arrays (the per-bin arrays and the snapshots are small beside them) */
+    const double profile_bytes = (double)nsamp_avg * (2.0 * nb + 1.0) * sizeof *B->samples;
     const double series_bytes =
         (2.0 * (double)nsamp_total + 3.0 * (double)scratch) * sizeof(double);
     char samples_what[160];
@@ -549,6 +580,8 @@ static int rs_allocate_samples(rs_run_state *r)
         double **buf;
         size_t n;
     } want[] = {{&B->samples, (size_t)(nsamp_avg * nb)},
+                {&B->vx_samples, (size_t)(nsamp_avg * nb)},
+                {&B->drag_share, (size_t)nsamp_avg},
                 {&B->scratch, scratch},
                 {&B->scratch2, scratch},
                 {&B->scratch3, scratch},
@@ -744,6 +777,7 @@ static int rs_sample(rs_run_state *r, int64_t step, double t)
     double ysum = 0.0, msum = 0.0;
     int dilute = 0;
     const int in_avg = step >= lp->avg_start_step;
+    double drag_share = 0.0; /* gradient, averaged samples */
     memset(B->vx_inst, 0, (size_t)nb * sizeof *B->vx_inst);
     for (int i = 0; i < r->N; ++i) {
         /* velocity along the flow relative to the floor-plane mean flow: v_x for the
@@ -764,7 +798,8 @@ static int rs_sample(rs_run_state *r, int64_t step, double t)
             fy -= 6.0 * RS_PI * p->eta_shear * S->r[i] * S->v[i].y;
             w += S->weight[i];
         }
-        lp->drag_share_sum += w > 0.0 ? fy / w : 0.0;
+        drag_share = w > 0.0 ? fy / w : 0.0;
+        lp->drag_share_sum += drag_share;
     }
     if (in_avg) {
         lp->contacts_sum += (double)S->n_contacts;
@@ -800,6 +835,8 @@ static int rs_sample(rs_run_state *r, int64_t step, double t)
     B->series_h[lp->nh++] = hs;
     if (step >= lp->avg_start_step) {
         memcpy(&B->samples[lp->navg * nb], B->phi_inst, (size_t)nb * sizeof *B->phi_inst);
+        memcpy(&B->vx_samples[lp->navg * nb], B->vx_inst, (size_t)nb * sizeof *B->vx_inst);
+        B->drag_share[lp->navg] = drag_share;
         lp->navg++;
     }
     return LUB_EXIT_OK;
@@ -1012,6 +1049,7 @@ static int rs_report(rs_run_state *r, int rc)
     lub_run_ctx *ctx = r->ctx;
     rs_buffers *B = &r->B;
     const rs_loop *lp = &r->lp;
+    const int gradient = p->orientation == LUB_RS_GRADIENT;
     const lub_rs_stats_input in = {.nb = r->nb,
                                    .dy = r->dy,
                                    .samples = B->samples,
@@ -1020,6 +1058,10 @@ static int rs_report(rs_run_state *r, int rc)
                                    .nh = lp->nh,
                                    .vx_volume = B->vx_vol,
                                    .vx_sum = B->vx_sum,
+                                   .vx_samples = lp->sample_series ? B->vx_samples : NULL,
+                                   .bin_volume = r->area * r->dy,
+                                   .drag_share =
+                                       lp->sample_series && gradient ? B->drag_share : NULL,
                                    .shields = p->Sh,
                                    .interface_width = p->interface_width,
                                    .floor_skip = p->floor_skip,
@@ -1076,6 +1118,7 @@ static int rs_report(rs_run_state *r, int rc)
                               .contacts_sum = lp->contacts_sum,
                               .crushed_sum = lp->crushed_sum,
                               .drag_share_sum = lp->drag_share_sum,
+                              .drag_share_series = in.drag_share != NULL,
                               .stopped = r->stopped_at >= 0};
     lub_rs_write_summary(ctx, p, &r->sc, &st, &o);
     return rc;
