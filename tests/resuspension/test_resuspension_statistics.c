@@ -23,7 +23,17 @@
  *     the errors of y_b and of h - y_b are the naive SEMs of the per-sample values to 1 %;
  *  7. the law columns: law[i] is lub_dem_eta22(phi_coarse/phi_m), times
  *     lub_dem_lambda33(phi_coarse, 0.64) in the vorticity orientation, and law_log_rms the rms
- *     of ln(eta/law) over the bulk bins with eta_ii summed here by hand (eq. 6). */
+ *     of ln(eta/law) over the bulk bins with eta_ii summed here by hand (eq. 6);
+ *  8. the drag share: the mean of its per-sample series and that series' SEM, by hand for 5
+ *     samples (naive: 0.03 +- sqrt(5e-5)) and against lub_stats_sem for 64 (batch means);
+ *     NaN without the series;
+ *  9. the velocity slope's error (delta method): with the same volumes in every sample it is
+ *     the naive SEM of the per-sample slopes, exactly; with volumes that vary too, the
+ *     per-sample change of the slope is the derivative, taken here by central differences of
+ *     a least-squares fit written out here, of the slope of the window's sums moved towards
+ *     that sample, times the sample count; its SEM naive (20 samples, by hand) and batch means
+ *     (64, lub_stats_sem), a bulk bin no sphere crossed left out of both; NaN without the
+ *     per-sample sums, the slope unchanged. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -61,6 +71,11 @@ static double gauss(void)
 enum { NB = 24 };
 static const double DY = 0.5, SH = 0.5, WINDOW = 2.0;
 static int vorticity = 0; /* the orientation run_h passes */
+/* the velocity inputs run_h passes (vx_volume NULL: zeros, no slope) */
+static struct {
+    const double *vx_volume, *vx_sum, *vx_samples, *drag_share;
+    double bin_volume;
+} vin;
 
 typedef struct {
     double y[NB], phi[NB], phi_err[NB], cg[NB], cg_err[NB], eta[NB], eta_err[NB], law[NB];
@@ -89,8 +104,11 @@ static void run_h(const double *samples, int64_t navg, const double *heights, in
                                    .navg = navg,
                                    .height = r->height,
                                    .nh = nh,
-                                   .vx_volume = r->vol,
-                                   .vx_sum = r->vsum,
+                                   .vx_volume = vin.vx_volume ? vin.vx_volume : r->vol,
+                                   .vx_sum = vin.vx_volume ? vin.vx_sum : r->vsum,
+                                   .vx_samples = vin.vx_samples,
+                                   .bin_volume = vin.bin_volume,
+                                   .drag_share = vin.drag_share,
                                    .shields = SH,
                                    .interface_width = 2.0,
                                    .floor_skip = 1.0,
@@ -150,6 +168,75 @@ static double base(int i) { return i < 16 ? 0.5 : 0.0; }
  * 0.2, then 0 */
 static const double bed_profile[NB] = {0.0, 0.2, 0.5, 0.5, 0.5, 0.6, 0.5,
                                        0.5, 0.5, 0.5, 0.5, 0.5, 0.4, 0.2};
+
+/* The naive SEM of x[0..n): sqrt(sample variance / n) */
+static double naive_sem(const double *x, int n)
+{
+    double m = 0.0, v = 0.0;
+    for (int k = 0; k < n; ++k)
+        m += x[k] / n;
+    for (int k = 0; k < n; ++k)
+        v += (x[k] - m) * (x[k] - m) / (n - 1);
+    return sqrt(v / n);
+}
+
+/* The least-squares slope of S_i/V_i against the bin centres over the bins with bulk[i] and
+ * V_i > 0, from the centred sums: sum (y_i - ybar) v_i / sum (y_i - ybar)^2. */
+static double fit_slope(const double *S, const double *V, const int *bulk)
+{
+    double n = 0.0, ybar = 0.0, num = 0.0, den = 0.0;
+    for (int i = 0; i < NB; ++i)
+        if (bulk[i] && V[i] > 0.0) {
+            n += 1.0;
+            ybar += (i + 0.5) * DY;
+        }
+    ybar /= n;
+    for (int i = 0; i < NB; ++i)
+        if (bulk[i] && V[i] > 0.0) {
+            const double dyi = (i + 0.5) * DY - ybar;
+            num += dyi * S[i] / V[i];
+            den += dyi * dyi;
+        }
+    return num / den;
+}
+
+/* The first-order change of the slope with sample k: n d/de of fit_slope(S + e (s_k - S/n),
+ * V + e (vol_k - V/n)) at e = 0, by central differences (vol = phi x bv). */
+static double slope_change(const double *S, const double *V, const double *vs, const double *phi,
+                           double bv, int n, int k, const int *bulk)
+{
+    const double e = 1e-5;
+    double Sp[NB], Vp[NB], Sm[NB], Vm[NB];
+    for (int i = 0; i < NB; ++i) {
+        const double ds = vs[k * NB + i] - S[i] / n, dv = phi[k * NB + i] * bv - V[i] / n;
+        Sp[i] = S[i] + e * ds;
+        Sm[i] = S[i] - e * ds;
+        /* a bin no sphere crossed stays empty */
+        Vp[i] = V[i] > 0.0 ? V[i] + e * dv : 0.0;
+        Vm[i] = V[i] > 0.0 ? V[i] - e * dv : 0.0;
+    }
+    return n * (fit_slope(Sp, Vp, bulk) - fit_slope(Sm, Vm, bulk)) / (2.0 * e);
+}
+
+/* Case 9's samples: n profiles of the bed (each bin's phi times 1 + vary g) with velocities
+ * 0.8 y + 0.1 g, their sums (bin_volume bv) and the velocity sums of every sample; bin `empty`
+ * (-1: none) with no volume in the window's sums (a bin no sphere crossed). */
+static void velocity_samples(int n, double vary, double bv, int empty, double *phi, double *vs,
+                             double *S, double *V)
+{
+    for (int i = 0; i < NB; ++i)
+        S[i] = V[i] = 0.0;
+    for (int k = 0; k < n; ++k)
+        for (int i = 0; i < NB; ++i) {
+            phi[k * NB + i] = bed_profile[i] * (1.0 + vary * gauss());
+            const double vol = phi[k * NB + i] * bv;
+            vs[k * NB + i] = vol * (0.8 * (i + 0.5) * DY + 0.1 * gauss());
+            if (i != empty) {
+                S[i] += vs[k * NB + i];
+                V[i] += vol;
+            }
+        }
+}
 
 /* n samples, each equal to prof, into s[n * NB] */
 static void fill_samples(double *s, int n, const double *prof)
@@ -406,6 +493,103 @@ int main(void)
         release(&r);
     }
     vorticity = 0;
+    /* 8. the drag share */
+    {
+        static double s[64 * NB];
+        fill_samples(s, 64, bed_profile);
+        const double share[5] = {0.01, 0.03, 0.02, 0.05, 0.04};
+        result r;
+        vin.drag_share = share;
+        run(s, 5, &r);
+        /* mean 0.03, deviations -0.02 0 -0.01 0.02 0.01: variance 0.001/4, SEM sqrt(5e-5) */
+        CHECK(fabs(r.st.drag_share - 0.03) < 1e-15, "drag share %.17g, expected 0.03",
+              r.st.drag_share);
+        CHECK(fabs(r.st.drag_share_err - sqrt(5e-5)) < 1e-15,
+              "drag share error %.17g, expected the naive SEM sqrt(5e-5) = %.17g",
+              r.st.drag_share_err, sqrt(5e-5));
+        release(&r);
+        /* 64 samples of an AR(1) series: batch means */
+        static double share64[64], scr[64];
+        double x = 0.0, m = 0.0;
+        for (int k = 0; k < 64; ++k) {
+            x = 0.6 * x + 0.01 * gauss();
+            share64[k] = 0.05 + x;
+            m += share64[k];
+        }
+        m /= 64;
+        const double want = lub_stats_sem(share64, 64, scr);
+        vin.drag_share = share64;
+        run(s, 64, &r);
+        CHECK(fabs(r.st.drag_share - m) <= 1e-15, "drag share %.17g, mean %.17g", r.st.drag_share,
+              m);
+        CHECK(want > naive_sem(share64, 64) * 1.01 &&
+                  fabs(r.st.drag_share_err - want) <= 1e-12 * want,
+              "64 drag shares: error %.10g, lub_stats_sem %.10g (naive %.10g)", r.st.drag_share_err,
+              want, naive_sem(share64, 64));
+        release(&r);
+        vin.drag_share = NULL;
+        run(s, 64, &r);
+        CHECK(isnan(r.st.drag_share) && isnan(r.st.drag_share_err),
+              "no drag share series: %g +- %g, expected NaN", r.st.drag_share, r.st.drag_share_err);
+        release(&r);
+    }
+    /* 9. the velocity slope's error; bulk bins 2-8 (case 7) */
+    {
+        enum { N = 64 };
+        static double phi[N * NB], vs[N * NB], bk[N], ser[N], scr[N];
+        double S[NB], V[NB];
+        const double bv = 3.0;
+        result r;
+        vin.vx_volume = V;
+        vin.vx_sum = S;
+        vin.bin_volume = bv;
+        /* the same volumes in every sample: d_k is the sample's own slope minus the window's */
+        velocity_samples(20, 0.0, bv, -1, phi, vs, S, V);
+        vin.vx_samples = vs;
+        run(phi, 20, &r);
+        for (int k = 0; k < 20; ++k) {
+            double vol[NB];
+            for (int i = 0; i < NB; ++i)
+                vol[i] = phi[k * NB + i] * bv;
+            bk[k] = fit_slope(vs + k * NB, vol, r.bulk);
+        }
+        CHECK(r.st.bulk_bins == 7, "velocity: %d bulk bins, expected 7", r.st.bulk_bins);
+        CHECK(fabs(r.st.bulk_velocity_slope - fit_slope(S, V, r.bulk)) < 1e-12,
+              "slope %.15g, by hand %.15g", r.st.bulk_velocity_slope, fit_slope(S, V, r.bulk));
+        CHECK(fabs(r.st.bulk_velocity_slope_err / naive_sem(bk, 20) - 1.0) < 1e-9,
+              "same volumes: slope error %.12g, naive SEM of the per-sample slopes %.12g",
+              r.st.bulk_velocity_slope_err, naive_sem(bk, 20));
+        release(&r);
+        /* volumes that vary by 20 %: 20 samples (naive SEM), then 64 (batch means) with bin 5
+         * empty in the window's sums */
+        for (int c = 0; c < 2; ++c) {
+            const int n = c == 0 ? 20 : N, empty = c == 0 ? -1 : 5;
+            velocity_samples(n, 0.2, bv, empty, phi, vs, S, V);
+            run(phi, n, &r);
+            for (int k = 0; k < n; ++k)
+                ser[k] = slope_change(S, V, vs, phi, bv, n, k, r.bulk);
+            const double want = c == 0 ? naive_sem(ser, n) : lub_stats_sem(ser, (size_t)n, scr);
+            CHECK(r.st.bulk_bins == 7 && (empty < 0 || isnan(r.vx[empty])),
+                  "varying volumes, %d samples: %d bulk bins (7), velocity of the empty bin %g", n,
+                  r.st.bulk_bins, empty < 0 ? 0.0 : r.vx[empty]);
+            CHECK(fabs(r.st.bulk_velocity_slope - fit_slope(S, V, r.bulk)) < 1e-12,
+                  "varying volumes, %d samples: slope %.15g, by hand %.15g", n,
+                  r.st.bulk_velocity_slope, fit_slope(S, V, r.bulk));
+            CHECK(fabs(r.st.bulk_velocity_slope_err / want - 1.0) < 1e-6,
+                  "varying volumes, %d samples: slope error %.12g, SEM of the derivatives %.12g", n,
+                  r.st.bulk_velocity_slope_err, want);
+            release(&r);
+        }
+        /* without the per-sample sums: no error, the same slope */
+        const double slope = fit_slope(S, V, r.bulk);
+        vin.vx_samples = NULL;
+        run(phi, N, &r);
+        CHECK(isnan(r.st.bulk_velocity_slope_err) && fabs(r.st.bulk_velocity_slope - slope) < 1e-12,
+              "no per-sample sums: slope %.15g +- %g, expected %.15g +- NaN",
+              r.st.bulk_velocity_slope, r.st.bulk_velocity_slope_err, slope);
+        release(&r);
+        vin.vx_volume = NULL;
+    }
     if (failures)
         fprintf(stderr, "%d failure(s)\n", failures);
     return failures ? 1 : 0;
