@@ -9,15 +9,27 @@ absolute (the snapshots' positions are the engine's, the arithmetic differs). Th
 eta_err must be ~0 (every sample holds the same inventory); the error model that assumed
 independent bins gave it the largest error of the profile. Gradient orientation: the summary's
 shear_drag_weight_share (the shear drag's vertical force over the buoyant weight, averaged over
-the samples) from the snapshots' velocities, and its warning above 2 %.
+the samples) and its error (the SEM of the per-sample shares, since 2026-12-08) from the
+snapshots' velocities, and its warning above 2 % quoting that error; /profiles/velocity_x (the
+window's volume-weighted v_x per bin), bulk_velocity_slope (least squares over the bulk bins)
+and its error: the SEM of each sample's first-order change of the slope,
+sum_i c_i (s_ik - v_i vol_ik) / (V_i / navg) (delta method; s_ik and vol_ik the sample's
+velocity sum and volume in bin i, V_i and v_i the window's), whose mean must be 0.
+A run stopped by SIGTERM and resumed gives the summary of the uninterrupted run, error bars
+included; resumed from a checkpoint without the per-sample series (as one written before
+2026-12-08: the datasets deleted here), the same values and null errors for those two.
 Usage: test_resuspension_errors_cli.py LUBDEM WORKDIR"""
 import json
 import os
+import shutil
 import subprocess
 import sys
 
 import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "framework"))
+from network_cli import stop_midway  # noqa: E402
 
 
 def sem_ar1(x):
@@ -68,12 +80,14 @@ def check(lubdem, work, name, spec):
     navg = int(R["averaged_samples"]["value"])
     if len(rows) != navg:
         return [f"{name}: {len(rows)} snapshots in the averaging window, {navg} samples"]
-    A = []
+    A, VS = [], []  # per sample: phi(y), and the volume-weighted v_x per bin (gradient: v_x)
     for k in rows:
         b = (X[k][:, 1] - y_floor - rad)[:, None]
         r = rad[:, None]
-        A.append((cap(hi[None] - b, r) - cap(lo[None] - b, r)).sum(0) / (area * dy))
-    A = np.array(A)
+        slab = cap(hi[None] - b, r) - cap(lo[None] - b, r)
+        A.append(slab.sum(0) / (area * dy))
+        VS.append((slab * V[k][:, 0:1]).sum(0))
+    A, VS = np.array(A), np.array(VS)
     if not np.allclose(A.mean(0), P["phi"], rtol=1e-6, atol=1e-9):
         fails.append(f"{name}: phi(y) from the snapshots differs from /profiles/phi")
     above = np.concatenate([np.cumsum(A[:, ::-1], 1)[:, ::-1][:, 1:], np.zeros((len(A), 1))], 1)
@@ -128,18 +142,103 @@ def check(lubdem, work, name, spec):
         W = (4 / 3 * np.pi * rad**3).sum() / Sh
         share = np.mean([-(6 * np.pi * sp["shear_drag_viscosity"] * rad * V[k][:, 1]).sum() / W
                          for k in rows])
-        got = R["shear_drag_weight_share"]["value"]
+        shares = [-(6 * np.pi * sp["shear_drag_viscosity"] * rad * V[k][:, 1]).sum() / W
+                  for k in rows]
+        share, share_err = np.mean(shares), sem_ar1(shares)
+        got, got_err = R["shear_drag_weight_share"]["value"], R["shear_drag_weight_share"]["stderr"]
         if not abs(got - share) <= 1e-9 + 1e-6 * abs(share):
             fails.append(f"{name}: shear_drag_weight_share {got} vs {share} from the snapshots")
-        warned = any("shear drag carries" in w for w in S["warnings"])
-        if warned != (abs(share) > 0.02):
-            fails.append(f"{name}: drag share {share:.4f}, warning {warned}")
-        print(f"{name}: shear drag carries {100 * share:.2f} % of the weight, warning {warned}")
+        if got_err is None or not abs(got_err - share_err) <= 1e-9 + 1e-6 * share_err:
+            fails.append(f"{name}: shear_drag_weight_share error {got_err} vs {share_err}, the "
+                         "SEM of the snapshots' shares")
+        warn = [w for w in S["warnings"] if "shear drag carries" in w]
+        if bool(warn) != (abs(share) > 0.02):
+            fails.append(f"{name}: drag share {share:.4f}, warning {bool(warn)}")
+        elif warn and not f"{100 * share:.3g} \u00b1 {100 * share_err:.2g} %" in warn[0]:
+            fails.append(f"{name}: the drag share's warning does not quote "
+                         f"{100 * share:.3g} \u00b1 {100 * share_err:.2g} %: {warn[0]}")
+        print(f"{name}: shear drag carries {100 * share:.2f} +- {100 * share_err:.2f} % of the "
+              f"weight, warning {bool(warn)}")
+        # the velocity profile and the slope's error (the bulk bins a sphere crossed)
+        vol = A * area * dy
+        Sv, Vv = VS.sum(0), vol.sum(0)
+        vx = np.where(Vv > 0, Sv / np.where(Vv > 0, Vv, 1), np.nan)
+        if not np.allclose(vx, P["velocity_x"], rtol=1e-6, atol=1e-9, equal_nan=True):
+            fails.append(f"{name}: velocity_x from the snapshots differs from /profiles/velocity_x")
+        fit = m & (Vv > 0)
+        n, yb = int(fit.sum()), P["y"][fit]
+        slope = R["bulk_velocity_slope"]
+        if n >= 3:
+            c = (n * yb - yb.sum()) / (n * (yb * yb).sum() - yb.sum() ** 2)
+            want = (c * vx[fit]).sum()
+            d = ((VS[:, fit] - vx[fit] * vol[:, fit]) / (Vv[fit] / navg) * c).sum(1)
+            want_err = sem_ar1(d)
+            if not abs(slope["value"] - want) <= 1e-8 * abs(want) + 1e-9:
+                fails.append(f"{name}: bulk_velocity_slope {slope['value']} vs {want}")
+            if not abs(d.mean()) <= 1e-9 * np.abs(d).max():
+                fails.append(f"{name}: the slope's per-sample changes have mean {d.mean():.3g}")
+            if slope["stderr"] is None or not abs(slope["stderr"] - want_err) <= 1e-9 + 1e-6 * want_err:
+                fails.append(f"{name}: bulk_velocity_slope error {slope['stderr']} vs {want_err}, "
+                             "the SEM of the snapshots' first-order changes")
+            warn = [w for w in S["warnings"] if "not sheared homogeneously" in w]
+            if bool(warn) != (abs(want - 1) > 0.2):
+                fails.append(f"{name}: slope {want:.4f}, warning {bool(warn)}")
+            elif warn and not f"{want:.3g} \u00b1 {want_err:.2g} gd" in warn[0]:
+                fails.append(f"{name}: the slope's warning does not quote {want:.3g} \u00b1 "
+                             f"{want_err:.2g} gd: {warn[0]}")
+            print(f"{name}: bulk velocity slope {want:.4f} +- {want_err:.4f} over {n} bins")
     elif "shear_drag_weight_share" in R:
         fails.append(f"{name}: shear_drag_weight_share in the vorticity orientation")
     ratio = np.median(P['eta_normal_err'][m] / es[m]) if m.any() else float("nan")
     print(f"{name}: {navg} samples, bottom eta_err {P['eta_normal_err'][0]:.3g}, "
           f"bulk eta_err / series SEM {ratio:.3f}, {int(m.sum())} bulk bins")
+    return fails
+
+
+def resumed(lubdem, work):
+    """A gradient run stopped by SIGTERM midway and resumed, against the same run made straight;
+    and resumed from its checkpoint without the per-sample series."""
+    fails = []
+    spec = {"scene": "resuspension", "n": 150, "width": 12, "strain": 2, "average_from": 0.2,
+            "sample_strain": 0.05, "inertial_number": 0.05, "density_ratio": 10,
+            "shear_drag_viscosity": 3, "snapshots": 0}
+    straight = os.path.join(work, "straight")
+    path = os.path.join(work, "straight.json")
+    json.dump(spec, open(path, "w"))
+    subprocess.run([lubdem, "run", path, "--out", straight, "--threads", "1", "--quiet"],
+                   check=True)
+    want = json.load(open(straight + "/summary.json"))["results"]
+    out, code = stop_midway(lubdem, work, "stopped", spec, 0.3, 0.9, "--threads", "1")
+    if code != 5:
+        return [f"resumed: the stop gave exit {code}, not 5"]
+    old = os.path.join(work, "stopped_old")
+    shutil.rmtree(old, ignore_errors=True)
+    shutil.copytree(out, old)
+    with h5py.File(os.path.join(old, "checkpoint.h5"), "r+") as f:
+        for k in ("profiles/vx_samples", "series/drag_share"):
+            if k not in f:
+                fails.append(f"resumed: the checkpoint has no {k}")
+            else:
+                del f[k]
+    for d, errors in ((out, True), (old, False)):
+        p = subprocess.run([lubdem, "run", os.path.join(work, "stopped.json"), "--out", d,
+                            "--threads", "1", "--quiet", "--resume"],
+                           capture_output=True, text=True, timeout=600)
+        if p.returncode != 0:
+            fails.append(f"resumed {d}: exit {p.returncode}: {p.stderr[-300:]}")
+            continue
+        got = json.load(open(d + "/summary.json"))["results"]
+        for k in want:
+            w = dict(want[k])
+            if not errors and k in ("bulk_velocity_slope", "shear_drag_weight_share"):
+                w["stderr"] = None
+            if got.get(k) != w:
+                fails.append(f"resumed {d}: {k} {got.get(k)}, expected {w}")
+    for k in ("bulk_velocity_slope", "shear_drag_weight_share"):
+        if want[k]["stderr"] is None:
+            fails.append(f"straight: {k} has no error")
+    print(f"resumed: {want['averaged_samples']['value']} samples, slope "
+          f"{want['bulk_velocity_slope']}, drag share {want['shear_drag_weight_share']}")
     return fails
 
 
@@ -152,6 +251,10 @@ def main():
                                               sample_strain=0.01, snapshots=51))
     fails += check(lubdem, work, "naive", dict(base, strain=0.5, average_from=0.3,
                                                sample_strain=0.01, snapshots=51))
+    # the seed's drag (eta/30) barely shears the bed: the slope's warning, with its error bar
+    fails += check(lubdem, work, "weakdrag", dict(base, strain=0.5, average_from=0.1,
+                                                  sample_strain=0.01, snapshots=51,
+                                                  shear_drag_viscosity=1.0 / 30.0))
     fails += check(lubdem, work, "vorticity", dict(base, orientation="vorticity", strain=0.5,
                                                    average_from=0.1, sample_strain=0.01,
                                                    snapshots=51, shear_drag_viscosity=0))
@@ -160,6 +263,7 @@ def main():
                                                 average_from=0.1, sample_strain=0.01,
                                                 shields=0.05, snapshots=61,
                                                 shear_drag_viscosity=0))
+    fails += resumed(lubdem, work)
     # 9 averaged samples, fewer than the 10 MSER-5 needs: "too few samples to judge", not
     # "not steady (MSER-5, drift test)" (2026-12-07)
     d, path = os.path.join(work, "few"), os.path.join(work, "few.json")
