@@ -46,7 +46,9 @@ typedef struct {
                                 mean flow */
     /* navg profiles of nb, one after the other: each averaged sample's own vx_sum terms (NULL:
      * none, and bulk_velocity_slope_err is NaN). The sample's sphere volume in a bin is not
-     * stored: it is samples[k nb + i] x bin_volume (lub_profile_normalise divides it by that) */
+     * stored: lub_profile_normalise made samples[k nb + i] of it times 1/bin_volume (one
+     * constant for the run), so it is samples[k nb + i] x bin_volume up to the rounding of the
+     * two products (relative 1e-16) */
     const double *vx_samples;
     double bin_volume; /* the cell's cross-section times dy (a^3) */
     /* gradient: navg per-sample shares of the buoyant weight the shear drag carries (NULL:

@@ -68,7 +68,8 @@ typedef struct {
     double *phi, *phi_err, *eta, *eta_err, *ybin, *keepd, *law, *pairs_out, *scratch2, *scratch3,
         *vx_vol, *vx_sum, *vx_inst, *phi_cg, *phi_cg_err;
     /* per averaged sample, as samples: its per-bin volume-weighted v_x (vx_inst; its volume per
-     * bin is its phi profile times area dy, not stored) and its drag share (gradient) */
+     * bin, vol, is not stored: phi_inst is vol times the constant 1/(area dy), so the statistics
+     * take it back from samples, to rounding) and its drag share (gradient) */
     double *vx_samples, *drag_share;
     vec3 *pos, *floor_pos;
     int *keep;
