@@ -92,6 +92,16 @@ static void rs_buffers_free(rs_buffers *b)
     memset(b, 0, sizeof *b);
 }
 
+/* *buf reallocated to n doubles (its contents kept). 0, or -1 out of memory (*buf unchanged). */
+static int rs_grow(double **buf, size_t n)
+{
+    double *p = realloc(*buf, n * sizeof *p);
+    if (!p)
+        return -1;
+    *buf = p;
+    return 0;
+}
+
 /* Grows the sample buffers so that the series holds `total` height samples and the average
  * `avg` profiles (the statistics' scratch max(total, avg) + 1); 0, 1 (the growth does not fit
  * in the memory the process may use: ctx->diagnostic says so, nothing grown) or -1 (no memory:
@@ -119,45 +129,21 @@ static int rs_samples_reserve(lub_run_ctx *ctx, rs_buffers *b, int nb, int64_t t
             return 1;
     }
     if (total > *nsamp_total) {
-        double *h = realloc(b->series_h, (size_t)total * sizeof *h);
-        if (!h)
+        if (rs_grow(&b->series_h, (size_t)total) || rs_grow(&b->series_t, (size_t)total))
             return -1;
-        b->series_h = h;
-        double *ts = realloc(b->series_t, (size_t)total * sizeof *ts);
-        if (!ts)
-            return -1;
-        b->series_t = ts;
         *nsamp_total = total;
     }
     if (avg > *nsamp_avg) {
-        double *sm = realloc(b->samples, (size_t)(avg * nb) * sizeof *sm);
-        if (!sm)
+        if (rs_grow(&b->samples, (size_t)(avg * nb)) ||
+            rs_grow(&b->vx_samples, (size_t)(avg * nb)) || rs_grow(&b->drag_share, (size_t)avg))
             return -1;
-        b->samples = sm;
-        double *vs = realloc(b->vx_samples, (size_t)(avg * nb) * sizeof *vs);
-        if (!vs)
-            return -1;
-        b->vx_samples = vs;
-        double *ds = realloc(b->drag_share, (size_t)avg * sizeof *ds);
-        if (!ds)
-            return -1;
-        b->drag_share = ds;
         *nsamp_avg = avg;
     }
     const size_t scratch = (size_t)(*nsamp_avg > *nsamp_total ? *nsamp_avg : *nsamp_total) + 1;
-    double *s1 = realloc(b->scratch, scratch * sizeof *s1);
-    if (!s1)
-        return -1;
-    b->scratch = s1;
-    double *s2 = realloc(b->scratch2, scratch * sizeof *s2);
-    if (!s2)
-        return -1;
-    b->scratch2 = s2;
-    double *s3 = realloc(b->scratch3, scratch * sizeof *s3);
-    if (!s3)
-        return -1;
-    b->scratch3 = s3;
-    return 0;
+    return rs_grow(&b->scratch, scratch) || rs_grow(&b->scratch2, scratch) ||
+                   rs_grow(&b->scratch3, scratch)
+               ? -1
+               : 0;
 }
 
 /* The time loop's state besides the system and the sample buffers: what a checkpoint holds
