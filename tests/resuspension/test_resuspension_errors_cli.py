@@ -140,8 +140,6 @@ def check(lubdem, work, name, spec):
     # averaged samples, from the snapshots' velocities, and its warning above 2 %
     if sp["orientation"] == "gradient":
         W = (4 / 3 * np.pi * rad**3).sum() / Sh
-        share = np.mean([-(6 * np.pi * sp["shear_drag_viscosity"] * rad * V[k][:, 1]).sum() / W
-                         for k in rows])
         shares = [-(6 * np.pi * sp["shear_drag_viscosity"] * rad * V[k][:, 1]).sum() / W
                   for k in rows]
         share, share_err = np.mean(shares), sem_ar1(shares)
