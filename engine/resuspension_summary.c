@@ -55,16 +55,17 @@ static double rs_crushed_fraction(const lub_rs_outcome *o)
 }
 
 /* Gradient orientation: the mean share of the buoyant weight the shear drag carries over the
- * averaged samples, the mean of their series (lub_rs_stats.drag_share; its error
- * drag_share_err); a run continued from a checkpoint without the series (before 2026-12-08) has
- * only their sum, and no error (NaN without a sample, or from a checkpoint older than the sum).
- * eta_ii(y) = (1/Sh) int phi takes the whole weight as pair stress, so it overstates that stress
- * by this share. */
+ * averaged samples, the mean of their series (lub_rs_stats.drag_share, NaN without the series;
+ * its error drag_share_err); a run continued from a checkpoint without the series (before
+ * 2026-12-08) has only their sum, and no error (NaN without a sample, or from a checkpoint older
+ * than the sum). eta_ii(y) = (1/Sh) int phi takes the whole weight as pair stress, so it
+ * overstates that stress by this share. */
 static double rs_drag_share(const lub_rs_stats *st, const lub_rs_outcome *o)
 {
     if (o->averaged_samples <= 0)
         return NAN;
-    return o->drag_share_series ? st->drag_share : o->drag_share_sum / (double)o->averaged_samples;
+    return isfinite(st->drag_share) ? st->drag_share
+                                    : o->drag_share_sum / (double)o->averaged_samples;
 }
 
 /* " ± err" of a value in a warning (err in the value's scale), or "" without an error. */

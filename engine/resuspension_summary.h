@@ -47,11 +47,6 @@ typedef struct {
                                          samples */
     double drag_share_sum;            /* gradient: the shear drag's vertical force over the
                                          buoyant weight, summed over the averaged samples */
-    int drag_share_series;            /* 1: the statistics had the per-sample shares (their mean
-                                         and error are lub_rs_stats.drag_share and its error);
-                                         0: none (vorticity), or a run continued from a checkpoint
-                                         without them: the share is drag_share_sum /
-                                         averaged_samples, its error NaN */
     int stopped;                      /* 1: a stop request ended the time loop */
 } lub_rs_outcome;
 

@@ -1105,7 +1105,6 @@ static int rs_report(rs_run_state *r, int rc)
                               .contacts_sum = lp->contacts_sum,
                               .crushed_sum = lp->crushed_sum,
                               .drag_share_sum = lp->drag_share_sum,
-                              .drag_share_series = in.drag_share != NULL,
                               .stopped = r->stopped_at >= 0};
     lub_rs_write_summary(ctx, p, &r->sc, &st, &o);
     return rc;
